@@ -1,0 +1,41 @@
+//! `glint`: the command-line renderer. Thin: it parses arguments, asks `glint-scene` for a
+//! scene and `glint-core` for an image, and writes it.
+
+mod render_command;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "glint", version, about = "A CPU ray tracer for learning, teaching and research")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to an image (.png, .exr or .pfm).
+    Render(render_command::RenderArgs),
+}
+
+fn main() -> ExitCode {
+    // A panic is a bug in glint, never the user's fault: say so in one line, without a backtrace.
+    std::panic::set_hook(Box::new(|info| {
+        eprintln!(
+            "glint: internal error: {info}\nThis is a bug in glint; please report it with the scene that caused it."
+        );
+    }));
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => render_command::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,144 @@
+//! Image writers, chosen by the output file's extension: OpenEXR (32-bit float), PFM (float,
+//! rows stored bottom to top as the format says) and PNG (8-bit sRGB, with exposure).
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use glint_core::Rgb;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    Exr,
+    Pfm,
+    Png,
+}
+
+impl ImageFormat {
+    pub fn from_path(path: &Path) -> Result<Self, String> {
+        match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+            Some("exr") => Ok(Self::Exr),
+            Some("pfm") => Ok(Self::Pfm),
+            Some("png") => Ok(Self::Png),
+            _ => Err(format!(
+                "cannot tell the image format of `{}`: the output must end in .png, .exr or .pfm",
+                path.display()
+            )),
+        }
+    }
+}
+
+/// Checks, before a render starts, that the output can be written: creates the file (and
+/// removes it again if it did not exist, so a failed render leaves nothing behind).
+pub fn check_writable(path: &Path) -> Result<ImageFormat, String> {
+    let format = ImageFormat::from_path(path)?;
+    let existed = path.exists();
+    File::options()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(path)
+        .map_err(|e| format!("cannot write the output `{}`: {e}", path.display()))?;
+    if !existed {
+        let _ = std::fs::remove_file(path);
+    }
+    Ok(format)
+}
+
+/// Writes row-major pixels (row 0 = top). `exposure` (in stops) applies to PNG only.
+pub fn write_image(path: &Path, width: u32, height: u32, pixels: &[Rgb], exposure: f32) -> Result<(), String> {
+    let failed = |e: &dyn std::fmt::Display| format!("cannot write `{}`: {e}", path.display());
+    match ImageFormat::from_path(path)? {
+        ImageFormat::Exr => exr::prelude::write_rgb_file(path, width as usize, height as usize, |x, y| {
+            let p = pixels[y * width as usize + x];
+            (p.x, p.y, p.z)
+        })
+        .map_err(|e| failed(&e)),
+        ImageFormat::Pfm => write_pfm(path, width, height, pixels).map_err(|e| failed(&e)),
+        ImageFormat::Png => {
+            let scale = exposure.exp2();
+            let bytes: Vec<u8> = pixels.iter().flat_map(|p| (*p * scale).to_array().map(encode_srgb)).collect();
+            image::RgbImage::from_raw(width, height, bytes)
+                .ok_or("image size mismatch".to_string())?
+                .save(path)
+                .map_err(|e| failed(&e))
+        }
+    }
+}
+
+fn write_pfm(path: &Path, width: u32, height: u32, pixels: &[Rgb]) -> std::io::Result<()> {
+    let mut out = BufWriter::new(File::create(path)?);
+    // A negative scale marks little-endian data.
+    write!(out, "PF\n{width} {height}\n-1.0\n")?;
+    for row in (0..height as usize).rev() {
+        for p in &pixels[row * width as usize..(row + 1) * width as usize] {
+            for c in p.to_array() {
+                out.write_all(&c.to_le_bytes())?;
+            }
+        }
+    }
+    out.flush()
+}
+
+/// Reads a PFM written by `write_pfm` (or any little-endian RGB PFM) back, row 0 = top.
+pub fn read_pfm(path: &Path) -> Result<(u32, u32, Vec<Rgb>), String> {
+    let data = std::fs::read(path).map_err(|e| e.to_string())?;
+    let mut header_end = 0;
+    let mut fields = Vec::new();
+    while fields.len() < 4 {
+        let start = header_end;
+        while header_end < data.len() && !data[header_end].is_ascii_whitespace() {
+            header_end += 1;
+        }
+        fields.push(String::from_utf8_lossy(&data[start..header_end]).to_string());
+        header_end += 1;
+    }
+    let (width, height): (u32, u32) =
+        (fields[1].parse().map_err(|_| "bad width")?, fields[2].parse().map_err(|_| "bad height")?);
+    if fields[0] != "PF" || !fields[3].starts_with('-') {
+        return Err("expected a little-endian colour PFM".into());
+    }
+    let floats: Vec<f32> =
+        data[header_end..].chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
+    if floats.len() != (width * height * 3) as usize {
+        return Err("PFM data size does not match its header".into());
+    }
+    let mut pixels = vec![Rgb::ZERO; (width * height) as usize];
+    for (i, c) in floats.chunks_exact(3).enumerate() {
+        let (x, row_from_bottom) = (i as u32 % width, i as u32 / width);
+        pixels[((height - 1 - row_from_bottom) * width + x) as usize] = Rgb::new(c[0], c[1], c[2]);
+    }
+    Ok((width, height, pixels))
+}
+
+/// Linear → sRGB transfer function (IEC 61966-2-1), clamped to [0, 1], rounded to 8 bits.
+pub fn encode_srgb(linear: f32) -> u8 {
+    let v = if linear.is_nan() { 0.0 } else { linear.clamp(0.0, 1.0) };
+    let encoded = if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
+    (encoded * 255.0 + 0.5) as u8
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_encoding_by_hand() {
+        assert_eq!(encode_srgb(0.0), 0);
+        assert_eq!(encode_srgb(1.0), 255);
+        assert_eq!(encode_srgb(2.0), 255);
+        assert_eq!(encode_srgb(0.5), 188); // 1.055·0.5^(1/2.4) − 0.055 = 0.7354
+        assert_eq!(encode_srgb(0.002), 7); // linear segment: 12.92·0.002·255 = 6.6
+    }
+
+    #[test]
+    fn pfm_round_trip_keeps_row_order() {
+        let dir = std::env::temp_dir().join(format!("glint-pfm-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("t.pfm");
+        let pixels: Vec<Rgb> = (0..6).map(|i| Rgb::splat(i as f32)).collect();
+        write_pfm(&path, 3, 2, &pixels).unwrap();
+        assert_eq!(read_pfm(&path).unwrap(), (3, 2, pixels));
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}

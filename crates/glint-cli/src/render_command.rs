@@ -1,0 +1,186 @@
+//! `glint render`: load, override, render with progress, write, summarise.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+use glint_core::integrators::IntegratorKind;
+use glint_core::render::{render, RenderSettings};
+use glint_core::shapes::{BoxMethod, PolygonTest, SphereMethod, TriangleMethod};
+use glint_scene::LoadedScene;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use glint_cli::output::{check_writable, write_image};
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// Scene file (.toml, or .json with the same schema). Without one, the built-in default scene.
+    scene: Option<PathBuf>,
+    /// Output image; the format follows the extension (.png, .exr, .pfm). Default: <scene>.png.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Samples per pixel (1 = through the pixel centre; more = jittered, box-filtered).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    spp: Option<u32>,
+    /// Image width in pixels (the height follows the scene's aspect ratio unless given).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
+    width: Option<u32>,
+    /// Image height in pixels.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
+    height: Option<u32>,
+    #[arg(long, value_enum)]
+    integrator: Option<IntegratorArg>,
+    /// Seed of the random sample streams; the same seed gives the same image at any --threads.
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Option<u32>,
+    /// PNG exposure in stops (the image is multiplied by 2^exposure before sRGB encoding).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    exposure: f32,
+    #[arg(long, value_enum)]
+    sphere_method: Option<SphereArg>,
+    #[arg(long, value_enum)]
+    triangle_method: Option<TriangleArg>,
+    #[arg(long, value_enum)]
+    polygon_test: Option<PolygonArg>,
+    #[arg(long, value_enum)]
+    box_method: Option<BoxArg>,
+    /// No progress bar and no summary line.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum IntegratorArg {
+    Raycast,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum SphereArg {
+    Algebraic,
+    Geometric,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TriangleArg {
+    Cramer,
+    MollerTrumbore,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PolygonArg {
+    Crossing,
+    Winding,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum BoxArg {
+    Slabs,
+    Woo,
+}
+
+pub fn run(args: RenderArgs) -> Result<(), String> {
+    let output = args.output.clone().unwrap_or_else(|| {
+        let stem = args
+            .scene
+            .as_ref()
+            .and_then(|s| s.file_stem())
+            .map_or("default".into(), |s| s.to_string_lossy().to_string());
+        PathBuf::from(format!("{stem}.png"))
+    });
+    // Before any work: a render must never be lost to an unwritable output.
+    check_writable(&output)?;
+
+    let loaded = match &args.scene {
+        Some(path) => glint_scene::load_scene(path),
+        None => glint_scene::default_scene(),
+    }
+    .map_err(|e| e.to_string())?;
+    let LoadedScene { mut scene, render: options, warnings } = loaded;
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+
+    apply_overrides(&args, &mut scene);
+    let integrator_kind = match args.integrator {
+        Some(IntegratorArg::Raycast) => IntegratorKind::Raycast,
+        None => options.integrator,
+    };
+    let settings = RenderSettings { spp: args.spp.unwrap_or(options.spp), seed: args.seed.unwrap_or(options.seed) };
+
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = args.threads {
+        pool = pool.num_threads(n as usize);
+    }
+    let pool = pool.build().map_err(|e| format!("cannot start worker threads: {e}"))?;
+
+    let (width, height) = (scene.camera.width, scene.camera.height);
+    let tiles = (width.div_ceil(16) * height.div_ceil(16)) as u64;
+    let progress = ProgressBar::new(tiles);
+    if args.quiet || !std::io::stderr().is_terminal() {
+        progress.set_draw_target(ProgressDrawTarget::hidden());
+    }
+    progress.set_style(
+        ProgressStyle::with_template(
+            "{spinner} rendering [{bar:40}] {percent:>3}%  {elapsed_precise} elapsed, ETA {eta}",
+        )
+        .expect("the template is valid")
+        .progress_chars("=> "),
+    );
+    let integrator = integrator_kind.create();
+    let result = pool.install(|| render(&scene, integrator.as_ref(), &settings, &|| progress.inc(1)));
+    progress.finish_and_clear();
+
+    write_image(&output, width, height, &result.film.to_rgb(), args.exposure)?;
+    if !args.quiet {
+        let seconds = result.elapsed.as_secs_f64().max(1e-9);
+        eprintln!(
+            "rendered {width}x{height} at {} spp with {} in {:.2} s: {:.2} M samples/s, {:.2} M rays/s -> {}",
+            settings.spp,
+            integrator_kind.name(),
+            seconds,
+            result.samples as f64 / seconds / 1e6,
+            result.rays_traced as f64 / seconds / 1e6,
+            output.display()
+        );
+    }
+    Ok(())
+}
+
+fn apply_overrides(args: &RenderArgs, scene: &mut glint_core::scene::Scene) {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let (width, height) = match (args.width, args.height) {
+        (Some(width), Some(height)) => (width, height),
+        (Some(width), None) => (width, ((width as f64 * h as f64 / w as f64).round() as u32).max(1)),
+        (None, Some(height)) => (((height as f64 * w as f64 / h as f64).round() as u32).max(1), height),
+        (None, None) => (w, h),
+    };
+    scene.camera = scene.camera.with_resolution(width, height);
+    let m = &mut scene.methods;
+    if let Some(s) = args.sphere_method {
+        m.sphere = match s {
+            SphereArg::Algebraic => SphereMethod::Algebraic,
+            SphereArg::Geometric => SphereMethod::Geometric,
+        };
+    }
+    if let Some(t) = args.triangle_method {
+        m.triangle = match t {
+            TriangleArg::Cramer => TriangleMethod::Cramer,
+            TriangleArg::MollerTrumbore => TriangleMethod::MollerTrumbore,
+        };
+    }
+    if let Some(p) = args.polygon_test {
+        m.polygon = match p {
+            PolygonArg::Crossing => PolygonTest::Crossing,
+            PolygonArg::Winding => PolygonTest::Winding,
+        };
+    }
+    if let Some(b) = args.box_method {
+        m.aabox = match b {
+            BoxArg::Slabs => BoxMethod::Slabs,
+            BoxArg::Woo => BoxMethod::Woo,
+        };
+    }
+}

@@ -1,0 +1,315 @@
+//! Bounding volume hierarchy: binned SAH build (Wald 2007, "On fast construction of SAH-based
+//! bounding volume hierarchies") into a flat array of 32-byte nodes, traversed near child first.
+//!
+//! The build reorders nothing the caller owns: it returns `primitive_order`, the permutation
+//! the leaves index into, and the caller lays its primitives out in that order.
+
+use glam::Vec3;
+
+use crate::geometry::{Aabb, Ray};
+
+const BINS: usize = 16;
+const MAX_LEAF_SIZE: usize = 8;
+/// Cost of one traversal step relative to one primitive test, for the SAH.
+const TRAVERSAL_COST: f32 = 1.0;
+const STACK_SIZE: usize = 64;
+
+/// A node: bounds, and either two children (`count == 0`; left child at `first`, right child
+/// right after it) or a leaf of `count` primitives starting at `first`.
+#[derive(Clone, Copy, Debug)]
+#[repr(C)]
+struct Node {
+    min: Vec3,
+    first: u32,
+    max: Vec3,
+    count: u32,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BvhStats {
+    pub nodes: usize,
+    pub leaves: usize,
+    pub depth: usize,
+    /// SAH cost of the tree (traversal steps + primitive tests, expected per random ray).
+    pub sah_cost: f32,
+    pub bytes: usize,
+}
+
+struct BuildPrim {
+    bounds: Aabb,
+    centroid: Vec3,
+    index: u32,
+}
+
+impl Bvh {
+    /// Builds over the given primitive bounds. Returns the tree and the order in which the
+    /// leaves reference the primitives.
+    pub fn build(bounds: &[Aabb]) -> (Self, Vec<u32>) {
+        let mut prims: Vec<BuildPrim> = bounds
+            .iter()
+            .enumerate()
+            .map(|(i, b)| BuildPrim { bounds: *b, centroid: b.centroid(), index: i as u32 })
+            .collect();
+        if prims.is_empty() {
+            return (Self { nodes: Vec::new() }, Vec::new());
+        }
+        let mut nodes = Vec::with_capacity(2 * prims.len());
+        nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
+        let len = prims.len();
+        build_node(&mut nodes, 0, &mut prims, 0, len);
+        let order = prims.iter().map(|p| p.index).collect();
+        (Self { nodes }, order)
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        self.nodes.first().map_or(Aabb::EMPTY, |n| Aabb::new(n.min, n.max))
+    }
+
+    /// Closest hit: calls `hit(i, ray)` for candidate primitives in roughly front-to-back
+    /// order; `hit` returns the distance of a hit within the ray's range, which then shrinks
+    /// `ray.t_max`.
+    #[inline]
+    pub fn closest(&self, ray: &mut Ray, mut hit: impl FnMut(u32, &Ray) -> Option<f32>) {
+        let inv = ray.direction.recip();
+        let mut stack = [0u32; STACK_SIZE];
+        let mut top = 0;
+        let mut index = 0usize;
+        if self.nodes.is_empty() || node_hit(&self.nodes[0], ray, inv).is_none() {
+            return;
+        }
+        loop {
+            let node = &self.nodes[index];
+            if node.count > 0 {
+                for i in node.first..node.first + node.count {
+                    if let Some(t) = hit(i, ray) {
+                        ray.t_max = t;
+                    }
+                }
+            } else {
+                let left = node.first as usize;
+                let t_left = node_hit(&self.nodes[left], ray, inv);
+                let t_right = node_hit(&self.nodes[left + 1], ray, inv);
+                match (t_left, t_right) {
+                    (Some(tl), Some(tr)) => {
+                        let (near, far) = if tl <= tr { (left, left + 1) } else { (left + 1, left) };
+                        stack[top] = far as u32;
+                        top += 1;
+                        index = near;
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        index = left;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        index = left + 1;
+                        continue;
+                    }
+                    (None, None) => {}
+                }
+            }
+            // Pop the next subtree; one that was pushed may since have moved beyond t_max.
+            loop {
+                if top == 0 {
+                    return;
+                }
+                top -= 1;
+                index = stack[top] as usize;
+                if node_hit(&self.nodes[index], ray, inv).is_some() {
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Any hit: stops at the first primitive for which `hit(i, ray)` is true.
+    #[inline]
+    pub fn any(&self, ray: &Ray, mut hit: impl FnMut(u32, &Ray) -> bool) -> bool {
+        let inv = ray.direction.recip();
+        let mut stack = [0u32; STACK_SIZE];
+        let mut top = usize::from(!self.nodes.is_empty());
+        while top > 0 {
+            top -= 1;
+            let node = &self.nodes[stack[top] as usize];
+            if node_hit(node, ray, inv).is_none() {
+                continue;
+            }
+            if node.count > 0 {
+                if (node.first..node.first + node.count).any(|i| hit(i, ray)) {
+                    return true;
+                }
+            } else {
+                stack[top] = node.first;
+                stack[top + 1] = node.first + 1;
+                top += 2;
+            }
+        }
+        false
+    }
+
+    pub fn stats(&self) -> BvhStats {
+        let root_area = self.bounds().surface_area().max(f32::MIN_POSITIVE);
+        let mut stats = BvhStats {
+            nodes: self.nodes.len(),
+            bytes: self.nodes.len() * std::mem::size_of::<Node>(),
+            ..Default::default()
+        };
+        let mut stack = if self.nodes.is_empty() { vec![] } else { vec![(0usize, 1usize)] };
+        while let Some((i, depth)) = stack.pop() {
+            let n = &self.nodes[i];
+            let area = Aabb::new(n.min, n.max).surface_area() / root_area;
+            stats.depth = stats.depth.max(depth);
+            if n.count > 0 {
+                stats.leaves += 1;
+                stats.sah_cost += area * n.count as f32;
+            } else {
+                stats.sah_cost += area * TRAVERSAL_COST;
+                stack.push((n.first as usize, depth + 1));
+                stack.push((n.first as usize + 1, depth + 1));
+            }
+        }
+        stats
+    }
+}
+
+#[inline(always)]
+fn node_hit(node: &Node, ray: &Ray, inv: Vec3) -> Option<f32> {
+    Aabb::new(node.min, node.max).hit_distance(ray.origin, inv, ray.t_min, ray.t_max)
+}
+
+fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], start: usize, end: usize) {
+    let slice = &mut prims[start..end];
+    let bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
+    let centroid_bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
+    let count = slice.len();
+    let make_leaf = |nodes: &mut Vec<Node>| {
+        nodes[index] = Node { min: bounds.min, first: start as u32, max: bounds.max, count: count as u32 };
+    };
+    if count <= 2 {
+        return make_leaf(nodes);
+    }
+    let split = find_split(slice, &bounds, &centroid_bounds);
+    let leaf_cost = count as f32;
+    let mid = match split {
+        Some((axis, position, cost)) if cost < leaf_cost || count > MAX_LEAF_SIZE => {
+            let mid = partition(slice, |p| p.centroid[axis] < position);
+            if mid == 0 || mid == count {
+                count / 2 // all centroids in one bin: split in the middle of the list
+            } else {
+                mid
+            }
+        }
+        None if count > MAX_LEAF_SIZE => count / 2, // coincident centroids
+        _ => return make_leaf(nodes),
+    };
+    let left = nodes.len();
+    nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
+    nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
+    nodes[index] = Node { min: bounds.min, first: left as u32, max: bounds.max, count: 0 };
+    build_node(nodes, left, prims, start, start + mid);
+    build_node(nodes, left + 1, prims, start + mid, end);
+}
+
+/// The best binned SAH split: (axis, centroid position, cost relative to one primitive test).
+fn find_split(prims: &[BuildPrim], bounds: &Aabb, centroid_bounds: &Aabb) -> Option<(usize, f32, f32)> {
+    let area = bounds.surface_area();
+    let mut best: Option<(usize, f32, f32)> = None;
+    for axis in 0..3 {
+        let (lo, hi) = (centroid_bounds.min[axis], centroid_bounds.max[axis]);
+        if hi <= lo {
+            continue;
+        }
+        let scale = BINS as f32 / (hi - lo);
+        let mut bin_bounds = [Aabb::EMPTY; BINS];
+        let mut bin_count = [0usize; BINS];
+        for p in prims {
+            let b = (((p.centroid[axis] - lo) * scale) as usize).min(BINS - 1);
+            bin_bounds[b] = bin_bounds[b].union(p.bounds);
+            bin_count[b] += 1;
+        }
+        // Sweep from the right to get the right-hand areas, then from the left.
+        let mut right_area = [0.0f32; BINS];
+        let mut right_count = [0usize; BINS];
+        let (mut acc, mut n) = (Aabb::EMPTY, 0);
+        for b in (1..BINS).rev() {
+            acc = acc.union(bin_bounds[b]);
+            n += bin_count[b];
+            right_area[b] = acc.surface_area();
+            right_count[b] = n;
+        }
+        let (mut acc, mut n) = (Aabb::EMPTY, 0);
+        for b in 0..BINS - 1 {
+            acc = acc.union(bin_bounds[b]);
+            n += bin_count[b];
+            if n == 0 || right_count[b + 1] == 0 {
+                continue;
+            }
+            let cost = TRAVERSAL_COST
+                + (acc.surface_area() * n as f32 + right_area[b + 1] * right_count[b + 1] as f32)
+                    / area.max(f32::MIN_POSITIVE);
+            if best.is_none_or(|(_, _, c)| cost < c) {
+                best = Some((axis, lo + (b + 1) as f32 / scale, cost));
+            }
+        }
+    }
+    best
+}
+
+/// In-place partition; returns the number of elements for which `left` is true.
+fn partition<T>(items: &mut [T], left: impl Fn(&T) -> bool) -> usize {
+    let mut i = 0;
+    for j in 0..items.len() {
+        if left(&items[j]) {
+            items.swap(i, j);
+            i += 1;
+        }
+    }
+    i
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn empty_and_single() {
+        let (bvh, order) = Bvh::build(&[]);
+        assert!(order.is_empty());
+        let mut ray = Ray::new(Vec3::ZERO, Vec3::X);
+        bvh.closest(&mut ray, |_, _| panic!("no primitive to test"));
+        assert!(!bvh.any(&ray, |_, _| true));
+
+        let (bvh, order) = Bvh::build(&[Aabb::new(Vec3::splat(1.0), Vec3::splat(2.0))]);
+        assert_eq!(order, vec![0]);
+        let mut ray = Ray::new(Vec3::ZERO, Vec3::ONE);
+        let mut tested = 0;
+        bvh.closest(&mut ray, |_, _| {
+            tested += 1;
+            None
+        });
+        assert_eq!(tested, 1);
+    }
+
+    #[test]
+    fn stats_are_consistent() {
+        let boxes: Vec<Aabb> = (0..1000)
+            .map(|i| {
+                let p = Vec3::new((i % 10) as f32, ((i / 10) % 10) as f32, (i / 100) as f32);
+                Aabb::new(p, p + Vec3::splat(0.5))
+            })
+            .collect();
+        let (bvh, order) = Bvh::build(&boxes);
+        let mut sorted = order.clone();
+        sorted.sort();
+        assert_eq!(sorted, (0..1000).collect::<Vec<u32>>());
+        let s = bvh.stats();
+        assert_eq!(s.nodes, 2 * s.leaves - 1);
+        assert!(s.depth >= 8 && s.depth < 40, "{s:?}");
+        assert!(s.sah_cost > 1.0 && s.sah_cost < 100.0, "{s:?}");
+    }
+}

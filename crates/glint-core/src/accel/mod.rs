@@ -1,0 +1,6 @@
+//! Acceleration structures. They know boxes and primitive indices, never shapes: the caller
+//! passes a closure that intersects primitive `i` (tinybvh, obvhs).
+
+mod bvh;
+
+pub use bvh::{Bvh, BvhStats};

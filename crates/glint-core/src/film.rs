@@ -1,0 +1,41 @@
+//! The film: per-pixel sums of linear RGB radiance in f32 and the weights they carry, so that
+//! the image is the weighted mean (with the box filter, the plain average of the pixel's
+//! samples). Row 0 is the top row.
+
+use crate::Rgb;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    pub width: u32,
+    pub height: u32,
+    sum: Vec<Rgb>,
+    weight: Vec<f32>,
+}
+
+impl Film {
+    pub fn new(width: u32, height: u32) -> Self {
+        let n = (width * height) as usize;
+        Self { width, height, sum: vec![Rgb::ZERO; n], weight: vec![0.0; n] }
+    }
+
+    pub fn add_sample(&mut self, x: u32, y: u32, radiance: Rgb, weight: f32) {
+        let i = (y * self.width + x) as usize;
+        self.sum[i] += radiance * weight;
+        self.weight[i] += weight;
+    }
+
+    /// The pixel's estimate (black if it has no samples yet).
+    pub fn pixel(&self, x: u32, y: u32) -> Rgb {
+        let i = (y * self.width + x) as usize;
+        if self.weight[i] > 0.0 {
+            self.sum[i] / self.weight[i]
+        } else {
+            Rgb::ZERO
+        }
+    }
+
+    /// All pixel estimates, row-major from the top-left.
+    pub fn to_rgb(&self) -> Vec<Rgb> {
+        (0..self.height).flat_map(|y| (0..self.width).map(move |x| (x, y))).map(|(x, y)| self.pixel(x, y)).collect()
+    }
+}

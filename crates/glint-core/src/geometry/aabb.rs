@@ -1,0 +1,81 @@
+use glam::Vec3;
+
+/// An axis-aligned bounding box. The empty box has `min = +∞`, `max = −∞`, so that
+/// growing it by any point or box gives that point or box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Default for Aabb {
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+impl Aabb {
+    pub const EMPTY: Aabb = Aabb { min: Vec3::INFINITY, max: Vec3::NEG_INFINITY };
+
+    pub fn new(min: Vec3, max: Vec3) -> Self {
+        Self { min, max }
+    }
+
+    pub fn from_points(points: impl IntoIterator<Item = Vec3>) -> Self {
+        points.into_iter().fold(Self::EMPTY, |b, p| b.grow_point(p))
+    }
+
+    pub fn grow_point(self, p: Vec3) -> Self {
+        Self { min: self.min.min(p), max: self.max.max(p) }
+    }
+
+    pub fn union(self, o: Aabb) -> Self {
+        Self { min: self.min.min(o.min), max: self.max.max(o.max) }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.min.x > self.max.x || self.min.y > self.max.y || self.min.z > self.max.z
+    }
+
+    pub fn extent(&self) -> Vec3 {
+        self.max - self.min
+    }
+
+    pub fn centroid(&self) -> Vec3 {
+        0.5 * (self.min + self.max)
+    }
+
+    /// Surface area, 0 for the empty box (the SAH's measure).
+    pub fn surface_area(&self) -> f32 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        let e = self.extent();
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+
+    /// The box's 8 corners.
+    pub fn corners(&self) -> [Vec3; 8] {
+        std::array::from_fn(|i| {
+            Vec3::new(
+                if i & 1 == 0 { self.min.x } else { self.max.x },
+                if i & 2 == 0 { self.min.y } else { self.max.y },
+                if i & 4 == 0 { self.min.z } else { self.max.z },
+            )
+        })
+    }
+
+    /// Slab test against a ray given by origin and reciprocal direction, over `[t_min, t_max]`.
+    /// Returns the entry distance. `max`/`min` are ordered so that a NaN from `0 · ∞` (origin on
+    /// a slab plane, direction parallel to it) is dropped rather than propagated.
+    #[inline]
+    pub fn hit_distance(&self, origin: Vec3, inv_dir: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
+        let t0 = (self.min - origin) * inv_dir;
+        let t1 = (self.max - origin) * inv_dir;
+        let near = t0.min(t1);
+        let far = t0.max(t1);
+        let t_enter = t_min.max(near.x).max(near.y).max(near.z);
+        let t_exit = t_max.min(far.x).min(far.y).min(far.z);
+        (t_enter <= t_exit).then_some(t_enter)
+    }
+}

@@ -1,0 +1,29 @@
+//! Ray casting (`--integrator raycast`): the nearest hit of all objects along each camera ray,
+//! shaded with ambient + Lambert diffuse + Phong specular from every light, *without* shadow
+//! rays (as the course defines ray casting; shadows come with Whitted ray tracing). A ray that
+//! hits nothing sees the background colour.
+
+use super::{Integrator, SampleContext};
+use crate::geometry::Ray;
+use crate::scene::Scene;
+use crate::Rgb;
+
+pub struct Raycast;
+
+impl Integrator for Raycast {
+    fn radiance(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Rgb {
+        context.rays_traced += 1;
+        let Some(hit) = scene.intersect(ray) else {
+            return scene.environment.background;
+        };
+        let material = &scene.materials[hit.material as usize];
+        let normal = hit.facing(ray.direction);
+        let wo = -ray.direction.normalize();
+        let mut radiance = material.ambient() * scene.environment.ambient_light;
+        for light in &scene.lights {
+            let illumination = light.illuminate(hit.geometry.point);
+            radiance += material.local(normal, wo, illumination.direction, illumination.intensity);
+        }
+        radiance
+    }
+}

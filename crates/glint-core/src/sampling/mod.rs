@@ -1,0 +1,6 @@
+//! Random numbers for rendering. Every pixel sample draws from a generator seeded by
+//! (render seed, pixel, sample index), so an image is bit-identical at any thread count.
+
+mod rng;
+
+pub use rng::Rng;

@@ -1,0 +1,227 @@
+//! Axis-aligned box, by slabs (Kay & Kajiya 1986, as Haines presents it) and by Woo's method
+//! (Graphics Gems I, 1990). Oriented boxes are axis-aligned boxes under a transform.
+//!
+//! Scene parameters: `min`, `max` (opposite corners, min < max on every axis).
+//! ```toml
+//! [[shapes]]
+//! type = "box"
+//! min = [-1, 0, -1]
+//! max = [1, 2, 1]
+//! material = "white"
+//! transform = [{ rotate = { axis = [0, 1, 0], angle = 30 } }]
+//! ```
+//! - **slabs**: intersect the ray with the three pairs of parallel planes; the box is hit iff
+//!   the largest entry distance is below the smallest exit distance.
+//! - **Woo**: from the origin's position, pick on each axis the one candidate plane the ray can
+//!   enter by; the largest candidate distance is the only possible entry; check that point
+//!   lies within the other two slabs.
+//!
+//! Both return the entry distance, or the exit distance when the origin is inside (or the
+//! entry is before `t_min`). Points on the faces count as inside: a ray that runs along a face
+//! hits it.
+
+use glam::{Vec2, Vec3};
+
+use super::SurfaceGeometry;
+use crate::geometry::{Aabb, Ray};
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BoxMethod {
+    #[default]
+    Slabs,
+    Woo,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AaBox {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl AaBox {
+    pub fn new(min: Vec3, max: Vec3) -> Self {
+        Self { min, max }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        Aabb::new(self.min, self.max)
+    }
+
+    pub fn intersect(&self, ray: &Ray, method: BoxMethod) -> Option<f32> {
+        match method {
+            BoxMethod::Slabs => self.intersect_slabs(ray),
+            BoxMethod::Woo => self.intersect_woo(ray),
+        }
+    }
+
+    pub fn intersect_slabs(&self, ray: &Ray) -> Option<f32> {
+        let inv = ray.direction.recip();
+        let t0 = (self.min - ray.origin) * inv;
+        let t1 = (self.max - ray.origin) * inv;
+        // f32::min/max drop a NaN operand (0·∞ when the origin is on a slab plane and the ray
+        // runs parallel to it), which treats that slab as not limiting: the face counts as inside.
+        let near = t0.min(t1);
+        let far = t0.max(t1);
+        let t_enter = near.x.max(near.y).max(near.z);
+        let t_exit = far.x.min(far.y).min(far.z);
+        if t_enter > t_exit {
+            return None;
+        }
+        if ray.contains(t_enter) {
+            Some(t_enter)
+        } else {
+            ray.contains(t_exit).then_some(t_exit)
+        }
+    }
+
+    pub fn intersect_woo(&self, ray: &Ray) -> Option<f32> {
+        let (o, d) = (ray.origin, ray.direction);
+        let mut inside = true;
+        let mut candidate_t = [-1.0f32; 3];
+        for axis in 0..3 {
+            let plane = if o[axis] < self.min[axis] {
+                self.min[axis]
+            } else if o[axis] > self.max[axis] {
+                self.max[axis]
+            } else {
+                continue; // between this axis's planes: no entry plane on it
+            };
+            inside = false;
+            if d[axis] != 0.0 {
+                candidate_t[axis] = (plane - o[axis]) / d[axis];
+            }
+        }
+        if !inside {
+            // The entry is on the plane with the largest candidate distance.
+            let axis = (0..3).fold(0, |best, a| if candidate_t[a] > candidate_t[best] { a } else { best });
+            let t = candidate_t[axis];
+            if t < 0.0 {
+                return None;
+            }
+            let within_other_slabs = (0..3).filter(|&a| a != axis).all(|a| {
+                let coordinate = o[a] + t * d[a];
+                coordinate >= self.min[a] && coordinate <= self.max[a]
+            });
+            if !within_other_slabs {
+                return None;
+            }
+            if ray.contains(t) {
+                return Some(t);
+            }
+        }
+        // Origin inside, or the entry lies before t_min: the exit is the nearest far plane.
+        let t_exit = (0..3)
+            .filter(|&a| d[a] != 0.0)
+            .map(|a| ((if d[a] > 0.0 { self.max[a] } else { self.min[a] }) - o[a]) / d[a])
+            .fold(f32::INFINITY, f32::min);
+        ray.contains(t_exit).then_some(t_exit)
+    }
+
+    /// The face is the one the point is nearest to, relative to the box's size; on an edge or
+    /// a corner either adjacent face's normal is a valid answer. uv span [0,1]² on each face.
+    pub fn surface(&self, point: Vec3) -> SurfaceGeometry {
+        let size = (self.max - self.min).max(Vec3::splat(f32::MIN_POSITIVE));
+        let mut best = (f32::INFINITY, 0, 1.0f32);
+        for axis in 0..3 {
+            let to_min = (point[axis] - self.min[axis]).abs() / size[axis];
+            let to_max = (point[axis] - self.max[axis]).abs() / size[axis];
+            if to_min < best.0 {
+                best = (to_min, axis, -1.0);
+            }
+            if to_max < best.0 {
+                best = (to_max, axis, 1.0);
+            }
+        }
+        let (_, axis, sign) = best;
+        let mut normal = Vec3::ZERO;
+        normal[axis] = sign;
+        let mut point = point;
+        point[axis] = if sign > 0.0 { self.max[axis] } else { self.min[axis] };
+        let local = (point - self.min) / size;
+        let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
+        SurfaceGeometry { point, geometric_normal: normal, shading_normal: normal, uv: Vec2::new(local[a], local[b]) }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::test_util::TestRng;
+
+    const METHODS: [BoxMethod; 2] = [BoxMethod::Slabs, BoxMethod::Woo];
+
+    fn unit_box() -> AaBox {
+        AaBox::new(Vec3::splat(-1.0), Vec3::splat(1.0))
+    }
+
+    #[test]
+    fn hit_miss_behind() {
+        for m in METHODS {
+            let b = unit_box();
+            assert_eq!(b.intersect(&Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z), m), Some(4.0));
+            assert_eq!(b.intersect(&Ray::new(Vec3::new(0.0, 2.0, -5.0), Vec3::Z), m), None);
+            assert_eq!(b.intersect(&Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::Z), m), None);
+            let diagonal = Ray::new(Vec3::new(-3.0, -3.0, 0.0), Vec3::new(1.0, 1.0, 0.0));
+            assert_eq!(b.intersect(&diagonal, m), Some(2.0), "corner edge {m:?}");
+        }
+    }
+
+    #[test]
+    fn origin_inside_returns_exit() {
+        for m in METHODS {
+            let ray = Ray::new(Vec3::new(0.0, 0.5, 0.0), Vec3::new(0.0, 1.0, 0.0));
+            assert_eq!(unit_box().intersect(&ray, m), Some(0.5), "{m:?}");
+        }
+    }
+
+    #[test]
+    fn spawned_on_face_going_in_hits_far_face() {
+        for m in METHODS {
+            let ray = Ray::with_range(Vec3::new(0.0, 0.0, -1.0), Vec3::Z, 1e-4, f32::INFINITY);
+            assert_eq!(unit_box().intersect(&ray, m), Some(2.0), "{m:?}");
+        }
+    }
+
+    #[test]
+    fn ray_along_a_face_hits() {
+        for m in METHODS {
+            let ray = Ray::new(Vec3::new(-5.0, 1.0, 0.0), Vec3::X);
+            assert_eq!(unit_box().intersect(&ray, m), Some(4.0), "{m:?}");
+        }
+    }
+
+    #[test]
+    fn surface_normals_point_out() {
+        let b = unit_box();
+        assert_eq!(b.surface(Vec3::new(0.2, 1.0, 0.3)).geometric_normal, Vec3::Y);
+        assert_eq!(b.surface(Vec3::new(-1.0, 0.0, 0.3)).geometric_normal, -Vec3::X);
+        let g = b.surface(Vec3::new(0.0, 0.0, -1.0));
+        assert_eq!(g.geometric_normal, -Vec3::Z);
+        assert_eq!(g.uv, Vec2::new(0.5, 0.5));
+    }
+
+    #[test]
+    fn slabs_and_woo_agree_on_a_million_rays() {
+        let mut rng = TestRng(5);
+        for _ in 0..1_000_000 {
+            let a = rng.vec3(-2.0, 2.0);
+            let b = a + rng.vec3(0.01, 3.0);
+            let aabox = AaBox::new(a, b);
+            let origin = rng.vec3(-4.0, 4.0);
+            let ray = Ray::new(origin, rng.unit_vector());
+            let (s, w) = (aabox.intersect_slabs(&ray), aabox.intersect_woo(&ray));
+            match (s, w) {
+                (Some(ts), Some(tw)) => assert!((ts - tw).abs() <= 1e-5 * (1.0 + ts), "{ts} {tw}"),
+                (None, None) => {}
+                _ => {
+                    // Only a ray grazing an edge may come out either way.
+                    let t = s.or(w).unwrap();
+                    let p = ray.at(t);
+                    let on_edge =
+                        (0..3).filter(|&k| (p[k] - a[k]).abs() < 1e-4 || (p[k] - b[k]).abs() < 1e-4).count() >= 2;
+                    assert!(on_edge, "hit/miss differ at {p} for {aabox:?} {ray:?}");
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,85 @@
+//! Triangle mesh: shared vertex arrays and index triples, each triangle a primitive of its own
+//! for the acceleration structure. Loaded from OBJ or PLY by the scene reader.
+//!
+//! Scene parameters: `file` (path relative to the scene file, `.obj`, `.ply` or `.ply.gz`),
+//! `smooth` (bool, default true: interpolate the file's vertex normals where it has them).
+//! ```toml
+//! [[shapes]]
+//! type = "mesh"
+//! file = "meshes/torus.obj"
+//! material = "gold"
+//! ```
+
+use glam::{Vec2, Vec3};
+
+use super::triangle::{intersect_cramer, intersect_moller_trumbore, triangle_surface};
+use super::{PrimHit, SurfaceGeometry, TriangleMethod};
+use crate::geometry::{Aabb, Ray, Transform};
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<Vec3>,
+    /// Per-vertex normals, same length as `positions`, if the file had them.
+    pub normals: Option<Vec<Vec3>>,
+    /// Per-vertex texture coordinates, same length as `positions`, if the file had them.
+    pub uvs: Option<Vec<Vec2>>,
+    pub indices: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len()
+    }
+
+    #[inline]
+    pub fn triangle_vertices(&self, i: usize) -> [Vec3; 3] {
+        self.indices[i].map(|k| self.positions[k as usize])
+    }
+
+    pub fn triangle_bounds(&self, i: usize) -> Aabb {
+        Aabb::from_points(self.triangle_vertices(i))
+    }
+
+    /// Indices of triangles with zero area; they can never be hit.
+    pub fn degenerate_triangles(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.triangle_count()).filter(|&i| {
+            let [a, b, c] = self.triangle_vertices(i);
+            (b - a).cross(c - a).length_squared() == 0.0
+        })
+    }
+
+    #[inline]
+    pub fn intersect(&self, i: usize, ray: &Ray, method: TriangleMethod) -> Option<PrimHit> {
+        let [a, b, c] = self.triangle_vertices(i);
+        match method {
+            TriangleMethod::Cramer => intersect_cramer(a, b, c, ray),
+            TriangleMethod::MollerTrumbore => intersect_moller_trumbore(a, b, c, ray),
+        }
+    }
+
+    pub fn surface(&self, i: usize, hit: &PrimHit) -> SurfaceGeometry {
+        let idx = self.indices[i];
+        let normals = self.normals.as_ref().map(|n| idx.map(|k| n[k as usize]));
+        let uvs = self.uvs.as_ref().map(|t| idx.map(|k| t[k as usize]));
+        triangle_surface(self.triangle_vertices(i), normals, uvs, hit)
+    }
+
+    /// Bakes a transform into the vertices (meshes are stored in world space so the
+    /// acceleration structure sees their triangles directly). A mirroring transform reverses
+    /// the winding so that geometric normals keep facing the same way relative to the surface.
+    pub fn transform(&mut self, t: &Transform) {
+        for p in &mut self.positions {
+            *p = t.point(*p);
+        }
+        if let Some(normals) = &mut self.normals {
+            for n in normals {
+                *n = t.normal(*n);
+            }
+        }
+        if t.flips_handedness() {
+            for tri in &mut self.indices {
+                tri.swap(1, 2);
+            }
+        }
+    }
+}

@@ -1,0 +1,211 @@
+//! Shapes and their ray intersection: one file per shape, the course's algorithms side by side.
+//!
+//! Every shape answers two questions, kept apart so the acceleration structure can test many
+//! primitives cheaply and build the full surface record only for the closest one:
+//! - `intersect(prim, ray, methods)`: is there a hit with `ray.t_min < t < ray.t_max`, and at
+//!   what `t` (plus two shape-specific parameters, e.g. barycentrics);
+//! - `surface(ray, hit)`: the hit point, geometric and shading normals and uv.
+//!
+//! Normal orientation: a shape returns its geometric normal as the geometry defines it —
+//! outward for spheres and boxes, `normal` for planes, `(v1−v0)×(v2−v0)` (counter-clockwise
+//! winding) for triangles and polygons. It is *not* flipped toward the ray; integrators do
+//! that when they need a side (see `SurfaceHit::facing`).
+
+mod aabox;
+mod mesh;
+mod plane;
+mod polygon;
+mod sphere;
+mod triangle;
+
+pub use aabox::{AaBox, BoxMethod};
+pub use mesh::Mesh;
+pub use plane::Plane;
+pub use polygon::{Polygon, PolygonTest};
+pub use sphere::{Sphere, SphereMethod};
+pub use triangle::{Triangle, TriangleMethod};
+
+use glam::{Vec2, Vec3};
+
+use crate::geometry::{Aabb, Ray};
+
+/// Which of the course's algorithms each shape uses. Every pair computes the same thing;
+/// tests check that they agree.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct IntersectMethods {
+    pub sphere: SphereMethod,
+    pub triangle: TriangleMethod,
+    pub polygon: PolygonTest,
+    pub aabox: BoxMethod,
+}
+
+/// What a primitive test returns: the distance and two shape-specific parameters
+/// (barycentrics for triangles, unused elsewhere), enough to build the surface later.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrimHit {
+    pub t: f32,
+    pub u: f32,
+    pub v: f32,
+}
+
+impl PrimHit {
+    pub fn at(t: f32) -> Self {
+        Self { t, u: 0.0, v: 0.0 }
+    }
+}
+
+/// The local geometry at a hit point, in world space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceGeometry {
+    pub point: Vec3,
+    /// Unit normal of the true surface, oriented as the shape defines it.
+    pub geometric_normal: Vec3,
+    /// Unit normal for shading (interpolated vertex normals on meshes), same hemisphere as
+    /// `geometric_normal`.
+    pub shading_normal: Vec3,
+    pub uv: Vec2,
+}
+
+/// The closed set of shapes, dispatched by `match` on every ray.
+#[derive(Clone, Debug)]
+pub enum Shape {
+    Plane(Plane),
+    Sphere(Sphere),
+    Triangle(Triangle),
+    Polygon(Polygon),
+    AaBox(AaBox),
+    Mesh(Mesh),
+}
+
+impl Shape {
+    /// Number of primitives the acceleration structure sees (triangles for a mesh, else 1).
+    pub fn primitive_count(&self) -> u32 {
+        match self {
+            Shape::Mesh(m) => m.triangle_count() as u32,
+            _ => 1,
+        }
+    }
+
+    /// Bounds of one primitive in the shape's own space; `None` if unbounded (a plane).
+    pub fn bounds(&self, prim: u32) -> Option<Aabb> {
+        match self {
+            Shape::Plane(_) => None,
+            Shape::Sphere(s) => Some(s.bounds()),
+            Shape::Triangle(t) => Some(t.bounds()),
+            Shape::Polygon(p) => Some(p.bounds()),
+            Shape::AaBox(b) => Some(b.bounds()),
+            Shape::Mesh(m) => Some(m.triangle_bounds(prim as usize)),
+        }
+    }
+
+    #[inline]
+    pub fn intersect(&self, prim: u32, ray: &Ray, methods: &IntersectMethods) -> Option<PrimHit> {
+        match self {
+            Shape::Plane(p) => p.intersect(ray).map(PrimHit::at),
+            Shape::Sphere(s) => s.intersect(ray, methods.sphere).map(PrimHit::at),
+            Shape::Triangle(t) => t.intersect(ray, methods.triangle),
+            Shape::Polygon(p) => p.intersect(ray, methods.polygon).map(PrimHit::at),
+            Shape::AaBox(b) => b.intersect(ray, methods.aabox).map(PrimHit::at),
+            Shape::Mesh(m) => m.intersect(prim as usize, ray, methods.triangle),
+        }
+    }
+
+    pub fn surface(&self, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry {
+        match self {
+            Shape::Plane(p) => p.surface(ray.at(hit.t)),
+            Shape::Sphere(s) => s.surface(ray.at(hit.t)),
+            Shape::Triangle(t) => t.surface(hit),
+            Shape::Polygon(p) => p.surface(ray.at(hit.t)),
+            Shape::AaBox(b) => b.surface(ray.at(hit.t)),
+            Shape::Mesh(m) => m.surface(prim as usize, hit),
+        }
+    }
+
+    /// The shape's name as written in scene files.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Shape::Plane(_) => "plane",
+            Shape::Sphere(_) => "sphere",
+            Shape::Triangle(_) => "triangle",
+            Shape::Polygon(_) => "polygon",
+            Shape::AaBox(_) => "box",
+            Shape::Mesh(_) => "mesh",
+        }
+    }
+}
+
+/// Solutions of a·t² + 2·half_b·t + c = 0 in ascending order, computed without the
+/// cancellation of the textbook formula (Numerical Recipes §5.6). `None` if complex.
+pub(crate) fn solve_quadratic(a: f32, half_b: f32, c: f32) -> Option<(f32, f32)> {
+    let discriminant = half_b * half_b - a * c;
+    if discriminant < 0.0 || a == 0.0 {
+        return None;
+    }
+    let q = -(half_b + discriminant.sqrt().copysign(half_b));
+    if q == 0.0 {
+        // half_b = 0 and discriminant = 0, so c = 0: a double root at 0.
+        return Some((0.0, 0.0));
+    }
+    let (t0, t1) = (q / a, c / q);
+    Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+}
+
+/// The first of two ascending roots inside the ray's interval.
+#[inline]
+pub(crate) fn first_in_range(ray: &Ray, t0: f32, t1: f32) -> Option<f32> {
+    if ray.contains(t0) {
+        Some(t0)
+    } else if ray.contains(t1) {
+        Some(t1)
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod test_util {
+    /// A tiny deterministic generator for randomized tests (SplitMix64).
+    pub struct TestRng(pub u64);
+
+    impl TestRng {
+        pub fn next_u64(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        }
+        /// Uniform in [lo, hi).
+        pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+            let u = (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32;
+            lo + (hi - lo) * u
+        }
+        pub fn vec3(&mut self, lo: f32, hi: f32) -> glam::Vec3 {
+            glam::Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
+        }
+        pub fn unit_vector(&mut self) -> glam::Vec3 {
+            loop {
+                let v = self.vec3(-1.0, 1.0);
+                let l = v.length_squared();
+                if l > 1e-4 && l <= 1.0 {
+                    return v / l.sqrt();
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quadratic_roots_are_ordered_and_stable() {
+        assert_eq!(solve_quadratic(1.0, -3.0, 8.0), Some((2.0, 4.0))); // t² − 6t + 8
+        assert_eq!(solve_quadratic(1.0, 0.0, 1.0), None);
+        assert_eq!(solve_quadratic(1.0, 0.0, 0.0), Some((0.0, 0.0)));
+        // Widely separated roots: 1e-4 and 1e4 (x² − (1e4+1e-4)x + 1).
+        let (t0, t1) = solve_quadratic(1.0, -0.5 * (1e4 + 1e-4), 1.0).unwrap();
+        assert!((t0 - 1e-4).abs() < 1e-9 && (t1 - 1e4).abs() < 1e-2);
+    }
+}

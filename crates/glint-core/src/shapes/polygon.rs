@@ -1,0 +1,270 @@
+//! Planar polygon with n ≥ 3 vertices, convex or concave, by the course's two
+//! point-in-polygon tests.
+//!
+//! Scene parameters: `vertices` (n points in one plane, counter-clockwise seen from the
+//! front; the normal is Newell's, so slightly non-planar input still gets a sensible plane).
+//! ```toml
+//! [[shapes]]
+//! type = "polygon"
+//! vertices = [[0, 0, 0], [2, 0, 0], [2, 2, 0], [1, 1, 0], [0, 2, 0]]
+//! material = "blue"
+//! ```
+//! The ray meets the polygon's plane; the hit and the vertices are projected onto the
+//! coordinate plane where the polygon is largest (dropping the normal's dominant axis), and a
+//! 2D test decides inside or outside:
+//! - **crossing** (even–odd rule): count the edges a half-line from the point crosses;
+//! - **winding** (sign pairs / quadrants): sum the quadrant changes of the vertices seen from
+//!   the point; a non-zero total (a multiple of 4, the winding number times 4) is inside.
+//!
+//! They agree on every simple polygon. On a self-intersecting one (a pentagram) they differ
+//! by design: the centre of a pentagram is outside by the even–odd rule and inside by winding.
+
+use glam::{Vec2, Vec3};
+
+use super::SurfaceGeometry;
+use crate::geometry::{orthonormal_basis, Aabb, Ray};
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PolygonTest {
+    #[default]
+    Crossing,
+    Winding,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polygon {
+    vertices: Vec<Vec3>,
+    normal: Vec3,
+    offset: f32,
+    /// Indices of the two axes kept by the projection.
+    axes: (usize, usize),
+    projected: Vec<Vec2>,
+}
+
+impl Polygon {
+    /// `None` if there are fewer than 3 vertices or the polygon has no area.
+    pub fn new(vertices: Vec<Vec3>) -> Option<Self> {
+        if vertices.len() < 3 {
+            return None;
+        }
+        let newell: Vec3 = (0..vertices.len())
+            .map(|i| {
+                let (a, b) = (vertices[i], vertices[(i + 1) % vertices.len()]);
+                Vec3::new((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y))
+            })
+            .sum();
+        let normal = newell.try_normalize()?;
+        let centroid = vertices.iter().sum::<Vec3>() / vertices.len() as f32;
+        let abs = normal.abs();
+        let axes = if abs.x >= abs.y && abs.x >= abs.z {
+            (1, 2)
+        } else if abs.y >= abs.z {
+            (2, 0)
+        } else {
+            (0, 1)
+        };
+        let projected = vertices.iter().map(|v| Vec2::new(v[axes.0], v[axes.1])).collect();
+        Some(Self { offset: -normal.dot(centroid), normal, axes, projected, vertices })
+    }
+
+    pub fn vertices(&self) -> &[Vec3] {
+        &self.vertices
+    }
+
+    pub fn normal(&self) -> Vec3 {
+        self.normal
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(self.vertices.iter().copied())
+    }
+
+    pub fn intersect(&self, ray: &Ray, test: PolygonTest) -> Option<f32> {
+        let denominator = self.normal.dot(ray.direction);
+        if denominator == 0.0 {
+            return None;
+        }
+        let t = -(self.normal.dot(ray.origin) + self.offset) / denominator;
+        if !ray.contains(t) {
+            return None;
+        }
+        let p = ray.at(t);
+        let point = Vec2::new(p[self.axes.0], p[self.axes.1]);
+        let inside = match test {
+            PolygonTest::Crossing => crossing_test(&self.projected, point),
+            PolygonTest::Winding => winding_number(&self.projected, point) != 0,
+        };
+        inside.then_some(t)
+    }
+
+    pub fn surface(&self, point: Vec3) -> SurfaceGeometry {
+        let point = point - (self.normal.dot(point) + self.offset) * self.normal;
+        let (s, t) = orthonormal_basis(self.normal);
+        SurfaceGeometry {
+            point,
+            geometric_normal: self.normal,
+            shading_normal: self.normal,
+            uv: Vec2::new(point.dot(s), point.dot(t)),
+        }
+    }
+}
+
+/// Even–odd rule: a half-line from `p` toward +x crosses the boundary an odd number of times
+/// iff `p` is inside. Each edge is half-open in y, so a vertex on the half-line counts once.
+pub fn crossing_test(vertices: &[Vec2], p: Vec2) -> bool {
+    let mut inside = false;
+    let mut previous = vertices[vertices.len() - 1];
+    for &current in vertices {
+        if (current.y > p.y) != (previous.y > p.y) {
+            let x_cross = current.x + (p.y - current.y) * (previous.x - current.x) / (previous.y - current.y);
+            if p.x < x_cross {
+                inside = !inside;
+            }
+        }
+        previous = current;
+    }
+    inside
+}
+
+/// Winding number by sign pairs: each vertex, seen from `p`, falls in the quadrant given by the
+/// signs of its (x, y); walking the edges, a step to the next quadrant counts ±1 and a diagonal
+/// step ±2 (its direction from the sign of the cross product). The total is 4 × winding number.
+pub fn winding_number(vertices: &[Vec2], p: Vec2) -> i32 {
+    let quadrant = |v: Vec2| -> i32 {
+        match (v.x >= 0.0, v.y >= 0.0) {
+            (true, true) => 0,
+            (false, true) => 1,
+            (false, false) => 2,
+            (true, false) => 3,
+        }
+    };
+    let mut previous = vertices[vertices.len() - 1] - p;
+    let mut previous_quadrant = quadrant(previous);
+    let mut total = 0;
+    for &vertex in vertices {
+        let current = vertex - p;
+        let current_quadrant = quadrant(current);
+        total += match (current_quadrant - previous_quadrant).rem_euclid(4) {
+            0 => 0,
+            1 => 1,
+            3 => -1,
+            _ => {
+                // Diagonal: passes left or right of p depending on the edge's orientation.
+                if previous.perp_dot(current) > 0.0 {
+                    2
+                } else {
+                    -2
+                }
+            }
+        };
+        previous = current;
+        previous_quadrant = current_quadrant;
+    }
+    total / 4
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::test_util::TestRng;
+
+    const TESTS: [PolygonTest; 2] = [PolygonTest::Crossing, PolygonTest::Winding];
+
+    /// An L-shaped (concave) hexagon in the z = 1 plane.
+    fn l_shape() -> Polygon {
+        Polygon::new(
+            [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)]
+                .iter()
+                .map(|&(x, y)| Vec3::new(x, y, 1.0))
+                .collect(),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn concave_polygon_inside_and_notch() {
+        for test in TESTS {
+            let hit = |x, y| l_shape().intersect(&Ray::new(Vec3::new(x, y, 0.0), Vec3::Z), test);
+            assert_eq!(hit(0.5, 0.5), Some(1.0), "{test:?}");
+            assert_eq!(hit(1.5, 0.5), Some(1.0), "{test:?}");
+            assert_eq!(hit(0.5, 1.5), Some(1.0), "{test:?}");
+            assert_eq!(hit(1.5, 1.5), None, "notch {test:?}");
+            assert_eq!(hit(3.0, 0.5), None, "{test:?}");
+        }
+    }
+
+    #[test]
+    fn plane_misses() {
+        for test in TESTS {
+            assert!(l_shape().intersect(&Ray::new(Vec3::new(0.5, 0.5, 2.0), Vec3::Z), test).is_none());
+            assert!(l_shape().intersect(&Ray::new(Vec3::new(0.5, 0.5, 1.0), Vec3::X), test).is_none());
+        }
+    }
+
+    #[test]
+    fn degenerate_polygons_are_refused() {
+        assert!(Polygon::new(vec![Vec3::ZERO, Vec3::X]).is_none());
+        assert!(Polygon::new(vec![Vec3::ZERO, Vec3::X, 2.0 * Vec3::X]).is_none());
+    }
+
+    #[test]
+    fn normal_follows_winding_and_projection_handles_every_axis() {
+        assert_eq!(l_shape().normal(), Vec3::Z);
+        for n in [Vec3::X, Vec3::Y, -Vec3::Z] {
+            let (s, t) = orthonormal_basis(n);
+            let square = Polygon::new(vec![s + t, -s + t, -s - t, s - t]).unwrap();
+            assert!((square.normal() - n).length() < 1e-6);
+            for test in TESTS {
+                let ray = Ray::new(3.0 * n + 0.5 * s, -n);
+                assert_eq!(square.intersect(&ray, test), Some(3.0));
+            }
+        }
+    }
+
+    #[test]
+    fn pentagram_centre_differs_by_rule() {
+        let star: Vec<Vec2> = (0..5)
+            .map(|i| {
+                let a = std::f32::consts::FRAC_PI_2 + i as f32 * 4.0 * std::f32::consts::PI / 5.0;
+                Vec2::new(a.cos(), a.sin())
+            })
+            .collect();
+        assert!(!crossing_test(&star, Vec2::ZERO));
+        assert_eq!(winding_number(&star, Vec2::ZERO).abs(), 2);
+        // A point in one of the star's tips is inside by both rules.
+        let tip = 0.8 * star[0];
+        assert!(crossing_test(&star, tip) && winding_number(&star, tip) != 0);
+    }
+
+    /// Random simple (star-shaped, hence non-self-intersecting) polygons, a million points:
+    /// the two rules must agree except within rounding of an edge.
+    #[test]
+    fn crossing_and_winding_agree_on_a_million_rays() {
+        let mut rng = TestRng(3);
+        for _ in 0..2_000 {
+            let n = 3 + (rng.next_u64() % 12) as usize;
+            let mut angles: Vec<f32> = (0..n).map(|_| rng.range(0.0, std::f32::consts::TAU)).collect();
+            angles.sort_by(f32::total_cmp);
+            let poly: Vec<Vec2> = angles.iter().map(|a| rng.range(0.2, 1.0) * Vec2::new(a.cos(), a.sin())).collect();
+            for _ in 0..500 {
+                let p = Vec2::new(rng.range(-1.1, 1.1), rng.range(-1.1, 1.1));
+                let even_odd = crossing_test(&poly, p);
+                let winding = winding_number(&poly, p) != 0;
+                if even_odd != winding {
+                    let d = distance_to_boundary(&poly, p);
+                    assert!(d < 1e-5, "rules differ at {p} ({d} from the boundary)");
+                }
+            }
+        }
+    }
+
+    fn distance_to_boundary(poly: &[Vec2], p: Vec2) -> f32 {
+        (0..poly.len())
+            .map(|i| {
+                let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+                let t = ((p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                (a + t * (b - a) - p).length()
+            })
+            .fold(f32::INFINITY, f32::min)
+    }
+}

@@ -1,0 +1,217 @@
+//! Sphere, by the course's two methods.
+//!
+//! Scene parameters: `center` (point, default origin), `radius` (> 0).
+//! ```toml
+//! [[shapes]]
+//! type = "sphere"
+//! center = [0, 1, 0]
+//! radius = 1
+//! material = "red"
+//! ```
+//! - **algebraic**: substitute the ray into |P − C|² = r² and solve the quadratic.
+//! - **geometric**: project C − O on the ray (t_ca), compare the squared distance of the
+//!   closest approach with r², then step back and forth by t_hc = √(r² − d²).
+//!
+//! Both pick the nearest root inside `(t_min, t_max)`, so an origin inside the sphere hits the
+//! far wall, and an origin on the surface (with `t_min > 0`) does not hit itself at t = 0.
+
+use std::f32::consts::PI;
+
+use glam::{Vec2, Vec3};
+
+use super::{first_in_range, solve_quadratic, SurfaceGeometry};
+use crate::geometry::{Aabb, Ray};
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SphereMethod {
+    #[default]
+    Algebraic,
+    Geometric,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+impl Sphere {
+    pub fn new(center: Vec3, radius: f32) -> Self {
+        Self { center, radius }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        Aabb::new(self.center - Vec3::splat(self.radius), self.center + Vec3::splat(self.radius))
+    }
+
+    pub fn intersect(&self, ray: &Ray, method: SphereMethod) -> Option<f32> {
+        match method {
+            SphereMethod::Algebraic => self.intersect_algebraic(ray),
+            SphereMethod::Geometric => self.intersect_geometric(ray),
+        }
+    }
+
+    /// (d·d)t² + 2(d·(O−C))t + |O−C|² − r² = 0.
+    pub fn intersect_algebraic(&self, ray: &Ray) -> Option<f32> {
+        let oc = ray.origin - self.center;
+        let a = ray.direction.length_squared();
+        let half_b = ray.direction.dot(oc);
+        let c = oc.length_squared() - self.radius * self.radius;
+        let (t0, t1) = solve_quadratic(a, half_b, c)?;
+        first_in_range(ray, t0, t1)
+    }
+
+    /// The geometric construction, with distances along the unit direction, converted back to
+    /// the ray's parameter at the end.
+    pub fn intersect_geometric(&self, ray: &Ray) -> Option<f32> {
+        let length = ray.direction.length();
+        let unit = ray.direction / length;
+        let l = self.center - ray.origin;
+        let r2 = self.radius * self.radius;
+        let t_ca = l.dot(unit);
+        let origin_outside = l.length_squared() > r2;
+        if origin_outside && t_ca < 0.0 {
+            return None; // the sphere is behind the ray
+        }
+        // |L − t_ca·D|² instead of |L|² − t_ca²: no cancellation for distant spheres.
+        let d2 = (l - t_ca * unit).length_squared();
+        if d2 > r2 {
+            return None; // the ray passes the sphere by
+        }
+        let t_hc = (r2 - d2).sqrt();
+        first_in_range(ray, (t_ca - t_hc) / length, (t_ca + t_hc) / length)
+    }
+
+    /// The point is projected back onto the sphere, which removes most of the error of
+    /// `O + tD` (pbrt-v4 §6.8.5). uv: u = φ/2π around +y from +x, v = 1 at the north pole (+y).
+    pub fn surface(&self, point: Vec3) -> SurfaceGeometry {
+        let mut normal = (point - self.center) / self.radius;
+        normal = normal.normalize_or(Vec3::Y);
+        let point = self.center + normal * self.radius;
+        let phi = normal.z.atan2(normal.x).rem_euclid(2.0 * PI);
+        let theta = normal.y.clamp(-1.0, 1.0).acos();
+        SurfaceGeometry {
+            point,
+            geometric_normal: normal,
+            shading_normal: normal,
+            uv: Vec2::new(phi / (2.0 * PI), 1.0 - theta / PI),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::test_util::TestRng;
+
+    const METHODS: [SphereMethod; 2] = [SphereMethod::Algebraic, SphereMethod::Geometric];
+
+    fn unit_sphere() -> Sphere {
+        Sphere::new(Vec3::ZERO, 1.0)
+    }
+
+    #[test]
+    fn hit_from_outside() {
+        let ray = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+        for m in METHODS {
+            assert_eq!(unit_sphere().intersect(&ray, m), Some(4.0), "{m:?}");
+        }
+    }
+
+    #[test]
+    fn unnormalised_direction_scales_t() {
+        let ray = Ray::new(Vec3::new(0.0, 0.0, -5.0), 2.0 * Vec3::Z);
+        for m in METHODS {
+            assert_eq!(unit_sphere().intersect(&ray, m), Some(2.0), "{m:?}");
+        }
+    }
+
+    #[test]
+    fn miss_and_behind() {
+        let miss = Ray::new(Vec3::new(0.0, 2.0, -5.0), Vec3::Z);
+        let behind = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::Z);
+        for m in METHODS {
+            assert_eq!(unit_sphere().intersect(&miss, m), None);
+            assert_eq!(unit_sphere().intersect(&behind, m), None);
+        }
+    }
+
+    #[test]
+    fn origin_inside_hits_far_wall() {
+        let ray = Ray::new(Vec3::new(0.0, 0.0, 0.5), Vec3::Z);
+        for m in METHODS {
+            assert_eq!(unit_sphere().intersect(&ray, m), Some(0.5), "{m:?}");
+        }
+    }
+
+    #[test]
+    fn origin_on_surface_does_not_hit_itself() {
+        // Leaving outward: no hit. Going inward: the far side at t = 2.
+        let out = Ray::with_range(Vec3::new(0.0, 0.0, -1.0), -Vec3::Z, 1e-4, f32::INFINITY);
+        let inward = Ray::with_range(Vec3::new(0.0, 0.0, -1.0), Vec3::Z, 1e-4, f32::INFINITY);
+        for m in METHODS {
+            assert_eq!(unit_sphere().intersect(&out, m), None, "{m:?}");
+            assert_eq!(unit_sphere().intersect(&inward, m), Some(2.0), "{m:?}");
+        }
+    }
+
+    #[test]
+    fn tangent_ray_touches_at_one_point() {
+        let ray = Ray::new(Vec3::new(-3.0, 1.0, 0.0), Vec3::X);
+        for m in METHODS {
+            assert_eq!(unit_sphere().intersect(&ray, m), Some(3.0), "{m:?}");
+        }
+    }
+
+    #[test]
+    fn t_max_limits_the_hit() {
+        let ray = Ray::with_range(Vec3::new(0.0, 0.0, -5.0), Vec3::Z, 0.0, 3.9);
+        for m in METHODS {
+            assert_eq!(unit_sphere().intersect(&ray, m), None);
+        }
+    }
+
+    #[test]
+    fn surface_normal_and_uv() {
+        let s = Sphere::new(Vec3::new(1.0, 2.0, 3.0), 2.0);
+        let g = s.surface(Vec3::new(1.0, 4.0, 3.0));
+        assert_eq!(g.geometric_normal, Vec3::Y);
+        assert!((g.uv.y - 1.0).abs() < 1e-6);
+        let g = s.surface(Vec3::new(3.0, 2.0, 3.0));
+        assert!((g.uv - Vec2::new(0.0, 0.5)).length() < 1e-6);
+    }
+
+    /// Two methods, one answer, on a million random rays from inside, outside and near the
+    /// sphere. Disagreement on hit/miss is allowed only for near-tangent rays, whose outcome
+    /// rounding may decide either way.
+    #[test]
+    fn algebraic_and_geometric_agree_on_a_million_rays() {
+        let mut rng = TestRng(7);
+        let mut disagreements = 0;
+        for _ in 0..1_000_000 {
+            let sphere = Sphere::new(rng.vec3(-2.0, 2.0), rng.range(0.1, 3.0));
+            let origin = sphere.center + rng.unit_vector() * rng.range(0.0, 4.0 * sphere.radius);
+            let ray = Ray::new(origin, rng.unit_vector() * rng.range(0.5, 2.0));
+            let a = sphere.intersect_algebraic(&ray);
+            let g = sphere.intersect_geometric(&ray);
+            match (a, g) {
+                (Some(ta), Some(tg)) => {
+                    let scale = 1.0 + ta.abs() + sphere.radius / ray.direction.length();
+                    assert!((ta - tg).abs() <= 1e-4 * scale, "t differs: {ta} vs {tg} for {ray:?}");
+                }
+                (None, None) => {}
+                _ => {
+                    // Near-tangent: the closest approach is within rounding of the radius.
+                    let unit = ray.direction.normalize();
+                    let l = sphere.center - ray.origin;
+                    let d = (l - l.dot(unit) * unit).length();
+                    let near_tangent = (d - sphere.radius).abs() < 1e-4 * sphere.radius;
+                    let near_surface = (l.length() - sphere.radius).abs() < 1e-4 * sphere.radius;
+                    assert!(near_tangent || near_surface, "hit/miss differ: {a:?} vs {g:?} for {ray:?}");
+                    disagreements += 1;
+                }
+            }
+        }
+        assert!(disagreements < 100, "{disagreements} disagreements");
+    }
+}

@@ -1,0 +1,259 @@
+//! Triangle, by barycentric coordinates and Cramer's rule (the course's derivation) and by
+//! Möller–Trumbore (the fast path).
+//!
+//! Scene parameters: `vertices` (three points, counter-clockwise seen from the front),
+//! optional `normals` (three vectors, for smooth shading) and `uvs` (three 2D points).
+//! ```toml
+//! [[shapes]]
+//! type = "triangle"
+//! vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+//! material = "white"
+//! ```
+//! Both solve O + tD = A + β(B − A) + γ(C − A) for (t, β, γ) and accept β ≥ 0, γ ≥ 0,
+//! β + γ ≤ 1: a ray through an edge or a vertex hits. A ray parallel to the triangle's
+//! plane (determinant 0) misses.
+
+use glam::{Vec2, Vec3};
+
+use super::{PrimHit, SurfaceGeometry};
+use crate::geometry::{Aabb, Ray};
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TriangleMethod {
+    Cramer,
+    #[default]
+    MollerTrumbore,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    pub vertices: [Vec3; 3],
+    pub normals: Option<[Vec3; 3]>,
+    pub uvs: Option<[Vec2; 3]>,
+}
+
+impl Triangle {
+    pub fn new(a: Vec3, b: Vec3, c: Vec3) -> Self {
+        Self { vertices: [a, b, c], normals: None, uvs: None }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(self.vertices)
+    }
+
+    /// Twice the area; 0 for a degenerate (collinear) triangle.
+    pub fn double_area(&self) -> f32 {
+        let [a, b, c] = self.vertices;
+        (b - a).cross(c - a).length()
+    }
+
+    pub fn intersect(&self, ray: &Ray, method: TriangleMethod) -> Option<PrimHit> {
+        let [a, b, c] = self.vertices;
+        match method {
+            TriangleMethod::Cramer => intersect_cramer(a, b, c, ray),
+            TriangleMethod::MollerTrumbore => intersect_moller_trumbore(a, b, c, ray),
+        }
+    }
+
+    pub fn surface(&self, hit: &PrimHit) -> SurfaceGeometry {
+        triangle_surface(self.vertices, self.normals, self.uvs, hit)
+    }
+}
+
+/// The 3×3 system [A−B | A−C | D]·(β, γ, t) = A − O solved by Cramer's rule, with the
+/// determinants expanded as in Shirley & Marschner, Fundamentals of Computer Graphics §4.4.2.
+pub fn intersect_cramer(va: Vec3, vb: Vec3, vc: Vec3, ray: &Ray) -> Option<PrimHit> {
+    let (a, b, c) = (va.x - vb.x, va.y - vb.y, va.z - vb.z);
+    let (d, e, f) = (va.x - vc.x, va.y - vc.y, va.z - vc.z);
+    let (g, h, i) = (ray.direction.x, ray.direction.y, ray.direction.z);
+    let (j, k, l) = (va.x - ray.origin.x, va.y - ray.origin.y, va.z - ray.origin.z);
+
+    let ei_hf = e * i - h * f;
+    let gf_di = g * f - d * i;
+    let dh_eg = d * h - e * g;
+    let m = a * ei_hf + b * gf_di + c * dh_eg;
+    if m == 0.0 {
+        return None;
+    }
+    let ak_jb = a * k - j * b;
+    let jc_al = j * c - a * l;
+    let bl_kc = b * l - k * c;
+
+    let t = -(f * ak_jb + e * jc_al + d * bl_kc) / m;
+    if !ray.contains(t) {
+        return None;
+    }
+    let gamma = (i * ak_jb + h * jc_al + g * bl_kc) / m;
+    if !(0.0..=1.0).contains(&gamma) {
+        return None;
+    }
+    let beta = (j * ei_hf + k * gf_di + l * dh_eg) / m;
+    if beta < 0.0 || beta > 1.0 - gamma {
+        return None;
+    }
+    Some(PrimHit { t, u: beta, v: gamma })
+}
+
+/// Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection".
+#[inline]
+pub fn intersect_moller_trumbore(a: Vec3, b: Vec3, c: Vec3, ray: &Ray) -> Option<PrimHit> {
+    let edge1 = b - a;
+    let edge2 = c - a;
+    let p = ray.direction.cross(edge2);
+    let determinant = edge1.dot(p);
+    if determinant == 0.0 {
+        return None;
+    }
+    let inv_det = 1.0 / determinant;
+    let s = ray.origin - a;
+    let u = s.dot(p) * inv_det;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let q = s.cross(edge1);
+    let v = ray.direction.dot(q) * inv_det;
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    let t = edge2.dot(q) * inv_det;
+    ray.contains(t).then_some(PrimHit { t, u, v })
+}
+
+/// Point, normals and uv from barycentrics. The point is interpolated from the vertices
+/// rather than computed as O + tD, which is more accurate (pbrt-v4 §6.5.3).
+pub(crate) fn triangle_surface(
+    [a, b, c]: [Vec3; 3],
+    normals: Option<[Vec3; 3]>,
+    uvs: Option<[Vec2; 3]>,
+    hit: &PrimHit,
+) -> SurfaceGeometry {
+    let w = 1.0 - hit.u - hit.v;
+    let point = w * a + hit.u * b + hit.v * c;
+    let geometric_normal = (b - a).cross(c - a).normalize_or(Vec3::Z);
+    let shading_normal = match normals {
+        Some([na, nb, nc]) => {
+            let n = (w * na + hit.u * nb + hit.v * nc).normalize_or(geometric_normal);
+            // Keep the shading normal on the geometric normal's side.
+            if n.dot(geometric_normal) < 0.0 {
+                -n
+            } else {
+                n
+            }
+        }
+        None => geometric_normal,
+    };
+    let uv = match uvs {
+        Some([ta, tb, tc]) => w * ta + hit.u * tb + hit.v * tc,
+        None => Vec2::new(hit.u, hit.v),
+    };
+    SurfaceGeometry { point, geometric_normal, shading_normal, uv }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::test_util::TestRng;
+
+    const METHODS: [TriangleMethod; 2] = [TriangleMethod::Cramer, TriangleMethod::MollerTrumbore];
+
+    fn tri() -> Triangle {
+        Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)
+    }
+
+    #[test]
+    fn hit_with_barycentrics() {
+        let ray = Ray::new(Vec3::new(0.25, 0.5, -2.0), Vec3::Z);
+        for m in METHODS {
+            let h = tri().intersect(&ray, m).unwrap();
+            assert_eq!((h.t, h.u, h.v), (2.0, 0.25, 0.5), "{m:?}");
+            let g = tri().surface(&h);
+            assert_eq!(g.point, Vec3::new(0.25, 0.5, 0.0));
+            assert_eq!(g.geometric_normal, Vec3::Z);
+        }
+    }
+
+    #[test]
+    fn miss_behind_and_parallel() {
+        for m in METHODS {
+            assert!(tri().intersect(&Ray::new(Vec3::new(0.8, 0.8, -1.0), Vec3::Z), m).is_none());
+            assert!(tri().intersect(&Ray::new(Vec3::new(0.2, 0.2, 1.0), Vec3::Z), m).is_none());
+            assert!(tri().intersect(&Ray::new(Vec3::new(-1.0, 0.2, 0.0), Vec3::X), m).is_none());
+        }
+    }
+
+    #[test]
+    fn edge_and_vertex_hits_count() {
+        for m in METHODS {
+            for p in [Vec3::new(0.5, 0.0, -1.0), Vec3::new(0.5, 0.5, -1.0), Vec3::new(0.0, 0.3, -1.0)] {
+                assert!(tri().intersect(&Ray::new(p, Vec3::Z), m).is_some(), "edge {p} {m:?}");
+            }
+            for v in tri().vertices {
+                let h = tri().intersect(&Ray::new(v - Vec3::Z, Vec3::Z), m);
+                assert_eq!(h.map(|h| h.t), Some(1.0), "vertex {v} {m:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn back_face_hits_too() {
+        for m in METHODS {
+            let h = tri().intersect(&Ray::new(Vec3::new(0.2, 0.2, 3.0), -Vec3::Z), m);
+            assert_eq!(h.map(|h| h.t), Some(3.0));
+        }
+    }
+
+    #[test]
+    fn smooth_normals_and_uvs_interpolate() {
+        let mut t = tri();
+        t.normals = Some([Vec3::Z, Vec3::Z, Vec3::new(0.0, 1.0, 1.0).normalize()]);
+        t.uvs = Some([Vec2::ZERO, Vec2::new(2.0, 0.0), Vec2::new(0.0, 4.0)]);
+        let g = t.surface(&PrimHit { t: 1.0, u: 0.5, v: 0.25 });
+        assert_eq!(g.uv, Vec2::new(1.0, 1.0));
+        assert!(g.shading_normal.y > 0.0 && (g.shading_normal.length() - 1.0).abs() < 1e-6);
+    }
+
+    /// Two methods, one answer: random triangles and rays. Hit/miss may differ only where the
+    /// f64 barycentrics put the hit within rounding of an edge.
+    #[test]
+    fn cramer_and_moller_trumbore_agree_on_a_million_rays() {
+        let mut rng = TestRng(11);
+        let mut disagreements = 0;
+        for _ in 0..1_000_000 {
+            let t = Triangle::new(rng.vec3(-1.0, 1.0), rng.vec3(-1.0, 1.0), rng.vec3(-1.0, 1.0));
+            let origin = rng.vec3(-3.0, 3.0);
+            let target = rng.vec3(-1.0, 1.0);
+            let ray = Ray::new(origin, target - origin);
+            let c = t.intersect(&ray, TriangleMethod::Cramer);
+            let m = t.intersect(&ray, TriangleMethod::MollerTrumbore);
+            match (c, m) {
+                (Some(a), Some(b)) => {
+                    assert!((a.t - b.t).abs() <= 1e-4 * (1.0 + a.t), "{a:?} vs {b:?}");
+                    assert!((a.u - b.u).abs() < 1e-3 && (a.v - b.v).abs() < 1e-3);
+                }
+                (None, None) => {}
+                _ => {
+                    let margin = f64_edge_margin(&t, &ray);
+                    assert!(margin < 1e-4, "hit/miss differ away from an edge: {c:?} {m:?} {margin}");
+                    disagreements += 1;
+                }
+            }
+        }
+        assert!(disagreements < 200, "{disagreements}");
+    }
+
+    /// Smallest barycentric (and t) of the ray's crossing with the triangle's plane, in f64.
+    fn f64_edge_margin(t: &Triangle, ray: &Ray) -> f64 {
+        let v = |p: Vec3| glam::DVec3::new(p.x as f64, p.y as f64, p.z as f64);
+        let [a, b, c] = t.vertices.map(v);
+        let (o, d) = (v(ray.origin), v(ray.direction));
+        let (e1, e2) = (b - a, c - a);
+        let p = d.cross(e2);
+        let det = e1.dot(p);
+        let s = o - a;
+        let u = s.dot(p) / det;
+        let q = s.cross(e1);
+        let w = d.dot(q) / det;
+        let tt = e2.dot(q) / det;
+        u.abs().min(w.abs()).min((1.0 - u - w).abs()).min(tt.abs()).min(det.abs())
+    }
+}

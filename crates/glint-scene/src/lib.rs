@@ -1,0 +1,24 @@
+//! Scene readers for glint. The native format (TOML, or the same schema as JSON) is
+//! documented in `docs/scene-format.md`; meshes come from OBJ and PLY files.
+//!
+//! Every error names the file, the line and column where that can be known, and what was
+//! expected; nothing a user writes can make a reader panic.
+
+mod error;
+mod located;
+pub mod mesh;
+pub mod native;
+mod source;
+
+pub use error::{Location, SceneError};
+pub use native::{load_scene, parse_scene, LoadedScene, RenderOptions};
+pub use source::Source;
+
+/// The scene `glint render` shows when given no scene file: spheres, a polygon, a box and a
+/// mesh under two lights. Its files are compiled into the binary.
+pub fn default_scene() -> Result<LoadedScene, SceneError> {
+    const TOML: &str = include_str!("../../../scenes/default.toml");
+    const TORUS: &[u8] = include_bytes!("../../../scenes/meshes/torus.obj");
+    let source = Source::Embedded(&[("meshes/torus.obj", TORUS)]);
+    parse_scene(TOML, native::Format::Toml, "<built-in default scene>", &source)
+}

@@ -1,0 +1,110 @@
+use std::io::BufReader;
+
+use glam::{Vec2, Vec3};
+use glint_core::shapes::Mesh;
+use ply_rs::parser::Parser;
+use ply_rs::ply::{Property, PropertyAccess};
+
+#[derive(Default)]
+struct Vertex {
+    position: Vec3,
+    normal: Option<Vec3>,
+    uv: Option<Vec2>,
+}
+
+fn scalar(p: &Property) -> Option<f32> {
+    Some(match *p {
+        Property::Float(v) => v,
+        Property::Double(v) => v as f32,
+        Property::Char(v) => v as f32,
+        Property::UChar(v) => v as f32,
+        Property::Short(v) => v as f32,
+        Property::UShort(v) => v as f32,
+        Property::Int(v) => v as f32,
+        Property::UInt(v) => v as f32,
+        _ => return None,
+    })
+}
+
+impl PropertyAccess for Vertex {
+    fn new() -> Self {
+        Self::default()
+    }
+    fn set_property(&mut self, name: String, property: Property) {
+        let Some(v) = scalar(&property) else { return };
+        match name.as_str() {
+            "x" => self.position.x = v,
+            "y" => self.position.y = v,
+            "z" => self.position.z = v,
+            "nx" => self.normal.get_or_insert(Vec3::ZERO).x = v,
+            "ny" => self.normal.get_or_insert(Vec3::ZERO).y = v,
+            "nz" => self.normal.get_or_insert(Vec3::ZERO).z = v,
+            "u" | "s" | "texture_u" | "texture_s" => self.uv.get_or_insert(Vec2::ZERO).x = v,
+            "v" | "t" | "texture_v" | "texture_t" => self.uv.get_or_insert(Vec2::ZERO).y = v,
+            _ => {}
+        }
+    }
+}
+
+#[derive(Default)]
+struct Face(Vec<u32>);
+
+impl PropertyAccess for Face {
+    fn new() -> Self {
+        Self::default()
+    }
+    fn set_property(&mut self, name: String, property: Property) {
+        if name != "vertex_indices" && name != "vertex_index" {
+            return;
+        }
+        self.0 = match property {
+            Property::ListInt(v) => v.into_iter().map(|i| i as u32).collect(),
+            Property::ListUInt(v) => v,
+            Property::ListShort(v) => v.into_iter().map(|i| i as u32).collect(),
+            Property::ListUShort(v) => v.into_iter().map(u32::from).collect(),
+            Property::ListChar(v) => v.into_iter().map(|i| i as u32).collect(),
+            Property::ListUChar(v) => v.into_iter().map(u32::from).collect(),
+            _ => Vec::new(),
+        };
+    }
+}
+
+/// Faces with more than three vertices are split into fans.
+pub(super) fn read(data: &[u8]) -> Result<Mesh, String> {
+    let mut reader = BufReader::new(data);
+    let vertex_parser = Parser::<Vertex>::new();
+    let face_parser = Parser::<Face>::new();
+    let header = vertex_parser.read_header(&mut reader).map_err(|e| format!("not a valid PLY header: {e}"))?;
+    let (mut vertices, mut faces) = (Vec::new(), Vec::new());
+    for (name, element) in &header.elements {
+        match name.as_str() {
+            "vertex" => {
+                vertices = vertex_parser
+                    .read_payload_for_element(&mut reader, element, &header)
+                    .map_err(|e| format!("cannot read the PLY vertices: {e}"))?
+            }
+            "face" => {
+                faces = face_parser
+                    .read_payload_for_element(&mut reader, element, &header)
+                    .map_err(|e| format!("cannot read the PLY faces: {e}"))?
+            }
+            other => return Err(format!("unsupported PLY element `{other}` (expected `vertex` and `face`)")),
+        }
+    }
+    let mut mesh = Mesh { positions: vertices.iter().map(|v| v.position).collect(), ..Default::default() };
+    if vertices.iter().all(|v| v.normal.is_some()) && !vertices.is_empty() {
+        mesh.normals = Some(vertices.iter().map(|v| v.normal.unwrap_or(Vec3::Z).normalize_or(Vec3::Z)).collect());
+    }
+    if vertices.iter().all(|v| v.uv.is_some()) && !vertices.is_empty() {
+        mesh.uvs = Some(vertices.iter().map(|v| v.uv.unwrap_or_default()).collect());
+    }
+    for (f, Face(indices)) in faces.iter().enumerate() {
+        if indices.len() < 3 {
+            return Err(format!("face {f} has {} vertices; at least 3 are needed", indices.len()));
+        }
+        for k in 1..indices.len() - 1 {
+            mesh.indices.push([indices[0], indices[k], indices[k + 1]]);
+        }
+    }
+    Ok(mesh)
+}

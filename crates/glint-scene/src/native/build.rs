@@ -1,0 +1,365 @@
+//! From the parsed file to a core `Scene`: every value checked (finite, positive where it must
+//! be, names that exist), meshes loaded, transforms composed.
+
+use std::ops::Range;
+use std::path::Path;
+
+use glam::{Mat4, Quat, Vec2, Vec3};
+use glint_core::camera::Camera;
+use glint_core::geometry::Transform;
+use glint_core::integrators::IntegratorKind;
+use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight};
+use glint_core::materials::{Material, Phong};
+use glint_core::scene::{Environment, Object, Scene};
+use glint_core::shapes::{
+    AaBox, BoxMethod, IntersectMethods, Plane, Polygon, PolygonTest, Shape, Sphere, SphereMethod, Triangle,
+    TriangleMethod,
+};
+
+use super::schema::*;
+use super::{find_key, LoadedScene, RenderOptions};
+use crate::error::{closest_name, Location, SceneError};
+use crate::located::Located;
+use crate::source::Source;
+
+/// Error context: the file's text and name, to turn spans into locations.
+struct Context<'a> {
+    text: &'a str,
+    file: &'a Path,
+}
+
+impl Context<'_> {
+    /// An error at `span` (the element), pointing at `key` inside it when given and found.
+    fn error(&self, span: &Option<Range<usize>>, key: Option<&str>, message: String) -> SceneError {
+        let location = span.as_ref().map(|span| {
+            let offset = key.and_then(|k| find_key(self.text, span.clone(), k)).unwrap_or(span.start);
+            Location::from_offset(self.text, offset)
+        });
+        SceneError::new(self.file, location, message)
+    }
+
+    /// An error about a top-level key, found by searching the whole file.
+    fn error_at_key(&self, key: &str, message: String) -> SceneError {
+        let location = find_key(self.text, 0..self.text.len(), key).map(|o| Location::from_offset(self.text, o));
+        SceneError::new(self.file, location, message)
+    }
+}
+
+pub(super) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -> Result<LoadedScene, SceneError> {
+    let cx = Context { text, file: path };
+    let mut warnings = Vec::new();
+
+    let camera = build_camera(&cx, &file.camera)?;
+    let render = build_render(&cx, &file.render)?;
+    let methods = IntersectMethods {
+        sphere: match file.intersection.sphere {
+            SphereMethodDesc::Algebraic => SphereMethod::Algebraic,
+            SphereMethodDesc::Geometric => SphereMethod::Geometric,
+        },
+        triangle: match file.intersection.triangle {
+            TriangleMethodDesc::Cramer => TriangleMethod::Cramer,
+            TriangleMethodDesc::MollerTrumbore => TriangleMethod::MollerTrumbore,
+        },
+        polygon: match file.intersection.polygon {
+            PolygonTestDesc::Crossing => PolygonTest::Crossing,
+            PolygonTestDesc::Winding => PolygonTest::Winding,
+        },
+        aabox: match file.intersection.aabox {
+            BoxMethodDesc::Slabs => BoxMethod::Slabs,
+            BoxMethodDesc::Woo => BoxMethod::Woo,
+        },
+    };
+    let environment = Environment {
+        background: colour(&cx, "background", file.environment.background)?,
+        ambient_light: colour(&cx, "ambient", file.environment.ambient)?,
+    };
+
+    let mut materials = Vec::new();
+    for (name, entry) in &file.materials {
+        let at = |key: &str, m: String| cx.error(&entry.span, Some(key), format!("material `{name}`: {m}"));
+        let material = match &entry.value {
+            MaterialDesc::Phong { diffuse, ambient, specular, shininess } => {
+                let mut phong = Phong::default();
+                if let Some(d) = diffuse {
+                    phong.diffuse = non_negative(*d).map_err(|m| at("diffuse", m))?;
+                    phong.ambient = phong.diffuse;
+                }
+                if let Some(a) = ambient {
+                    phong.ambient = non_negative(*a).map_err(|m| at("ambient", m))?;
+                }
+                if let Some(s) = specular {
+                    phong.specular = non_negative(*s).map_err(|m| at("specular", m))?;
+                }
+                if let Some(n) = shininess {
+                    if !(n.is_finite() && *n >= 0.0) {
+                        return Err(at("shininess", format!("`shininess` must be a finite number ≥ 0, got {n}")));
+                    }
+                    phong.shininess = *n;
+                }
+                Material::Phong(phong)
+            }
+        };
+        materials.push((name.clone(), material));
+    }
+
+    let lights = file.lights.iter().enumerate().map(|(i, l)| build_light(&cx, i, l)).collect::<Result<_, _>>()?;
+
+    let mut objects = Vec::new();
+    for (i, entry) in file.shapes.iter().enumerate() {
+        objects.push(build_object(&cx, i, entry, &materials, source, &mut warnings)?);
+    }
+
+    let scene = Scene::new(camera, objects, materials, lights, environment, methods);
+    Ok(LoadedScene { scene, render, warnings })
+}
+
+fn build_camera(cx: &Context, camera: &Located<CameraDesc>) -> Result<Camera, SceneError> {
+    let c = &camera.value;
+    let at = |key: &str, m: String| cx.error(&camera.span, Some(key), format!("camera: {m}"));
+    let position = finite(c.position).map_err(|m| at("position", m))?;
+    let look_at = finite(c.look_at).map_err(|m| at("look_at", m))?;
+    let up = finite(c.up).map_err(|m| at("up", m))?;
+    if !(c.fov > 0.0 && c.fov < 180.0) {
+        return Err(at(
+            "fov",
+            format!("`fov` is the vertical field of view in degrees, between 0 and 180 (exclusive); got {}", c.fov),
+        ));
+    }
+    let [width, height] = c.resolution;
+    if width == 0 || height == 0 || width > 1 << 15 || height > 1 << 15 {
+        return Err(at(
+            "resolution",
+            format!("`resolution` must be [width, height] with each between 1 and 32768, got [{width}, {height}]"),
+        ));
+    }
+    Camera::new(position, look_at, up, c.fov, width, height).ok_or_else(|| {
+        at(
+            "look_at",
+            "`look_at` must differ from `position`, and `up` must not be parallel to the view direction".into(),
+        )
+    })
+}
+
+fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneError> {
+    let integrator = IntegratorKind::from_name(&r.integrator).ok_or_else(|| {
+        let names = IntegratorKind::ALL.map(IntegratorKind::name);
+        let hint = closest_name(&r.integrator, names).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
+        cx.error_at_key(
+            "integrator",
+            format!("unknown integrator `{}`, expected one of {}{hint}", r.integrator, quoted(&names)),
+        )
+    })?;
+    if r.spp == 0 {
+        return Err(cx.error_at_key("spp", "`spp` (samples per pixel) must be at least 1".into()));
+    }
+    Ok(RenderOptions { spp: r.spp, max_depth: r.max_depth, integrator, seed: r.seed })
+}
+
+fn build_light(cx: &Context, index: usize, light: &Located<LightDesc>) -> Result<Light, SceneError> {
+    let at = |key: &str, m: String| cx.error(&light.span, Some(key), format!("lights[{index}]: {m}"));
+    let intensity = |color: Vector, intensity: f32| -> Result<Vec3, SceneError> {
+        if !(intensity.is_finite() && intensity >= 0.0) {
+            return Err(at("intensity", format!("`intensity` must be a finite number ≥ 0, got {intensity}")));
+        }
+        Ok(non_negative(color).map_err(|m| at("color", m))? * intensity)
+    };
+    Ok(match &light.value {
+        LightDesc::Point { position, color, intensity: i, falloff } => Light::Point(PointLight {
+            position: finite(*position).map_err(|m| at("position", m))?,
+            intensity: intensity(*color, *i)?,
+            falloff: match falloff {
+                FalloffDesc::None => Falloff::None,
+                FalloffDesc::InverseSquare => Falloff::InverseSquare,
+            },
+        }),
+        LightDesc::Directional { direction, color, intensity: i } => Light::Directional(DirectionalLight {
+            direction: finite(*direction)
+                .map_err(|m| at("direction", m))?
+                .try_normalize()
+                .ok_or_else(|| at("direction", "`direction` must not be the zero vector".into()))?,
+            intensity: intensity(*color, *i)?,
+        }),
+    })
+}
+
+fn build_object(
+    cx: &Context,
+    index: usize,
+    entry: &Located<ShapeDesc>,
+    materials: &[(String, Material)],
+    source: &Source,
+    warnings: &mut Vec<String>,
+) -> Result<Object, SceneError> {
+    let desc = &entry.value;
+    let (material_name, transform_ops, name) = desc.common();
+    let label = match name {
+        Some(n) => format!("shapes[{index}] ({} `{n}`)", desc.kind()),
+        None => format!("shapes[{index}] ({})", desc.kind()),
+    };
+    let at = |key: &str, m: String| cx.error(&entry.span, Some(key), format!("{label}: {m}"));
+
+    let material = materials.iter().position(|(n, _)| n == material_name).ok_or_else(|| {
+        let hint = closest_name(material_name, materials.iter().map(|(n, _)| n.as_str()))
+            .map(|n| format!("; did you mean `{n}`?"))
+            .unwrap_or_default();
+        let known = if materials.is_empty() {
+            "no materials are defined".to_string()
+        } else {
+            format!("defined materials: {}", quoted(&materials.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>()))
+        };
+        at("material", format!("unknown material `{material_name}` ({known}){hint}"))
+    })? as u32;
+
+    let transform = build_transform(transform_ops).map_err(|m| at("transform", m))?;
+
+    let shape = match desc {
+        ShapeDesc::Sphere { center, radius, .. } => {
+            let center = finite(*center).map_err(|m| at("center", m))?;
+            positive(*radius).map_err(|m| at("radius", format!("`radius` {m}")))?;
+            Shape::Sphere(Sphere::new(center, *radius))
+        }
+        ShapeDesc::Plane { normal, offset, point, .. } => {
+            let n = finite(*normal).map_err(|m| at("normal", m))?;
+            if n.length_squared() == 0.0 {
+                return Err(at("normal", "`normal` must not be the zero vector".into()));
+            }
+            match (offset, point) {
+                (Some(_), Some(_)) => {
+                    return Err(at("point", "give either `offset` (D of n·P + D = 0) or `point`, not both".into()))
+                }
+                (_, Some(p)) => Shape::Plane(Plane::through_point(n, finite(*p).map_err(|m| at("point", m))?)),
+                (d, None) => {
+                    let d = d.unwrap_or(0.0);
+                    if !d.is_finite() {
+                        return Err(at("offset", format!("`offset` must be finite, got {d}")));
+                    }
+                    Shape::Plane(Plane::new(n, d))
+                }
+            }
+        }
+        ShapeDesc::Triangle { vertices, normals, uvs, .. } => {
+            let mut points = [Vec3::ZERO; 3];
+            for (p, v) in points.iter_mut().zip(vertices) {
+                *p = finite(*v).map_err(|m| at("vertices", m))?;
+            }
+            let mut triangle = Triangle::new(points[0], points[1], points[2]);
+            if triangle.double_area() == 0.0 {
+                return Err(at(
+                    "vertices",
+                    "the triangle has zero area (its vertices are collinear or coincide)".into(),
+                ));
+            }
+            if let Some(ns) = normals {
+                let mut out = [Vec3::ZERO; 3];
+                for (o, n) in out.iter_mut().zip(ns) {
+                    *o = finite(*n)
+                        .map_err(|m| at("normals", m))?
+                        .try_normalize()
+                        .ok_or_else(|| at("normals", "vertex normals must not be zero vectors".into()))?;
+                }
+                triangle.normals = Some(out);
+            }
+            triangle.uvs = uvs.map(|t| t.map(Vec2::from));
+            Shape::Triangle(triangle)
+        }
+        ShapeDesc::Polygon { vertices, .. } => {
+            if vertices.len() < 3 {
+                return Err(at("vertices", format!("a polygon needs at least 3 vertices, got {}", vertices.len())));
+            }
+            let points =
+                vertices.iter().map(|p| finite(*p)).collect::<Result<Vec<_>, _>>().map_err(|m| at("vertices", m))?;
+            Shape::Polygon(
+                Polygon::new(points)
+                    .ok_or_else(|| at("vertices", "the polygon has zero area (its vertices are collinear)".into()))?,
+            )
+        }
+        ShapeDesc::Box { min, max, .. } => {
+            let (lo, hi) = (finite(*min).map_err(|m| at("min", m))?, finite(*max).map_err(|m| at("max", m))?);
+            if !lo.cmplt(hi).all() {
+                return Err(at("max", format!("`max` must exceed `min` on every axis, got min = {lo}, max = {hi}")));
+            }
+            Shape::AaBox(AaBox::new(lo, hi))
+        }
+        ShapeDesc::Mesh { file, smooth, .. } => {
+            let bytes = source.read(file).map_err(|m| at("file", format!("mesh file: {m}")))?;
+            let mut mesh =
+                crate::mesh::read_mesh(file, &bytes).map_err(|m| at("file", format!("mesh file `{file}`: {m}")))?;
+            if !smooth {
+                mesh.normals = None;
+            }
+            let degenerate = mesh.degenerate_triangles().count();
+            if degenerate > 0 {
+                warnings.push(format!("{label}: `{file}` has {degenerate} zero-area triangles; they can never be hit"));
+            }
+            // Meshes are stored in world space: the BVH then sees their triangles directly.
+            if let Some(t) = &transform {
+                mesh.transform(t);
+            }
+            return Ok(Object { name: label, shape: Shape::Mesh(mesh), transform: None, material });
+        }
+    };
+    Ok(Object { name: name.map_or(label, str::to_string), shape, transform, material })
+}
+
+/// Composes the operations in order: the first is applied to the shape first.
+fn build_transform(ops: &[TransformOp]) -> Result<Option<Transform>, String> {
+    if ops.is_empty() {
+        return Ok(None);
+    }
+    let mut matrix = Mat4::IDENTITY;
+    for op in ops {
+        let m = match op {
+            TransformOp::Translate(v) => Mat4::from_translation(finite(*v)?),
+            TransformOp::Rotate(r) => {
+                let axis = finite(r.axis)?.try_normalize().ok_or("rotation `axis` must not be the zero vector")?;
+                if !r.angle.is_finite() {
+                    return Err(format!("rotation `angle` must be finite, got {}", r.angle));
+                }
+                Mat4::from_quat(Quat::from_axis_angle(axis, r.angle.to_radians()))
+            }
+            TransformOp::Scale(ScaleDesc::Uniform(s)) => Mat4::from_scale(Vec3::splat(*s)),
+            TransformOp::Scale(ScaleDesc::PerAxis(s)) => Mat4::from_scale(finite(*s)?),
+            TransformOp::Matrix(rows) => {
+                if rows.iter().flatten().any(|x| !x.is_finite()) {
+                    return Err("`matrix` entries must be finite".into());
+                }
+                Mat4::from_cols_array_2d(rows).transpose()
+            }
+        };
+        matrix = m * matrix;
+    }
+    Transform::from_matrix(matrix).map(Some).ok_or_else(|| "the transform is singular (a zero scale?)".to_string())
+}
+
+fn finite(v: Vector) -> Result<Vec3, String> {
+    let v3 = Vec3::from(v);
+    if v3.is_finite() {
+        Ok(v3)
+    } else {
+        Err(format!("expected finite numbers, got {v:?}"))
+    }
+}
+
+fn non_negative(v: Vector) -> Result<Vec3, String> {
+    let v3 = finite(v)?;
+    if v3.min_element() < 0.0 {
+        return Err(format!("colours must be ≥ 0, got {v:?}"));
+    }
+    Ok(v3)
+}
+
+fn positive(x: f32) -> Result<(), String> {
+    if x.is_finite() && x > 0.0 {
+        Ok(())
+    } else {
+        Err(format!("must be a finite number > 0, got {x}"))
+    }
+}
+
+fn colour(cx: &Context, key: &str, v: Vector) -> Result<Vec3, SceneError> {
+    non_negative(v).map_err(|m| cx.error_at_key(key, format!("environment `{key}`: {m}")))
+}
+
+fn quoted(names: &[&str]) -> String {
+    names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ")
+}

@@ -1,0 +1,103 @@
+//! The native scene format: TOML, or the same schema as JSON (chosen by the file extension).
+//! Field by field in docs/scene-format.md.
+
+mod build;
+mod schema;
+
+use std::path::Path;
+
+use glint_core::integrators::IntegratorKind;
+use glint_core::scene::Scene;
+
+use crate::error::{with_suggestion, Location, SceneError};
+use crate::located::with_spans;
+use crate::source::Source;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Toml,
+    Json,
+}
+
+/// Render settings a scene file carries; the CLI may override each.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RenderOptions {
+    pub spp: u32,
+    pub max_depth: u32,
+    pub integrator: IntegratorKind,
+    pub seed: u64,
+}
+
+pub struct LoadedScene {
+    pub scene: Scene,
+    pub render: RenderOptions,
+    /// Things worth telling the user that do not stop the render (degenerate mesh triangles…).
+    pub warnings: Vec<String>,
+}
+
+/// Reads a scene file; `.json` is JSON, anything else TOML.
+pub fn load_scene(path: &Path) -> Result<LoadedScene, SceneError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+    let format = match path.extension().and_then(|e| e.to_str()) {
+        Some(ext) if ext.eq_ignore_ascii_case("json") => Format::Json,
+        _ => Format::Toml,
+    };
+    parse_scene(&text, format, path, &Source::directory_of(path))
+}
+
+/// Parses scene text. `file` is only used in messages; `source` resolves the files it names.
+pub fn parse_scene(
+    text: &str,
+    format: Format,
+    file: impl AsRef<Path>,
+    source: &Source,
+) -> Result<LoadedScene, SceneError> {
+    let file = file.as_ref();
+    let parsed: schema::SceneFile = match format {
+        Format::Toml => with_spans(|| toml::from_str(text)).map_err(|e| {
+            let message = with_suggestion(e.message());
+            let location = e.span().map(|span| {
+                // serde reports errors inside a table at the table; point at the key instead.
+                let offset = crate::error::unknown_and_expected(e.message())
+                    .and_then(|(key, _)| find_key(text, span.clone(), &key))
+                    .unwrap_or(span.start);
+                Location::from_offset(text, offset)
+            });
+            SceneError::new(file, location, message)
+        })?,
+        Format::Json => serde_json::from_str(text).map_err(|e| {
+            let message = with_suggestion(&strip_json_position(&e.to_string()));
+            SceneError::new(file, Some(Location::from_line_column(text, e.line(), e.column())), message)
+        })?,
+    };
+    build::build(parsed, text, file, source)
+}
+
+/// serde_json appends " at line L column C" to its messages; the location is shown apart.
+fn strip_json_position(message: &str) -> String {
+    match message.rfind(" at line ") {
+        Some(i) => message[..i].to_string(),
+        None => message.to_string(),
+    }
+}
+
+/// Byte offset of the line within `range` that assigns `key` (`key = …` in TOML,
+/// `"key": …` in JSON).
+pub(crate) fn find_key(text: &str, range: std::ops::Range<usize>, key: &str) -> Option<usize> {
+    let range = range.start.min(text.len())..range.end.min(text.len());
+    let mut offset = range.start;
+    for line in text[range].split_inclusive('\n') {
+        let trimmed = line.trim_start();
+        let indent = line.len() - trimmed.len();
+        let rest = trimmed.strip_prefix(key).or_else(|| trimmed.strip_prefix(&format!("\"{key}\"")));
+        if let Some(rest) = rest {
+            let rest = rest.trim_start();
+            if rest.starts_with('=') || rest.starts_with(':') {
+                return Some(offset + indent);
+            }
+        }
+        offset += line.len();
+    }
+    None
+}

@@ -1,0 +1,287 @@
+//! The native scene format as serde types: exactly the fields docs/scene-format.md lists.
+//! Every struct denies unknown fields, so a typo is an error, never silently ignored.
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+
+use crate::located::Located;
+
+pub type Vector = [f32; 3];
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    pub camera: Located<CameraDesc>,
+    #[serde(default)]
+    pub render: RenderDesc,
+    #[serde(default)]
+    pub intersection: IntersectionDesc,
+    #[serde(default)]
+    pub environment: EnvironmentDesc,
+    #[serde(default)]
+    pub materials: BTreeMap<String, Located<MaterialDesc>>,
+    #[serde(default)]
+    pub lights: Vec<Located<LightDesc>>,
+    #[serde(default)]
+    pub shapes: Vec<Located<ShapeDesc>>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    pub position: Vector,
+    pub look_at: Vector,
+    #[serde(default = "default_up")]
+    pub up: Vector,
+    #[serde(default = "default_fov")]
+    pub fov: f32,
+    #[serde(default = "default_resolution")]
+    pub resolution: [u32; 2],
+}
+
+fn default_up() -> Vector {
+    [0.0, 1.0, 0.0]
+}
+fn default_fov() -> f32 {
+    45.0
+}
+fn default_resolution() -> [u32; 2] {
+    [640, 480]
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct RenderDesc {
+    #[serde(default = "default_spp")]
+    pub spp: u32,
+    #[serde(default = "default_max_depth")]
+    pub max_depth: u32,
+    #[serde(default = "default_integrator")]
+    pub integrator: String,
+    #[serde(default)]
+    pub seed: u64,
+}
+
+impl Default for RenderDesc {
+    fn default() -> Self {
+        Self { spp: default_spp(), max_depth: default_max_depth(), integrator: default_integrator(), seed: 0 }
+    }
+}
+
+fn default_spp() -> u32 {
+    1
+}
+fn default_max_depth() -> u32 {
+    5
+}
+fn default_integrator() -> String {
+    "raycast".into()
+}
+
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+pub struct IntersectionDesc {
+    #[serde(default)]
+    pub sphere: SphereMethodDesc,
+    #[serde(default)]
+    pub triangle: TriangleMethodDesc,
+    #[serde(default)]
+    pub polygon: PolygonTestDesc,
+    #[serde(default, rename = "box")]
+    pub aabox: BoxMethodDesc,
+}
+
+#[derive(Deserialize, Debug, Default, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub enum SphereMethodDesc {
+    #[default]
+    Algebraic,
+    Geometric,
+}
+
+#[derive(Deserialize, Debug, Default, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub enum TriangleMethodDesc {
+    Cramer,
+    #[default]
+    MollerTrumbore,
+}
+
+#[derive(Deserialize, Debug, Default, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub enum PolygonTestDesc {
+    #[default]
+    Crossing,
+    Winding,
+}
+
+#[derive(Deserialize, Debug, Default, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub enum BoxMethodDesc {
+    #[default]
+    Slabs,
+    Woo,
+}
+
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentDesc {
+    #[serde(default)]
+    pub background: Vector,
+    #[serde(default)]
+    pub ambient: Vector,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum MaterialDesc {
+    Phong { diffuse: Option<Vector>, ambient: Option<Vector>, specular: Option<Vector>, shininess: Option<f32> },
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum LightDesc {
+    Point {
+        position: Vector,
+        #[serde(default = "white")]
+        color: Vector,
+        #[serde(default = "one")]
+        intensity: f32,
+        #[serde(default)]
+        falloff: FalloffDesc,
+    },
+    Directional {
+        direction: Vector,
+        #[serde(default = "white")]
+        color: Vector,
+        #[serde(default = "one")]
+        intensity: f32,
+    },
+}
+
+fn white() -> Vector {
+    [1.0; 3]
+}
+fn one() -> f32 {
+    1.0
+}
+
+#[derive(Deserialize, Debug, Default, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub enum FalloffDesc {
+    #[default]
+    None,
+    InverseSquare,
+}
+
+/// Shapes. `material` names an entry of `[materials]`; `transform` is a list of operations
+/// applied in order (the first one is applied to the shape first); `name` is for messages.
+#[derive(Deserialize, Debug)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum ShapeDesc {
+    Sphere {
+        #[serde(default)]
+        center: Vector,
+        radius: f32,
+        material: String,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        name: Option<String>,
+    },
+    Plane {
+        normal: Vector,
+        offset: Option<f32>,
+        point: Option<Vector>,
+        material: String,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        name: Option<String>,
+    },
+    Triangle {
+        vertices: [Vector; 3],
+        normals: Option<[Vector; 3]>,
+        uvs: Option<[[f32; 2]; 3]>,
+        material: String,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        name: Option<String>,
+    },
+    Polygon {
+        vertices: Vec<Vector>,
+        material: String,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        name: Option<String>,
+    },
+    Box {
+        min: Vector,
+        max: Vector,
+        material: String,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        name: Option<String>,
+    },
+    Mesh {
+        file: String,
+        #[serde(default = "yes")]
+        smooth: bool,
+        material: String,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        name: Option<String>,
+    },
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl ShapeDesc {
+    pub fn common(&self) -> (&str, &[TransformOp], Option<&str>) {
+        match self {
+            ShapeDesc::Sphere { material, transform, name, .. }
+            | ShapeDesc::Plane { material, transform, name, .. }
+            | ShapeDesc::Triangle { material, transform, name, .. }
+            | ShapeDesc::Polygon { material, transform, name, .. }
+            | ShapeDesc::Box { material, transform, name, .. }
+            | ShapeDesc::Mesh { material, transform, name, .. } => (material, transform, name.as_deref()),
+        }
+    }
+
+    pub fn kind(&self) -> &'static str {
+        match self {
+            ShapeDesc::Sphere { .. } => "sphere",
+            ShapeDesc::Plane { .. } => "plane",
+            ShapeDesc::Triangle { .. } => "triangle",
+            ShapeDesc::Polygon { .. } => "polygon",
+            ShapeDesc::Box { .. } => "box",
+            ShapeDesc::Mesh { .. } => "mesh",
+        }
+    }
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(rename_all = "kebab-case", deny_unknown_fields)]
+pub enum TransformOp {
+    Translate(Vector),
+    Rotate(RotateDesc),
+    Scale(ScaleDesc),
+    /// Row-major 4×4 matrix (the last row is normally [0, 0, 0, 1]).
+    Matrix([[f32; 4]; 4]),
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct RotateDesc {
+    pub axis: Vector,
+    /// Degrees, counter-clockwise looking down the axis toward the origin (right-hand rule).
+    pub angle: f32,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(untagged)]
+pub enum ScaleDesc {
+    Uniform(f32),
+    PerAxis(Vector),
+}
