@@ -65,17 +65,27 @@ impl Aabb {
         })
     }
 
-    /// Slab test against a ray given by origin and reciprocal direction, over `[t_min, t_max]`.
-    /// Returns the entry distance. `max`/`min` are ordered so that a NaN from `0 · ∞` (origin on
-    /// a slab plane, direction parallel to it) is dropped rather than propagated.
-    #[inline]
-    pub fn hit_distance(&self, origin: Vec3, inv_dir: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
+    /// The interval (t_enter, t_exit) over which the ray `origin + t·dir` is inside the box's
+    /// three slabs (unbounded by `t_min`/`t_max`); empty when `t_enter > t_exit`.
+    ///
+    /// A ray parallel to a slab with its origin exactly on one of the slab's planes gives
+    /// 0 · ∞ = NaN for that plane; that slab then does not limit the ray (the face counts as
+    /// inside), so NaN lanes are replaced by (−∞, +∞) before the min/max.
+    #[inline(always)]
+    pub fn slab_interval(&self, origin: Vec3, inv_dir: Vec3) -> (f32, f32) {
         let t0 = (self.min - origin) * inv_dir;
         let t1 = (self.max - origin) * inv_dir;
-        let near = t0.min(t1);
-        let far = t0.max(t1);
-        let t_enter = t_min.max(near.x).max(near.y).max(near.z);
-        let t_exit = t_max.min(far.x).min(far.y).min(far.z);
+        let undefined = t0.is_nan_mask() | t1.is_nan_mask();
+        let near = Vec3::select(undefined, Vec3::NEG_INFINITY, t0.min(t1));
+        let far = Vec3::select(undefined, Vec3::INFINITY, t0.max(t1));
+        (near.max_element(), far.min_element())
+    }
+
+    /// Slab test over `[t_min, t_max]`, given the reciprocal direction; the entry distance.
+    #[inline(always)]
+    pub fn hit_distance(&self, origin: Vec3, inv_dir: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
+        let (t_enter, t_exit) = self.slab_interval(origin, inv_dir);
+        let (t_enter, t_exit) = (t_enter.max(t_min), t_exit.min(t_max));
         (t_enter <= t_exit).then_some(t_enter)
     }
 }

@@ -55,15 +55,7 @@ impl AaBox {
     }
 
     pub fn intersect_slabs(&self, ray: &Ray) -> Option<f32> {
-        let inv = ray.direction.recip();
-        let t0 = (self.min - ray.origin) * inv;
-        let t1 = (self.max - ray.origin) * inv;
-        // f32::min/max drop a NaN operand (0·∞ when the origin is on a slab plane and the ray
-        // runs parallel to it), which treats that slab as not limiting: the face counts as inside.
-        let near = t0.min(t1);
-        let far = t0.max(t1);
-        let t_enter = near.x.max(near.y).max(near.z);
-        let t_exit = far.x.min(far.y).min(far.z);
+        let (t_enter, t_exit) = self.bounds().slab_interval(ray.origin, ray.direction.recip());
         if t_enter > t_exit {
             return None;
         }

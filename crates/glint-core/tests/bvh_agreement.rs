@@ -1,0 +1,106 @@
+//! Two algorithms, one answer: the BVH's closest and any hit against testing every primitive,
+//! on random scenes of every shape, including the degenerate cases.
+
+mod common;
+
+use common::{object, scene, TestRng};
+use glint_core::geometry::Ray;
+use glint_core::scene::Scene;
+use glint_core::shapes::{AaBox, Mesh, Plane, Polygon, Shape, Sphere, Triangle};
+use glint_core::Vec3;
+
+fn random_scene(rng: &mut TestRng, n: usize) -> Scene {
+    let mut objects = Vec::new();
+    for _ in 0..n {
+        let c = rng.vec3(-5.0, 5.0);
+        let shape = match rng.below(6) {
+            0 => Shape::Sphere(Sphere::new(c, rng.range(0.05, 1.0))),
+            1 => Shape::Triangle(Triangle::new(c, c + rng.vec3(-1.0, 1.0), c + rng.vec3(-1.0, 1.0))),
+            2 => Shape::AaBox(AaBox::new(c, c + rng.vec3(0.05, 1.5))),
+            3 => {
+                let (s, t) = glint_core::geometry::orthonormal_basis(rng.vec3(-1.0, 1.0).normalize());
+                let verts = (0..5)
+                    .map(|k| {
+                        let a = k as f32 * std::f32::consts::TAU / 5.0;
+                        c + rng.range(0.3, 1.0) * (a.cos() * s + a.sin() * t)
+                    })
+                    .collect();
+                Shape::Polygon(Polygon::new(verts).unwrap())
+            }
+            4 => Shape::Triangle(Triangle::new(c, c + Vec3::X, c + 2.0 * Vec3::X)), // zero area
+            _ => {
+                // A small mesh with a duplicated (coincident) triangle.
+                let positions = vec![c, c + Vec3::X, c + Vec3::Y, c + Vec3::Z];
+                let indices = vec![[0, 1, 2], [0, 2, 3], [0, 1, 2]];
+                Shape::Mesh(Mesh { positions, indices, ..Default::default() })
+            }
+        };
+        objects.push(object(shape));
+    }
+    scene(objects)
+}
+
+fn check_ray(scene: &Scene, ray: &Ray) {
+    let fast = scene.intersect(ray);
+    let reference = scene.intersect_brute_force(ray);
+    match (fast, reference) {
+        (Some(a), Some(b)) => {
+            // The same routine computes both, so equal distances are equal to the bit; on a tie
+            // (coincident primitives) either primitive is right.
+            assert_eq!(a.t, b.t, "{ray:?}");
+            if (a.object, a.prim) != (b.object, b.prim) {
+                assert_eq!(a.t, b.t);
+            }
+        }
+        (None, None) => {}
+        _ => panic!("BVH {fast:?} vs brute force {reference:?} for {ray:?}"),
+    }
+    assert_eq!(scene.occluded(ray), reference.is_some(), "any-hit disagrees for {ray:?}");
+}
+
+#[test]
+fn bvh_equals_brute_force_on_random_scenes() {
+    let mut rng = TestRng(1);
+    for n in [1, 2, 3, 10, 100, 1000] {
+        let scene = random_scene(&mut rng, n);
+        for _ in 0..20_000 {
+            let origin = rng.vec3(-8.0, 8.0);
+            let ray = Ray::new(origin, rng.vec3(-1.0, 1.0).normalize_or(Vec3::X));
+            check_ray(&scene, &ray);
+            let short = Ray::with_range(origin, ray.direction, rng.range(0.0, 2.0), rng.range(2.0, 10.0));
+            check_ray(&scene, &short);
+        }
+    }
+}
+
+#[test]
+fn empty_scene_and_rays_along_box_faces() {
+    let empty = scene(Vec::new());
+    assert!(empty.intersect(&Ray::new(Vec3::ZERO, Vec3::X)).is_none());
+    assert!(!empty.occluded(&Ray::new(Vec3::ZERO, Vec3::X)));
+
+    let boxes = scene(vec![
+        object(Shape::AaBox(AaBox::new(Vec3::ZERO, Vec3::ONE))),
+        object(Shape::AaBox(AaBox::new(Vec3::new(2.0, 0.0, 0.0), Vec3::new(3.0, 1.0, 1.0)))),
+    ]);
+    // Along the shared bottom plane y = 0 and the top plane y = 1, through both boxes.
+    for y in [0.0, 1.0] {
+        let ray = Ray::new(Vec3::new(-1.0, y, 0.5), Vec3::X);
+        check_ray(&boxes, &ray);
+        assert_eq!(boxes.intersect(&ray).map(|h| h.t), Some(1.0));
+    }
+}
+
+#[test]
+fn planes_are_found_outside_the_bvh() {
+    let s = scene(vec![
+        object(Shape::Plane(Plane::new(Vec3::Y, 1.0))),
+        object(Shape::Sphere(Sphere::new(Vec3::new(0.0, 0.0, 3.0), 0.5))),
+    ]);
+    let down = Ray::new(Vec3::ZERO, -Vec3::Y);
+    assert_eq!(s.intersect(&down).map(|h| (h.object, h.t)), Some((0, 1.0)));
+    let ahead = Ray::new(Vec3::ZERO, Vec3::Z);
+    assert_eq!(s.intersect(&ahead).map(|h| (h.object, h.t)), Some((1, 2.5)));
+    check_ray(&s, &down);
+    check_ray(&s, &ahead);
+}

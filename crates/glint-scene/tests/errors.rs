@@ -1,0 +1,187 @@
+//! Bad input gets a clear error naming the file, the line and what was expected.
+
+use glint_scene::native::Format;
+use glint_scene::{parse_scene, SceneError, Source};
+
+const GOOD: &str = r#"[camera]
+position = [0, 0, -5]
+look_at = [0, 0, 0]
+resolution = [32, 24]
+
+[materials.green]
+type = "phong"
+diffuse = [0.1, 0.8, 0.1]
+
+[[lights]]
+type = "directional"
+direction = [0, 0, 1]
+
+[[shapes]]
+type = "sphere"
+radius = 1
+material = "green"
+"#;
+
+fn parse(text: &str) -> Result<glint_scene::LoadedScene, SceneError> {
+    parse_scene(text, Format::Toml, "test.toml", &Source::Directory(std::env::temp_dir()))
+}
+
+fn error(text: &str) -> SceneError {
+    match parse(text) {
+        Ok(_) => panic!("expected an error for:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+fn line_of(e: &SceneError) -> usize {
+    e.location.as_ref().unwrap_or_else(|| panic!("no location in: {e}")).line
+}
+
+#[test]
+fn the_good_scene_loads() {
+    let loaded = parse(GOOD).unwrap();
+    assert_eq!(loaded.scene.objects.len(), 1);
+    assert_eq!((loaded.scene.camera.width, loaded.scene.camera.height), (32, 24));
+}
+
+#[test]
+fn malformed_toml_names_line_and_column() {
+    let e = error(&GOOD.replace("radius = 1", "radius = = 1"));
+    assert_eq!(line_of(&e), 16);
+    let text = e.to_string();
+    assert!(text.starts_with("test.toml:16:"), "{text}");
+    assert!(text.contains("radius = = 1") && text.contains('^'), "snippet missing: {text}");
+}
+
+#[test]
+fn malformed_json_names_line_and_column() {
+    let json = "{\n  \"camera\": {\"position\": [0,0,-5], \"look_at\": [0,0,0]},\n  \"shapes\": [\n    {\"type\": \"sphere\" \"radius\": 1}\n  ]\n}";
+    let e = parse_scene(json, Format::Json, "s.json", &Source::Directory(".".into())).err().unwrap();
+    assert_eq!(line_of(&e), 4);
+    assert!(e.to_string().contains("expected"), "{e}");
+}
+
+#[test]
+fn unknown_field_is_an_error_with_a_suggestion_at_its_line() {
+    let e = error(&GOOD.replace("radius = 1", "radus = 1"));
+    let text = e.to_string();
+    assert!(text.contains("unknown field `radus`") && text.contains("did you mean `radius`?"), "{text}");
+    assert_eq!(line_of(&e), 16);
+}
+
+#[test]
+fn unknown_shape_type_suggests_the_closest() {
+    let e = error(&GOOD.replace("type = \"sphere\"", "type = \"sphre\""));
+    assert!(e.to_string().contains("did you mean `sphere`?"), "{e}");
+    assert_eq!(line_of(&e), 15);
+}
+
+#[test]
+fn unknown_top_level_table_is_an_error() {
+    let e = error(&format!("{GOOD}\n[rendr]\nspp = 4\n"));
+    assert!(e.to_string().contains("did you mean `render`?"), "{e}");
+}
+
+#[test]
+fn unknown_material_suggests_the_closest_name() {
+    let e = error(&GOOD.replace("material = \"green\"", "material = \"gren\""));
+    let text = e.to_string();
+    assert!(text.contains("unknown material `gren`") && text.contains("did you mean `green`?"), "{text}");
+    assert_eq!(line_of(&e), 17);
+}
+
+#[test]
+fn unknown_integrator_suggests_the_closest() {
+    let e = error(&format!("[render]\nintegrator = \"raycats\"\n{GOOD}"));
+    assert!(e.to_string().contains("did you mean `raycast`?"), "{e}");
+    assert_eq!(line_of(&e), 2);
+}
+
+#[test]
+fn bad_numbers_are_refused() {
+    for (bad, what) in
+        [("radius = -1", "radius"), ("radius = 0", "radius"), ("radius = nan", "radius"), ("radius = inf", "radius")]
+    {
+        let e = error(&GOOD.replace("radius = 1", bad));
+        assert!(e.to_string().contains(what), "{bad}: {e}");
+        assert_eq!(line_of(&e), 16, "{bad}");
+    }
+    let e = error(&GOOD.replace("[0, 0, -5]", "[0, nan, -5]"));
+    assert!(e.to_string().contains("finite"), "{e}");
+    let e = error(&GOOD.replace("resolution = [32, 24]", "resolution = [0, 24]"));
+    assert!(e.to_string().contains("resolution"), "{e}");
+    let e = error(&GOOD.replace("resolution = [32, 24]", "resolution = [-3, 24]"));
+    assert!(e.location.is_some(), "{e}");
+}
+
+#[test]
+fn degenerate_shapes_are_refused() {
+    let triangle = GOOD
+        .replace("type = \"sphere\"\nradius = 1", "type = \"triangle\"\nvertices = [[0, 0, 0], [1, 1, 1], [2, 2, 2]]");
+    assert!(error(&triangle).to_string().contains("zero area"));
+    let polygon =
+        GOOD.replace("type = \"sphere\"\nradius = 1", "type = \"polygon\"\nvertices = [[0, 0, 0], [1, 0, 0]]");
+    assert!(error(&polygon).to_string().contains("at least 3 vertices"));
+    let aabox = GOOD.replace("type = \"sphere\"\nradius = 1", "type = \"box\"\nmin = [0, 0, 0]\nmax = [1, 0, 1]");
+    assert!(error(&aabox).to_string().contains("must exceed"));
+    let singular = GOOD.replace("radius = 1", "radius = 1\ntransform = [{ scale = [1, 0, 1] }]");
+    assert!(error(&singular).to_string().contains("singular"));
+}
+
+#[test]
+fn missing_mesh_names_the_path_as_written() {
+    let mesh = GOOD.replace("type = \"sphere\"\nradius = 1", "type = \"mesh\"\nfile = \"no/such/bunny.obj\"");
+    let e = error(&mesh);
+    assert!(e.to_string().contains("`no/such/bunny.obj`"), "{e}");
+    assert_eq!(line_of(&e), 16);
+}
+
+#[test]
+fn corrupt_mesh_is_reported() {
+    let dir = std::env::temp_dir().join(format!("glint-corrupt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("broken.ply"),
+        b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nend_header\n\x01",
+    )
+    .unwrap();
+    let mesh = GOOD.replace("type = \"sphere\"\nradius = 1", "type = \"mesh\"\nfile = \"broken.ply\"");
+    let e = parse_scene(&mesh, Format::Toml, "t.toml", &Source::Directory(dir.clone())).err().unwrap();
+    assert!(e.to_string().contains("`broken.ply`"), "{e}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn json_and_toml_read_the_same_scene() {
+    let json = r#"{
+      "camera": {"position": [0, 0, -5], "look_at": [0, 0, 0], "resolution": [32, 24]},
+      "materials": {"green": {"type": "phong", "diffuse": [0.1, 0.8, 0.1]}},
+      "lights": [{"type": "directional", "direction": [0, 0, 1]}],
+      "shapes": [{"type": "sphere", "radius": 1, "material": "green"}]
+    }"#;
+    let a = parse_scene(json, Format::Json, "s.json", &Source::Directory(".".into())).unwrap();
+    let b = parse(GOOD).unwrap();
+    assert_eq!(a.scene.camera, b.scene.camera);
+    assert_eq!(a.scene.materials, b.scene.materials);
+    assert_eq!(a.scene.lights, b.scene.lights);
+    assert_eq!(a.render, b.render);
+    // JSON errors about an element name its path, as JSON has no spans to give.
+    let bad = json.replace("\"material\": \"green\"", "\"material\": \"gren\"");
+    let e = parse_scene(&bad, Format::Json, "s.json", &Source::Directory(".".into())).err().unwrap();
+    assert!(e.to_string().contains("shapes[0]") && e.to_string().contains("did you mean `green`?"), "{e}");
+}
+
+#[test]
+fn every_example_scene_loads() {
+    let scenes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let mut count = 0;
+    for entry in std::fs::read_dir(&scenes).unwrap() {
+        let path = entry.unwrap().path();
+        if matches!(path.extension().and_then(|e| e.to_str()), Some("toml" | "json")) {
+            glint_scene::load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+            count += 1;
+        }
+    }
+    assert!(count >= 1);
+    glint_scene::default_scene().unwrap();
+}
