@@ -1,6 +1,7 @@
 //! `glint`: the command-line renderer. Thin: it parses arguments, asks `glint-scene` for a
 //! scene and `glint-core` for an image, and writes it.
 
+mod explain_command;
 mod render_command;
 
 use std::process::ExitCode;
@@ -18,6 +19,9 @@ struct Cli {
 enum Command {
     /// Render a scene to an image (.png, .exr or .pfm).
     Render(render_command::RenderArgs),
+    /// Print the ray tree of one pixel (Whitted's recursion): every ray, what it hit, each
+    /// light's contribution and shadow test, the weights passed down, and the final colour.
+    Explain(explain_command::ExplainArgs),
 }
 
 fn main() -> ExitCode {
@@ -30,6 +34,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render_command::run(args),
+        Command::Explain(args) => explain_command::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,7 +4,7 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use glint_core::integrators::IntegratorKind;
+use glint_core::integrators::{IntegratorKind, IntegratorSettings};
 use glint_core::render::{render, RenderSettings};
 use glint_core::shapes::{BoxMethod, PolygonTest, SphereMethod, TriangleMethod};
 use glint_scene::LoadedScene;
@@ -30,6 +30,15 @@ pub struct RenderArgs {
     height: Option<u32>,
     #[arg(long, value_enum)]
     integrator: Option<IntegratorArg>,
+    /// Maximum recursion depth (Whitted: generations of reflection/refraction rays).
+    #[arg(long)]
+    max_depth: Option<u32>,
+    /// Whitted: stop a branch whose accumulated weight falls below this.
+    #[arg(long)]
+    min_contribution: Option<f32>,
+    /// Whitted: let shadow rays through transparent objects, attenuated by their transmission.
+    #[arg(long)]
+    transparent_shadows: bool,
     /// Seed of the random sample streams; the same seed gives the same image at any --threads.
     #[arg(long)]
     seed: Option<u64>,
@@ -55,6 +64,7 @@ pub struct RenderArgs {
 #[derive(Clone, Copy, ValueEnum)]
 enum IntegratorArg {
     Raycast,
+    Whitted,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -106,8 +116,10 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     apply_overrides(&args, &mut scene);
     let integrator_kind = match args.integrator {
         Some(IntegratorArg::Raycast) => IntegratorKind::Raycast,
+        Some(IntegratorArg::Whitted) => IntegratorKind::Whitted,
         None => options.integrator,
     };
+    let integrator_settings = args.integrator_settings(&options.integrator_settings)?;
     let settings = RenderSettings { spp: args.spp.unwrap_or(options.spp), seed: args.seed.unwrap_or(options.seed) };
 
     let mut pool = rayon::ThreadPoolBuilder::new();
@@ -129,7 +141,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         .expect("the template is valid")
         .progress_chars("=> "),
     );
-    let integrator = integrator_kind.create();
+    let integrator = integrator_kind.create(&integrator_settings);
     let result = pool.install(|| render(&scene, integrator.as_ref(), &settings, &|| progress.inc(1)));
     progress.finish_and_clear();
 
@@ -149,15 +161,37 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     Ok(())
 }
 
-fn apply_overrides(args: &RenderArgs, scene: &mut glint_core::scene::Scene) {
+impl RenderArgs {
+    pub fn integrator_settings(&self, from_scene: &IntegratorSettings) -> Result<IntegratorSettings, String> {
+        let mut s = *from_scene;
+        if let Some(d) = self.max_depth {
+            s.max_depth = d;
+        }
+        if let Some(c) = self.min_contribution {
+            if !(c.is_finite() && c >= 0.0) {
+                return Err(format!("--min-contribution must be a number ≥ 0, got {c}"));
+            }
+            s.min_contribution = c;
+        }
+        s.transparent_shadows |= self.transparent_shadows;
+        Ok(s)
+    }
+}
+
+/// The scene's camera at the requested size; a missing side keeps the scene's aspect ratio.
+pub fn resize_camera(scene: &mut glint_core::scene::Scene, width: Option<u32>, height: Option<u32>) {
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let (width, height) = match (args.width, args.height) {
+    let (width, height) = match (width, height) {
         (Some(width), Some(height)) => (width, height),
         (Some(width), None) => (width, ((width as f64 * h as f64 / w as f64).round() as u32).max(1)),
         (None, Some(height)) => (((height as f64 * w as f64 / h as f64).round() as u32).max(1), height),
         (None, None) => (w, h),
     };
     scene.camera = scene.camera.with_resolution(width, height);
+}
+
+fn apply_overrides(args: &RenderArgs, scene: &mut glint_core::scene::Scene) {
+    resize_camera(scene, args.width, args.height);
     let m = &mut scene.methods;
     if let Some(s) = args.sphere_method {
         m.sphere = match s {

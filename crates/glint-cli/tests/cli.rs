@@ -168,3 +168,41 @@ fn missing_scene_file_is_reported() {
     assert!(err.contains("no-such-scene.toml"), "{err}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `glint explain` traces the same ray the renderer traces through a pixel's centre at 1 spp:
+/// its final colour is the rendered pixel's.
+#[test]
+fn explain_prints_the_rendered_pixel_colour() {
+    let dir = temp_dir("explain");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/whitted-1980.toml");
+    let out = dir.join("w.pfm");
+    let o =
+        glint(&["render", scene.to_str().unwrap(), "--spp", "1", "--width", "160", "-q", "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (w, _, pixels) = read_pfm(&out).unwrap();
+    // Sky, checkerboard, the glass sphere and the mirror sphere.
+    for (x, y) in [(10, 5), (80, 110), (62, 62), (100, 55)] {
+        let o = glint(&["explain", scene.to_str().unwrap(), "--width", "160", "--pixel", &format!("{x},{y}")]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = String::from_utf8_lossy(&o.stdout).to_string();
+        assert!(text.contains("camera ray (depth 0"), "{text}");
+        let last = text.lines().last().unwrap();
+        let numbers: Vec<f32> = last
+            .trim_start_matches("pixel colour = (")
+            .trim_end_matches(')')
+            .split(", ")
+            .map(|n| n.parse().unwrap())
+            .collect();
+        let rendered = pixels[(y * w + x) as usize].to_array();
+        for c in 0..3 {
+            assert!(
+                (numbers[c] - rendered[c]).abs() < 1e-6,
+                "pixel {x},{y}: explain {numbers:?} vs render {rendered:?}"
+            );
+        }
+    }
+    // The glass sphere's pixel shows refraction rays in its tree.
+    let o = glint(&["explain", scene.to_str().unwrap(), "--width", "160", "--pixel", "62,62"]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("refraction ray"));
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -16,6 +16,7 @@ pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod shapes;
+pub mod textures;
 
 pub use glam::{Vec2, Vec3};
 

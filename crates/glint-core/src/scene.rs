@@ -5,10 +5,11 @@ use glam::Vec3;
 
 use crate::accel::{Bvh, BvhStats};
 use crate::camera::Camera;
-use crate::geometry::{Aabb, Ray, Transform};
+use crate::geometry::{offset_ray_origin, transform_point_with_error, Aabb, Ray, Transform};
 use crate::lights::Light;
 use crate::materials::Material;
 use crate::shapes::{IntersectMethods, PrimHit, Shape, SurfaceGeometry};
+use crate::textures::TextureQuery;
 use crate::Rgb;
 
 /// A shape placed in the scene with a material and, optionally, a transform (object → world).
@@ -42,11 +43,13 @@ impl Object {
             None => self.shape.surface(prim, ray, hit),
             Some(t) => {
                 let local = self.shape.surface(prim, &t.ray_to_object(ray), hit);
+                let (point, error) = transform_point_with_error(&t.to_world, local.point, local.error);
                 SurfaceGeometry {
-                    point: t.point(local.point),
+                    point,
                     geometric_normal: t.normal(local.geometric_normal),
                     shading_normal: t.normal(local.shading_normal),
                     uv: local.uv,
+                    error,
                 }
             }
         }
@@ -61,9 +64,30 @@ pub struct SurfaceHit {
     pub object: u32,
     pub prim: u32,
     pub material: u32,
+    /// The hit point in the object's own space (for solid textures).
+    pub object_point: Vec3,
 }
 
 impl SurfaceHit {
+    pub fn texture_query(&self) -> TextureQuery {
+        TextureQuery { uv: self.geometry.uv, point: self.object_point }
+    }
+
+    /// A ray leaving the surface in `direction`, from an origin just past the point's error
+    /// bound on that side, so it cannot hit this surface again at t ≈ 0.
+    pub fn spawn_ray(&self, direction: Vec3) -> Ray {
+        let g = &self.geometry;
+        Ray::new(offset_ray_origin(g.point, g.error, g.geometric_normal, direction), direction)
+    }
+
+    /// A ray toward `target` over t ∈ (0, 1) (a shadow ray to a point light, say); the
+    /// direction is not normalised, so t = 1 is the target.
+    pub fn spawn_ray_to(&self, target: Vec3) -> Ray {
+        let g = &self.geometry;
+        let origin = offset_ray_origin(g.point, g.error, g.geometric_normal, target - g.point);
+        Ray::with_range(origin, target - origin, 0.0, 1.0)
+    }
+
     /// The shading normal turned to the side the ray came from (two-sided shading).
     pub fn facing(&self, ray_direction: Vec3) -> Vec3 {
         if self.geometry.geometric_normal.dot(ray_direction) > 0.0 {
@@ -178,6 +202,12 @@ impl Scene {
 
     fn surface_hit(&self, (o, p): (u32, u32), ray: &Ray, hit: &PrimHit) -> SurfaceHit {
         let object = &self.objects[o as usize];
-        SurfaceHit { t: hit.t, geometry: object.surface(p, ray, hit), object: o, prim: p, material: object.material }
+        let geometry = object.surface(p, ray, hit);
+        let object_point = match (&object.transform, &object.shape) {
+            (Some(t), _) => t.to_object.transform_point3(geometry.point),
+            (None, Shape::Mesh(m)) => m.object_point(geometry.point),
+            (None, _) => geometry.point,
+        };
+        SurfaceHit { t: hit.t, geometry, object: o, prim: p, material: object.material, object_point }
     }
 }

@@ -17,7 +17,7 @@ fn lambert_sphere_under_a_directional_light() {
     let mut s = scene(vec![object(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)))]);
     let kd = Rgb::new(0.5, 0.25, 0.8);
     let ka = Rgb::new(0.1, 0.2, 0.3);
-    s.materials[0] = Material::Phong(Phong { ambient: ka, diffuse: kd, specular: Rgb::ZERO, shininess: 1.0 });
+    s.materials[0] = Material::Phong(Phong { ambient: Some(ka.into()), diffuse: kd.into(), ..Phong::default() });
     s.environment.ambient_light = Rgb::splat(0.5);
     s.environment.background = Rgb::new(0.0, 0.0, 1.0);
     // The light travels along (1, 0, 2)/√5: toward the sphere's −z side from the front-left.
@@ -63,7 +63,7 @@ fn same_seed_same_image_at_any_thread_count() {
     s.lights = vec![Light::Directional(DirectionalLight { direction: Vec3::Z, intensity: Rgb::ONE })];
     s.camera = s.camera.with_resolution(40, 30);
     let settings = RenderSettings { spp: 8, seed: 7 };
-    let integrator = IntegratorKind::Raycast.create();
+    let integrator = IntegratorKind::Raycast.create(&Default::default());
     let images: Vec<_> = [1, 2, 3]
         .iter()
         .map(|&threads| {

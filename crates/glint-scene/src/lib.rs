@@ -5,6 +5,7 @@
 //! expected; nothing a user writes can make a reader panic.
 
 mod error;
+mod image;
 mod located;
 pub mod mesh;
 pub mod native;

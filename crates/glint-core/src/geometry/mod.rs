@@ -7,10 +7,12 @@
 
 mod aabb;
 mod ray;
+mod robust;
 mod transform;
 
 pub use aabb::Aabb;
 pub use ray::Ray;
+pub use robust::{gamma, next_float_down, next_float_up, offset_ray_origin, transform_point_with_error};
 pub use transform::Transform;
 
 use glam::Vec3;
@@ -30,6 +32,21 @@ pub fn reflect(incident: Vec3, n: Vec3) -> Vec3 {
     incident - 2.0 * incident.dot(n) * n
 }
 
+/// Refraction of the unit incident direction `incident` (pointing toward the surface) through a
+/// surface with unit normal `n` facing the incident side, for the ratio of indices
+/// `eta = n_incident / n_transmitted` (Snell's law, the course's formula):
+/// T = η I + (η cos θ_i − cos θ_t) N with cos θ_t = √(1 − η²(1 − cos² θ_i)).
+/// `None` when the root is imaginary: total internal reflection.
+pub fn refract(incident: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let cos_i = -incident.dot(n);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
+    if sin2_t > 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some(eta * incident + (eta * cos_i - cos_t) * n)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -41,6 +58,21 @@ mod tests {
             assert!((s.length() - 1.0).abs() < 1e-6 && (t.length() - 1.0).abs() < 1e-6);
             assert!(s.dot(t).abs() < 1e-6 && s.dot(n).abs() < 1e-6 && t.dot(n).abs() < 1e-6);
         }
+    }
+
+    #[test]
+    fn snell_by_hand_and_total_internal_reflection() {
+        // 45° into glass (η = 1/1.5): sin θ_t = sin 45° / 1.5.
+        let i = Vec3::new(1.0, -1.0, 0.0).normalize();
+        let t = refract(i, Vec3::Y, 1.0 / 1.5).unwrap();
+        assert!((t.length() - 1.0).abs() < 1e-6);
+        assert!((t.x - std::f32::consts::FRAC_1_SQRT_2 / 1.5).abs() < 1e-6 && t.y < 0.0);
+        // Leaving glass at 45° > critical angle 41.8°: total internal reflection.
+        assert!(refract(i, Vec3::Y, 1.5).is_none());
+        // Just under the critical angle it still refracts, grazing.
+        let critical = (1.0f32 / 1.5).asin() - 1e-3;
+        let i = Vec3::new(critical.sin(), -critical.cos(), 0.0);
+        assert!(refract(i, Vec3::Y, 1.5).unwrap().y.abs() < 0.1);
     }
 
     #[test]

@@ -2,8 +2,11 @@
 //! called once per render and reach the scene only through its query interface.
 
 mod raycast;
+pub mod recorder;
+mod whitted;
 
 pub use raycast::Raycast;
+pub use whitted::Whitted;
 
 use crate::geometry::Ray;
 use crate::sampling::Rng;
@@ -16,6 +19,12 @@ pub struct SampleContext {
     pub rays_traced: u64,
 }
 
+impl SampleContext {
+    pub fn new(rng: Rng) -> Self {
+        Self { rng, rays_traced: 0 }
+    }
+}
+
 /// An integrator that estimates the radiance arriving along one camera ray.
 pub trait Integrator: Sync {
     fn radiance(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Rgb;
@@ -26,14 +35,33 @@ pub trait Integrator: Sync {
 pub enum IntegratorKind {
     #[default]
     Raycast,
+    Whitted,
+}
+
+/// Settings that integrators read (each uses the ones that apply to it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IntegratorSettings {
+    /// Maximum number of recursive bounces (Whitted: reflection/refraction generations).
+    pub max_depth: u32,
+    /// Whitted: a ray whose accumulated weight is below this on every channel is not traced.
+    pub min_contribution: f32,
+    /// Whitted: shadow rays pass through transparent occluders, attenuated by their k_t.
+    pub transparent_shadows: bool,
+}
+
+impl Default for IntegratorSettings {
+    fn default() -> Self {
+        Self { max_depth: 5, min_contribution: 1e-3, transparent_shadows: false }
+    }
 }
 
 impl IntegratorKind {
-    pub const ALL: [IntegratorKind; 1] = [IntegratorKind::Raycast];
+    pub const ALL: [IntegratorKind; 2] = [IntegratorKind::Raycast, IntegratorKind::Whitted];
 
     pub fn name(self) -> &'static str {
         match self {
             IntegratorKind::Raycast => "raycast",
+            IntegratorKind::Whitted => "whitted",
         }
     }
 
@@ -41,9 +69,14 @@ impl IntegratorKind {
         Self::ALL.into_iter().find(|k| k.name() == name)
     }
 
-    pub fn create(self) -> Box<dyn Integrator> {
+    pub fn create(self, settings: &IntegratorSettings) -> Box<dyn Integrator> {
         match self {
             IntegratorKind::Raycast => Box::new(Raycast),
+            IntegratorKind::Whitted => Box::new(Whitted {
+                max_depth: settings.max_depth,
+                min_contribution: settings.min_contribution,
+                transparent_shadows: settings.transparent_shadows,
+            }),
         }
     }
 }

@@ -16,10 +16,10 @@ impl Integrator for Raycast {
         let Some(hit) = scene.intersect(ray) else {
             return scene.environment.background;
         };
-        let material = &scene.materials[hit.material as usize];
+        let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
         let normal = hit.facing(ray.direction);
         let wo = -ray.direction.normalize();
-        let mut radiance = material.ambient() * scene.environment.ambient_light;
+        let mut radiance = material.ambient * scene.environment.ambient_light;
         for light in &scene.lights {
             let illumination = light.illuminate(hit.geometry.point);
             radiance += material.local(normal, wo, illumination.direction, illumination.intensity);

@@ -1,4 +1,5 @@
-//! Materials: how a surface answers light. The closed set is an enum dispatched per hit.
+//! Materials: how a surface answers light. The closed set is an enum dispatched per hit; a
+//! material evaluated at a hit is a small value on the stack.
 //!
 //! Conventions: colours are linear RGB; directions given to a material point *away* from the
 //! surface (`wo` toward the viewer, `wi` toward the light), and the normal has been turned to
@@ -6,10 +7,9 @@
 
 mod phong;
 
-pub use phong::Phong;
+pub use phong::{fresnel_dielectric, fresnel_schlick, Fresnel, Phong, PhongPoint};
 
-use crate::Rgb;
-use glam::Vec3;
+use crate::textures::TextureQuery;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Material {
@@ -17,17 +17,10 @@ pub enum Material {
 }
 
 impl Material {
-    /// The ambient reflectance k_a (what the course's ambient term multiplies).
-    pub fn ambient(&self) -> Rgb {
+    /// The material's values at a point, for the course's local model and Whitted's recursion.
+    pub fn evaluate(&self, query: &TextureQuery) -> PhongPoint {
         match self {
-            Material::Phong(p) => p.ambient,
-        }
-    }
-
-    /// The local reflection of one light: k_d (N·L) + k_s (R·V)^n, times the light's intensity.
-    pub fn local(&self, normal: Vec3, wo: Vec3, wi: Vec3, intensity: Rgb) -> Rgb {
-        match self {
-            Material::Phong(p) => p.local(normal, wo, wi, intensity),
+            Material::Phong(p) => p.evaluate(query),
         }
     }
 }

@@ -1,16 +1,24 @@
-//! The course's local illumination model: ambient + Lambert diffuse + Phong specular.
+//! The course's material: ambient + Lambert diffuse + Phong specular for local light, plus the
+//! Whitted terms, mirror reflection k_r and transmission k_t with an index of refraction.
 //!
-//! Scene parameters (RGB colours in [0, 1], linear):
+//! Scene parameters (colours are linear RGB, or the name of a texture):
 //! - `diffuse` k_d, default [0.8, 0.8, 0.8];
-//! - `ambient` k_a, default = `diffuse` (the usual choice: ambient light tinted like the surface);
-//! - `specular` k_s, default [0, 0, 0];
-//! - `shininess` n (Phong exponent, ≥ 0), default 32.
+//! - `ambient` k_a, default = `diffuse` (ambient light tinted like the surface);
+//! - `specular` k_s, default [0, 0, 0]; `shininess` n (Phong exponent ≥ 0), default 32;
+//! - `reflection` k_r, default [0, 0, 0]; `transmission` k_t, default [0, 0, 0];
+//! - `ior`, index of refraction (> 0) of the inside, default 1.5 (glass);
+//! - `fresnel`: `"none"` (k_r, k_t used as given, the course's default), `"schlick"` or
+//!   `"exact"` (the dielectric Fresnel equations split k_t between reflection and
+//!   transmission by the angle of incidence).
 //! ```toml
-//! [materials.red_plastic]
+//! [materials.glass]
 //! type = "phong"
-//! diffuse = [0.8, 0.1, 0.1]
-//! specular = [0.5, 0.5, 0.5]
-//! shininess = 64
+//! diffuse = [0, 0, 0]
+//! specular = [1, 1, 1]
+//! shininess = 200
+//! transmission = [0.9, 0.9, 0.9]
+//! ior = 1.5
+//! fresnel = "exact"
 //! ```
 //! For one light: I · (k_d max(0, N·L) + k_s max(0, R·V)^n), R = 2(N·L)N − L, the specular
 //! term only where the light is in front of the surface.
@@ -18,24 +26,77 @@
 use glam::Vec3;
 
 use crate::geometry::reflect;
+use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Fresnel {
+    #[default]
+    None,
+    Schlick,
+    Exact,
+}
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Phong {
-    pub ambient: Rgb,
-    pub diffuse: Rgb,
-    pub specular: Rgb,
+    /// `None`: the same as `diffuse`.
+    pub ambient: Option<Texture>,
+    pub diffuse: Texture,
+    pub specular: Texture,
     pub shininess: f32,
+    pub reflection: Texture,
+    pub transmission: Texture,
+    pub ior: f32,
+    pub fresnel: Fresnel,
 }
 
 impl Default for Phong {
     fn default() -> Self {
-        let diffuse = Rgb::splat(0.8);
-        Self { ambient: diffuse, diffuse, specular: Rgb::ZERO, shininess: 32.0 }
+        Self {
+            ambient: None,
+            diffuse: Texture::Constant(Rgb::splat(0.8)),
+            specular: Texture::Constant(Rgb::ZERO),
+            shininess: 32.0,
+            reflection: Texture::Constant(Rgb::ZERO),
+            transmission: Texture::Constant(Rgb::ZERO),
+            ior: 1.5,
+            fresnel: Fresnel::None,
+        }
     }
 }
 
 impl Phong {
+    /// The material's values at one point (textures looked up once per hit).
+    pub fn evaluate(&self, query: &TextureQuery) -> PhongPoint {
+        let diffuse = self.diffuse.evaluate(query);
+        PhongPoint {
+            ambient: self.ambient.as_ref().map_or(diffuse, |t| t.evaluate(query)),
+            diffuse,
+            specular: self.specular.evaluate(query),
+            shininess: self.shininess,
+            reflection: self.reflection.evaluate(query),
+            transmission: self.transmission.evaluate(query),
+            ior: self.ior,
+            fresnel: self.fresnel,
+        }
+    }
+}
+
+/// A Phong material evaluated at a point: plain colours on the stack.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhongPoint {
+    pub ambient: Rgb,
+    pub diffuse: Rgb,
+    pub specular: Rgb,
+    pub shininess: f32,
+    pub reflection: Rgb,
+    pub transmission: Rgb,
+    pub ior: f32,
+    pub fresnel: Fresnel,
+}
+
+impl PhongPoint {
+    /// k_d (N·L) + k_s (R·V)^n times the light's intensity; `normal` faces the viewer.
     pub fn local(&self, normal: Vec3, wo: Vec3, wi: Vec3, intensity: Rgb) -> Rgb {
         let cos_light = normal.dot(wi);
         if cos_light <= 0.0 {
@@ -49,15 +110,64 @@ impl Phong {
         }
         intensity * reflectance
     }
+
+    /// Weights of the reflected and transmitted rays for incidence `cos_incident` (> 0) and
+    /// index ratio `eta` = n_incident / n_transmitted. With Fresnel, k_t is split into F·k_t
+    /// reflected and (1 − F)·k_t transmitted; the caller moves all of the transmitted weight to
+    /// reflection on total internal reflection.
+    pub fn ray_weights(&self, cos_incident: f32, eta: f32) -> (Rgb, Rgb) {
+        let f = match self.fresnel {
+            Fresnel::None => return (self.reflection, self.transmission),
+            Fresnel::Schlick => fresnel_schlick(cos_incident, eta),
+            Fresnel::Exact => fresnel_dielectric(cos_incident, eta),
+        };
+        (self.reflection + self.transmission * f, self.transmission * (1.0 - f))
+    }
+}
+
+/// Unpolarised Fresnel reflectance of a dielectric interface (Hecht, Optics §4.6), for the
+/// cosine of the incident angle and η = n_incident / n_transmitted; 1 past the critical angle.
+pub fn fresnel_dielectric(cos_incident: f32, eta: f32) -> f32 {
+    let cos_i = cos_incident.clamp(0.0, 1.0);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    // With n_i/n_t = η: r_s = (η cos_i − cos_t)/(η cos_i + cos_t), r_p = (cos_i − η cos_t)/(cos_i + η cos_t).
+    let r_s = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let r_p = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    0.5 * (r_s * r_s + r_p * r_p)
+}
+
+/// Schlick's approximation; inside the denser medium it uses the transmitted angle's cosine,
+/// and it is 1 past the critical angle, as the exact equations are.
+pub fn fresnel_schlick(cos_incident: f32, eta: f32) -> f32 {
+    let cos_i = cos_incident.clamp(0.0, 1.0);
+    let r0 = ((1.0 - eta) / (1.0 + eta)).powi(2);
+    let cos = if eta > 1.0 {
+        let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+        if sin2_t >= 1.0 {
+            return 1.0;
+        }
+        (1.0 - sin2_t).sqrt()
+    } else {
+        cos_i
+    };
+    r0 + (1.0 - r0) * (1.0 - cos).powi(5)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    fn point() -> PhongPoint {
+        Phong::default().evaluate(&TextureQuery { uv: glam::Vec2::ZERO, point: Vec3::ZERO })
+    }
+
     #[test]
     fn lambert_and_phong_terms_by_hand() {
-        let m = Phong { ambient: Rgb::ZERO, diffuse: Rgb::splat(0.5), specular: Rgb::splat(0.25), shininess: 2.0 };
+        let m = PhongPoint { diffuse: Rgb::splat(0.5), specular: Rgb::splat(0.25), shininess: 2.0, ..point() };
         let n = Vec3::Y;
         let wi = Vec3::new(1.0, 1.0, 0.0).normalize(); // N·L = cos 45°
                                                        // Viewer exactly along the mirror direction: (R·V)^n = 1.
@@ -67,7 +177,36 @@ mod tests {
         // Viewer straight above: R·V = cos 45°, squared = 0.5.
         let c = 0.5 * std::f32::consts::FRAC_1_SQRT_2 + 0.25 * 0.5;
         assert!((m.local(n, Vec3::Y, wi, Rgb::ONE) - Rgb::splat(c)).length() < 1e-6);
-        // Light below the surface contributes nothing.
         assert_eq!(m.local(n, wo, -wi, Rgb::ONE), Rgb::ZERO);
+    }
+
+    #[test]
+    fn fresnel_by_hand() {
+        // Normal incidence on glass: ((1 − 1.5)/(1 + 1.5))² = 0.04, for both formulas.
+        assert!((fresnel_dielectric(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6);
+        assert!((fresnel_schlick(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6);
+        // Grazing: everything reflects.
+        assert!(fresnel_dielectric(0.0, 1.0 / 1.5) > 0.999);
+        // Past the critical angle from inside: total internal reflection.
+        assert_eq!(fresnel_dielectric(0.5, 1.5), 1.0);
+        assert_eq!(fresnel_schlick(0.5, 1.5), 1.0);
+        // Brewster's angle (tan θ = 1.5): r_p = 0, so F = r_s²/2 ≈ 0.0739.
+        let brewster = 1.5f32.atan();
+        assert!((fresnel_dielectric(brewster.cos(), 1.0 / 1.5) - 0.0739).abs() < 1e-3);
+        // Schlick stays close to exact.
+        for i in 0..=20 {
+            let c = i as f32 / 20.0;
+            assert!((fresnel_schlick(c, 1.0 / 1.5) - fresnel_dielectric(c, 1.0 / 1.5)).abs() < 0.04);
+        }
+    }
+
+    #[test]
+    fn fresnel_splits_transmission() {
+        let m = PhongPoint { transmission: Rgb::ONE, fresnel: Fresnel::Exact, ..point() };
+        let (r, t) = m.ray_weights(1.0, 1.0 / 1.5);
+        assert!((r - Rgb::splat(0.04)).abs().max_element() < 1e-6);
+        assert!((r + t - Rgb::ONE).abs().max_element() < 1e-6);
+        let plain = PhongPoint { reflection: Rgb::splat(0.3), transmission: Rgb::splat(0.5), ..point() };
+        assert_eq!(plain.ray_weights(0.2, 0.5), (Rgb::splat(0.3), Rgb::splat(0.5)));
     }
 }

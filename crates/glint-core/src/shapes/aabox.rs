@@ -23,7 +23,7 @@
 use glam::{Vec2, Vec3};
 
 use super::SurfaceGeometry;
-use crate::geometry::{Aabb, Ray};
+use crate::geometry::{gamma, Aabb, Ray};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum BoxMethod {
@@ -131,7 +131,15 @@ impl AaBox {
         point[axis] = if sign > 0.0 { self.max[axis] } else { self.min[axis] };
         let local = (point - self.min) / size;
         let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
-        SurfaceGeometry { point, geometric_normal: normal, shading_normal: normal, uv: Vec2::new(local[a], local[b]) }
+        // The face coordinate is exact; the other two come from O + tD.
+        let error = gamma(3) * point.abs();
+        SurfaceGeometry {
+            point,
+            geometric_normal: normal,
+            shading_normal: normal,
+            uv: Vec2::new(local[a], local[b]),
+            error,
+        }
     }
 }
 

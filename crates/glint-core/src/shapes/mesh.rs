@@ -24,6 +24,9 @@ pub struct Mesh {
     /// Per-vertex texture coordinates, same length as `positions`, if the file had them.
     pub uvs: Option<Vec<Vec2>>,
     pub indices: Vec<[u32; 3]>,
+    /// The transform baked into the vertices, kept to map hit points back to the mesh's own
+    /// space for solid textures.
+    pub baked_transform: Option<Transform>,
 }
 
 impl Mesh {
@@ -67,7 +70,13 @@ impl Mesh {
     /// Bakes a transform into the vertices (meshes are stored in world space so the
     /// acceleration structure sees their triangles directly). A mirroring transform reverses
     /// the winding so that geometric normals keep facing the same way relative to the surface.
+    /// A world-space point in the mesh's own (file) space.
+    pub fn object_point(&self, p: Vec3) -> Vec3 {
+        self.baked_transform.map_or(p, |t| t.to_object.transform_point3(p))
+    }
+
     pub fn transform(&mut self, t: &Transform) {
+        self.baked_transform = Some(self.baked_transform.map_or(*t, |b| t.after(&b)));
         for p in &mut self.positions {
             *p = t.point(*p);
         }

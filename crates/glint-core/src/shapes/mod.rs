@@ -21,7 +21,7 @@ mod triangle;
 pub use aabox::{AaBox, BoxMethod};
 pub use mesh::Mesh;
 pub use plane::Plane;
-pub use polygon::{Polygon, PolygonTest};
+pub use polygon::{inverse_bilinear, Polygon, PolygonTest};
 pub use sphere::{Sphere, SphereMethod};
 pub use triangle::{Triangle, TriangleMethod};
 
@@ -64,6 +64,9 @@ pub struct SurfaceGeometry {
     /// `geometric_normal`.
     pub shading_normal: Vec3,
     pub uv: Vec2,
+    /// Bound on the absolute floating-point error of `point`, per axis (see
+    /// `geometry::offset_ray_origin`).
+    pub error: Vec3,
 }
 
 /// The closed set of shapes, dispatched by `match` on every ray.

@@ -15,7 +15,7 @@
 use glam::{Vec2, Vec3};
 
 use super::SurfaceGeometry;
-use crate::geometry::{orthonormal_basis, Ray};
+use crate::geometry::{gamma, orthonormal_basis, Ray};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plane {
@@ -53,6 +53,8 @@ impl Plane {
             geometric_normal: self.normal,
             shading_normal: self.normal,
             uv: Vec2::new(point.dot(s), point.dot(t)),
+            // The projection onto the plane: a dot product and a multiply-add per axis.
+            error: gamma(7) * (point.abs() + Vec3::splat(self.offset.abs())),
         }
     }
 }

@@ -22,7 +22,7 @@
 use glam::{Vec2, Vec3};
 
 use super::SurfaceGeometry;
-use crate::geometry::{orthonormal_basis, Aabb, Ray};
+use crate::geometry::{gamma, orthonormal_basis, Aabb, Ray};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum PolygonTest {
@@ -39,6 +39,8 @@ pub struct Polygon {
     /// Indices of the two axes kept by the projection.
     axes: (usize, usize),
     projected: Vec<Vec2>,
+    /// Per-vertex texture coordinates (triangles and quads only).
+    uvs: Option<Vec<Vec2>>,
 }
 
 impl Polygon {
@@ -64,7 +66,24 @@ impl Polygon {
             (0, 1)
         };
         let projected = vertices.iter().map(|v| Vec2::new(v[axes.0], v[axes.1])).collect();
-        Some(Self { offset: -normal.dot(centroid), normal, axes, projected, vertices })
+        Some(Self { offset: -normal.dot(centroid), normal, axes, projected, vertices, uvs: None })
+    }
+
+    /// Adds per-vertex uvs, interpolated barycentrically over a triangle and bilinearly over a
+    /// quad (the course's interpolation of a rectangle's corner uvs).
+    pub fn with_uvs(mut self, uvs: Vec<Vec2>) -> Result<Self, String> {
+        if uvs.len() != self.vertices.len() {
+            return Err(format!(
+                "`uvs` needs one [u, v] per vertex: {} vertices, {} uvs",
+                self.vertices.len(),
+                uvs.len()
+            ));
+        }
+        if !(3..=4).contains(&uvs.len()) {
+            return Err("`uvs` are supported on polygons with 3 or 4 vertices".into());
+        }
+        self.uvs = Some(uvs);
+        Ok(self)
     }
 
     pub fn vertices(&self) -> &[Vec3] {
@@ -100,13 +119,62 @@ impl Polygon {
     pub fn surface(&self, point: Vec3) -> SurfaceGeometry {
         let point = point - (self.normal.dot(point) + self.offset) * self.normal;
         let (s, t) = orthonormal_basis(self.normal);
+        let projected = Vec2::new(point[self.axes.0], point[self.axes.1]);
+        let uv = match self.uvs.as_deref() {
+            Some([ua, ub, uc]) => {
+                let [a, b, c] = [self.projected[0], self.projected[1], self.projected[2]];
+                let area = (b - a).perp_dot(c - a);
+                let beta = (projected - a).perp_dot(c - a) / area;
+                let gamma = (b - a).perp_dot(projected - a) / area;
+                (1.0 - beta - gamma) * *ua + beta * *ub + gamma * *uc
+            }
+            Some([ua, ub, uc, ud]) => {
+                let corners = [self.projected[0], self.projected[1], self.projected[2], self.projected[3]];
+                let st = inverse_bilinear(projected, corners);
+                (1.0 - st.x) * (1.0 - st.y) * *ua
+                    + st.x * (1.0 - st.y) * *ub
+                    + st.x * st.y * *uc
+                    + (1.0 - st.x) * st.y * *ud
+            }
+            _ => Vec2::new(point.dot(s), point.dot(t)),
+        };
         SurfaceGeometry {
             point,
             geometric_normal: self.normal,
             shading_normal: self.normal,
-            uv: Vec2::new(point.dot(s), point.dot(t)),
+            uv,
+            // The projection onto the plane: a dot product and a multiply-add per axis.
+            error: gamma(7) * (point.abs() + Vec3::splat(self.offset.abs())),
         }
     }
+}
+
+/// The (s, t) ∈ [0,1]² with p = bilerp(a, b, c, d; s, t) for the quad a→b→c→d (a at (0,0),
+/// b at (1,0), c at (1,1), d at (0,1)): the inverse of bilinear interpolation, a quadratic in t.
+pub fn inverse_bilinear(p: Vec2, [a, b, c, d]: [Vec2; 4]) -> Vec2 {
+    let (e, f, g, h) = (b - a, d - a, a - b + c - d, p - a);
+    let k2 = g.perp_dot(f);
+    let k1 = e.perp_dot(f) + h.perp_dot(g);
+    let k0 = h.perp_dot(e);
+    let t = if k2.abs() < 1e-6 * k1.abs().max(f32::MIN_POSITIVE) {
+        -k0 / k1 // a parallelogram: linear in t
+    } else {
+        let root = (k1 * k1 - 4.0 * k0 * k2).max(0.0).sqrt();
+        let t0 = (-k1 - root) / (2.0 * k2);
+        if (-1e-4..=1.0 + 1e-4).contains(&t0) {
+            t0
+        } else {
+            (-k1 + root) / (2.0 * k2)
+        }
+    };
+    // s from whichever coordinate is better conditioned.
+    let denominator = e + g * t;
+    let s = if denominator.x.abs() > denominator.y.abs() {
+        (h.x - f.x * t) / denominator.x
+    } else {
+        (h.y - f.y * t) / denominator.y
+    };
+    Vec2::new(s, t)
 }
 
 /// Even–odd rule: a half-line from `p` toward +x crosses the boundary an odd number of times
@@ -218,6 +286,35 @@ mod tests {
                 let ray = Ray::new(3.0 * n + 0.5 * s, -n);
                 assert_eq!(square.intersect(&ray, test), Some(3.0));
             }
+        }
+    }
+
+    #[test]
+    fn quad_uvs_interpolate_bilinearly() {
+        // A trapezoid: the bottom edge twice as long as the top.
+        let quad = Polygon::new(vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(4.0, 0.0, 0.0),
+            Vec3::new(3.0, 2.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.0),
+        ])
+        .unwrap()
+        .with_uvs(vec![Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0), Vec2::new(0.0, 1.0)])
+        .unwrap();
+        // The midpoint of the left edge is (s, t) = (0, ½); the centre of the top edge (½, 1).
+        let uv = quad.surface(Vec3::new(0.5, 1.0, 0.0)).uv;
+        assert!((uv - Vec2::new(0.0, 0.5)).length() < 1e-5, "{uv}");
+        let uv = quad.surface(Vec3::new(2.0, 2.0, 0.0)).uv;
+        assert!((uv - Vec2::new(0.5, 1.0)).length() < 1e-5, "{uv}");
+        // Round trip on a skewed quad: bilerp then invert.
+        let corners = [Vec2::new(0.0, 0.0), Vec2::new(3.0, 0.5), Vec2::new(2.5, 2.0), Vec2::new(-0.5, 1.5)];
+        for (s, t) in [(0.2, 0.7), (0.9, 0.1), (0.5, 0.5)] {
+            let p = (1.0 - s) * (1.0 - t) * corners[0]
+                + s * (1.0 - t) * corners[1]
+                + s * t * corners[2]
+                + (1.0 - s) * t * corners[3];
+            let st = inverse_bilinear(p, corners);
+            assert!((st - Vec2::new(s, t)).length() < 1e-4, "{st} vs ({s}, {t})");
         }
     }
 

@@ -20,7 +20,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::{first_in_range, solve_quadratic, SurfaceGeometry};
-use crate::geometry::{Aabb, Ray};
+use crate::geometry::{gamma, Aabb, Ray};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SphereMethod {
@@ -95,6 +95,8 @@ impl Sphere {
             geometric_normal: normal,
             shading_normal: normal,
             uv: Vec2::new(phi / (2.0 * PI), 1.0 - theta / PI),
+            // Reprojection leaves a few roundings of the centre and the radius.
+            error: gamma(6) * (self.center.abs() + (normal * self.radius).abs()),
         }
     }
 }

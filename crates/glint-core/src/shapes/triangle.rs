@@ -16,7 +16,7 @@
 use glam::{Vec2, Vec3};
 
 use super::{PrimHit, SurfaceGeometry};
-use crate::geometry::{Aabb, Ray};
+use crate::geometry::{gamma, Aabb, Ray};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TriangleMethod {
@@ -146,7 +146,9 @@ pub(crate) fn triangle_surface(
         Some([ta, tb, tc]) => w * ta + hit.u * tb + hit.v * tc,
         None => Vec2::new(hit.u, hit.v),
     };
-    SurfaceGeometry { point, geometric_normal, shading_normal, uv }
+    // Barycentric interpolation (pbrt-v4 eq. 6.17).
+    let error = gamma(7) * ((w * a).abs() + (hit.u * b).abs() + (hit.v * c).abs());
+    SurfaceGeometry { point, geometric_normal, shading_normal, uv, error }
 }
 
 #[cfg(test)]

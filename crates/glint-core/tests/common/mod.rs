@@ -33,8 +33,18 @@ pub fn object(shape: Shape) -> Object {
     Object { name: shape.kind().into(), shape, transform: None, material: 0 }
 }
 
+pub fn object_with(shape: Shape, material: u32) -> Object {
+    Object { material, ..object(shape) }
+}
+
 pub fn white() -> Vec<(String, Material)> {
-    vec![("white".into(), Material::Phong(Phong { ambient: Rgb::ZERO, ..Phong::default() }))]
+    vec![(
+        "white".into(),
+        Material::Phong(Phong {
+            ambient: Some(glint_core::textures::Texture::Constant(Rgb::ZERO)),
+            ..Phong::default()
+        }),
+    )]
 }
 
 pub fn scene(objects: Vec<Object>) -> Scene {

@@ -3,18 +3,20 @@
 
 use std::ops::Range;
 use std::path::Path;
+use std::sync::Arc;
 
 use glam::{Mat4, Quat, Vec2, Vec3};
 use glint_core::camera::Camera;
 use glint_core::geometry::Transform;
-use glint_core::integrators::IntegratorKind;
+use glint_core::integrators::{IntegratorKind, IntegratorSettings};
 use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight};
-use glint_core::materials::{Material, Phong};
+use glint_core::materials::{Fresnel, Material, Phong};
 use glint_core::scene::{Environment, Object, Scene};
 use glint_core::shapes::{
     AaBox, BoxMethod, IntersectMethods, Plane, Polygon, PolygonTest, Shape, Sphere, SphereMethod, Triangle,
     TriangleMethod,
 };
+use glint_core::textures::{Checker, ImageTexture, Marble, SolidChecker, Texture, Wood, Wrap};
 
 use super::schema::*;
 use super::{find_key, LoadedScene, RenderOptions};
@@ -74,21 +76,34 @@ pub(super) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         ambient_light: colour(&cx, "ambient", file.environment.ambient)?,
     };
 
+    let mut textures = Vec::new();
+    for (name, entry) in &file.textures {
+        let texture = build_texture(&entry.value, source)
+            .map_err(|(key, m)| cx.error(&entry.span, Some(key), format!("texture `{name}`: {m}")))?;
+        textures.push((name.clone(), texture));
+    }
+
     let mut materials = Vec::new();
     for (name, entry) in &file.materials {
         let at = |key: &str, m: String| cx.error(&entry.span, Some(key), format!("material `{name}`: {m}"));
+        let colour = |key: &str, c: &ColorDesc| resolve_colour(c, &textures).map_err(|m| at(key, m));
         let material = match &entry.value {
-            MaterialDesc::Phong { diffuse, ambient, specular, shininess } => {
+            MaterialDesc::Phong { diffuse, ambient, specular, shininess, reflection, transmission, ior, fresnel } => {
                 let mut phong = Phong::default();
-                if let Some(d) = diffuse {
-                    phong.diffuse = non_negative(*d).map_err(|m| at("diffuse", m))?;
-                    phong.ambient = phong.diffuse;
+                if let Some(c) = diffuse {
+                    phong.diffuse = colour("diffuse", c)?;
                 }
-                if let Some(a) = ambient {
-                    phong.ambient = non_negative(*a).map_err(|m| at("ambient", m))?;
+                if let Some(c) = ambient {
+                    phong.ambient = Some(colour("ambient", c)?);
                 }
-                if let Some(s) = specular {
-                    phong.specular = non_negative(*s).map_err(|m| at("specular", m))?;
+                if let Some(c) = specular {
+                    phong.specular = colour("specular", c)?;
+                }
+                if let Some(c) = reflection {
+                    phong.reflection = colour("reflection", c)?;
+                }
+                if let Some(c) = transmission {
+                    phong.transmission = colour("transmission", c)?;
                 }
                 if let Some(n) = shininess {
                     if !(n.is_finite() && *n >= 0.0) {
@@ -96,6 +111,15 @@ pub(super) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
                     }
                     phong.shininess = *n;
                 }
+                if let Some(eta) = ior {
+                    positive(*eta).map_err(|m| at("ior", format!("`ior` {m}")))?;
+                    phong.ior = *eta;
+                }
+                phong.fresnel = match fresnel {
+                    FresnelDesc::None => Fresnel::None,
+                    FresnelDesc::Schlick => Fresnel::Schlick,
+                    FresnelDesc::Exact => Fresnel::Exact,
+                };
                 Material::Phong(phong)
             }
         };
@@ -152,7 +176,18 @@ fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneErro
     if r.spp == 0 {
         return Err(cx.error_at_key("spp", "`spp` (samples per pixel) must be at least 1".into()));
     }
-    Ok(RenderOptions { spp: r.spp, max_depth: r.max_depth, integrator, seed: r.seed })
+    if !(r.min_contribution.is_finite() && r.min_contribution >= 0.0) {
+        return Err(cx.error_at_key(
+            "min_contribution",
+            format!("`min_contribution` must be a number ≥ 0, got {}", r.min_contribution),
+        ));
+    }
+    let integrator_settings = IntegratorSettings {
+        max_depth: r.max_depth,
+        min_contribution: r.min_contribution,
+        transparent_shadows: r.transparent_shadows,
+    };
+    Ok(RenderOptions { spp: r.spp, integrator, seed: r.seed, integrator_settings })
 }
 
 fn build_light(cx: &Context, index: usize, light: &Located<LightDesc>) -> Result<Light, SceneError> {
@@ -262,16 +297,18 @@ fn build_object(
             triangle.uvs = uvs.map(|t| t.map(Vec2::from));
             Shape::Triangle(triangle)
         }
-        ShapeDesc::Polygon { vertices, .. } => {
+        ShapeDesc::Polygon { vertices, uvs, .. } => {
             if vertices.len() < 3 {
                 return Err(at("vertices", format!("a polygon needs at least 3 vertices, got {}", vertices.len())));
             }
             let points =
                 vertices.iter().map(|p| finite(*p)).collect::<Result<Vec<_>, _>>().map_err(|m| at("vertices", m))?;
-            Shape::Polygon(
-                Polygon::new(points)
-                    .ok_or_else(|| at("vertices", "the polygon has zero area (its vertices are collinear)".into()))?,
-            )
+            let mut polygon = Polygon::new(points)
+                .ok_or_else(|| at("vertices", "the polygon has zero area (its vertices are collinear)".into()))?;
+            if let Some(uvs) = uvs {
+                polygon = polygon.with_uvs(uvs.iter().map(|&t| Vec2::from(t)).collect()).map_err(|m| at("uvs", m))?;
+            }
+            Shape::Polygon(polygon)
         }
         ShapeDesc::Box { min, max, .. } => {
             let (lo, hi) = (finite(*min).map_err(|m| at("min", m))?, finite(*max).map_err(|m| at("max", m))?);
@@ -329,6 +366,77 @@ fn build_transform(ops: &[TransformOp]) -> Result<Option<Transform>, String> {
         matrix = m * matrix;
     }
     Transform::from_matrix(matrix).map(Some).ok_or_else(|| "the transform is singular (a zero scale?)".to_string())
+}
+
+/// A texture, or the key its error is about and the message.
+fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'static str, String)> {
+    let rgb = |key: &'static str, v: Vector| non_negative(v).map_err(|m| (key, m));
+    let number = |key: &'static str, x: Option<f32>, default: f32| -> Result<f32, (&'static str, String)> {
+        let x = x.unwrap_or(default);
+        positive(x).map_err(|m| (key, format!("`{key}` {m}")))?;
+        Ok(x)
+    };
+    let scale2 = |s: Option<Scale2Desc>, default: f32| -> Result<Vec2, (&'static str, String)> {
+        let v = match s {
+            None => Vec2::splat(default),
+            Some(Scale2Desc::Uniform(x)) => Vec2::splat(x),
+            Some(Scale2Desc::PerAxis(a)) => Vec2::from(a),
+        };
+        if !(v.is_finite() && v.min_element() > 0.0) {
+            return Err(("scale", format!("`scale` must be positive, got {v}")));
+        }
+        Ok(v)
+    };
+    Ok(match desc {
+        TextureDesc::Checker { even, odd, scale } => {
+            Texture::Checker(Checker { even: rgb("even", *even)?, odd: rgb("odd", *odd)?, scale: scale2(*scale, 8.0)? })
+        }
+        TextureDesc::SolidChecker { even, odd, scale } => Texture::SolidChecker(SolidChecker {
+            even: rgb("even", *even)?,
+            odd: rgb("odd", *odd)?,
+            scale: number("scale", *scale, 1.0)?,
+        }),
+        TextureDesc::Image { file, wrap, scale } => {
+            let bytes = source.read(file).map_err(|m| ("file", format!("image file: {m}")))?;
+            let (width, height, pixels) =
+                crate::image::decode(file, &bytes).map_err(|m| ("file", format!("image `{file}`: {m}")))?;
+            Texture::Image(Arc::new(ImageTexture {
+                width,
+                height,
+                pixels,
+                wrap: match wrap {
+                    WrapDesc::Repeat => Wrap::Repeat,
+                    WrapDesc::Clamp => Wrap::Clamp,
+                },
+                scale: scale2(*scale, 1.0)?,
+            }))
+        }
+        TextureDesc::Marble { base, vein, scale, turbulence, octaves } => Texture::Marble(Marble {
+            base: rgb("base", *base)?,
+            vein: rgb("vein", *vein)?,
+            scale: number("scale", *scale, 4.0)?,
+            turbulence: number("turbulence", *turbulence, 5.0)?,
+            octaves: octaves.unwrap_or(6).clamp(1, 16),
+        }),
+        TextureDesc::Wood { light, dark, rings, turbulence } => Texture::Wood(Wood {
+            light: rgb("light", *light)?,
+            dark: rgb("dark", *dark)?,
+            rings: number("rings", *rings, 8.0)?,
+            turbulence: number("turbulence", *turbulence, 0.3)?,
+        }),
+    })
+}
+
+fn resolve_colour(c: &ColorDesc, textures: &[(String, Texture)]) -> Result<Texture, String> {
+    match c {
+        ColorDesc::Rgb(v) => Ok(Texture::Constant(non_negative(*v)?)),
+        ColorDesc::Texture(name) => textures.iter().find(|(n, _)| n == name).map(|(_, t)| t.clone()).ok_or_else(|| {
+            let hint = closest_name(name, textures.iter().map(|(n, _)| n.as_str()))
+                .map(|n| format!("; did you mean `{n}`?"))
+                .unwrap_or_default();
+            format!("unknown texture `{name}` (a colour is [r, g, b] or the name of a texture in [textures]){hint}")
+        }),
+    }
 }
 
 fn finite(v: Vector) -> Result<Vec3, String> {

@@ -6,7 +6,7 @@ mod schema;
 
 use std::path::Path;
 
-use glint_core::integrators::IntegratorKind;
+use glint_core::integrators::{IntegratorKind, IntegratorSettings};
 use glint_core::scene::Scene;
 
 use crate::error::{with_suggestion, Location, SceneError};
@@ -20,12 +20,12 @@ pub enum Format {
 }
 
 /// Render settings a scene file carries; the CLI may override each.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderOptions {
     pub spp: u32,
-    pub max_depth: u32,
     pub integrator: IntegratorKind,
     pub seed: u64,
+    pub integrator_settings: IntegratorSettings,
 }
 
 pub struct LoadedScene {

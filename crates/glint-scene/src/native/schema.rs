@@ -20,6 +20,8 @@ pub struct SceneFile {
     #[serde(default)]
     pub environment: EnvironmentDesc,
     #[serde(default)]
+    pub textures: BTreeMap<String, Located<TextureDesc>>,
+    #[serde(default)]
     pub materials: BTreeMap<String, Located<MaterialDesc>>,
     #[serde(default)]
     pub lights: Vec<Located<LightDesc>>,
@@ -61,12 +63,27 @@ pub struct RenderDesc {
     pub integrator: String,
     #[serde(default)]
     pub seed: u64,
+    #[serde(default = "default_min_contribution")]
+    pub min_contribution: f32,
+    #[serde(default)]
+    pub transparent_shadows: bool,
 }
 
 impl Default for RenderDesc {
     fn default() -> Self {
-        Self { spp: default_spp(), max_depth: default_max_depth(), integrator: default_integrator(), seed: 0 }
+        Self {
+            spp: default_spp(),
+            max_depth: default_max_depth(),
+            integrator: default_integrator(),
+            seed: 0,
+            min_contribution: default_min_contribution(),
+            transparent_shadows: false,
+        }
     }
+}
+
+fn default_min_contribution() -> f32 {
+    1e-3
 }
 
 fn default_spp() -> u32 {
@@ -136,7 +153,84 @@ pub struct EnvironmentDesc {
 #[derive(Deserialize, Debug)]
 #[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum MaterialDesc {
-    Phong { diffuse: Option<Vector>, ambient: Option<Vector>, specular: Option<Vector>, shininess: Option<f32> },
+    Phong {
+        diffuse: Option<ColorDesc>,
+        ambient: Option<ColorDesc>,
+        specular: Option<ColorDesc>,
+        shininess: Option<f32>,
+        reflection: Option<ColorDesc>,
+        transmission: Option<ColorDesc>,
+        ior: Option<f32>,
+        #[serde(default)]
+        fresnel: FresnelDesc,
+    },
+}
+
+/// A colour, or the name of a texture in `[textures]`.
+#[derive(Deserialize, Debug, Clone)]
+#[serde(untagged)]
+pub enum ColorDesc {
+    Rgb(Vector),
+    Texture(String),
+}
+
+#[derive(Deserialize, Debug, Default, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub enum FresnelDesc {
+    #[default]
+    None,
+    Schlick,
+    Exact,
+}
+
+/// A number for both axes or one per axis.
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(untagged)]
+pub enum Scale2Desc {
+    Uniform(f32),
+    PerAxis([f32; 2]),
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum TextureDesc {
+    Checker {
+        even: Vector,
+        odd: Vector,
+        scale: Option<Scale2Desc>,
+    },
+    SolidChecker {
+        even: Vector,
+        odd: Vector,
+        scale: Option<f32>,
+    },
+    Image {
+        file: String,
+        #[serde(default)]
+        wrap: WrapDesc,
+        scale: Option<Scale2Desc>,
+    },
+    Marble {
+        base: Vector,
+        vein: Vector,
+        scale: Option<f32>,
+        turbulence: Option<f32>,
+        octaves: Option<u32>,
+    },
+    Wood {
+        light: Vector,
+        dark: Vector,
+        rings: Option<f32>,
+        turbulence: Option<f32>,
+    },
+}
+
+#[derive(Deserialize, Debug, Default, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub enum WrapDesc {
+    #[default]
+    Repeat,
+    Clamp,
 }
 
 #[derive(Deserialize, Debug)]
@@ -209,6 +303,7 @@ pub enum ShapeDesc {
     },
     Polygon {
         vertices: Vec<Vector>,
+        uvs: Option<Vec<[f32; 2]>>,
         material: String,
         #[serde(default)]
         transform: Vec<TransformOp>,

@@ -1,0 +1,159 @@
+//! `glint explain SCENE --pixel X,Y`: the ray tree of one pixel, as Whitted drew it.
+
+use std::fmt::Write;
+use std::path::PathBuf;
+
+use clap::Args;
+use glint_core::integrators::recorder::{RayRecord, RayTree};
+use glint_core::integrators::{IntegratorSettings, SampleContext, Whitted};
+use glint_core::lights::Light;
+use glint_core::sampling::Rng;
+use glint_core::scene::Scene;
+use glint_core::{Rgb, Vec3};
+
+#[derive(Args)]
+pub struct ExplainArgs {
+    /// Scene file (default: the built-in scene).
+    scene: Option<PathBuf>,
+    /// The pixel, as X,Y from the top-left corner (at the scene's resolution, or --width/--height).
+    #[arg(long, value_parser = parse_pixel)]
+    pixel: (u32, u32),
+    /// Image width (the height follows the scene's aspect ratio unless given), as for `render`.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
+    width: Option<u32>,
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
+    height: Option<u32>,
+    /// Maximum recursion depth (default: the scene's).
+    #[arg(long)]
+    max_depth: Option<u32>,
+    #[arg(long)]
+    min_contribution: Option<f32>,
+    #[arg(long)]
+    transparent_shadows: bool,
+}
+
+fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
+    let (x, y) = s.split_once(',').ok_or("expected X,Y (for example 320,240)")?;
+    let parse = |v: &str| v.trim().parse::<u32>().map_err(|_| format!("`{v}` is not a pixel coordinate"));
+    Ok((parse(x)?, parse(y)?))
+}
+
+pub fn run(args: ExplainArgs) -> Result<(), String> {
+    let loaded = match &args.scene {
+        Some(path) => glint_scene::load_scene(path),
+        None => glint_scene::default_scene(),
+    }
+    .map_err(|e| e.to_string())?;
+    let mut scene = loaded.scene;
+    crate::render_command::resize_camera(&mut scene, args.width, args.height);
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let (x, y) = args.pixel;
+    if x >= w || y >= h {
+        return Err(format!("pixel {x},{y} is outside the {w}x{h} image"));
+    }
+    let mut settings = loaded.render.integrator_settings;
+    if let Some(d) = args.max_depth {
+        settings.max_depth = d;
+    }
+    if let Some(c) = args.min_contribution {
+        settings.min_contribution = c;
+    }
+    settings.transparent_shadows |= args.transparent_shadows;
+    let (tree, colour) = explain_pixel(&scene, &settings, x, y);
+    print!("{}", format_tree(&scene, &settings, x, y, &tree, colour));
+    Ok(())
+}
+
+/// Traces the pixel-centre ray with the Whitted integrator, recording the ray tree. The colour
+/// is exactly what `glint render --integrator whitted --spp 1` computes for that pixel.
+pub fn explain_pixel(scene: &Scene, settings: &IntegratorSettings, x: u32, y: u32) -> (RayTree, Rgb) {
+    let whitted = Whitted {
+        max_depth: settings.max_depth,
+        min_contribution: settings.min_contribution,
+        transparent_shadows: settings.transparent_shadows,
+    };
+    let ray = scene.camera.generate_ray(x as f32 + 0.5, y as f32 + 0.5);
+    let mut tree = RayTree::default();
+    let mut context = SampleContext::new(Rng::new(0, 0));
+    let colour = whitted.trace(
+        scene,
+        &ray,
+        glint_core::integrators::recorder::RayKind::Camera,
+        0,
+        Rgb::ONE,
+        &mut context,
+        &mut tree,
+    );
+    (tree, colour)
+}
+
+fn v(p: Vec3) -> String {
+    format!("({:.6}, {:.6}, {:.6})", p.x, p.y, p.z)
+}
+
+fn format_tree(scene: &Scene, s: &IntegratorSettings, x: u32, y: u32, tree: &RayTree, colour: Rgb) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "pixel ({x}, {y}) of {}x{}: Whitted ray tree, ray through the pixel centre, max depth {}, min contribution {}, {} shadows",
+        scene.camera.width,
+        scene.camera.height,
+        s.max_depth,
+        s.min_contribution,
+        if s.transparent_shadows { "transparent" } else { "opaque" }
+    );
+    for record in &tree.rays {
+        write_record(&mut out, scene, record);
+    }
+    let _ = writeln!(out, "pixel colour = {}", v(colour));
+    out
+}
+
+fn write_record(out: &mut String, scene: &Scene, r: &RayRecord) {
+    let pad = "    ".repeat(r.depth as usize);
+    let _ = writeln!(
+        out,
+        "{pad}{} ray (depth {}, weight {}): origin {}, direction {}",
+        r.kind.name(),
+        r.depth,
+        v(r.weight),
+        v(r.ray.origin),
+        v(r.ray.direction)
+    );
+    let Some(hit) = &r.hit else {
+        let _ = writeln!(out, "{pad}  missed everything: background {}", v(r.radiance));
+        return;
+    };
+    let object = &scene.objects[hit.object as usize];
+    let _ = writeln!(
+        out,
+        "{pad}  hit `{}` ({}) with material `{}` at t = {:.5}: point {}, normal {}, uv ({:.4}, {:.4})",
+        object.name,
+        object.shape.kind(),
+        scene.material_names[hit.material as usize],
+        hit.t,
+        v(hit.geometry.point),
+        v(hit.geometry.shading_normal),
+        hit.geometry.uv.x,
+        hit.geometry.uv.y
+    );
+    let _ = writeln!(out, "{pad}  ambient {}", v(r.ambient));
+    for l in &r.lights {
+        let kind = match &scene.lights[l.index] {
+            Light::Point(_) => "point",
+            Light::Directional(_) => "directional",
+        };
+        let state = if !l.facing {
+            "behind the surface".to_string()
+        } else if l.visibility == Rgb::ZERO {
+            "in shadow".to_string()
+        } else if l.visibility == Rgb::ONE {
+            "visible".to_string()
+        } else {
+            format!("seen through transparent occluders, transmission {}", v(l.visibility))
+        };
+        let _ = writeln!(out, "{pad}  light {} ({kind}): {state}, contributes {}", l.index, v(l.contribution));
+    }
+    let _ = writeln!(out, "{pad}  local (ambient + lights) {}", v(r.local));
+    let _ = writeln!(out, "{pad}  = {} (local + weighted reflection and refraction below)", v(r.radiance));
+}

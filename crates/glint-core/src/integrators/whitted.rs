@@ -1,0 +1,171 @@
+//! Whitted ray tracing (`--integrator whitted`; Whitted 1980, "An Improved Illumination Model
+//! for Shaded Display"), the course's recursion:
+//!
+//! colour = k_a I_a + Σ_lights visible [k_d (N·L) + k_s (R·V)^n] I + k_r·trace(R) + k_t·trace(T)
+//!
+//! - shadow rays test each light with an any-hit query; with `transparent_shadows` the light
+//!   is instead multiplied by the transmission k_t of every occluder along the shadow ray
+//!   (the course's approximation: no refraction of the shadow ray, opaque occluders block);
+//! - R = I − 2(I·N)N; T by Snell's law, entering when I·N < 0 against the outward geometric
+//!   normal; on total internal reflection the transmitted weight goes to reflection;
+//! - recursion ends at `max_depth` bounces (0 = local shading with shadows only), when the
+//!   path's accumulated weight falls below `min_contribution`, and when a ray leaves the scene
+//!   (background colour).
+//!
+//! The same code renders and explains a pixel: it reports every ray to a `Recorder`, a no-op
+//! when rendering and the ray tree for `glint explain`.
+
+use super::recorder::{LightRecord, NoRecorder, RayKind, Recorder};
+use super::{Integrator, SampleContext};
+use crate::geometry::{reflect, refract, Ray};
+use crate::lights::Light;
+use crate::scene::{Scene, SurfaceHit};
+use crate::Rgb;
+
+/// How many transparent surfaces a shadow ray passes through at most.
+const MAX_SHADOW_OCCLUDERS: usize = 256;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Whitted {
+    pub max_depth: u32,
+    pub min_contribution: f32,
+    pub transparent_shadows: bool,
+}
+
+impl Integrator for Whitted {
+    fn radiance(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Rgb {
+        self.trace(scene, ray, RayKind::Camera, 0, Rgb::ONE, context, &mut NoRecorder)
+    }
+}
+
+impl Whitted {
+    /// Radiance along `ray`, which carries `weight` (the product of k_r / k_t above it).
+    #[allow(clippy::too_many_arguments)]
+    pub fn trace<R: Recorder>(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        kind: RayKind,
+        depth: u32,
+        weight: Rgb,
+        context: &mut SampleContext,
+        recorder: &mut R,
+    ) -> Rgb {
+        context.rays_traced += 1;
+        recorder.begin_ray(kind, depth, ray, weight);
+        let Some(hit) = scene.intersect(ray) else {
+            recorder.miss(scene.environment.background);
+            return scene.environment.background;
+        };
+        recorder.hit(&hit);
+        let radiance = self.shade(scene, ray, &hit, depth, weight, context, recorder);
+        recorder.end_ray(radiance);
+        radiance
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn shade<R: Recorder>(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: &SurfaceHit,
+        depth: u32,
+        weight: Rgb,
+        context: &mut SampleContext,
+        recorder: &mut R,
+    ) -> Rgb {
+        let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
+        let incident = ray.direction.normalize();
+        let normal = hit.facing(incident);
+        let wo = -incident;
+
+        let ambient = material.ambient * scene.environment.ambient_light;
+        let mut radiance = ambient;
+        recorder.ambient(ambient);
+        for (index, light) in scene.lights.iter().enumerate() {
+            let illumination = light.illuminate(hit.geometry.point);
+            let wi = illumination.direction;
+            // A light behind the surface (as seen from the viewer's side) cannot light it.
+            if normal.dot(wi) <= 0.0 {
+                recorder.light(LightRecord {
+                    index,
+                    direction: wi,
+                    facing: false,
+                    visibility: Rgb::ZERO,
+                    contribution: Rgb::ZERO,
+                });
+                continue;
+            }
+            let shadow_ray = match light {
+                Light::Directional(_) => hit.spawn_ray(wi),
+                Light::Point(p) => hit.spawn_ray_to(p.position),
+            };
+            let visibility = self.visibility(scene, &shadow_ray, context);
+            let contribution = visibility * material.local(normal, wo, wi, illumination.intensity);
+            recorder.light(LightRecord { index, direction: wi, facing: true, visibility, contribution });
+            radiance += contribution;
+        }
+        recorder.local(radiance);
+
+        if depth >= self.max_depth {
+            return radiance;
+        }
+        let cos_incident = -incident.dot(normal);
+        let entering = incident.dot(hit.geometry.geometric_normal) < 0.0;
+        let eta = if entering { 1.0 / material.ior } else { material.ior };
+        let (mut reflection_weight, mut transmission_weight) = material.ray_weights(cos_incident, eta);
+        let refracted = if transmission_weight != Rgb::ZERO { refract(incident, normal, eta) } else { None };
+        if refracted.is_none() {
+            // Total internal reflection (or nothing transmitted): the energy is reflected.
+            reflection_weight += transmission_weight;
+            transmission_weight = Rgb::ZERO;
+        }
+        if let Some(w) = self.worth_tracing(weight, reflection_weight) {
+            let reflected = hit.spawn_ray(reflect(incident, normal));
+            radiance +=
+                reflection_weight * self.trace(scene, &reflected, RayKind::Reflection, depth + 1, w, context, recorder);
+        }
+        if let (Some(direction), Some(w)) = (refracted, self.worth_tracing(weight, transmission_weight)) {
+            let transmitted = hit.spawn_ray(direction);
+            radiance += transmission_weight
+                * self.trace(scene, &transmitted, RayKind::Refraction, depth + 1, w, context, recorder);
+        }
+        radiance
+    }
+
+    /// The child ray's accumulated weight, if it is at least `min_contribution` on some channel.
+    fn worth_tracing(&self, weight: Rgb, factor: Rgb) -> Option<Rgb> {
+        let w = weight * factor;
+        (factor != Rgb::ZERO && w.max_element() >= self.min_contribution).then_some(w)
+    }
+
+    /// Fraction of the light that reaches the end of the shadow ray: 0 or 1, or with transparent
+    /// shadows the product of the occluders' transmissions.
+    fn visibility(&self, scene: &Scene, shadow_ray: &Ray, context: &mut SampleContext) -> Rgb {
+        context.rays_traced += 1;
+        if !self.transparent_shadows {
+            return if scene.occluded(shadow_ray) { Rgb::ZERO } else { Rgb::ONE };
+        }
+        let mut visibility = Rgb::ONE;
+        let mut ray = *shadow_ray;
+        // Walk the occluders front to back, continuing past each from its far side. A bound on
+        // the walk keeps a pathological scene (thousands of coincident layers) finite; past it
+        // the light counts as blocked.
+        for _ in 0..MAX_SHADOW_OCCLUDERS {
+            let Some(hit) = scene.intersect(&ray) else {
+                return visibility;
+            };
+            let transmission = scene.materials[hit.material as usize].evaluate(&hit.texture_query()).transmission;
+            visibility *= transmission;
+            if visibility == Rgb::ZERO {
+                break;
+            }
+            let end = ray.at(ray.t_max);
+            let next = hit.spawn_ray(ray.direction);
+            // Keep the same end point: the light (or infinity) stays where it was.
+            ray = if ray.t_max.is_finite() { Ray::with_range(next.origin, end - next.origin, 0.0, 1.0) } else { next };
+            context.rays_traced += 1;
+        }
+        Rgb::ZERO
+    }
+}

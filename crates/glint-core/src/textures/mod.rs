@@ -1,0 +1,65 @@
+//! Textures: colours that vary over a surface. 2D textures read the hit's uv; solid (3D)
+//! textures read the hit point in the object's own space, so they move with the object.
+//! Any colour parameter of a material can be a texture.
+
+mod checker;
+mod image;
+mod noise;
+mod solid;
+
+pub use checker::{Checker, SolidChecker};
+pub use image::{ImageTexture, Wrap};
+pub use noise::{perlin_noise, turbulence};
+pub use solid::{Marble, Wood};
+
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
+
+use crate::Rgb;
+
+/// Where a texture is looked up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureQuery {
+    pub uv: Vec2,
+    /// The hit point in object space (world space for shapes without a transform).
+    pub point: Vec3,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Texture {
+    Constant(Rgb),
+    Checker(Checker),
+    SolidChecker(SolidChecker),
+    Image(Arc<ImageTexture>),
+    Marble(Marble),
+    Wood(Wood),
+}
+
+impl Texture {
+    #[inline]
+    pub fn evaluate(&self, query: &TextureQuery) -> Rgb {
+        match self {
+            Texture::Constant(c) => *c,
+            Texture::Checker(t) => t.evaluate(query.uv),
+            Texture::SolidChecker(t) => t.evaluate(query.point),
+            Texture::Image(t) => t.evaluate(query.uv),
+            Texture::Marble(t) => t.evaluate(query.point),
+            Texture::Wood(t) => t.evaluate(query.point),
+        }
+    }
+
+    /// The constant colour, if the texture is one.
+    pub fn as_constant(&self) -> Option<Rgb> {
+        match self {
+            Texture::Constant(c) => Some(*c),
+            _ => None,
+        }
+    }
+}
+
+impl From<Rgb> for Texture {
+    fn from(c: Rgb) -> Self {
+        Texture::Constant(c)
+    }
+}

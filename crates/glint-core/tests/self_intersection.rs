@@ -1,0 +1,90 @@
+//! A ray spawned from a hit must never hit the surface it leaves (pbrt-v4's re-intersection
+//! test), at every scene scale: flat shapes are never hit again, convex shapes only on their
+//! far side when the ray goes inward.
+
+mod common;
+
+use common::{object, scene, TestRng};
+use glam::{Mat4, Quat};
+use glint_core::geometry::{Ray, Transform};
+use glint_core::scene::Scene;
+use glint_core::shapes::{AaBox, Plane, Polygon, Shape, Sphere, Triangle};
+use glint_core::Vec3;
+
+fn shapes(rng: &mut TestRng, scale: f32) -> (Vec3, Vec<(Shape, Option<Transform>, bool)>) {
+    let c = rng.vec3(-1.0, 1.0) * scale + Vec3::splat(3.0 * scale);
+    let r = rng.range(0.2, 1.0) * scale;
+    let tri = Triangle::new(c, c + rng.vec3(-1.0, 1.0) * scale, c + rng.vec3(-1.0, 1.0) * scale);
+    let (s, t) = glint_core::geometry::orthonormal_basis(rng.vec3(-1.0, 1.0).normalize_or(Vec3::Y));
+    let quad = Polygon::new(vec![c - s * r - t * r, c + s * r - t * r, c + s * r + t * r, c - s * r + t * r]).unwrap();
+    let ellipsoid = Transform::from_matrix(
+        Mat4::from_translation(c)
+            * Mat4::from_quat(Quat::from_axis_angle(rng.vec3(-1.0, 1.0).normalize_or(Vec3::X), rng.range(0.0, 3.0)))
+            * Mat4::from_scale(Vec3::new(1.0, 0.5, 2.0)),
+    );
+    // (shape, transform, convex)
+    let shapes = vec![
+        (Shape::Sphere(Sphere::new(c, r)), None, true),
+        (Shape::Sphere(Sphere::new(Vec3::ZERO, r)), ellipsoid, true),
+        (Shape::AaBox(AaBox::new(c - Vec3::splat(r), c + Vec3::splat(r))), None, true),
+        (Shape::Triangle(tri), None, false),
+        (Shape::Polygon(quad), None, false),
+        (Shape::Plane(Plane::through_point(s.cross(t), c)), None, false),
+    ];
+    (c, shapes)
+}
+
+fn check(scene: &Scene, target: Vec3, rng: &mut TestRng, convex: bool, scale: f32) -> usize {
+    let mut checked = 0;
+    for _ in 0..200 {
+        let origin = target + rng.vec3(-1.0, 1.0).normalize_or(Vec3::X) * 10.0 * scale;
+        let aim = target + rng.vec3(-0.5, 0.5) * scale;
+        let Some(hit) = scene.intersect(&Ray::new(origin, aim - origin)) else { continue };
+        checked += 1;
+        let n = hit.geometry.geometric_normal;
+        for _ in 0..20 {
+            let mut d = rng.vec3(-1.0, 1.0).normalize_or(Vec3::Y);
+            if d.dot(n).abs() < 1e-3 {
+                continue;
+            }
+            let outward = d.dot(n) > 0.0;
+            // Leave on each side in turn.
+            for flip in [false, true] {
+                if flip {
+                    d = -d;
+                }
+                let spawned = hit.spawn_ray(d);
+                let again = scene.intersect(&spawned);
+                let leaving = outward != flip;
+                match again {
+                    None => {}
+                    Some(h) if convex && !leaving => {
+                        // Going inward hits the far side, never the starting point again (within
+                        // its error bound, which is where self-intersection would land).
+                        let moved = (h.geometry.point - hit.geometry.point).length();
+                        let error = hit.geometry.error.length();
+                        assert!(moved > 4.0 * error, "re-hit {moved} from the start, error {error} (scale {scale})");
+                    }
+                    Some(h) => panic!("spawned ray re-hit its surface at t = {} (scale {scale}, convex {convex})", h.t),
+                }
+            }
+        }
+    }
+    checked
+}
+
+#[test]
+fn spawned_rays_never_rehit_their_surface_at_any_scale() {
+    let mut rng = TestRng(99);
+    for scale in [1e-3f32, 1.0, 1e3, 1e5] {
+        for _ in 0..20 {
+            let (centre, shapes) = shapes(&mut rng, scale);
+            for (shape, transform, convex) in shapes {
+                let mut o = object(shape);
+                o.transform = transform;
+                let s = scene(vec![o]);
+                assert!(check(&s, centre, &mut rng, convex, scale) > 0, "no hits on {}", s.objects[0].name);
+            }
+        }
+    }
+}
