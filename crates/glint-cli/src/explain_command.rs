@@ -6,7 +6,6 @@ use std::path::PathBuf;
 use clap::Args;
 use glint_core::integrators::recorder::{RayRecord, RayTree};
 use glint_core::integrators::{IntegratorSettings, SampleContext, Whitted};
-use glint_core::lights::Light;
 use glint_core::sampling::Rng;
 use glint_core::scene::Scene;
 use glint_core::{Rgb, Vec3};
@@ -139,10 +138,7 @@ fn write_record(out: &mut String, scene: &Scene, r: &RayRecord) {
     );
     let _ = writeln!(out, "{pad}  ambient {}", v(r.ambient));
     for l in &r.lights {
-        let kind = match &scene.lights[l.index] {
-            Light::Point(_) => "point",
-            Light::Directional(_) => "directional",
-        };
+        let kind = scene.lights[l.index].kind();
         let state = if !l.facing {
             "behind the surface".to_string()
         } else if l.visibility == Rgb::ZERO {

@@ -18,7 +18,6 @@
 use super::recorder::{LightRecord, NoRecorder, RayKind, Recorder};
 use super::{Integrator, SampleContext};
 use crate::geometry::{reflect, refract, Ray};
-use crate::lights::Light;
 use crate::scene::{Scene, SurfaceHit};
 use crate::Rgb;
 
@@ -96,9 +95,9 @@ impl Whitted {
                 });
                 continue;
             }
-            let shadow_ray = match light {
-                Light::Directional(_) => hit.spawn_ray(wi),
-                Light::Point(p) => hit.spawn_ray_to(p.position),
+            let shadow_ray = match light.position() {
+                None => hit.spawn_ray(wi),
+                Some(position) => hit.spawn_ray_to(position),
             };
             let visibility = self.visibility(scene, &shadow_ray, context);
             let contribution = visibility * material.local(normal, wo, wi, illumination.intensity);

@@ -4,9 +4,11 @@
 
 mod directional;
 mod point;
+mod spot;
 
 pub use directional::DirectionalLight;
 pub use point::{Falloff, PointLight};
+pub use spot::SpotLight;
 
 use glam::Vec3;
 
@@ -16,6 +18,7 @@ use crate::Rgb;
 pub enum Light {
     Point(PointLight),
     Directional(DirectionalLight),
+    Spot(SpotLight),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,10 +29,28 @@ pub struct Illumination {
 }
 
 impl Light {
+    /// Where a shadow ray toward the light ends: its position, or `None` for a light at infinity.
+    pub fn position(&self) -> Option<Vec3> {
+        match self {
+            Light::Point(l) => Some(l.position),
+            Light::Spot(l) => Some(l.light.position),
+            Light::Directional(_) => None,
+        }
+    }
+
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Light::Point(_) => "point",
+            Light::Directional(_) => "directional",
+            Light::Spot(_) => "spot",
+        }
+    }
+
     pub fn illuminate(&self, point: Vec3) -> Illumination {
         match self {
             Light::Point(l) => l.illuminate(point),
             Light::Directional(l) => l.illuminate(),
+            Light::Spot(l) => l.illuminate(point),
         }
     }
 }

@@ -9,7 +9,7 @@ use glam::{Mat4, Quat, Vec2, Vec3};
 use glint_core::camera::Camera;
 use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
-use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight};
+use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight, SpotLight};
 use glint_core::materials::{Fresnel, Material, Phong};
 use glint_core::scene::{Environment, Object, Scene};
 use glint_core::shapes::{
@@ -202,11 +202,31 @@ fn build_light(cx: &Context, index: usize, light: &Located<LightDesc>) -> Result
         LightDesc::Point { position, color, intensity: i, falloff } => Light::Point(PointLight {
             position: finite(*position).map_err(|m| at("position", m))?,
             intensity: intensity(*color, *i)?,
-            falloff: match falloff {
-                FalloffDesc::None => Falloff::None,
-                FalloffDesc::InverseSquare => Falloff::InverseSquare,
-            },
+            falloff: falloff_of(*falloff),
         }),
+        LightDesc::Spot { position, direction, cone_angle, edge, color, intensity: i, falloff } => {
+            let axis = finite(*direction)
+                .map_err(|m| at("direction", m))?
+                .try_normalize()
+                .ok_or_else(|| at("direction", "`direction` must not be the zero vector".into()))?;
+            if !(*cone_angle > 0.0 && *cone_angle <= 180.0) {
+                return Err(at(
+                    "cone_angle",
+                    format!("`cone_angle` is a half-angle in degrees in (0, 180], got {cone_angle}"),
+                ));
+            }
+            if !(*edge >= 0.0 && edge <= cone_angle) {
+                return Err(at("edge", format!("`edge` must be between 0 and `cone_angle` degrees, got {edge}")));
+            }
+            Light::Spot(SpotLight::new(
+                finite(*position).map_err(|m| at("position", m))?,
+                axis,
+                intensity(*color, *i)?,
+                falloff_of(*falloff),
+                *cone_angle,
+                *edge,
+            ))
+        }
         LightDesc::Directional { direction, color, intensity: i } => Light::Directional(DirectionalLight {
             direction: finite(*direction)
                 .map_err(|m| at("direction", m))?
@@ -215,6 +235,13 @@ fn build_light(cx: &Context, index: usize, light: &Located<LightDesc>) -> Result
             intensity: intensity(*color, *i)?,
         }),
     })
+}
+
+fn falloff_of(f: FalloffDesc) -> Falloff {
+    match f {
+        FalloffDesc::None => Falloff::None,
+        FalloffDesc::InverseSquare => Falloff::InverseSquare,
+    }
 }
 
 fn build_object(

@@ -245,6 +245,20 @@ pub enum LightDesc {
         #[serde(default)]
         falloff: FalloffDesc,
     },
+    Spot {
+        position: Vector,
+        direction: Vector,
+        #[serde(default = "default_cone")]
+        cone_angle: f32,
+        #[serde(default = "default_edge")]
+        edge: f32,
+        #[serde(default = "white")]
+        color: Vector,
+        #[serde(default = "one")]
+        intensity: f32,
+        #[serde(default)]
+        falloff: FalloffDesc,
+    },
     Directional {
         direction: Vector,
         #[serde(default = "white")]
@@ -254,6 +268,12 @@ pub enum LightDesc {
     },
 }
 
+fn default_cone() -> f32 {
+    30.0
+}
+fn default_edge() -> f32 {
+    5.0
+}
 fn white() -> Vector {
     [1.0; 3]
 }
