@@ -123,7 +123,7 @@ fn write_record(out: &mut String, scene: &Scene, r: &RayRecord) {
         let _ = writeln!(out, "{pad}  missed everything: background {}", v(r.radiance));
         return;
     };
-    let object = &scene.objects[hit.object as usize];
+    let object = &scene.objects()[hit.object as usize];
     let _ = writeln!(
         out,
         "{pad}  hit `{}` ({}) with material `{}` at t = {:.5}: point {}, normal {}, uv ({:.4}, {:.4})",

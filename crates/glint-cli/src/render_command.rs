@@ -192,7 +192,7 @@ pub fn resize_camera(scene: &mut glint_core::scene::Scene, width: Option<u32>, h
 
 fn apply_overrides(args: &RenderArgs, scene: &mut glint_core::scene::Scene) {
     resize_camera(scene, args.width, args.height);
-    let m = &mut scene.methods;
+    let m = &mut scene.geometry.methods;
     if let Some(s) = args.sphere_method {
         m.sphere = match s {
             SphereArg::Algebraic => SphereMethod::Algebraic,

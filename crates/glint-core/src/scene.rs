@@ -3,12 +3,12 @@
 
 use glam::Vec3;
 
-use crate::accel::{Bvh, BvhStats};
+use crate::accel::{Bvh, Bvh4, BvhStats};
 use crate::camera::Camera;
 use crate::geometry::{offset_ray_origin, transform_point_with_error, Aabb, Ray, Transform};
 use crate::lights::Light;
 use crate::materials::Material;
-use crate::shapes::{IntersectMethods, PrimHit, Shape, SurfaceGeometry};
+use crate::shapes::{moller_trumbore_edges, IntersectMethods, PrimHit, Shape, SurfaceGeometry, TriangleMethod};
 use crate::textures::TextureQuery;
 use crate::Rgb;
 
@@ -107,30 +107,32 @@ pub struct Environment {
     pub ambient_light: Rgb,
 }
 
-pub struct Scene {
-    pub camera: Camera,
+/// Objects and the acceleration structure over them: the closest-hit and any-hit queries.
+///
+/// Built once: a binned-SAH binary BVH, converted to a 4-wide BVH for traversal. Triangles
+/// without a transform (mesh triangles, plain triangles) are copied in leaf order as
+/// (v0, e1, e2), the form Möller–Trumbore wants, so a leaf test reads one contiguous record
+/// instead of chasing object → mesh → index → vertex.
+pub struct Geometry {
     pub objects: Vec<Object>,
-    pub materials: Vec<Material>,
-    pub material_names: Vec<String>,
-    pub lights: Vec<Light>,
-    pub environment: Environment,
     pub methods: IntersectMethods,
-    /// (object, primitive) pairs in the order the BVH's leaves reference them.
-    bounded: Vec<(u32, u32)>,
+    /// Per BVH leaf slot: the object (with `TRIANGLE_FLAG` when `triangles` holds its data)
+    /// and the primitive within it.
+    prims: Vec<(u32, u32)>,
+    /// Per BVH leaf slot: (v0, e1, e2) for flagged triangles, unused otherwise.
+    triangles: Vec<[Vec3; 3]>,
     /// Primitives without bounds (planes), tested on every ray.
     unbounded: Vec<(u32, u32)>,
-    bvh: Bvh,
+    bvh: Bvh4,
+    stats: BvhStats,
+    build_time: std::time::Duration,
 }
 
-impl Scene {
-    pub fn new(
-        camera: Camera,
-        objects: Vec<Object>,
-        materials: Vec<(String, Material)>,
-        lights: Vec<Light>,
-        environment: Environment,
-        methods: IntersectMethods,
-    ) -> Self {
+const TRIANGLE_FLAG: u32 = 1 << 31;
+
+impl Geometry {
+    pub fn new(objects: Vec<Object>, methods: IntersectMethods) -> Self {
+        let start = std::time::Instant::now();
         let mut bounded = Vec::new();
         let mut bounds = Vec::new();
         let mut unbounded = Vec::new();
@@ -145,53 +147,107 @@ impl Scene {
                 }
             }
         }
-        let (bvh, order) = Bvh::build(&bounds);
-        let bounded = order.iter().map(|&i| bounded[i as usize]).collect();
-        let (material_names, materials) = materials.into_iter().unzip();
-        Self { camera, objects, materials, material_names, lights, environment, methods, bounded, unbounded, bvh }
+        let (binary, order) = Bvh::build(&bounds);
+        let bvh = Bvh4::from_binary(&binary);
+        let mut stats = binary.stats();
+        drop(binary);
+        let mut prims = Vec::with_capacity(order.len());
+        let mut triangles = Vec::with_capacity(order.len());
+        for &i in &order {
+            let (o, p) = bounded[i as usize];
+            let object = &objects[o as usize];
+            let vertices = match (&object.shape, &object.transform) {
+                (Shape::Mesh(m), None) => Some(m.triangle_vertices(p as usize)),
+                (Shape::Triangle(t), None) => Some(t.vertices),
+                _ => None,
+            };
+            match vertices {
+                Some([a, b, c]) => {
+                    prims.push((o | TRIANGLE_FLAG, p));
+                    triangles.push([a, b - a, c - a]);
+                }
+                None => {
+                    prims.push((o, p));
+                    triangles.push([Vec3::ZERO; 3]);
+                }
+            }
+        }
+        stats.wide_nodes = bvh.node_count();
+        stats.bytes = bvh.bytes()
+            + prims.len() * std::mem::size_of::<(u32, u32)>()
+            + triangles.len() * std::mem::size_of::<[Vec3; 3]>();
+        Self { objects, methods, prims, triangles, unbounded, bvh, stats, build_time: start.elapsed() }
     }
 
     pub fn primitive_count(&self) -> usize {
-        self.bounded.len() + self.unbounded.len()
+        self.prims.len() + self.unbounded.len()
     }
 
+    /// Shape of the binary build (nodes, leaves, depth, SAH cost) and the memory of the
+    /// traversal structures (wide nodes + leaf records).
     pub fn bvh_stats(&self) -> BvhStats {
-        self.bvh.stats()
+        self.stats
+    }
+
+    /// Time taken to gather primitive bounds, build the BVH and lay out the leaves.
+    pub fn build_time(&self) -> std::time::Duration {
+        self.build_time
     }
 
     /// The nearest surface along the ray within `(t_min, t_max)`.
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceHit> {
         let mut ray = *ray;
+        self.closest_primitive(&mut ray).map(|(id, hit)| self.surface_hit(id, &ray, &hit))
+    }
+
+    /// Leaf slot `i` against the ray.
+    #[inline(always)]
+    fn intersect_slot(&self, i: u32, ray: &Ray) -> Option<PrimHit> {
+        let (o, p) = self.prims[i as usize];
+        if o & TRIANGLE_FLAG != 0 && self.methods.triangle == TriangleMethod::MollerTrumbore {
+            let [v0, e1, e2] = self.triangles[i as usize];
+            moller_trumbore_edges(v0, e1, e2, ray)
+        } else {
+            self.objects[(o & !TRIANGLE_FLAG) as usize].intersect(p, ray, &self.methods)
+        }
+    }
+
+    /// The nearest primitive and its distance, without building the surface record; `ray.t_max`
+    /// becomes the hit's distance.
+    #[inline]
+    pub fn closest_primitive(&self, ray: &mut Ray) -> Option<((u32, u32), PrimHit)> {
         let mut best: Option<((u32, u32), PrimHit)> = None;
         for &(o, p) in &self.unbounded {
-            if let Some(h) = self.objects[o as usize].intersect(p, &ray, &self.methods) {
+            if let Some(h) = self.objects[o as usize].intersect(p, ray, &self.methods) {
                 ray.t_max = h.t;
                 best = Some(((o, p), h));
             }
         }
-        self.bvh.closest(&mut ray, |i, ray| {
-            let (o, p) = self.bounded[i as usize];
-            let h = self.objects[o as usize].intersect(p, ray, &self.methods)?;
-            best = Some(((o, p), h));
+        let mut best_slot = None;
+        self.bvh.closest(ray, |i, ray| {
+            let h = self.intersect_slot(i, ray)?;
+            best_slot = Some((i, h));
             Some(h.t)
         });
-        best.map(|(id, hit)| self.surface_hit(id, &ray, &hit))
+        if let Some((i, h)) = best_slot {
+            let (o, p) = self.prims[i as usize];
+            best = Some(((o & !TRIANGLE_FLAG, p), h));
+        }
+        best
     }
 
     /// Whether anything lies along the ray within `(t_min, t_max)`; stops at the first hit.
     pub fn occluded(&self, ray: &Ray) -> bool {
         self.unbounded.iter().any(|&(o, p)| self.objects[o as usize].intersect(p, ray, &self.methods).is_some())
-            || self.bvh.any(ray, |i, ray| {
-                let (o, p) = self.bounded[i as usize];
-                self.objects[o as usize].intersect(p, ray, &self.methods).is_some()
-            })
+            || self.bvh.any(ray, |i, ray| self.intersect_slot(i, ray).is_some())
     }
 
     /// Closest hit by testing every primitive: the reference the BVH is checked against.
     pub fn intersect_brute_force(&self, ray: &Ray) -> Option<SurfaceHit> {
         let mut ray = *ray;
         let mut best = None;
-        for &(o, p) in self.unbounded.iter().chain(&self.bounded) {
+        let bounded = self.prims.iter().map(|&(o, p)| (o & !TRIANGLE_FLAG, p));
+        for (o, p) in self.unbounded.iter().copied().chain(bounded) {
             if let Some(h) = self.objects[o as usize].intersect(p, &ray, &self.methods) {
                 ray.t_max = h.t;
                 best = Some(((o, p), h));
@@ -209,5 +265,45 @@ impl Scene {
             (None, _) => geometry.point,
         };
         SurfaceHit { t: hit.t, geometry, object: o, prim: p, material: object.material, object_point }
+    }
+}
+
+/// Everything a render needs: geometry, materials, lights, camera and environment.
+pub struct Scene {
+    pub camera: Camera,
+    pub geometry: Geometry,
+    pub materials: Vec<Material>,
+    pub material_names: Vec<String>,
+    pub lights: Vec<Light>,
+    pub environment: Environment,
+}
+
+impl Scene {
+    pub fn new(
+        camera: Camera,
+        objects: Vec<Object>,
+        materials: Vec<(String, Material)>,
+        lights: Vec<Light>,
+        environment: Environment,
+        methods: IntersectMethods,
+    ) -> Self {
+        let (material_names, materials) = materials.into_iter().unzip();
+        Self { camera, geometry: Geometry::new(objects, methods), materials, material_names, lights, environment }
+    }
+
+    pub fn objects(&self) -> &[Object] {
+        &self.geometry.objects
+    }
+
+    pub fn intersect(&self, ray: &Ray) -> Option<SurfaceHit> {
+        self.geometry.intersect(ray)
+    }
+
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        self.geometry.occluded(ray)
+    }
+
+    pub fn intersect_brute_force(&self, ray: &Ray) -> Option<SurfaceHit> {
+        self.geometry.intersect_brute_force(ray)
     }
 }

@@ -83,7 +83,7 @@ fn spawned_rays_never_rehit_their_surface_at_any_scale() {
                 let mut o = object(shape);
                 o.transform = transform;
                 let s = scene(vec![o]);
-                assert!(check(&s, centre, &mut rng, convex, scale) > 0, "no hits on {}", s.objects[0].name);
+                assert!(check(&s, centre, &mut rng, convex, scale) > 0, "no hits on {}", s.objects()[0].name);
             }
         }
     }

@@ -40,7 +40,7 @@ fn line_of(e: &SceneError) -> usize {
 #[test]
 fn the_good_scene_loads() {
     let loaded = parse(GOOD).unwrap();
-    assert_eq!(loaded.scene.objects.len(), 1);
+    assert_eq!(loaded.scene.objects().len(), 1);
     assert_eq!((loaded.scene.camera.width, loaded.scene.camera.height), (32, 24));
 }
 

@@ -11,23 +11,26 @@ use crate::geometry::{Aabb, Ray};
 const BINS: usize = 16;
 const MAX_LEAF_SIZE: usize = 8;
 /// Cost of one traversal step relative to one primitive test, for the SAH.
-const TRAVERSAL_COST: f32 = 1.0;
-const STACK_SIZE: usize = 64;
+const TRAVERSAL_COST: f32 = 2.0;
+/// Below this depth the SAH chooses splits; deeper, subtrees split at the median, so the tree's
+/// depth stays under SAH_DEPTH + log2(n) and the fixed traversal stacks cannot overflow.
+const SAH_DEPTH: usize = 40;
+const STACK_SIZE: usize = 128;
 
 /// A node: bounds, and either two children (`count == 0`; left child at `first`, right child
 /// right after it) or a leaf of `count` primitives starting at `first`.
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
-struct Node {
-    min: Vec3,
-    first: u32,
-    max: Vec3,
-    count: u32,
+pub(super) struct Node {
+    pub(super) min: Vec3,
+    pub(super) first: u32,
+    pub(super) max: Vec3,
+    pub(super) count: u32,
 }
 
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
-    nodes: Vec<Node>,
+    pub(super) nodes: Vec<Node>,
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -37,7 +40,10 @@ pub struct BvhStats {
     pub depth: usize,
     /// SAH cost of the tree (traversal steps + primitive tests, expected per random ray).
     pub sah_cost: f32,
+    /// Memory of the traversal structures in bytes.
     pub bytes: usize,
+    /// Nodes of the 4-wide traversal BVH (0 when only the binary tree is built).
+    pub wide_nodes: usize,
 }
 
 struct BuildPrim {
@@ -61,7 +67,7 @@ impl Bvh {
         let mut nodes = Vec::with_capacity(2 * prims.len());
         nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
         let len = prims.len();
-        build_node(&mut nodes, 0, &mut prims, 0, len);
+        build_node(&mut nodes, 0, &mut prims, 0, len, 0);
         let order = prims.iter().map(|p| p.index).collect();
         (Self { nodes }, order)
     }
@@ -182,7 +188,7 @@ fn node_hit(node: &Node, ray: &Ray, inv: Vec3) -> Option<f32> {
     Aabb::new(node.min, node.max).hit_distance(ray.origin, inv, ray.t_min, ray.t_max)
 }
 
-fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], start: usize, end: usize) {
+fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], start: usize, end: usize, depth: usize) {
     let slice = &mut prims[start..end];
     let bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
     let centroid_bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
@@ -192,6 +198,13 @@ fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], star
     };
     if count <= 2 {
         return make_leaf(nodes);
+    }
+    if depth >= SAH_DEPTH {
+        // Median split along the widest centroid axis: balanced, whatever the input.
+        let axis = centroid_bounds.extent().max_position();
+        let mid = count / 2;
+        slice.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+        return split_node(nodes, index, prims, start, mid, end, depth, &bounds);
     }
     let split = find_split(slice, &bounds, &centroid_bounds);
     let leaf_cost = count as f32;
@@ -207,53 +220,71 @@ fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], star
         None if count > MAX_LEAF_SIZE => count / 2, // coincident centroids
         _ => return make_leaf(nodes),
     };
+    split_node(nodes, index, prims, start, mid, end, depth, &bounds);
+}
+
+#[allow(clippy::too_many_arguments)]
+fn split_node(
+    nodes: &mut Vec<Node>,
+    index: usize,
+    prims: &mut [BuildPrim],
+    start: usize,
+    mid: usize,
+    end: usize,
+    depth: usize,
+    bounds: &Aabb,
+) {
     let left = nodes.len();
     nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
     nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
     nodes[index] = Node { min: bounds.min, first: left as u32, max: bounds.max, count: 0 };
-    build_node(nodes, left, prims, start, start + mid);
-    build_node(nodes, left + 1, prims, start + mid, end);
+    build_node(nodes, left, prims, start, start + mid, depth + 1);
+    build_node(nodes, left + 1, prims, start + mid, end, depth + 1);
 }
 
 /// The best binned SAH split: (axis, centroid position, cost relative to one primitive test).
+/// One pass over the primitives fills the bins of all three axes.
 fn find_split(prims: &[BuildPrim], bounds: &Aabb, centroid_bounds: &Aabb) -> Option<(usize, f32, f32)> {
-    let area = bounds.surface_area();
+    let area = bounds.surface_area().max(f32::MIN_POSITIVE);
+    let lo = centroid_bounds.min;
+    let extent = centroid_bounds.extent();
+    let scale = Vec3::select(extent.cmpgt(Vec3::ZERO), Vec3::splat(BINS as f32) / extent, Vec3::ZERO);
+    let mut bin_bounds = [[Aabb::EMPTY; BINS]; 3];
+    let mut bin_count = [[0u32; BINS]; 3];
+    for p in prims {
+        let b = ((p.centroid - lo) * scale).as_uvec3().min(glam::UVec3::splat(BINS as u32 - 1));
+        for axis in 0..3 {
+            let k = b[axis] as usize;
+            bin_bounds[axis][k] = bin_bounds[axis][k].union(p.bounds);
+            bin_count[axis][k] += 1;
+        }
+    }
     let mut best: Option<(usize, f32, f32)> = None;
     for axis in 0..3 {
-        let (lo, hi) = (centroid_bounds.min[axis], centroid_bounds.max[axis]);
-        if hi <= lo {
+        if extent[axis] <= 0.0 {
             continue;
-        }
-        let scale = BINS as f32 / (hi - lo);
-        let mut bin_bounds = [Aabb::EMPTY; BINS];
-        let mut bin_count = [0usize; BINS];
-        for p in prims {
-            let b = (((p.centroid[axis] - lo) * scale) as usize).min(BINS - 1);
-            bin_bounds[b] = bin_bounds[b].union(p.bounds);
-            bin_count[b] += 1;
         }
         // Sweep from the right to get the right-hand areas, then from the left.
         let mut right_area = [0.0f32; BINS];
-        let mut right_count = [0usize; BINS];
+        let mut right_count = [0u32; BINS];
         let (mut acc, mut n) = (Aabb::EMPTY, 0);
         for b in (1..BINS).rev() {
-            acc = acc.union(bin_bounds[b]);
-            n += bin_count[b];
+            acc = acc.union(bin_bounds[axis][b]);
+            n += bin_count[axis][b];
             right_area[b] = acc.surface_area();
             right_count[b] = n;
         }
         let (mut acc, mut n) = (Aabb::EMPTY, 0);
         for b in 0..BINS - 1 {
-            acc = acc.union(bin_bounds[b]);
-            n += bin_count[b];
+            acc = acc.union(bin_bounds[axis][b]);
+            n += bin_count[axis][b];
             if n == 0 || right_count[b + 1] == 0 {
                 continue;
             }
-            let cost = TRAVERSAL_COST
-                + (acc.surface_area() * n as f32 + right_area[b + 1] * right_count[b + 1] as f32)
-                    / area.max(f32::MIN_POSITIVE);
+            let cost =
+                TRAVERSAL_COST + (acc.surface_area() * n as f32 + right_area[b + 1] * right_count[b + 1] as f32) / area;
             if best.is_none_or(|(_, _, c)| cost < c) {
-                best = Some((axis, lo + (b + 1) as f32 / scale, cost));
+                best = Some((axis, lo[axis] + (b + 1) as f32 / scale[axis], cost));
             }
         }
     }
@@ -293,6 +324,19 @@ mod tests {
             None
         });
         assert_eq!(tested, 1);
+    }
+
+    #[test]
+    fn depth_is_bounded_on_a_degenerate_input() {
+        // Boxes growing geometrically along x: SAH alone peels one off per level.
+        let boxes: Vec<Aabb> = (0..3000)
+            .map(|i| {
+                let x = 1.01f32.powi(i);
+                Aabb::new(Vec3::new(x, 0.0, 0.0), Vec3::new(x * 1.001, 1.0, 1.0))
+            })
+            .collect();
+        let (bvh, _) = Bvh::build(&boxes);
+        assert!(bvh.stats().depth <= SAH_DEPTH + 13, "depth {}", bvh.stats().depth);
     }
 
     #[test]

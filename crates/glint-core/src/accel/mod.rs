@@ -2,5 +2,7 @@
 //! passes a closure that intersects primitive `i` (tinybvh, obvhs).
 
 mod bvh;
+mod wide;
 
 pub use bvh::{Bvh, BvhStats};
+pub use wide::Bvh4;

@@ -23,7 +23,7 @@ pub use mesh::Mesh;
 pub use plane::Plane;
 pub use polygon::{inverse_bilinear, Polygon, PolygonTest};
 pub use sphere::{Sphere, SphereMethod};
-pub use triangle::{Triangle, TriangleMethod};
+pub use triangle::{moller_trumbore_edges, Triangle, TriangleMethod};
 
 use glam::{Vec2, Vec3};
 

@@ -97,8 +97,13 @@ pub fn intersect_cramer(va: Vec3, vb: Vec3, vc: Vec3, ray: &Ray) -> Option<PrimH
 /// Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection".
 #[inline]
 pub fn intersect_moller_trumbore(a: Vec3, b: Vec3, c: Vec3, ray: &Ray) -> Option<PrimHit> {
-    let edge1 = b - a;
-    let edge2 = c - a;
+    moller_trumbore_edges(a, b - a, c - a, ray)
+}
+
+/// Möller–Trumbore from the first vertex and the two edges from it (the layout the BVH's
+/// leaves store, so the edges are not recomputed per ray).
+#[inline(always)]
+pub fn moller_trumbore_edges(a: Vec3, edge1: Vec3, edge2: Vec3, ray: &Ray) -> Option<PrimHit> {
     let p = ray.direction.cross(edge2);
     let determinant = edge1.dot(p);
     if determinant == 0.0 {

@@ -1,0 +1,321 @@
+//! A 4-wide BVH for traversal, converted from the binary SAH build (tinybvh's "build apart from
+//! traversal"): each node holds the boxes of up to four children in SIMD-friendly order, so one
+//! step tests four boxes at once (glam's `Vec4` is a 128-bit SSE register on x86-64).
+//!
+//! The box test chooses each axis's near and far plane by the sign of the ray direction (the
+//! ray's octant), so it needs no min/max per axis, an empty slot (min = +∞, max = −∞) can never
+//! be entered, and the NaN of 0 · ∞ (a ray in a slab's plane) is dropped by the max/min
+//! ordering, which keeps the test conservative.
+
+use glam::{Vec3, Vec4};
+
+use super::bvh::{Bvh, Node};
+use crate::geometry::Ray;
+
+/// Each wide level pushes at most 3 entries; the binary build bounds the depth (see bvh.rs).
+const STACK_SIZE: usize = 3 * 128;
+const EMPTY: u32 = u32::MAX;
+/// Leaf references: the high bit set, the primitive count in the next 4 bits, the first
+/// primitive in the low 27.
+const LEAF_BIT: u32 = 1 << 31;
+const COUNT_SHIFT: u32 = 27;
+const FIRST_MASK: u32 = (1 << COUNT_SHIFT) - 1;
+
+#[derive(Clone, Copy, Debug)]
+/// 112 bytes: 16-byte aligned for the SIMD loads (64-byte alignment would pad it to 128).
+#[repr(C, align(16))]
+struct Node4 {
+    /// `bounds[axis][0]` = the four children's minima on that axis, `[1]` the maxima.
+    bounds: [[Vec4; 2]; 3],
+    children: [u32; 4],
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Bvh4 {
+    nodes: Vec<Node4>,
+    /// A tree whose root is a leaf (one or two primitives) has no node: this is that leaf.
+    root_leaf: Option<u32>,
+}
+
+impl Bvh4 {
+    /// Collapses a binary BVH: each wide node adopts the children of its largest interior
+    /// children until it has four.
+    pub fn from_binary(bvh: &Bvh) -> Self {
+        let nodes = &bvh.nodes;
+        if nodes.is_empty() {
+            return Self::default();
+        }
+        if nodes[0].count > 0 {
+            return Self { nodes: Vec::new(), root_leaf: Some(leaf_reference(&nodes[0])) };
+        }
+        let mut wide = Vec::with_capacity(nodes.len() / 2);
+        wide.push(empty_node());
+        let mut work = vec![(0usize, 0usize)]; // (binary node, wide slot)
+        while let Some((binary, slot)) = work.pop() {
+            let mut children: Vec<usize> = vec![nodes[binary].first as usize, nodes[binary].first as usize + 1];
+            while children.len() < 4 {
+                // Open the interior child with the largest surface area.
+                let best = children
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, &c)| nodes[c].count == 0)
+                    .max_by(|a, b| area(&nodes[*a.1]).total_cmp(&area(&nodes[*b.1])))
+                    .map(|(i, _)| i);
+                let Some(i) = best else { break };
+                let c = children.swap_remove(i);
+                children.push(nodes[c].first as usize);
+                children.push(nodes[c].first as usize + 1);
+            }
+            let mut node = empty_node();
+            for (k, &c) in children.iter().enumerate() {
+                let n = &nodes[c];
+                for axis in 0..3 {
+                    node.bounds[axis][0][k] = n.min[axis];
+                    node.bounds[axis][1][k] = n.max[axis];
+                }
+                node.children[k] = if n.count > 0 {
+                    leaf_reference(n)
+                } else {
+                    wide.push(empty_node());
+                    work.push((c, wide.len() - 1));
+                    (wide.len() - 1) as u32
+                };
+            }
+            wide[slot] = node;
+        }
+        Self { nodes: wide, root_leaf: None }
+    }
+
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    pub fn bytes(&self) -> usize {
+        self.nodes.len() * std::mem::size_of::<Node4>()
+    }
+
+    /// Closest hit, as `Bvh::closest`: `hit(i, ray)` returns the distance of a hit within the
+    /// ray's range, which then shrinks `ray.t_max`.
+    #[inline]
+    pub fn closest(&self, ray: &mut Ray, mut hit: impl FnMut(u32, &Ray) -> Option<f32>) {
+        let mut leaf = |reference: u32, ray: &mut Ray| {
+            let (first, count) = leaf_range(reference);
+            for i in first..first + count {
+                if let Some(t) = hit(i, ray) {
+                    ray.t_max = t;
+                }
+            }
+        };
+        if let Some(reference) = self.root_leaf {
+            return leaf(reference, ray);
+        }
+        if self.nodes.is_empty() {
+            return;
+        }
+        let query = Query::new(ray);
+        let mut stack = [(0u32, 0f32); STACK_SIZE];
+        let mut top = 0;
+        let mut current = 0u32;
+        loop {
+            if current & LEAF_BIT != 0 {
+                leaf(current, ray);
+            } else {
+                let node = &self.nodes[current as usize];
+                let (t_near, mask) = query.test(node, ray.t_min, ray.t_max);
+                if mask != 0 {
+                    // Push the entered children far to near, then continue with the nearest:
+                    // leaves and subtrees alike are visited in order of entry distance.
+                    let mut hits = [(0f32, 0u32); 4];
+                    let mut n = 0;
+                    for k in 0..4 {
+                        if mask & (1 << k) != 0 {
+                            let entry = (t_near[k], node.children[k]);
+                            let mut j = n;
+                            while j > 0 && hits[j - 1].0 < entry.0 {
+                                hits[j] = hits[j - 1];
+                                j -= 1;
+                            }
+                            hits[j] = entry;
+                            n += 1;
+                        }
+                    }
+                    for &(t, child) in &hits[..n - 1] {
+                        stack[top] = (child, t);
+                        top += 1;
+                    }
+                    current = hits[n - 1].1;
+                    continue;
+                }
+            }
+            // Pop the nearest pending child that still starts before the closest hit so far.
+            loop {
+                if top == 0 {
+                    return;
+                }
+                top -= 1;
+                let (child, t) = stack[top];
+                if t < ray.t_max {
+                    current = child;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Any hit: stops at the first primitive for which `hit(i, ray)` is true.
+    #[inline]
+    pub fn any(&self, ray: &Ray, mut hit: impl FnMut(u32, &Ray) -> bool) -> bool {
+        let mut leaf = |reference: u32| {
+            let (first, count) = leaf_range(reference);
+            (first..first + count).any(|i| hit(i, ray))
+        };
+        if let Some(reference) = self.root_leaf {
+            return leaf(reference);
+        }
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let query = Query::new(ray);
+        let mut stack = [0u32; STACK_SIZE];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let node = &self.nodes[stack[top] as usize];
+            let (_, mask) = query.test(node, ray.t_min, ray.t_max);
+            for k in 0..4 {
+                if mask & (1 << k) != 0 {
+                    let child = node.children[k];
+                    if child & LEAF_BIT != 0 {
+                        if leaf(child) {
+                            return true;
+                        }
+                    } else {
+                        stack[top] = child;
+                        top += 1;
+                    }
+                }
+            }
+        }
+        false
+    }
+}
+
+/// A ray prepared for box tests: origin and reciprocal direction splatted, planes by octant.
+struct Query {
+    origin: [Vec4; 3],
+    inv_dir: [Vec4; 3],
+    /// For each axis, which of `bounds[axis]` is the near plane (0 = min for a positive direction).
+    near: [usize; 3],
+}
+
+impl Query {
+    fn new(ray: &Ray) -> Self {
+        let inv = ray.direction.recip();
+        let near = [0, 1, 2].map(|a| usize::from(ray.direction[a] < 0.0 || ray.direction[a].is_sign_negative()));
+        Self {
+            origin: [0, 1, 2].map(|a| Vec4::splat(ray.origin[a])),
+            inv_dir: [0, 1, 2].map(|a| Vec4::splat(inv[a])),
+            near,
+        }
+    }
+
+    /// Entry distances of the four children and the mask of those entered within (t_min, t_max].
+    #[inline(always)]
+    fn test(&self, node: &Node4, t_min: f32, t_max: f32) -> (Vec4, u32) {
+        let mut t_near = Vec4::splat(t_min);
+        let mut t_far = Vec4::splat(t_max);
+        for axis in 0..3 {
+            let near = (node.bounds[axis][self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
+            let far = (node.bounds[axis][1 - self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
+            // `x.max(acc)` returns `acc` when x is NaN (SSE maxps and f32::max alike).
+            t_near = near.max(t_near);
+            t_far = far.min(t_far);
+        }
+        (t_near, t_near.cmple(t_far).bitmask())
+    }
+}
+
+fn empty_node() -> Node4 {
+    let min = Vec4::splat(f32::INFINITY);
+    let max = Vec4::splat(f32::NEG_INFINITY);
+    Node4 { bounds: [[min, max]; 3], children: [EMPTY; 4] }
+}
+
+fn leaf_reference(n: &Node) -> u32 {
+    debug_assert!(n.count < 16 && n.first <= FIRST_MASK);
+    LEAF_BIT | (n.count << COUNT_SHIFT) | n.first
+}
+
+#[inline(always)]
+fn leaf_range(reference: u32) -> (u32, u32) {
+    (reference & FIRST_MASK, (reference >> COUNT_SHIFT) & 0xF)
+}
+
+fn area(n: &Node) -> f32 {
+    let e = (n.max - n.min).max(Vec3::ZERO);
+    e.x * e.y + e.y * e.z + e.z * e.x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Aabb;
+
+    #[test]
+    fn nan_lanes_are_dropped_conservatively() {
+        // A ray running exactly in the plane y = 0 of a box's bottom face enters it.
+        let (bvh, _) = Bvh::build(&[
+            Aabb::new(Vec3::ZERO, Vec3::ONE),
+            Aabb::new(Vec3::new(5.0, 0.0, 0.0), Vec3::new(6.0, 1.0, 1.0)),
+            Aabb::new(Vec3::new(0.0, 5.0, 0.0), Vec3::new(1.0, 6.0, 1.0)),
+        ]);
+        let wide = Bvh4::from_binary(&bvh);
+        for origin in [Vec3::new(-1.0, 0.0, 0.5), Vec3::new(-1.0, 1.0, 0.5)] {
+            let ray = Ray::new(origin, Vec3::X);
+            let mut seen = Vec::new();
+            wide.any(&ray, |i, _| {
+                seen.push(i);
+                false
+            });
+            assert!(!seen.is_empty(), "ray along a face plane from {origin} missed every box");
+        }
+    }
+
+    #[test]
+    fn wide_tree_visits_what_the_binary_tree_visits() {
+        let boxes: Vec<Aabb> = (0..500)
+            .map(|i| {
+                let p = Vec3::new((i % 8) as f32, ((i / 8) % 8) as f32, (i / 64) as f32) * 1.5;
+                Aabb::new(p, p + Vec3::splat(1.0))
+            })
+            .collect();
+        let (bvh, order) = Bvh::build(&boxes);
+        let wide = Bvh4::from_binary(&bvh);
+        assert!(wide.node_count() > 0 && wide.node_count() < bvh.stats().nodes);
+        for k in 0..200 {
+            let origin = Vec3::new(-3.0, k as f32 * 0.07, (k % 13) as f32 * 0.9);
+            let ray = Ray::new(origin, Vec3::new(1.0, 0.11, 0.05 * (k % 5) as f32).normalize());
+            let collect = |any: &dyn Fn(&mut dyn FnMut(u32) -> bool)| {
+                let mut v = Vec::new();
+                any(&mut |i| {
+                    if boxes[order[i as usize] as usize]
+                        .hit_distance(ray.origin, ray.direction.recip(), 0.0, f32::INFINITY)
+                        .is_some()
+                    {
+                        v.push(i);
+                    }
+                    false
+                });
+                v.sort();
+                v
+            };
+            let a = collect(&|f| {
+                bvh.any(&ray, |i, _| f(i));
+            });
+            let b = collect(&|f| {
+                wide.any(&ray, |i, _| f(i));
+            });
+            assert_eq!(a, b);
+        }
+    }
+}
