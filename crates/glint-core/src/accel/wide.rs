@@ -295,26 +295,24 @@ mod tests {
         for k in 0..200 {
             let origin = Vec3::new(-3.0, k as f32 * 0.07, (k % 13) as f32 * 0.9);
             let ray = Ray::new(origin, Vec3::new(1.0, 0.11, 0.05 * (k % 5) as f32).normalize());
-            let collect = |any: &dyn Fn(&mut dyn FnMut(u32) -> bool)| {
-                let mut v = Vec::new();
-                any(&mut |i| {
-                    if boxes[order[i as usize] as usize]
-                        .hit_distance(ray.origin, ray.direction.recip(), 0.0, f32::INFINITY)
-                        .is_some()
-                    {
-                        v.push(i);
-                    }
-                    false
-                });
-                v.sort();
-                v
-            };
-            let a = collect(&|f| {
-                bvh.any(&ray, |i, _| f(i));
+            let inv = ray.direction.recip();
+            let entered =
+                |i: u32| boxes[order[i as usize] as usize].hit_distance(ray.origin, inv, 0.0, f32::INFINITY).is_some();
+            let (mut a, mut b) = (Vec::new(), Vec::new());
+            bvh.any(&ray, |i, _| {
+                if entered(i) {
+                    a.push(i);
+                }
+                false
             });
-            let b = collect(&|f| {
-                wide.any(&ray, |i, _| f(i));
+            wide.any(&ray, |i, _| {
+                if entered(i) {
+                    b.push(i);
+                }
+                false
             });
+            a.sort();
+            b.sort();
             assert_eq!(a, b);
         }
     }
