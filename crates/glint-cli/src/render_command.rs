@@ -10,7 +10,9 @@ use glint_core::shapes::{BoxMethod, PolygonTest, SphereMethod, TriangleMethod};
 use glint_scene::LoadedScene;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use glint_cli::output::{check_writable, write_image};
+use glint_cli::output::{check_writable, write_image, ImageFormat};
+use glint_core::integrators::heat_colour;
+use glint_core::Rgb;
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -59,12 +61,16 @@ pub struct RenderArgs {
     /// No progress bar and no summary line.
     #[arg(short, long)]
     quiet: bool,
+    /// Print acceleration-structure statistics and rays traced by kind.
+    #[arg(long)]
+    stats: bool,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
 enum IntegratorArg {
     Raycast,
     Whitted,
+    BvhHeat,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -117,6 +123,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     let integrator_kind = match args.integrator {
         Some(IntegratorArg::Raycast) => IntegratorKind::Raycast,
         Some(IntegratorArg::Whitted) => IntegratorKind::Whitted,
+        Some(IntegratorArg::BvhHeat) => IntegratorKind::BvhHeat,
         None => options.integrator,
     };
     let integrator_settings = args.integrator_settings(&options.integrator_settings)?;
@@ -145,7 +152,41 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     let result = pool.install(|| render(&scene, integrator.as_ref(), &settings, &|| progress.inc(1)));
     progress.finish_and_clear();
 
-    write_image(&output, width, height, &result.film.to_rgb(), args.exposure)?;
+    let mut pixels = result.film.to_rgb();
+    let mut exposure = args.exposure;
+    let heat_png = integrator_kind == IntegratorKind::BvhHeat && ImageFormat::from_path(&output)? == ImageFormat::Png;
+    if heat_png {
+        let max = false_colour_heat_map(&mut pixels, width, height);
+        exposure = 0.0;
+        eprintln!(
+            "bvh-heat: colour = BVH nodes visited + primitives tested per camera ray, from 0 (dark blue) to {max:.0} (red); the bar along the bottom of the image is the scale, ticks at quarters"
+        );
+    }
+    write_image(&output, width, height, &pixels, exposure)?;
+    if args.stats {
+        let g = &scene.geometry;
+        let s = g.bvh_stats();
+        let r = &result.rays;
+        eprintln!(
+            "BVH: {} primitives, built in {:.3} s; binary tree {} nodes, {} leaves, depth {}, SAH cost {:.2}; 4-wide tree {} nodes; {:.1} bytes per primitive",
+            g.primitive_count(),
+            g.build_time().as_secs_f64(),
+            s.nodes,
+            s.leaves,
+            s.depth,
+            s.sah_cost,
+            s.wide_nodes,
+            s.bytes as f64 / g.primitive_count().max(1) as f64
+        );
+        eprintln!(
+            "rays: {} camera, {} shadow, {} reflection, {} refraction, {} in all",
+            r.camera,
+            r.shadow,
+            r.reflection,
+            r.refraction,
+            r.total()
+        );
+    }
     if !args.quiet {
         let seconds = result.elapsed.as_secs_f64().max(1e-9);
         eprintln!(
@@ -154,11 +195,29 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
             integrator_kind.name(),
             seconds,
             result.samples as f64 / seconds / 1e6,
-            result.rays_traced as f64 / seconds / 1e6,
+            result.rays.total() as f64 / seconds / 1e6,
             output.display()
         );
     }
     Ok(())
+}
+
+/// Replaces heat-map counts (channel R) by false colours scaled to the image's maximum, and
+/// draws the colour bar along the bottom rows. Returns the count that maps to red.
+fn false_colour_heat_map(pixels: &mut [Rgb], width: u32, height: u32) -> f32 {
+    let max = pixels.iter().map(|p| p.x).fold(1.0f32, f32::max);
+    for p in pixels.iter_mut() {
+        *p = heat_colour(p.x / max);
+    }
+    let bar = (height / 24).max(4).min(height);
+    for y in height - bar..height {
+        for x in 0..width {
+            let t = x as f32 / (width - 1).max(1) as f32;
+            let quarter = (0..=4).any(|q| (x as i64 - (q * (width as i64 - 1)) / 4).abs() < 1);
+            pixels[(y * width + x) as usize] = if quarter { Rgb::ONE } else { heat_colour(t) };
+        }
+    }
+    max
 }
 
 impl RenderArgs {

@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 use rayon::prelude::*;
 
 use crate::film::Film;
-use crate::integrators::{Integrator, SampleContext};
+use crate::integrators::{Integrator, RayCounts, SampleContext};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use crate::Rgb;
@@ -29,7 +29,7 @@ impl Default for RenderSettings {
 #[derive(Clone, Debug)]
 pub struct RenderOutput {
     pub film: Film,
-    pub rays_traced: u64,
+    pub rays: RayCounts,
     pub samples: u64,
     pub elapsed: Duration,
 }
@@ -45,18 +45,16 @@ pub fn render(
     let (width, height) = (scene.camera.width, scene.camera.height);
     let tiles_x = width.div_ceil(TILE_SIZE);
     let tiles_y = height.div_ceil(TILE_SIZE);
-    let tiles: Vec<(u32, u32, Vec<Rgb>, u64)> = (0..tiles_x * tiles_y)
+    let tiles: Vec<(u32, u32, Vec<Rgb>, RayCounts)> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map(|tile| {
             let (x0, y0) = ((tile % tiles_x) * TILE_SIZE, (tile / tiles_x) * TILE_SIZE);
             let (x1, y1) = ((x0 + TILE_SIZE).min(width), (y0 + TILE_SIZE).min(height));
             let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-            let mut rays = 0;
+            let mut rays = RayCounts::default();
             for y in y0..y1 {
                 for x in x0..x1 {
-                    let (sum, r) = render_pixel(scene, integrator, settings, x, y);
-                    pixels.push(sum);
-                    rays += r;
+                    pixels.push(render_pixel(scene, integrator, settings, x, y, &mut rays));
                 }
             }
             on_tile();
@@ -65,37 +63,37 @@ pub fn render(
         .collect();
 
     let mut film = Film::new(width, height);
-    let mut rays_traced = 0;
-    for (x0, y0, pixels, rays) in tiles {
+    let mut rays = RayCounts::default();
+    for (x0, y0, pixels, tile_rays) in tiles {
         let tile_width = (x0 + TILE_SIZE).min(width) - x0;
         for (i, sum) in pixels.into_iter().enumerate() {
             let (x, y) = (x0 + i as u32 % tile_width, y0 + i as u32 / tile_width);
             film.add_sample(x, y, sum / settings.spp as f32, settings.spp as f32);
         }
-        rays_traced += rays;
+        rays.add(&tile_rays);
     }
-    RenderOutput {
-        film,
-        rays_traced,
-        samples: width as u64 * height as u64 * settings.spp as u64,
-        elapsed: start.elapsed(),
-    }
+    RenderOutput { film, rays, samples: width as u64 * height as u64 * settings.spp as u64, elapsed: start.elapsed() }
 }
 
-/// Sum of the pixel's samples and the rays they traced.
-fn render_pixel(scene: &Scene, integrator: &dyn Integrator, settings: &RenderSettings, x: u32, y: u32) -> (Rgb, u64) {
+/// Sum of the pixel's samples; the rays they traced are added to `rays`.
+fn render_pixel(
+    scene: &Scene,
+    integrator: &dyn Integrator,
+    settings: &RenderSettings,
+    x: u32,
+    y: u32,
+    rays: &mut RayCounts,
+) -> Rgb {
     let pixel_index = y as u64 * scene.camera.width as u64 + x as u64;
     let mut sum = Rgb::ZERO;
-    let mut rays = 0;
     for sample in 0..settings.spp {
-        let mut context =
-            SampleContext { rng: Rng::for_sample(settings.seed, pixel_index, sample as u64), rays_traced: 0 };
+        let mut context = SampleContext::new(Rng::for_sample(settings.seed, pixel_index, sample as u64));
         // One sample goes through the pixel centre; more are jittered over the pixel (box filter).
         let (dx, dy) = if settings.spp == 1 { (0.5, 0.5) } else { (context.rng.next_f32(), context.rng.next_f32()) };
         let ray = scene.camera.generate_ray(x as f32 + dx, y as f32 + dy);
         let radiance = integrator.radiance(scene, &ray, &mut context);
         sum += if radiance.is_finite() { radiance } else { Rgb::ZERO };
-        rays += context.rays_traced;
+        rays.add(&context.rays);
     }
-    (sum, rays)
+    sum
 }

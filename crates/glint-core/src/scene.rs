@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use crate::accel::{Bvh, Bvh4, BvhStats};
+use crate::accel::{Bvh, Bvh4, BvhStats, NoCounter, TraversalCounter, TraversalCounts};
 use crate::camera::Camera;
 use crate::geometry::{offset_ray_origin, transform_point_with_error, Aabb, Ray, Transform};
 use crate::lights::Light;
@@ -124,6 +124,7 @@ pub struct Geometry {
     /// Primitives without bounds (planes), tested on every ray.
     unbounded: Vec<(u32, u32)>,
     bvh: Bvh4,
+    bounds: Aabb,
     stats: BvhStats,
     build_time: std::time::Duration,
 }
@@ -147,6 +148,7 @@ impl Geometry {
                 }
             }
         }
+        let world_bounds = bounds.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
         let (binary, order) = Bvh::build(&bounds);
         let bvh = Bvh4::from_binary(&binary);
         let mut stats = binary.stats();
@@ -176,7 +178,27 @@ impl Geometry {
         stats.bytes = bvh.bytes()
             + prims.len() * std::mem::size_of::<(u32, u32)>()
             + triangles.len() * std::mem::size_of::<[Vec3; 3]>();
-        Self { objects, methods, prims, triangles, unbounded, bvh, stats, build_time: start.elapsed() }
+        Self {
+            objects,
+            methods,
+            prims,
+            triangles,
+            unbounded,
+            bvh,
+            bounds: world_bounds,
+            stats,
+            build_time: start.elapsed(),
+        }
+    }
+
+    /// Bounds of every bounded primitive (planes are not included).
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    /// The surface of primitive `prim` of object `object` for a hit found on `ray`.
+    pub fn primitive_surface(&self, object: u32, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry {
+        self.objects[object as usize].surface(prim, ray, hit)
     }
 
     pub fn primitive_count(&self) -> usize {
@@ -216,19 +238,42 @@ impl Geometry {
     /// becomes the hit's distance.
     #[inline]
     pub fn closest_primitive(&self, ray: &mut Ray) -> Option<((u32, u32), PrimHit)> {
+        self.closest_primitive_counted(ray, &mut NoCounter)
+    }
+
+    /// The closest hit and the traversal work it took (for the BVH heat map).
+    pub fn intersect_counted(&self, ray: &Ray) -> (Option<SurfaceHit>, TraversalCounts) {
+        let mut counts = TraversalCounts::default();
+        let mut ray = *ray;
+        let hit =
+            self.closest_primitive_counted(&mut ray, &mut counts).map(|(id, hit)| self.surface_hit(id, &ray, &hit));
+        (hit, counts)
+    }
+
+    #[inline]
+    fn closest_primitive_counted<C: TraversalCounter>(
+        &self,
+        ray: &mut Ray,
+        counter: &mut C,
+    ) -> Option<((u32, u32), PrimHit)> {
         let mut best: Option<((u32, u32), PrimHit)> = None;
         for &(o, p) in &self.unbounded {
+            counter.primitive();
             if let Some(h) = self.objects[o as usize].intersect(p, ray, &self.methods) {
                 ray.t_max = h.t;
                 best = Some(((o, p), h));
             }
         }
         let mut best_slot = None;
-        self.bvh.closest(ray, |i, ray| {
-            let h = self.intersect_slot(i, ray)?;
-            best_slot = Some((i, h));
-            Some(h.t)
-        });
+        self.bvh.closest_counted(
+            ray,
+            |i, ray| {
+                let h = self.intersect_slot(i, ray)?;
+                best_slot = Some((i, h));
+                Some(h.t)
+            },
+            counter,
+        );
         if let Some((i, h)) = best_slot {
             let (o, p) = self.prims[i as usize];
             best = Some(((o & !TRIANGLE_FLAG, p), h));

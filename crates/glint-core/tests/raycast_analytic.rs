@@ -34,7 +34,8 @@ fn lambert_sphere_under_a_directional_light() {
     assert!((got - expected).abs().max_element() < 1e-5, "got {got}, expected {expected}");
     // A corner pixel misses the sphere and sees the background.
     assert_eq!(out.film.pixel(0, 0), Rgb::new(0.0, 0.0, 1.0));
-    assert_eq!(out.rays_traced, 15 * 15);
+    assert_eq!(out.rays.camera, 15 * 15);
+    assert_eq!(out.rays.total(), 15 * 15);
 }
 
 /// The raycaster has no shadows: a light behind an occluder still lights the point.
@@ -50,8 +51,7 @@ fn ray_casting_casts_no_shadows() {
         falloff: Falloff::None,
     })];
     let ray = glint_core::geometry::Ray::new(Vec3::new(0.0, 0.0, -1.4), Vec3::Z);
-    let mut context =
-        glint_core::integrators::SampleContext { rng: glint_core::sampling::Rng::new(0, 0), rays_traced: 0 };
+    let mut context = glint_core::integrators::SampleContext::new(glint_core::sampling::Rng::new(0, 0));
     use glint_core::integrators::Integrator;
     let l = Raycast.radiance(&s, &ray, &mut context);
     assert!((l - Rgb::splat(0.8)).abs().max_element() < 1e-5, "{l}");

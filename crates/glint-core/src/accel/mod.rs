@@ -5,4 +5,4 @@ mod bvh;
 mod wide;
 
 pub use bvh::{Bvh, BvhStats};
-pub use wide::Bvh4;
+pub use wide::{Bvh4, NoCounter, TraversalCounter, TraversalCounts};

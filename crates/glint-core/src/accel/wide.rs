@@ -97,17 +97,29 @@ impl Bvh4 {
     /// Closest hit, as `Bvh::closest`: `hit(i, ray)` returns the distance of a hit within the
     /// ray's range, which then shrinks `ray.t_max`.
     #[inline]
-    pub fn closest(&self, ray: &mut Ray, mut hit: impl FnMut(u32, &Ray) -> Option<f32>) {
-        let mut leaf = |reference: u32, ray: &mut Ray| {
+    pub fn closest(&self, ray: &mut Ray, hit: impl FnMut(u32, &Ray) -> Option<f32>) {
+        self.closest_counted(ray, hit, &mut NoCounter)
+    }
+
+    /// `closest`, reporting every node visited and primitive tested to `counter`.
+    #[inline]
+    pub fn closest_counted<C: TraversalCounter>(
+        &self,
+        ray: &mut Ray,
+        mut hit: impl FnMut(u32, &Ray) -> Option<f32>,
+        counter: &mut C,
+    ) {
+        let mut leaf = |reference: u32, ray: &mut Ray, counter: &mut C| {
             let (first, count) = leaf_range(reference);
             for i in first..first + count {
+                counter.primitive();
                 if let Some(t) = hit(i, ray) {
                     ray.t_max = t;
                 }
             }
         };
         if let Some(reference) = self.root_leaf {
-            return leaf(reference, ray);
+            return leaf(reference, ray, counter);
         }
         if self.nodes.is_empty() {
             return;
@@ -118,8 +130,9 @@ impl Bvh4 {
         let mut current = 0u32;
         loop {
             if current & LEAF_BIT != 0 {
-                leaf(current, ray);
+                leaf(current, ray, counter);
             } else {
+                counter.node();
                 let node = &self.nodes[current as usize];
                 let (t_near, mask) = query.test(node, ray.t_min, ray.t_max);
                 if mask != 0 {
@@ -197,6 +210,37 @@ impl Bvh4 {
             }
         }
         false
+    }
+}
+
+/// Receives the work a traversal does; `NoCounter` compiles to nothing.
+pub trait TraversalCounter {
+    fn node(&mut self);
+    fn primitive(&mut self);
+}
+
+pub struct NoCounter;
+
+impl TraversalCounter for NoCounter {
+    #[inline(always)]
+    fn node(&mut self) {}
+    #[inline(always)]
+    fn primitive(&mut self) {}
+}
+
+/// Nodes visited and primitives tested by one or more traversals.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TraversalCounts {
+    pub nodes: u32,
+    pub primitives: u32,
+}
+
+impl TraversalCounter for TraversalCounts {
+    fn node(&mut self) {
+        self.nodes += 1;
+    }
+    fn primitive(&mut self) {
+        self.primitives += 1;
     }
 }
 

@@ -1,10 +1,12 @@
 //! Integrators: algorithms that turn a camera ray into radiance. Each is one file; they are
 //! called once per render and reach the scene only through its query interface.
 
+mod bvh_heat;
 mod raycast;
 pub mod recorder;
 mod whitted;
 
+pub use bvh_heat::{heat_colour, BvhHeat};
 pub use raycast::Raycast;
 pub use whitted::Whitted;
 
@@ -13,15 +15,37 @@ use crate::sampling::Rng;
 use crate::scene::Scene;
 use crate::Rgb;
 
-/// Per-sample state an integrator may use: random numbers and a count of the rays it traced.
+/// Per-sample state an integrator may use: random numbers and counts of the rays it traced.
 pub struct SampleContext {
     pub rng: Rng,
-    pub rays_traced: u64,
+    pub rays: RayCounts,
 }
 
 impl SampleContext {
     pub fn new(rng: Rng) -> Self {
-        Self { rng, rays_traced: 0 }
+        Self { rng, rays: RayCounts::default() }
+    }
+}
+
+/// Rays traced, by kind.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayCounts {
+    pub camera: u64,
+    pub shadow: u64,
+    pub reflection: u64,
+    pub refraction: u64,
+}
+
+impl RayCounts {
+    pub fn total(&self) -> u64 {
+        self.camera + self.shadow + self.reflection + self.refraction
+    }
+
+    pub fn add(&mut self, other: &RayCounts) {
+        self.camera += other.camera;
+        self.shadow += other.shadow;
+        self.reflection += other.reflection;
+        self.refraction += other.refraction;
     }
 }
 
@@ -36,6 +60,7 @@ pub enum IntegratorKind {
     #[default]
     Raycast,
     Whitted,
+    BvhHeat,
 }
 
 /// Settings that integrators read (each uses the ones that apply to it).
@@ -56,12 +81,13 @@ impl Default for IntegratorSettings {
 }
 
 impl IntegratorKind {
-    pub const ALL: [IntegratorKind; 2] = [IntegratorKind::Raycast, IntegratorKind::Whitted];
+    pub const ALL: [IntegratorKind; 3] = [IntegratorKind::Raycast, IntegratorKind::Whitted, IntegratorKind::BvhHeat];
 
     pub fn name(self) -> &'static str {
         match self {
             IntegratorKind::Raycast => "raycast",
             IntegratorKind::Whitted => "whitted",
+            IntegratorKind::BvhHeat => "bvh-heat",
         }
     }
 
@@ -72,6 +98,7 @@ impl IntegratorKind {
     pub fn create(self, settings: &IntegratorSettings) -> Box<dyn Integrator> {
         match self {
             IntegratorKind::Raycast => Box::new(Raycast),
+            IntegratorKind::BvhHeat => Box::new(BvhHeat),
             IntegratorKind::Whitted => Box::new(Whitted {
                 max_depth: settings.max_depth,
                 min_contribution: settings.min_contribution,

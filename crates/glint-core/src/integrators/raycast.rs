@@ -12,7 +12,7 @@ pub struct Raycast;
 
 impl Integrator for Raycast {
     fn radiance(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Rgb {
-        context.rays_traced += 1;
+        context.rays.camera += 1;
         let Some(hit) = scene.intersect(ray) else {
             return scene.environment.background;
         };

@@ -50,7 +50,11 @@ impl Whitted {
         context: &mut SampleContext,
         recorder: &mut R,
     ) -> Rgb {
-        context.rays_traced += 1;
+        match kind {
+            RayKind::Camera => context.rays.camera += 1,
+            RayKind::Reflection => context.rays.reflection += 1,
+            RayKind::Refraction => context.rays.refraction += 1,
+        }
         recorder.begin_ray(kind, depth, ray, weight);
         let Some(hit) = scene.intersect(ray) else {
             recorder.miss(scene.environment.background);
@@ -141,7 +145,7 @@ impl Whitted {
     /// Fraction of the light that reaches the end of the shadow ray: 0 or 1, or with transparent
     /// shadows the product of the occluders' transmissions.
     fn visibility(&self, scene: &Scene, shadow_ray: &Ray, context: &mut SampleContext) -> Rgb {
-        context.rays_traced += 1;
+        context.rays.shadow += 1;
         if !self.transparent_shadows {
             return if scene.occluded(shadow_ray) { Rgb::ZERO } else { Rgb::ONE };
         }
@@ -163,7 +167,7 @@ impl Whitted {
             let next = hit.spawn_ray(ray.direction);
             // Keep the same end point: the light (or infinity) stays where it was.
             ray = if ray.t_max.is_finite() { Ray::with_range(next.origin, end - next.origin, 0.0, 1.0) } else { next };
-            context.rays_traced += 1;
+            context.rays.shadow += 1;
         }
         Rgb::ZERO
     }

@@ -12,6 +12,7 @@
 //! that when they need a side (see `SurfaceHit::facing`).
 
 mod aabox;
+mod instance;
 mod mesh;
 mod plane;
 mod polygon;
@@ -19,6 +20,7 @@ mod sphere;
 mod triangle;
 
 pub use aabox::{AaBox, BoxMethod};
+pub use instance::Instance;
 pub use mesh::Mesh;
 pub use plane::Plane;
 pub use polygon::{inverse_bilinear, Polygon, PolygonTest};
@@ -46,11 +48,13 @@ pub struct PrimHit {
     pub t: f32,
     pub u: f32,
     pub v: f32,
+    /// For an instance: the primitive hit inside the instanced geometry.
+    pub inner: u32,
 }
 
 impl PrimHit {
     pub fn at(t: f32) -> Self {
-        Self { t, u: 0.0, v: 0.0 }
+        Self { t, u: 0.0, v: 0.0, inner: 0 }
     }
 }
 
@@ -78,6 +82,9 @@ pub enum Shape {
     Polygon(Polygon),
     AaBox(AaBox),
     Mesh(Mesh),
+    /// A shared, separately built geometry (a mesh and its BVH) placed by the object's
+    /// transform: the two-level BVH that lets one mesh appear many times.
+    Instance(Instance),
 }
 
 impl Shape {
@@ -98,6 +105,7 @@ impl Shape {
             Shape::Polygon(p) => Some(p.bounds()),
             Shape::AaBox(b) => Some(b.bounds()),
             Shape::Mesh(m) => Some(m.triangle_bounds(prim as usize)),
+            Shape::Instance(i) => Some(i.bounds()),
         }
     }
 
@@ -110,6 +118,7 @@ impl Shape {
             Shape::Polygon(p) => p.intersect(ray, methods.polygon).map(PrimHit::at),
             Shape::AaBox(b) => b.intersect(ray, methods.aabox).map(PrimHit::at),
             Shape::Mesh(m) => m.intersect(prim as usize, ray, methods.triangle),
+            Shape::Instance(i) => i.intersect(ray),
         }
     }
 
@@ -121,6 +130,7 @@ impl Shape {
             Shape::Polygon(p) => p.surface(ray.at(hit.t)),
             Shape::AaBox(b) => b.surface(ray.at(hit.t)),
             Shape::Mesh(m) => m.surface(prim as usize, hit),
+            Shape::Instance(i) => i.surface(ray, hit),
         }
     }
 
@@ -133,6 +143,7 @@ impl Shape {
             Shape::Polygon(_) => "polygon",
             Shape::AaBox(_) => "box",
             Shape::Mesh(_) => "mesh",
+            Shape::Instance(_) => "instance",
         }
     }
 }

@@ -91,7 +91,7 @@ pub fn intersect_cramer(va: Vec3, vb: Vec3, vc: Vec3, ray: &Ray) -> Option<PrimH
     if beta < 0.0 || beta > 1.0 - gamma {
         return None;
     }
-    Some(PrimHit { t, u: beta, v: gamma })
+    Some(PrimHit { t, u: beta, v: gamma, inner: 0 })
 }
 
 /// Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection".
@@ -121,7 +121,7 @@ pub fn moller_trumbore_edges(a: Vec3, edge1: Vec3, edge2: Vec3, ray: &Ray) -> Op
         return None;
     }
     let t = edge2.dot(q) * inv_det;
-    ray.contains(t).then_some(PrimHit { t, u, v })
+    ray.contains(t).then_some(PrimHit { t, u, v, inner: 0 })
 }
 
 /// Point, normals and uv from barycentrics. The point is interpolated from the vertices
@@ -214,7 +214,7 @@ mod tests {
         let mut t = tri();
         t.normals = Some([Vec3::Z, Vec3::Z, Vec3::new(0.0, 1.0, 1.0).normalize()]);
         t.uvs = Some([Vec2::ZERO, Vec2::new(2.0, 0.0), Vec2::new(0.0, 4.0)]);
-        let g = t.surface(&PrimHit { t: 1.0, u: 0.5, v: 0.25 });
+        let g = t.surface(&PrimHit { t: 1.0, u: 0.5, v: 0.25, inner: 0 });
         assert_eq!(g.uv, Vec2::new(1.0, 1.0));
         assert!(g.shading_normal.y > 0.0 && (g.shading_normal.length() - 1.0).abs() < 1e-6);
     }

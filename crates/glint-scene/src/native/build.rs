@@ -11,9 +11,9 @@ use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
 use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight, SpotLight};
 use glint_core::materials::{Fresnel, Material, Phong};
-use glint_core::scene::{Environment, Object, Scene};
+use glint_core::scene::{Environment, Geometry, Object, Scene};
 use glint_core::shapes::{
-    AaBox, BoxMethod, IntersectMethods, Plane, Polygon, PolygonTest, Shape, Sphere, SphereMethod, Triangle,
+    AaBox, BoxMethod, Instance, IntersectMethods, Plane, Polygon, PolygonTest, Shape, Sphere, SphereMethod, Triangle,
     TriangleMethod,
 };
 use glint_core::textures::{Checker, ImageTexture, Marble, SolidChecker, Texture, Wood, Wrap};
@@ -128,9 +128,10 @@ pub(super) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
 
     let lights = file.lights.iter().enumerate().map(|(i, l)| build_light(&cx, i, l)).collect::<Result<_, _>>()?;
 
+    let mut library = MeshLibrary { descs: &file.meshes, built: Vec::new() };
     let mut objects = Vec::new();
     for (i, entry) in file.shapes.iter().enumerate() {
-        objects.push(build_object(&cx, i, entry, &materials, source, &mut warnings)?);
+        objects.push(build_object(&cx, i, entry, &materials, &mut library, source, &mut warnings)?);
     }
 
     let scene = Scene::new(camera, objects, materials, lights, environment, methods);
@@ -244,11 +245,60 @@ fn falloff_of(f: FalloffDesc) -> Falloff {
     }
 }
 
+/// Named meshes for instancing, each loaded and given its BVH on first use, then shared.
+struct MeshLibrary<'a> {
+    descs: &'a std::collections::BTreeMap<String, Located<MeshDesc>>,
+    built: Vec<(String, Arc<Geometry>)>,
+}
+
+impl MeshLibrary<'_> {
+    /// The mesh's shared geometry; `unknown` makes the error for a name not in `[meshes]` (at
+    /// the instance), problems with the file itself are reported at the mesh's entry.
+    fn get(
+        &mut self,
+        cx: &Context,
+        name: &str,
+        source: &Source,
+        warnings: &mut Vec<String>,
+        unknown: impl Fn(String) -> SceneError,
+    ) -> Result<Arc<Geometry>, SceneError> {
+        if let Some((_, g)) = self.built.iter().find(|(n, _)| n == name) {
+            return Ok(g.clone());
+        }
+        let Some(entry) = self.descs.get(name) else {
+            let hint = closest_name(name, self.descs.keys().map(String::as_str))
+                .map(|n| format!("; did you mean `{n}`?"))
+                .unwrap_or_default();
+            return Err(unknown(format!("unknown mesh `{name}` (instances name a mesh defined in [meshes]){hint}")));
+        };
+        let desc = &entry.value;
+        let at_file = |m: String| cx.error(&entry.span, Some("file"), format!("mesh `{name}`: {m}"));
+        let bytes = source.read(&desc.file).map_err(at_file)?;
+        let mut mesh =
+            crate::mesh::read_mesh(&desc.file, &bytes).map_err(|m| at_file(format!("`{}`: {m}", desc.file)))?;
+        if !desc.smooth {
+            mesh.normals = None;
+        }
+        let degenerate = mesh.degenerate_triangles().count();
+        if degenerate > 0 {
+            warnings.push(format!(
+                "mesh `{name}`: `{}` has {degenerate} zero-area triangles; they can never be hit",
+                desc.file
+            ));
+        }
+        let object = Object { name: name.to_string(), shape: Shape::Mesh(mesh), transform: None, material: 0 };
+        let geometry = Arc::new(Geometry::new(vec![object], IntersectMethods::default()));
+        self.built.push((name.to_string(), geometry.clone()));
+        Ok(geometry)
+    }
+}
+
 fn build_object(
     cx: &Context,
     index: usize,
     entry: &Located<ShapeDesc>,
     materials: &[(String, Material)],
+    library: &mut MeshLibrary,
     source: &Source,
     warnings: &mut Vec<String>,
 ) -> Result<Object, SceneError> {
@@ -343,6 +393,10 @@ fn build_object(
                 return Err(at("max", format!("`max` must exceed `min` on every axis, got min = {lo}, max = {hi}")));
             }
             Shape::AaBox(AaBox::new(lo, hi))
+        }
+        ShapeDesc::Instance { mesh, .. } => {
+            let geometry = library.get(cx, mesh, source, warnings, |m| at("mesh", m))?;
+            Shape::Instance(Instance { geometry })
         }
         ShapeDesc::Mesh { file, smooth, .. } => {
             let bytes = source.read(file).map_err(|m| at("file", format!("mesh file: {m}")))?;

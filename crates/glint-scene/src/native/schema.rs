@@ -24,9 +24,20 @@ pub struct SceneFile {
     #[serde(default)]
     pub materials: BTreeMap<String, Located<MaterialDesc>>,
     #[serde(default)]
+    pub meshes: BTreeMap<String, Located<MeshDesc>>,
+    #[serde(default)]
     pub lights: Vec<Located<LightDesc>>,
     #[serde(default)]
     pub shapes: Vec<Located<ShapeDesc>>,
+}
+
+/// A mesh loaded once and placed any number of times by `instance` shapes.
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct MeshDesc {
+    pub file: String,
+    #[serde(default = "yes")]
+    pub smooth: bool,
 }
 
 #[derive(Deserialize, Debug)]
@@ -346,6 +357,13 @@ pub enum ShapeDesc {
         transform: Vec<TransformOp>,
         name: Option<String>,
     },
+    Instance {
+        mesh: String,
+        material: String,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        name: Option<String>,
+    },
 }
 
 fn yes() -> bool {
@@ -360,7 +378,8 @@ impl ShapeDesc {
             | ShapeDesc::Triangle { material, transform, name, .. }
             | ShapeDesc::Polygon { material, transform, name, .. }
             | ShapeDesc::Box { material, transform, name, .. }
-            | ShapeDesc::Mesh { material, transform, name, .. } => (material, transform, name.as_deref()),
+            | ShapeDesc::Mesh { material, transform, name, .. }
+            | ShapeDesc::Instance { material, transform, name, .. } => (material, transform, name.as_deref()),
         }
     }
 
@@ -372,6 +391,7 @@ impl ShapeDesc {
             ShapeDesc::Polygon { .. } => "polygon",
             ShapeDesc::Box { .. } => "box",
             ShapeDesc::Mesh { .. } => "mesh",
+            ShapeDesc::Instance { .. } => "instance",
         }
     }
 }

@@ -1,0 +1,47 @@
+//! Instance: one geometry (a mesh with its own BVH, built once) placed anywhere by the
+//! object's transform, as many times as wanted; the scene's BVH sees each placement as one
+//! primitive (a two-level BVH). Memory grows by one object per placement, not by a mesh.
+//!
+//! Scene parameters: a named mesh in `[meshes.NAME]` (`file`, `smooth`), then per placement
+//! ```toml
+//! [[shapes]]
+//! type = "instance"
+//! mesh = "dragon"
+//! material = "jade"
+//! transform = [{ scale = 0.1 }, { translate = [2, 0, 0] }]
+//! ```
+
+use std::sync::Arc;
+
+use super::{PrimHit, SurfaceGeometry};
+use crate::geometry::{Aabb, Ray};
+use crate::scene::Geometry;
+
+#[derive(Clone)]
+pub struct Instance {
+    pub geometry: Arc<Geometry>,
+}
+
+impl std::fmt::Debug for Instance {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Instance({} primitives)", self.geometry.primitive_count())
+    }
+}
+
+impl Instance {
+    pub fn bounds(&self) -> Aabb {
+        self.geometry.bounds()
+    }
+
+    /// The closest hit inside the instanced geometry (the ray is already in its space).
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<PrimHit> {
+        let mut ray = *ray;
+        let ((_, prim), hit) = self.geometry.closest_primitive(&mut ray)?;
+        Some(PrimHit { inner: prim, ..hit })
+    }
+
+    pub fn surface(&self, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry {
+        self.geometry.primitive_surface(0, hit.inner, ray, hit)
+    }
+}
