@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""glint's BVH against Embree 4 on the same meshes and ray sets, in one sitting.
+
+Runs ../shared/anchors/embree/bench_embree.py (Embree through embreex) and then
+`glint bench-rays` on every mesh and ray set, and prints one Markdown table of rates and
+ratios (glint / Embree). Standard library only; Embree runs in its own venv.
+
+    python3 benchmarks/compare_embree.py --embree-python ~/venvs/embree/bin/python \
+        --rays-dir /tmp/rt_anchor_rays [--meshes bunny dragon] [--threads 1] [--repeats 3]
+
+The ray sets come from the anchor: `$EMBREE_PY ../shared/anchors/embree/gen_rays.py --rays-dir DIR`.
+Build glint first: `cargo build --release`.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SHARED = os.path.join(ROOT, "..", "shared")
+MESHES = {"bunny": "stanford_bunny.ply.gz", "dragon": "stanford_dragon.ply.gz"}
+SETS = ["primary", "diffuse", "random"]
+
+
+def run_embree(args):
+    out = os.path.join(tempfile.mkdtemp(), "embree.json")
+    cmd = [args.embree_python, os.path.join(SHARED, "anchors", "embree", "bench_embree.py"),
+           "--rays-dir", args.rays_dir, "--meshes", *args.meshes, "--threads", str(args.threads),
+           "--robust", "on", "--repeats", str(args.repeats), "--json-out", out]
+    print("$", " ".join(cmd), file=sys.stderr)
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    with open(out) as f:
+        results = json.load(f)["results"]
+    embree = {}
+    for r in results:
+        if r["kind"] == "build":
+            embree[(r["mesh"], "build")] = r["commit_s_best"]
+        elif r["kind"] == "trace":
+            embree[(r["mesh"], r["set"], r["query"])] = r["mrays_best"]
+    return embree
+
+
+def run_glint(args, mesh, ray_set):
+    rays = os.path.join(args.rays_dir, mesh, ray_set)
+    cmd = [args.glint, "bench-rays", os.path.join(SHARED, "meshes", MESHES[mesh]), rays + ".rays",
+           "--hits", rays + ".hits", "--threads", str(args.threads), "--repeat", str(args.repeats)]
+    print("$", " ".join(cmd), file=sys.stderr)
+    last = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout.strip().splitlines()[-1]
+    return dict(kv.split("=", 1) for kv in last.split())
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--embree-python", required=True)
+    p.add_argument("--rays-dir", required=True)
+    p.add_argument("--meshes", nargs="+", default=["bunny", "dragon"], choices=sorted(MESHES))
+    p.add_argument("--threads", type=int, default=1)
+    p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--glint", default=os.path.join(ROOT, "target", "release", "glint"))
+    args = p.parse_args()
+
+    print("load average before:", os.getloadavg()[0], file=sys.stderr)
+    embree = run_embree(args)
+    rows = ["| mesh | rays | query | glint Mrays/s | Embree Mrays/s | glint / Embree |", "| --- | --- | --- | ---: | ---: | ---: |"]
+    builds = []
+    for mesh in args.meshes:
+        for ray_set in SETS:
+            g = run_glint(args, mesh, ray_set)
+            for query, key in (("closest", "closest_mrays"), ("occluded", "anyhit_mrays")):
+                ours, theirs = float(g[key]), embree[(mesh, ray_set, query)]
+                rows.append(f"| {mesh} | {ray_set} | {query} | {ours:.2f} | {theirs:.2f} | {ours / theirs:.2f} |")
+            if ray_set == SETS[0]:
+                builds.append((mesh, float(g["build_s"]), embree[(mesh, "build")]))
+            print(f"{mesh}/{ray_set}: matches {g['matches']}", file=sys.stderr)
+    print("\n".join(rows))
+    print()
+    print("| mesh | glint build s | Embree build s | glint / Embree |")
+    print("| --- | ---: | ---: | ---: |")
+    for mesh, ours, theirs in builds:
+        print(f"| {mesh} | {ours:.3f} | {theirs:.3f} | {ours / theirs:.2f} |")
+    print("load average after:", os.getloadavg()[0], file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
