@@ -31,6 +31,11 @@ enum Command {
 fn main() -> ExitCode {
     // A panic is a bug in glint, never the user's fault: say so in one line, without a backtrace.
     std::panic::set_hook(Box::new(|info| {
+        // Output piped into a program that stopped reading (`| head`): end quietly, as Unix
+        // tools do on SIGPIPE.
+        if info.to_string().contains("Broken pipe") {
+            std::process::exit(141);
+        }
         eprintln!(
             "glint: internal error: {info}\nThis is a bug in glint; please report it with the scene that caused it."
         );
