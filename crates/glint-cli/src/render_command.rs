@@ -32,9 +32,10 @@ pub struct RenderArgs {
     height: Option<u32>,
     #[arg(long, value_enum)]
     integrator: Option<IntegratorArg>,
-    /// Maximum recursion depth (Whitted: generations of reflection/refraction rays).
-    #[arg(long)]
-    max_depth: Option<u32>,
+    /// Maximum recursion depth (Whitted: generations of reflection/refraction rays; path
+    /// tracers: scattering events, -1 = unbounded).
+    #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(i64).range(-1..=u32::MAX as i64))]
+    max_depth: Option<i64>,
     /// Whitted: stop a branch whose accumulated weight falls below this.
     #[arg(long)]
     min_contribution: Option<f32>,
@@ -71,6 +72,8 @@ enum IntegratorArg {
     Raycast,
     Whitted,
     BvhHeat,
+    Path,
+    PathNaive,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -124,6 +127,8 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         Some(IntegratorArg::Raycast) => IntegratorKind::Raycast,
         Some(IntegratorArg::Whitted) => IntegratorKind::Whitted,
         Some(IntegratorArg::BvhHeat) => IntegratorKind::BvhHeat,
+        Some(IntegratorArg::Path) => IntegratorKind::Path,
+        Some(IntegratorArg::PathNaive) => IntegratorKind::PathNaive,
         None => options.integrator,
     };
     let integrator_settings = args.integrator_settings(&options.integrator_settings)?;
@@ -224,7 +229,7 @@ impl RenderArgs {
     pub fn integrator_settings(&self, from_scene: &IntegratorSettings) -> Result<IntegratorSettings, String> {
         let mut s = *from_scene;
         if let Some(d) = self.max_depth {
-            s.max_depth = d;
+            s.max_depth = u32::try_from(d).unwrap_or(u32::MAX);
         }
         if let Some(c) = self.min_contribution {
             if !(c.is_finite() && c >= 0.0) {

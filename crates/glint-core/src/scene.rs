@@ -6,7 +6,7 @@ use glam::Vec3;
 use crate::accel::{Bvh, Bvh4, BvhStats, NoCounter, TraversalCounter, TraversalCounts};
 use crate::camera::Camera;
 use crate::geometry::{offset_ray_origin, transform_point_with_error, Aabb, Ray, Transform};
-use crate::lights::Light;
+use crate::lights::{AreaLights, Light};
 use crate::materials::Material;
 use crate::shapes::{moller_trumbore_edges, IntersectMethods, PrimHit, Shape, SurfaceGeometry, TriangleMethod};
 use crate::textures::TextureQuery;
@@ -320,6 +320,8 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub material_names: Vec<String>,
     pub lights: Vec<Light>,
+    /// Emissive primitives, for light sampling.
+    pub area_lights: AreaLights,
     pub environment: Environment,
 }
 
@@ -332,8 +334,17 @@ impl Scene {
         environment: Environment,
         methods: IntersectMethods,
     ) -> Self {
-        let (material_names, materials) = materials.into_iter().unzip();
-        Self { camera, geometry: Geometry::new(objects, methods), materials, material_names, lights, environment }
+        let (material_names, materials): (Vec<String>, Vec<Material>) = materials.into_iter().unzip();
+        let area_lights = AreaLights::new(&objects, &materials);
+        Self {
+            camera,
+            geometry: Geometry::new(objects, methods),
+            materials,
+            material_names,
+            lights,
+            area_lights,
+            environment,
+        }
     }
 
     pub fn objects(&self) -> &[Object] {

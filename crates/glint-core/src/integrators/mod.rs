@@ -2,11 +2,15 @@
 //! called once per render and reach the scene only through its query interface.
 
 mod bvh_heat;
+mod path;
+mod path_naive;
 mod raycast;
 pub mod recorder;
 mod whitted;
 
 pub use bvh_heat::{heat_colour, BvhHeat};
+pub use path::{power_heuristic, PathTracer};
+pub use path_naive::NaivePathTracer;
 pub use raycast::Raycast;
 pub use whitted::Whitted;
 
@@ -61,6 +65,8 @@ pub enum IntegratorKind {
     Raycast,
     Whitted,
     BvhHeat,
+    Path,
+    PathNaive,
 }
 
 /// Settings that integrators read (each uses the ones that apply to it).
@@ -72,22 +78,32 @@ pub struct IntegratorSettings {
     pub min_contribution: f32,
     /// Whitted: shadow rays pass through transparent occluders, attenuated by their k_t.
     pub transparent_shadows: bool,
+    /// Path tracers: Russian roulette starts after this many bounces.
+    pub rr_depth: u32,
 }
 
 impl Default for IntegratorSettings {
     fn default() -> Self {
-        Self { max_depth: 5, min_contribution: 1e-3, transparent_shadows: false }
+        Self { max_depth: 5, min_contribution: 1e-3, transparent_shadows: false, rr_depth: 5 }
     }
 }
 
 impl IntegratorKind {
-    pub const ALL: [IntegratorKind; 3] = [IntegratorKind::Raycast, IntegratorKind::Whitted, IntegratorKind::BvhHeat];
+    pub const ALL: [IntegratorKind; 5] = [
+        IntegratorKind::Raycast,
+        IntegratorKind::Whitted,
+        IntegratorKind::BvhHeat,
+        IntegratorKind::Path,
+        IntegratorKind::PathNaive,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             IntegratorKind::Raycast => "raycast",
             IntegratorKind::Whitted => "whitted",
             IntegratorKind::BvhHeat => "bvh-heat",
+            IntegratorKind::Path => "path",
+            IntegratorKind::PathNaive => "path-naive",
         }
     }
 
@@ -99,6 +115,10 @@ impl IntegratorKind {
         match self {
             IntegratorKind::Raycast => Box::new(Raycast),
             IntegratorKind::BvhHeat => Box::new(BvhHeat),
+            IntegratorKind::Path => Box::new(PathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth }),
+            IntegratorKind::PathNaive => {
+                Box::new(NaivePathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth })
+            }
             IntegratorKind::Whitted => Box::new(Whitted {
                 max_depth: settings.max_depth,
                 min_contribution: settings.min_contribution,

@@ -2,10 +2,12 @@
 //! the unit direction from `p` toward it, the distance (∞ for directional light, for the
 //! shadow ray's range) and the intensity arriving at `p`.
 
+mod area;
 mod directional;
 mod point;
 mod spot;
 
+pub use area::{AreaLights, LightSample};
 pub use directional::DirectionalLight;
 pub use point::{Falloff, PointLight};
 pub use spot::SpotLight;

@@ -5,8 +5,10 @@
 //! surface (`wo` toward the viewer, `wi` toward the light), and the normal has been turned to
 //! the viewer's side by the integrator.
 
+mod bsdf;
 mod phong;
 
+pub use bsdf::{Bsdf, BsdfSample};
 pub use phong::{fresnel_dielectric, fresnel_schlick, Fresnel, Phong, PhongPoint};
 
 use crate::textures::TextureQuery;

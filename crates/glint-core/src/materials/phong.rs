@@ -48,6 +48,10 @@ pub struct Phong {
     pub transmission: Texture,
     pub ior: f32,
     pub fresnel: Fresnel,
+    /// Emitted radiance (an area light on whatever shape wears the material).
+    pub emission: Rgb,
+    /// Emit from both sides (default: only the side the geometric normal points to).
+    pub two_sided_emission: bool,
 }
 
 impl Default for Phong {
@@ -61,6 +65,8 @@ impl Default for Phong {
             transmission: Texture::Constant(Rgb::ZERO),
             ior: 1.5,
             fresnel: Fresnel::None,
+            emission: Rgb::ZERO,
+            two_sided_emission: false,
         }
     }
 }
@@ -78,6 +84,8 @@ impl Phong {
             transmission: self.transmission.evaluate(query),
             ior: self.ior,
             fresnel: self.fresnel,
+            emission: self.emission,
+            two_sided_emission: self.two_sided_emission,
         }
     }
 }
@@ -93,9 +101,20 @@ pub struct PhongPoint {
     pub transmission: Rgb,
     pub ior: f32,
     pub fresnel: Fresnel,
+    pub emission: Rgb,
+    pub two_sided_emission: bool,
 }
 
 impl PhongPoint {
+    /// Radiance emitted toward `wo` from a surface with geometric normal `geometric_normal`.
+    pub fn emitted(&self, wo: Vec3, geometric_normal: Vec3) -> Rgb {
+        if self.two_sided_emission || wo.dot(geometric_normal) > 0.0 {
+            self.emission
+        } else {
+            Rgb::ZERO
+        }
+    }
+
     /// k_d (N·L) + k_s (R·V)^n times the light's intensity; `normal` faces the viewer.
     pub fn local(&self, normal: Vec3, wo: Vec3, wi: Vec3, intensity: Rgb) -> Rgb {
         let cos_light = normal.dot(wi);

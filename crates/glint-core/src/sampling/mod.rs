@@ -1,6 +1,8 @@
 //! Random numbers for rendering. Every pixel sample draws from a generator seeded by
 //! (render seed, pixel, sample index), so an image is bit-identical at any thread count.
 
+pub mod chi2;
 mod rng;
+pub mod warp;
 
 pub use rng::Rng;

@@ -13,10 +13,11 @@ use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight, SpotLight
 use glint_core::materials::{Fresnel, Material, Phong};
 use glint_core::scene::{Environment, Geometry, Object, Scene};
 use glint_core::shapes::{
-    AaBox, BoxMethod, Instance, IntersectMethods, Plane, Polygon, PolygonTest, Shape, Sphere, SphereMethod, Triangle,
-    TriangleMethod,
+    AaBox, BoxMethod, Instance, IntersectMethods, Mesh, Plane, Polygon, PolygonTest, Shape, Sphere, SphereMethod,
+    Triangle, TriangleMethod,
 };
 use glint_core::textures::{Checker, ImageTexture, Marble, SolidChecker, Texture, Wood, Wrap};
+use glint_core::Rgb;
 
 use super::schema::*;
 use super::{find_key, LoadedScene, RenderOptions};
@@ -88,8 +89,34 @@ pub(super) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         let at = |key: &str, m: String| cx.error(&entry.span, Some(key), format!("material `{name}`: {m}"));
         let colour = |key: &str, c: &ColorDesc| resolve_colour(c, &textures).map_err(|m| at(key, m));
         let material = match &entry.value {
-            MaterialDesc::Phong { diffuse, ambient, specular, shininess, reflection, transmission, ior, fresnel } => {
+            MaterialDesc::Diffuse { reflectance, emission, two_sided_emission } => {
+                let mut phong = Phong { ambient: Some(Texture::Constant(Rgb::ZERO)), ..Phong::default() };
+                if let Some(c) = reflectance {
+                    phong.diffuse = colour("reflectance", c)?;
+                }
+                if let Some(e) = emission {
+                    phong.emission = non_negative(*e).map_err(|m| at("emission", m))?;
+                }
+                phong.two_sided_emission = *two_sided_emission;
+                Material::Phong(phong)
+            }
+            MaterialDesc::Phong {
+                diffuse,
+                ambient,
+                specular,
+                shininess,
+                reflection,
+                transmission,
+                ior,
+                fresnel,
+                emission,
+                two_sided_emission,
+            } => {
                 let mut phong = Phong::default();
+                if let Some(e) = emission {
+                    phong.emission = non_negative(*e).map_err(|m| at("emission", m))?;
+                }
+                phong.two_sided_emission = *two_sided_emission;
                 if let Some(c) = diffuse {
                     phong.diffuse = colour("diffuse", c)?;
                 }
@@ -183,8 +210,14 @@ fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneErro
             format!("`min_contribution` must be a number ≥ 0, got {}", r.min_contribution),
         ));
     }
+    if r.max_depth < -1 || r.max_depth > u32::MAX as i64 {
+        return Err(
+            cx.error_at_key("max_depth", format!("`max_depth` must be -1 (unbounded) or ≥ 0, got {}", r.max_depth))
+        );
+    }
     let integrator_settings = IntegratorSettings {
-        max_depth: r.max_depth,
+        max_depth: if r.max_depth < 0 { u32::MAX } else { r.max_depth as u32 },
+        rr_depth: r.rr_depth,
         min_contribution: r.min_contribution,
         transparent_shadows: r.transparent_shadows,
     };
@@ -393,6 +426,23 @@ fn build_object(
                 return Err(at("max", format!("`max` must exceed `min` on every axis, got min = {lo}, max = {hi}")));
             }
             Shape::AaBox(AaBox::new(lo, hi))
+        }
+        ShapeDesc::Quad { vertices, .. } => {
+            let mut positions = Vec::with_capacity(4);
+            for v in vertices {
+                positions.push(finite(*v).map_err(|m| at("vertices", m))?);
+            }
+            let mesh = Mesh {
+                positions,
+                normals: None,
+                uvs: Some(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]),
+                indices: vec![[0, 1, 2], [0, 2, 3]],
+                baked_transform: None,
+            };
+            if mesh.degenerate_triangles().count() > 0 {
+                return Err(at("vertices", "the quad has a zero-area half (three collinear corners)".into()));
+            }
+            Shape::Mesh(mesh)
         }
         ShapeDesc::Instance { mesh, .. } => {
             let geometry = library.get(cx, mesh, source, warnings, |m| at("mesh", m))?;

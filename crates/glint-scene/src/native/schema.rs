@@ -69,7 +69,9 @@ pub struct RenderDesc {
     #[serde(default = "default_spp")]
     pub spp: u32,
     #[serde(default = "default_max_depth")]
-    pub max_depth: u32,
+    pub max_depth: i64,
+    #[serde(default = "default_rr_depth")]
+    pub rr_depth: u32,
     #[serde(default = "default_integrator")]
     pub integrator: String,
     #[serde(default)]
@@ -85,6 +87,7 @@ impl Default for RenderDesc {
         Self {
             spp: default_spp(),
             max_depth: default_max_depth(),
+            rr_depth: default_rr_depth(),
             integrator: default_integrator(),
             seed: 0,
             min_contribution: default_min_contribution(),
@@ -100,7 +103,10 @@ fn default_min_contribution() -> f32 {
 fn default_spp() -> u32 {
     1
 }
-fn default_max_depth() -> u32 {
+fn default_max_depth() -> i64 {
+    5
+}
+fn default_rr_depth() -> u32 {
     5
 }
 fn default_integrator() -> String {
@@ -174,6 +180,16 @@ pub enum MaterialDesc {
         ior: Option<f32>,
         #[serde(default)]
         fresnel: FresnelDesc,
+        emission: Option<Vector>,
+        #[serde(default)]
+        two_sided_emission: bool,
+    },
+    /// A Lambertian surface (the path tracer's plain diffuse material).
+    Diffuse {
+        reflectance: Option<ColorDesc>,
+        emission: Option<Vector>,
+        #[serde(default)]
+        two_sided_emission: bool,
     },
 }
 
@@ -357,6 +373,15 @@ pub enum ShapeDesc {
         transform: Vec<TransformOp>,
         name: Option<String>,
     },
+    /// Four corners v0..v3, split into triangles (v0, v1, v2) and (v0, v2, v3); flat-shaded with
+    /// the normal (v1 − v0) × (v2 − v0); uv (0,0), (1,0), (1,1), (0,1) at the corners.
+    Quad {
+        vertices: [Vector; 4],
+        material: String,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        name: Option<String>,
+    },
     Instance {
         mesh: String,
         material: String,
@@ -379,6 +404,7 @@ impl ShapeDesc {
             | ShapeDesc::Polygon { material, transform, name, .. }
             | ShapeDesc::Box { material, transform, name, .. }
             | ShapeDesc::Mesh { material, transform, name, .. }
+            | ShapeDesc::Quad { material, transform, name, .. }
             | ShapeDesc::Instance { material, transform, name, .. } => (material, transform, name.as_deref()),
         }
     }
@@ -391,6 +417,7 @@ impl ShapeDesc {
             ShapeDesc::Polygon { .. } => "polygon",
             ShapeDesc::Box { .. } => "box",
             ShapeDesc::Mesh { .. } => "mesh",
+            ShapeDesc::Quad { .. } => "quad",
             ShapeDesc::Instance { .. } => "instance",
         }
     }

@@ -1,0 +1,62 @@
+//! The course's Monte Carlo path tracing, exactly (`--integrator path-naive`): from the eye,
+//! at each hit the kind of scattering (diffuse, mirror, refraction) is chosen by roulette in
+//! proportion to the material's weights, diffuse directions are sampled cosine-weighted, light
+//! is found only when a path happens to hit an emitter, and paths end by Russian roulette.
+//! No light sampling: point lights are never found. Slower to converge than `path`, to the
+//! same image (tests check it).
+
+use glam::Vec2;
+
+use super::{Integrator, SampleContext};
+use crate::geometry::Ray;
+use crate::materials::Bsdf;
+use crate::scene::Scene;
+use crate::Rgb;
+
+pub struct NaivePathTracer {
+    pub max_depth: u32,
+    pub rr_depth: u32,
+}
+
+impl Integrator for NaivePathTracer {
+    fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
+        let mut radiance = Rgb::ZERO;
+        let mut throughput = Rgb::ONE;
+        let mut eta_scale = 1.0f32;
+        let mut ray = *camera_ray;
+        let mut depth = 0u32;
+        loop {
+            if depth == 0 {
+                context.rays.camera += 1;
+            } else {
+                context.rays.reflection += 1;
+            }
+            let Some(hit) = scene.intersect(&ray) else {
+                radiance += throughput * scene.environment.background;
+                break;
+            };
+            let wo = -ray.direction.normalize();
+            let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
+            radiance += throughput * material.emitted(wo, hit.geometry.geometric_normal);
+            if depth >= self.max_depth {
+                break;
+            }
+            let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+            let u_lobe = context.rng.next_f32();
+            let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+            let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break };
+            throughput *= sample.weight;
+            eta_scale *= sample.eta_squared;
+            depth += 1;
+            if depth >= self.rr_depth {
+                let survival = (throughput.max_element() * eta_scale).min(0.95);
+                if survival <= 0.0 || context.rng.next_f32() >= survival {
+                    break;
+                }
+                throughput /= survival;
+            }
+            ray = hit.spawn_ray(sample.wi);
+        }
+        radiance
+    }
+}

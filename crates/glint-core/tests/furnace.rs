@@ -1,0 +1,54 @@
+//! Furnace test: a camera inside a closed sphere whose inside is diffuse with albedo ρ and emits
+//! radiance L_e sees, in every direction, L = L_e / (1 − ρ) (the geometric series of bounces).
+//! Every Monte Carlo integrator must match it within its noise.
+
+mod common;
+
+use common::{object_with, scene};
+use glint_core::integrators::{IntegratorKind, IntegratorSettings};
+use glint_core::lights::AreaLights;
+use glint_core::materials::{Material, Phong};
+use glint_core::render::{render, RenderSettings};
+use glint_core::shapes::{Shape, Sphere};
+use glint_core::textures::Texture;
+use glint_core::{Rgb, Vec3};
+
+fn furnace(albedo: f32, emission: f32) -> glint_core::scene::Scene {
+    let mut s = scene(vec![object_with(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)), 0)]);
+    s.materials = vec![Material::Phong(Phong {
+        diffuse: Texture::Constant(Rgb::splat(albedo)),
+        ambient: Some(Texture::Constant(Rgb::ZERO)),
+        emission: Rgb::splat(emission),
+        two_sided_emission: true,
+        ..Phong::default()
+    })];
+    s.area_lights = AreaLights::new(s.objects(), &s.materials);
+    s.camera =
+        glint_core::camera::Camera::new(Vec3::new(0.1, -0.2, 0.05), Vec3::new(1.0, 0.3, 0.7), Vec3::Y, 70.0, 24, 24)
+            .unwrap();
+    s
+}
+
+#[test]
+fn every_path_integrator_matches_the_analytic_furnace() {
+    for (albedo, emission) in [(0.5f32, 1.0f32), (0.8, 0.25)] {
+        let s = furnace(albedo, emission);
+        assert!(!s.area_lights.is_empty(), "the emitting sphere must be sampled as a light");
+        let expected = emission / (1.0 - albedo);
+        for kind in [IntegratorKind::Path, IntegratorKind::PathNaive] {
+            let settings = IntegratorSettings { max_depth: u32::MAX, rr_depth: 3, ..Default::default() };
+            let integrator = kind.create(&settings);
+            let image = render(&s, integrator.as_ref(), &RenderSettings { spp: 64, seed: 3 }, &|| {}).film.to_rgb();
+            // Pixels are independent estimates of the same value: compare their mean with its
+            // standard error.
+            let values: Vec<f64> = image.iter().map(|p| p.x as f64).collect();
+            let n = values.len() as f64;
+            let mean = values.iter().sum::<f64>() / n;
+            let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+            let standard_error = (variance / n).sqrt();
+            let z = (mean - expected as f64) / standard_error;
+            assert!(z.abs() < 4.0, "{kind:?} ρ={albedo}: mean {mean}, expected {expected}, z = {z:.2}");
+            assert!((mean / expected as f64 - 1.0).abs() < 0.02, "{kind:?}: {mean} vs {expected}");
+        }
+    }
+}
