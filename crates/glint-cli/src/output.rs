@@ -45,15 +45,30 @@ pub fn check_writable(path: &Path) -> Result<ImageFormat, String> {
     Ok(format)
 }
 
-/// Writes row-major pixels (row 0 = top). `exposure` (in stops) applies to PNG only.
-pub fn write_image(path: &Path, width: u32, height: u32, pixels: &[Rgb], exposure: f32) -> Result<(), String> {
+/// Writes row-major pixels (row 0 = top). `exposure` (in stops) applies to PNG only;
+/// `metadata` (name, value) pairs go into the EXR header as string attributes.
+pub fn write_image(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[Rgb],
+    exposure: f32,
+    metadata: &[(&str, String)],
+) -> Result<(), String> {
     let failed = |e: &dyn std::fmt::Display| format!("cannot write `{}`: {e}", path.display());
     match ImageFormat::from_path(path)? {
-        ImageFormat::Exr => exr::prelude::write_rgb_file(path, width as usize, height as usize, |x, y| {
-            let p = pixels[y * width as usize + x];
-            (p.x, p.y, p.z)
-        })
-        .map_err(|e| failed(&e)),
+        ImageFormat::Exr => {
+            use exr::prelude::*;
+            let channels = SpecificChannels::rgb(|position: Vec2<usize>| {
+                let p = pixels[position.y() * width as usize + position.x()];
+                (p.x, p.y, p.z)
+            });
+            let mut image = Image::from_channels((width as usize, height as usize), channels);
+            for (name, value) in metadata {
+                image.attributes.other.insert(Text::from(*name), AttributeValue::Text(Text::from(value.as_str())));
+            }
+            image.write().to_file(path).map_err(|e| failed(&e))
+        }
         ImageFormat::Pfm => write_pfm(path, width, height, pixels).map_err(|e| failed(&e)),
         ImageFormat::Png => {
             let scale = exposure.exp2();

@@ -5,7 +5,11 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
-use glint_core::render::{render, RenderSettings};
+use glint_core::render::{render_progressive, Progressive, RenderSettings, StopReason};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use crate::checkpoint;
 use glint_core::shapes::{BoxMethod, PolygonTest, SphereMethod, TriangleMethod};
 use glint_scene::LoadedScene;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -65,6 +69,19 @@ pub struct RenderArgs {
     /// Print acceleration-structure statistics and rays traced by kind.
     #[arg(long)]
     stats: bool,
+    /// Render passes until this many seconds are spent (then --spp is only an upper bound).
+    #[arg(long)]
+    time: Option<f64>,
+    /// Save the float accumulator and sample count here, every --checkpoint-interval seconds
+    /// and when the render ends (also on Ctrl-C or --time).
+    #[arg(long)]
+    checkpoint: Option<PathBuf>,
+    #[arg(long, default_value_t = 30.0)]
+    checkpoint_interval: f64,
+    /// Continue a render from a checkpoint (same scene and settings), to the same image an
+    /// uninterrupted render gives.
+    #[arg(long)]
+    resume: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -132,7 +149,57 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         None => options.integrator,
     };
     let integrator_settings = args.integrator_settings(&options.integrator_settings)?;
-    let settings = RenderSettings { spp: args.spp.unwrap_or(options.spp), seed: args.seed.unwrap_or(options.seed) };
+    let mut settings = RenderSettings { spp: args.spp.unwrap_or(options.spp), seed: args.seed.unwrap_or(options.seed) };
+    let time_limit = match args.time {
+        Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
+        Some(t) => return Err(format!("--time must be a positive number of seconds, got {t}")),
+        None => None,
+    };
+    if time_limit.is_some() && args.spp.is_none() {
+        settings.spp = u32::MAX; // the time limit decides
+    }
+    let scene_text = match &args.scene {
+        Some(path) => std::fs::read(path).unwrap_or_default(),
+        None => b"<built-in default scene>".to_vec(),
+    };
+    let fingerprint = checkpoint::fingerprint(&[
+        &scene_text,
+        integrator_kind.name().as_bytes(),
+        format!("{integrator_settings:?} {:?} {}x{}", scene.geometry.methods, scene.camera.width, scene.camera.height)
+            .as_bytes(),
+    ]);
+    let resume = match &args.resume {
+        Some(path) => {
+            let c = checkpoint::load(path)?;
+            if c.fingerprint != fingerprint || c.seed != settings.seed {
+                return Err(format!(
+                    "the checkpoint `{}` was made from another scene or other settings (scene file, integrator, resolution, seed and methods must be the same)",
+                    path.display()
+                ));
+            }
+            if !args.quiet {
+                eprintln!("resuming from `{}` at {} spp", path.display(), c.spp_done);
+            }
+            Some((c.film, c.spp_done))
+        }
+        None => None,
+    };
+    let stop = std::sync::Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        let quiet = args.quiet;
+        // First Ctrl-C: finish the current pass and write everything; a second one quits.
+        let _ = ctrlc::set_handler(move || {
+            if stop.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+            if !quiet {
+                eprintln!(
+                    "\ninterrupted: finishing the current pass, then writing the image (Ctrl-C again to quit at once)"
+                );
+            }
+        });
+    }
 
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(n) = args.threads {
@@ -142,7 +209,10 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
 
     let (width, height) = (scene.camera.width, scene.camera.height);
     let tiles = (width.div_ceil(16) * height.div_ceil(16)) as u64;
-    let progress = ProgressBar::new(tiles);
+    let progress = ProgressBar::new(tiles * settings.spp.min(1 << 20) as u64);
+    if let Some((_, done)) = &resume {
+        progress.set_position(tiles * *done as u64);
+    }
     if args.quiet || !std::io::stderr().is_terminal() {
         progress.set_draw_target(ProgressDrawTarget::hidden());
     }
@@ -154,8 +224,32 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         .progress_chars("=> "),
     );
     let integrator = integrator_kind.create(&integrator_settings);
-    let result = pool.install(|| render(&scene, integrator.as_ref(), &settings, &|| progress.inc(1)));
+    let progressive = Progressive { settings, time_limit };
+    let mut last_checkpoint = Instant::now();
+    let mut checkpoint_error = None;
+    let mut on_pass = |film: &glint_core::film::Film, spp_done: u32| {
+        if let Some(path) = &args.checkpoint {
+            if last_checkpoint.elapsed().as_secs_f64() >= args.checkpoint_interval {
+                if let Err(e) = checkpoint::save(path, film, spp_done, settings.seed, fingerprint) {
+                    checkpoint_error.get_or_insert(e);
+                }
+                last_checkpoint = Instant::now();
+            }
+        }
+    };
+    let result = pool.install(|| {
+        render_progressive(&scene, integrator.as_ref(), &progressive, resume, &stop, &|| progress.inc(1), &mut on_pass)
+    });
     progress.finish_and_clear();
+    if let Some(e) = checkpoint_error {
+        eprintln!("warning: {e}");
+    }
+    if let Some(path) = &args.checkpoint {
+        checkpoint::save(path, &result.film, result.spp_done, settings.seed, fingerprint)?;
+    }
+    if result.spp_done == 0 {
+        return Err("the render was stopped before its first pass: nothing to write".into());
+    }
 
     let mut pixels = result.film.to_rgb();
     let mut exposure = args.exposure;
@@ -167,7 +261,13 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
             "bvh-heat: colour = BVH nodes visited + primitives tested per camera ray, from 0 (dark blue) to {max:.0} (red); the bar along the bottom of the image is the scale, ticks at quarters"
         );
     }
-    write_image(&output, width, height, &pixels, exposure)?;
+    let metadata = [
+        ("glint:spp", result.spp_done.to_string()),
+        ("glint:seed", settings.seed.to_string()),
+        ("glint:integrator", integrator_kind.name().to_string()),
+        ("glint:version", env!("CARGO_PKG_VERSION").to_string()),
+    ];
+    write_image(&output, width, height, &pixels, exposure, &metadata)?;
     if args.stats {
         let g = &scene.geometry;
         let s = g.bvh_stats();
@@ -195,8 +295,13 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     if !args.quiet {
         let seconds = result.elapsed.as_secs_f64().max(1e-9);
         eprintln!(
-            "rendered {width}x{height} at {} spp with {} in {:.2} s: {:.2} M samples/s, {:.2} M rays/s -> {}",
-            settings.spp,
+            "rendered {width}x{height} at {} spp{} with {} in {:.2} s: {:.2} M samples/s, {:.2} M rays/s -> {}",
+            result.spp_done,
+            match result.stopped_early {
+                Some(StopReason::Interrupted) => " (interrupted)",
+                Some(StopReason::TimeLimit) => " (time limit)",
+                None => "",
+            },
             integrator_kind.name(),
             seconds,
             result.samples as f64 / seconds / 1e6,

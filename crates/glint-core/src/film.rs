@@ -18,10 +18,22 @@ impl Film {
         Self { width, height, sum: vec![Rgb::ZERO; n], weight: vec![0.0; n] }
     }
 
-    pub fn add_sample(&mut self, x: u32, y: u32, radiance: Rgb, weight: f32) {
+    /// Adds `count` samples whose radiances sum to `radiance_sum` (box filter: weight 1 each).
+    pub fn add_samples(&mut self, x: u32, y: u32, radiance_sum: Rgb, count: f32) {
         let i = (y * self.width + x) as usize;
-        self.sum[i] += radiance * weight;
-        self.weight[i] += weight;
+        self.sum[i] += radiance_sum;
+        self.weight[i] += count;
+    }
+
+    /// The raw accumulators (for checkpoints): per-pixel radiance sums and weights.
+    pub fn accumulators(&self) -> (&[Rgb], &[f32]) {
+        (&self.sum, &self.weight)
+    }
+
+    /// A film from saved accumulators; `None` if their sizes do not match the resolution.
+    pub fn from_accumulators(width: u32, height: u32, sum: Vec<Rgb>, weight: Vec<f32>) -> Option<Self> {
+        let n = (width * height) as usize;
+        (sum.len() == n && weight.len() == n).then_some(Self { width, height, sum, weight })
     }
 
     /// The pixel's estimate (black if it has no samples yet).

@@ -1,6 +1,13 @@
-//! The render loop: camera samples over image tiles in parallel (rayon), each pixel sample with
-//! its own random stream, so the image is bit-identical for a given seed at any thread count.
+//! The render loop: progressive passes of camera samples over image tiles in parallel (rayon).
+//! Every pixel sample draws from its own random stream, seeded by (seed, pixel, sample index),
+//! so the image is bit-identical for a given seed at any thread count, and a render resumed
+//! from a checkpoint equals an uninterrupted one (the pass boundaries are the same).
+//!
+//! A render ends when the target sample count is reached, when its time limit is spent, or
+//! when the caller raises the stop flag (Ctrl-C); it always ends between passes, so what has
+//! been rendered is complete and kept.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
@@ -15,7 +22,7 @@ const TILE_SIZE: u32 = 16;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RenderSettings {
-    /// Samples per pixel: 1 = through the pixel centre, more = jittered within the pixel.
+    /// Samples per pixel: 1 = through the pixel centre; more = jittered within the pixel.
     pub spp: u32,
     pub seed: u64,
 }
@@ -26,22 +33,91 @@ impl Default for RenderSettings {
     }
 }
 
+/// How a progressive render runs: to `settings.spp` samples per pixel, and no longer than
+/// `time_limit` (then `settings.spp` is only an upper bound).
+#[derive(Clone, Copy, Debug)]
+pub struct Progressive {
+    pub settings: RenderSettings,
+    pub time_limit: Option<Duration>,
+}
+
 #[derive(Clone, Debug)]
 pub struct RenderOutput {
     pub film: Film,
     pub rays: RayCounts,
+    /// Camera samples taken in this run (not counting those of a resumed checkpoint).
     pub samples: u64,
+    /// Samples per pixel in the film, including a resumed checkpoint's.
+    pub spp_done: u32,
     pub elapsed: Duration,
+    /// Why the render ended before its target, if it did.
+    pub stopped_early: Option<StopReason>,
 }
 
-/// Renders the scene's camera view. `on_tile` is called once per finished tile (for progress).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StopReason {
+    TimeLimit,
+    Interrupted,
+}
+
+/// Renders the scene's camera view in one go. `on_tile` is called per finished tile.
 pub fn render(
     scene: &Scene,
     integrator: &dyn Integrator,
     settings: &RenderSettings,
     on_tile: &(dyn Fn() + Sync),
 ) -> RenderOutput {
+    let progressive = Progressive { settings: *settings, time_limit: None };
+    render_progressive(scene, integrator, &progressive, None, &AtomicBool::new(false), on_tile, &mut |_, _| {})
+}
+
+/// Renders in passes of one sample per pixel (all samples in one pass at 1 spp, the pixel
+/// centre). `resume` is a film and its sample count from a checkpoint; `stop` is checked
+/// between passes; `on_pass(film, spp_done)` is called after every pass (to save checkpoints).
+pub fn render_progressive(
+    scene: &Scene,
+    integrator: &dyn Integrator,
+    progressive: &Progressive,
+    resume: Option<(Film, u32)>,
+    stop: &AtomicBool,
+    on_tile: &(dyn Fn() + Sync),
+    on_pass: &mut dyn FnMut(&Film, u32),
+) -> RenderOutput {
     let start = Instant::now();
+    let settings = progressive.settings;
+    let (width, height) = (scene.camera.width, scene.camera.height);
+    let (mut film, mut spp_done) = resume.unwrap_or_else(|| (Film::new(width, height), 0));
+    let mut rays = RayCounts::default();
+    let mut samples = 0u64;
+    let mut stopped_early = None;
+    while spp_done < settings.spp {
+        if stop.load(Ordering::Relaxed) {
+            stopped_early = Some(StopReason::Interrupted);
+            break;
+        }
+        if progressive.time_limit.is_some_and(|limit| start.elapsed() >= limit) {
+            stopped_early = Some(StopReason::TimeLimit);
+            break;
+        }
+        let centre = settings.spp == 1 && progressive.time_limit.is_none();
+        rays.add(&render_pass(scene, integrator, settings.seed, spp_done, centre, &mut film, on_tile));
+        spp_done += 1;
+        samples += width as u64 * height as u64;
+        on_pass(&film, spp_done);
+    }
+    RenderOutput { film, rays, samples, spp_done, elapsed: start.elapsed(), stopped_early }
+}
+
+/// One sample per pixel, sample index `sample`, added to the film.
+fn render_pass(
+    scene: &Scene,
+    integrator: &dyn Integrator,
+    seed: u64,
+    sample: u32,
+    centre: bool,
+    film: &mut Film,
+    on_tile: &(dyn Fn() + Sync),
+) -> RayCounts {
     let (width, height) = (scene.camera.width, scene.camera.height);
     let tiles_x = width.div_ceil(TILE_SIZE);
     let tiles_y = height.div_ceil(TILE_SIZE);
@@ -54,46 +130,47 @@ pub fn render(
             let mut rays = RayCounts::default();
             for y in y0..y1 {
                 for x in x0..x1 {
-                    pixels.push(render_pixel(scene, integrator, settings, x, y, &mut rays));
+                    pixels.push(render_sample(scene, integrator, seed, sample, centre, x, y, &mut rays));
                 }
             }
             on_tile();
             (x0, y0, pixels, rays)
         })
         .collect();
-
-    let mut film = Film::new(width, height);
     let mut rays = RayCounts::default();
     for (x0, y0, pixels, tile_rays) in tiles {
         let tile_width = (x0 + TILE_SIZE).min(width) - x0;
-        for (i, sum) in pixels.into_iter().enumerate() {
-            let (x, y) = (x0 + i as u32 % tile_width, y0 + i as u32 / tile_width);
-            film.add_sample(x, y, sum / settings.spp as f32, settings.spp as f32);
+        for (i, radiance) in pixels.into_iter().enumerate() {
+            film.add_samples(x0 + i as u32 % tile_width, y0 + i as u32 / tile_width, radiance, 1.0);
         }
         rays.add(&tile_rays);
     }
-    RenderOutput { film, rays, samples: width as u64 * height as u64 * settings.spp as u64, elapsed: start.elapsed() }
+    rays
 }
 
-/// Sum of the pixel's samples; the rays they traced are added to `rays`.
-fn render_pixel(
+/// One camera sample of pixel (x, y); the rays it traced are added to `rays`.
+#[allow(clippy::too_many_arguments)]
+fn render_sample(
     scene: &Scene,
     integrator: &dyn Integrator,
-    settings: &RenderSettings,
+    seed: u64,
+    sample: u32,
+    centre: bool,
     x: u32,
     y: u32,
     rays: &mut RayCounts,
 ) -> Rgb {
     let pixel_index = y as u64 * scene.camera.width as u64 + x as u64;
-    let mut sum = Rgb::ZERO;
-    for sample in 0..settings.spp {
-        let mut context = SampleContext::new(Rng::for_sample(settings.seed, pixel_index, sample as u64));
-        // One sample goes through the pixel centre; more are jittered over the pixel (box filter).
-        let (dx, dy) = if settings.spp == 1 { (0.5, 0.5) } else { (context.rng.next_f32(), context.rng.next_f32()) };
-        let ray = scene.camera.generate_ray(x as f32 + dx, y as f32 + dy);
-        let radiance = integrator.radiance(scene, &ray, &mut context);
-        sum += if radiance.is_finite() { radiance } else { Rgb::ZERO };
-        rays.add(&context.rays);
+    let mut context = SampleContext::new(Rng::for_sample(seed, pixel_index, sample as u64));
+    // Through the pixel centre for a single-sample render; otherwise jittered over the pixel
+    // (the box filter: every sample in the pixel's square weighs the same).
+    let (dx, dy) = if centre { (0.5, 0.5) } else { (context.rng.next_f32(), context.rng.next_f32()) };
+    let ray = scene.camera.generate_ray(x as f32 + dx, y as f32 + dy);
+    let radiance = integrator.radiance(scene, &ray, &mut context);
+    rays.add(&context.rays);
+    if radiance.is_finite() {
+        radiance
+    } else {
+        Rgb::ZERO
     }
-    sum
 }
