@@ -103,6 +103,7 @@ enum SphereArg {
 enum TriangleArg {
     Cramer,
     MollerTrumbore,
+    Watertight,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -372,6 +373,7 @@ fn apply_overrides(args: &RenderArgs, scene: &mut glint_core::scene::Scene) {
         m.triangle = match t {
             TriangleArg::Cramer => TriangleMethod::Cramer,
             TriangleArg::MollerTrumbore => TriangleMethod::MollerTrumbore,
+            TriangleArg::Watertight => TriangleMethod::Watertight,
         };
     }
     if let Some(p) = args.polygon_test {

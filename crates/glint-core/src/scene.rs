@@ -8,7 +8,9 @@ use crate::camera::Camera;
 use crate::geometry::{offset_ray_origin, transform_point_with_error, Aabb, Ray, Transform};
 use crate::lights::{AreaLights, Light};
 use crate::materials::Material;
-use crate::shapes::{moller_trumbore_edges, IntersectMethods, PrimHit, Shape, SurfaceGeometry, TriangleMethod};
+use crate::shapes::{
+    moller_trumbore_edges, IntersectMethods, PrimHit, Shape, SurfaceGeometry, TriangleMethod, WatertightRay,
+};
 use crate::textures::TextureQuery;
 use crate::Rgb;
 
@@ -110,16 +112,17 @@ pub struct Environment {
 /// Objects and the acceleration structure over them: the closest-hit and any-hit queries.
 ///
 /// Built once: a binned-SAH binary BVH, converted to a 4-wide BVH for traversal. Triangles
-/// without a transform (mesh triangles, plain triangles) are copied in leaf order as
-/// (v0, e1, e2), the form Möller–Trumbore wants, so a leaf test reads one contiguous record
-/// instead of chasing object → mesh → index → vertex.
+/// without a transform (mesh triangles, plain triangles) are copied in leaf order as their
+/// three vertices, so a leaf test reads one contiguous record instead of chasing object → mesh
+/// → index → vertex. (Vertices, not edges: the watertight test needs the exact vertices that
+/// neighbouring triangles share.)
 pub struct Geometry {
     pub objects: Vec<Object>,
     pub methods: IntersectMethods,
     /// Per BVH leaf slot: the object (with `TRIANGLE_FLAG` when `triangles` holds its data)
     /// and the primitive within it.
     prims: Vec<(u32, u32)>,
-    /// Per BVH leaf slot: (v0, e1, e2) for flagged triangles, unused otherwise.
+    /// Per BVH leaf slot: the vertices of flagged triangles, unused otherwise.
     triangles: Vec<[Vec3; 3]>,
     /// Primitives without bounds (planes), tested on every ray.
     unbounded: Vec<(u32, u32)>,
@@ -166,7 +169,7 @@ impl Geometry {
             match vertices {
                 Some([a, b, c]) => {
                     prims.push((o | TRIANGLE_FLAG, p));
-                    triangles.push([a, b - a, c - a]);
+                    triangles.push([a, b, c]);
                 }
                 None => {
                     prims.push((o, p));
@@ -222,16 +225,19 @@ impl Geometry {
         self.closest_primitive(&mut ray).map(|(id, hit)| self.surface_hit(id, &ray, &hit))
     }
 
-    /// Leaf slot `i` against the ray.
+    /// Leaf slot `i` against the ray (`prepared` is the ray set up for the watertight test).
     #[inline(always)]
-    fn intersect_slot(&self, i: u32, ray: &Ray) -> Option<PrimHit> {
+    fn intersect_slot(&self, i: u32, ray: &Ray, prepared: &WatertightRay) -> Option<PrimHit> {
         let (o, p) = self.prims[i as usize];
-        if o & TRIANGLE_FLAG != 0 && self.methods.triangle == TriangleMethod::MollerTrumbore {
-            let [v0, e1, e2] = self.triangles[i as usize];
-            moller_trumbore_edges(v0, e1, e2, ray)
-        } else {
-            self.objects[(o & !TRIANGLE_FLAG) as usize].intersect(p, ray, &self.methods)
+        if o & TRIANGLE_FLAG != 0 {
+            let [a, b, c] = self.triangles[i as usize];
+            match self.methods.triangle {
+                TriangleMethod::Watertight => return prepared.intersect(a, b, c, ray),
+                TriangleMethod::MollerTrumbore => return moller_trumbore_edges(a, b - a, c - a, ray),
+                TriangleMethod::Cramer => {}
+            }
         }
+        self.objects[(o & !TRIANGLE_FLAG) as usize].intersect(p, ray, &self.methods)
     }
 
     /// The nearest primitive and its distance, without building the surface record; `ray.t_max`
@@ -265,10 +271,11 @@ impl Geometry {
             }
         }
         let mut best_slot = None;
+        let prepared = WatertightRay::new(ray);
         self.bvh.closest_counted(
             ray,
             |i, ray| {
-                let h = self.intersect_slot(i, ray)?;
+                let h = self.intersect_slot(i, ray, &prepared)?;
                 best_slot = Some((i, h));
                 Some(h.t)
             },
@@ -283,8 +290,10 @@ impl Geometry {
 
     /// Whether anything lies along the ray within `(t_min, t_max)`; stops at the first hit.
     pub fn occluded(&self, ray: &Ray) -> bool {
-        self.unbounded.iter().any(|&(o, p)| self.objects[o as usize].intersect(p, ray, &self.methods).is_some())
-            || self.bvh.any(ray, |i, ray| self.intersect_slot(i, ray).is_some())
+        self.unbounded.iter().any(|&(o, p)| self.objects[o as usize].intersect(p, ray, &self.methods).is_some()) || {
+            let prepared = WatertightRay::new(ray);
+            self.bvh.any(ray, |i, ray| self.intersect_slot(i, ray, &prepared).is_some())
+        }
     }
 
     /// Closest hit by testing every primitive: the reference the BVH is checked against.

@@ -8,10 +8,13 @@ use common::{object, scene, TestRng};
 use glam::{Mat4, Quat};
 use glint_core::geometry::{Ray, Transform};
 use glint_core::scene::Scene;
-use glint_core::shapes::{AaBox, Plane, Polygon, Shape, Sphere, Triangle};
+use glint_core::shapes::{AaBox, Mesh, Plane, Polygon, Shape, Sphere, Triangle};
 use glint_core::Vec3;
 
-fn shapes(rng: &mut TestRng, scale: f32) -> (Vec3, Vec<(Shape, Option<Transform>, bool)>) {
+/// (shape, transform, convex, a point to aim at)
+type Case = (Shape, Option<Transform>, bool, Vec3);
+
+fn shapes(rng: &mut TestRng, scale: f32) -> Vec<Case> {
     let c = rng.vec3(-1.0, 1.0) * scale + Vec3::splat(3.0 * scale);
     let r = rng.range(0.2, 1.0) * scale;
     let tri = Triangle::new(c, c + rng.vec3(-1.0, 1.0) * scale, c + rng.vec3(-1.0, 1.0) * scale);
@@ -22,16 +25,22 @@ fn shapes(rng: &mut TestRng, scale: f32) -> (Vec3, Vec<(Shape, Option<Transform>
             * Mat4::from_quat(Quat::from_axis_angle(rng.vec3(-1.0, 1.0).normalize_or(Vec3::X), rng.range(0.0, 3.0)))
             * Mat4::from_scale(Vec3::new(1.0, 0.5, 2.0)),
     );
-    // (shape, transform, convex)
+    // The Cornell box's green wall: a large quad of two coplanar triangles in the plane x = 0
+    // exactly, so hit points have no error across the plane and spawned rays start on it.
+    let wall = [[0.0f32, 0.0, 559.2], [0.0, 0.0, 0.0], [0.0, 548.8, 0.0], [0.0, 548.8, 559.2]]
+        .map(|p| Vec3::from(p) * (scale / 300.0));
+    let wall_centre = Vec3::new(0.0, 274.4, 279.6) * (scale / 300.0);
+    let wall = Mesh { positions: wall.to_vec(), indices: vec![[0, 1, 2], [0, 2, 3]], ..Default::default() };
     let shapes = vec![
-        (Shape::Sphere(Sphere::new(c, r)), None, true),
-        (Shape::Sphere(Sphere::new(Vec3::ZERO, r)), ellipsoid, true),
-        (Shape::AaBox(AaBox::new(c - Vec3::splat(r), c + Vec3::splat(r))), None, true),
-        (Shape::Triangle(tri), None, false),
-        (Shape::Polygon(quad), None, false),
-        (Shape::Plane(Plane::through_point(s.cross(t), c)), None, false),
+        (Shape::Mesh(wall), None, false, wall_centre),
+        (Shape::Sphere(Sphere::new(c, r)), None, true, c),
+        (Shape::Sphere(Sphere::new(Vec3::ZERO, r)), ellipsoid, true, c),
+        (Shape::AaBox(AaBox::new(c - Vec3::splat(r), c + Vec3::splat(r))), None, true, c),
+        (Shape::Triangle(tri), None, false, c),
+        (Shape::Polygon(quad), None, false, c),
+        (Shape::Plane(Plane::through_point(s.cross(t), c)), None, false, c),
     ];
-    (c, shapes)
+    shapes
 }
 
 fn check(scene: &Scene, target: Vec3, rng: &mut TestRng, convex: bool, scale: f32) -> usize {
@@ -78,8 +87,7 @@ fn spawned_rays_never_rehit_their_surface_at_any_scale() {
     let mut rng = TestRng(99);
     for scale in [1e-3f32, 1.0, 1e3, 1e5] {
         for _ in 0..20 {
-            let (centre, shapes) = shapes(&mut rng, scale);
-            for (shape, transform, convex) in shapes {
+            for (shape, transform, convex, centre) in shapes(&mut rng, scale) {
                 let mut o = object(shape);
                 o.transform = transform;
                 let s = scene(vec![o]);

@@ -12,7 +12,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::triangle::{intersect_cramer, intersect_moller_trumbore, triangle_surface};
+use super::triangle::{intersect_cramer, intersect_moller_trumbore, triangle_surface, WatertightRay};
 use super::{PrimHit, SurfaceGeometry, TriangleMethod};
 use crate::geometry::{Aabb, Ray, Transform};
 
@@ -57,6 +57,7 @@ impl Mesh {
         match method {
             TriangleMethod::Cramer => intersect_cramer(a, b, c, ray),
             TriangleMethod::MollerTrumbore => intersect_moller_trumbore(a, b, c, ray),
+            TriangleMethod::Watertight => WatertightRay::new(ray).intersect(a, b, c, ray),
         }
     }
 

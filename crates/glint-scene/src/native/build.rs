@@ -62,6 +62,7 @@ pub(super) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         triangle: match file.intersection.triangle {
             TriangleMethodDesc::Cramer => TriangleMethod::Cramer,
             TriangleMethodDesc::MollerTrumbore => TriangleMethod::MollerTrumbore,
+            TriangleMethodDesc::Watertight => TriangleMethod::Watertight,
         },
         polygon: match file.intersection.polygon {
             PolygonTestDesc::Crossing => PolygonTest::Crossing,

@@ -138,8 +138,9 @@ pub enum SphereMethodDesc {
 #[serde(rename_all = "kebab-case")]
 pub enum TriangleMethodDesc {
     Cramer,
-    #[default]
     MollerTrumbore,
+    #[default]
+    Watertight,
 }
 
 #[derive(Deserialize, Debug, Default, Clone, Copy)]
