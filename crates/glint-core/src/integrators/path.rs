@@ -79,12 +79,8 @@ impl Integrator for PathTracer {
             eta_scale *= sample.eta_squared;
             previous = Some((hit.geometry.point, sample.pdf, sample.delta));
             depth += 1;
-            if depth >= self.rr_depth {
-                let survival = (throughput.max_element() * eta_scale).min(0.95);
-                if survival <= 0.0 || context.rng.next_f32() >= survival {
-                    break;
-                }
-                throughput /= survival;
+            if depth >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context) {
+                break;
             }
             if throughput == Rgb::ZERO {
                 break;
@@ -93,6 +89,18 @@ impl Integrator for PathTracer {
         }
         radiance
     }
+}
+
+/// Russian roulette (Mitsuba's rule): the path survives with probability
+/// min(max throughput · η², 0.95), and a survivor's throughput is divided by that probability,
+/// which keeps the estimate unbiased. Returns whether the path goes on.
+pub(super) fn russian_roulette(throughput: &mut Rgb, eta_scale: f32, context: &mut SampleContext) -> bool {
+    let survival = (throughput.max_element() * eta_scale).min(0.95);
+    if survival <= 0.0 || context.rng.next_f32() >= survival {
+        return false;
+    }
+    *throughput /= survival;
+    true
 }
 
 /// Next-event estimation at a hit: one area-light sample weighted against BSDF sampling, plus

@@ -7,6 +7,7 @@
 
 use glam::Vec2;
 
+use super::path::russian_roulette;
 use super::{Integrator, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
@@ -48,12 +49,8 @@ impl Integrator for NaivePathTracer {
             throughput *= sample.weight;
             eta_scale *= sample.eta_squared;
             depth += 1;
-            if depth >= self.rr_depth {
-                let survival = (throughput.max_element() * eta_scale).min(0.95);
-                if survival <= 0.0 || context.rng.next_f32() >= survival {
-                    break;
-                }
-                throughput /= survival;
+            if depth >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context) {
+                break;
             }
             ray = hit.spawn_ray(sample.wi);
         }
