@@ -4,6 +4,7 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
+use glint_core::filter::Filter;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
 use glint_core::render::{render_progressive, Progressive, RenderSettings, StopReason};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -52,6 +53,9 @@ pub struct RenderArgs {
     /// Worker threads (default: all cores).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: Option<u32>,
+    /// Pixel reconstruction filter (default: the scene's, else box).
+    #[arg(long, value_enum)]
+    filter: Option<FilterArg>,
     /// PNG exposure in stops (the image is multiplied by 2^exposure before sRGB encoding).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
@@ -91,6 +95,14 @@ enum IntegratorArg {
     BvhHeat,
     Path,
     PathNaive,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum FilterArg {
+    Box,
+    Tent,
+    Gaussian,
+    Mitchell,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -150,7 +162,15 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         None => options.integrator,
     };
     let integrator_settings = args.integrator_settings(&options.integrator_settings)?;
-    let mut settings = RenderSettings { spp: args.spp.unwrap_or(options.spp), seed: args.seed.unwrap_or(options.seed) };
+    let filter = match args.filter {
+        Some(FilterArg::Box) => Filter::Box,
+        Some(FilterArg::Tent) => Filter::Tent,
+        Some(FilterArg::Gaussian) => Filter::Gaussian,
+        Some(FilterArg::Mitchell) => Filter::Mitchell,
+        None => options.filter,
+    };
+    let mut settings =
+        RenderSettings { spp: args.spp.unwrap_or(options.spp), seed: args.seed.unwrap_or(options.seed), filter };
     let time_limit = match args.time {
         Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
         Some(t) => return Err(format!("--time must be a positive number of seconds, got {t}")),
@@ -166,8 +186,14 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     let fingerprint = checkpoint::fingerprint(&[
         &scene_text,
         integrator_kind.name().as_bytes(),
-        format!("{integrator_settings:?} {:?} {}x{}", scene.geometry.methods, scene.camera.width, scene.camera.height)
-            .as_bytes(),
+        format!(
+            "{integrator_settings:?} {:?} {}x{} {}",
+            scene.geometry.methods,
+            scene.camera.width,
+            scene.camera.height,
+            filter.name()
+        )
+        .as_bytes(),
     ]);
     let resume = match &args.resume {
         Some(path) => {

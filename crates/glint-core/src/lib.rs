@@ -8,6 +8,7 @@
 pub mod accel;
 pub mod camera;
 pub mod film;
+pub mod filter;
 pub mod geometry;
 pub mod integrators;
 pub mod lights;

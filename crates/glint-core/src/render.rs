@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 use rayon::prelude::*;
 
 use crate::film::Film;
+use crate::filter::Filter;
 use crate::integrators::{Integrator, RayCounts, SampleContext};
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -25,11 +26,12 @@ pub struct RenderSettings {
     /// Samples per pixel: 1 = through the pixel centre; more = jittered within the pixel.
     pub spp: u32,
     pub seed: u64,
+    pub filter: Filter,
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        Self { spp: 1, seed: 0 }
+        Self { spp: 1, seed: 0, filter: Filter::Box }
     }
 }
 
@@ -100,7 +102,8 @@ pub fn render_progressive(
             break;
         }
         let centre = settings.spp == 1 && progressive.time_limit.is_none();
-        rays.add(&render_pass(scene, integrator, settings.seed, spp_done, centre, &mut film, on_tile));
+        let pass = PassSettings { seed: settings.seed, sample: spp_done, centre, filter: settings.filter };
+        rays.add(&render_pass(scene, integrator, &pass, &mut film, on_tile));
         spp_done += 1;
         samples += width as u64 * height as u64;
         on_pass(&film, spp_done);
@@ -108,20 +111,30 @@ pub fn render_progressive(
     RenderOutput { film, rays, samples, spp_done, elapsed: start.elapsed(), stopped_early }
 }
 
-/// One sample per pixel, sample index `sample`, added to the film.
-fn render_pass(
-    scene: &Scene,
-    integrator: &dyn Integrator,
+/// A camera sample's film position (in pixels) and radiance.
+type FilmSample = (f32, f32, Rgb);
+
+struct PassSettings {
     seed: u64,
     sample: u32,
     centre: bool,
+    filter: Filter,
+}
+
+/// One sample per pixel, sample index `pass.sample`, added to the film: into its own pixel for
+/// the box filter, splatted to every pixel within the filter's radius otherwise. The splatting
+/// is serial, after the parallel tiles, so the image does not depend on the thread count.
+fn render_pass(
+    scene: &Scene,
+    integrator: &dyn Integrator,
+    pass: &PassSettings,
     film: &mut Film,
     on_tile: &(dyn Fn() + Sync),
 ) -> RayCounts {
     let (width, height) = (scene.camera.width, scene.camera.height);
     let tiles_x = width.div_ceil(TILE_SIZE);
     let tiles_y = height.div_ceil(TILE_SIZE);
-    let tiles: Vec<(u32, u32, Vec<Rgb>, RayCounts)> = (0..tiles_x * tiles_y)
+    let tiles: Vec<(u32, u32, Vec<FilmSample>, RayCounts)> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map(|tile| {
             let (x0, y0) = ((tile % tiles_x) * TILE_SIZE, (tile / tiles_x) * TILE_SIZE);
@@ -130,7 +143,7 @@ fn render_pass(
             let mut rays = RayCounts::default();
             for y in y0..y1 {
                 for x in x0..x1 {
-                    pixels.push(render_sample(scene, integrator, seed, sample, centre, x, y, &mut rays));
+                    pixels.push(render_sample(scene, integrator, pass, x, y, &mut rays));
                 }
             }
             on_tile();
@@ -140,37 +153,53 @@ fn render_pass(
     let mut rays = RayCounts::default();
     for (x0, y0, pixels, tile_rays) in tiles {
         let tile_width = (x0 + TILE_SIZE).min(width) - x0;
-        for (i, radiance) in pixels.into_iter().enumerate() {
-            film.add_samples(x0 + i as u32 % tile_width, y0 + i as u32 / tile_width, radiance, 1.0);
+        for (i, (fx, fy, radiance)) in pixels.into_iter().enumerate() {
+            if pass.filter == Filter::Box {
+                film.add_samples(x0 + i as u32 % tile_width, y0 + i as u32 / tile_width, radiance, 1.0);
+            } else {
+                splat(film, pass.filter, fx, fy, radiance);
+            }
         }
         rays.add(&tile_rays);
     }
     rays
 }
 
-/// One camera sample of pixel (x, y); the rays it traced are added to `rays`.
-#[allow(clippy::too_many_arguments)]
+/// Adds a sample at film position (fx, fy) to every pixel whose centre is within the radius.
+fn splat(film: &mut Film, filter: Filter, fx: f32, fy: f32, radiance: Rgb) {
+    let r = filter.radius();
+    let x0 = (fx - 0.5 - r).ceil().max(0.0) as u32;
+    let y0 = (fy - 0.5 - r).ceil().max(0.0) as u32;
+    let x1 = ((fx - 0.5 + r).floor() as i64).min(film.width as i64 - 1);
+    let y1 = ((fy - 0.5 + r).floor() as i64).min(film.height as i64 - 1);
+    for y in y0 as i64..=y1 {
+        for x in x0 as i64..=x1 {
+            let w = filter.weight(x as f32 + 0.5 - fx, y as f32 + 0.5 - fy);
+            if w != 0.0 {
+                film.add_samples(x as u32, y as u32, radiance * w, w);
+            }
+        }
+    }
+}
+
+/// One camera sample of pixel (x, y): its film position and radiance; the rays it traced are
+/// added to `rays`.
 fn render_sample(
     scene: &Scene,
     integrator: &dyn Integrator,
-    seed: u64,
-    sample: u32,
-    centre: bool,
+    pass: &PassSettings,
     x: u32,
     y: u32,
     rays: &mut RayCounts,
-) -> Rgb {
+) -> FilmSample {
     let pixel_index = y as u64 * scene.camera.width as u64 + x as u64;
-    let mut context = SampleContext::new(Rng::for_sample(seed, pixel_index, sample as u64));
+    let mut context = SampleContext::new(Rng::for_sample(pass.seed, pixel_index, pass.sample as u64));
     // Through the pixel centre for a single-sample render; otherwise jittered over the pixel
     // (the box filter: every sample in the pixel's square weighs the same).
-    let (dx, dy) = if centre { (0.5, 0.5) } else { (context.rng.next_f32(), context.rng.next_f32()) };
-    let ray = scene.camera.generate_ray(x as f32 + dx, y as f32 + dy);
+    let (dx, dy) = if pass.centre { (0.5, 0.5) } else { (context.rng.next_f32(), context.rng.next_f32()) };
+    let (fx, fy) = (x as f32 + dx, y as f32 + dy);
+    let ray = scene.camera.generate_ray(fx, fy);
     let radiance = integrator.radiance(scene, &ray, &mut context);
     rays.add(&context.rays);
-    if radiance.is_finite() {
-        radiance
-    } else {
-        Rgb::ZERO
-    }
+    (fx, fy, if radiance.is_finite() { radiance } else { Rgb::ZERO })
 }

@@ -38,7 +38,10 @@ fn every_path_integrator_matches_the_analytic_furnace() {
         for kind in [IntegratorKind::Path, IntegratorKind::PathNaive] {
             let settings = IntegratorSettings { max_depth: u32::MAX, rr_depth: 3, ..Default::default() };
             let integrator = kind.create(&settings);
-            let image = render(&s, integrator.as_ref(), &RenderSettings { spp: 64, seed: 3 }, &|| {}).film.to_rgb();
+            let image =
+                render(&s, integrator.as_ref(), &RenderSettings { spp: 64, seed: 3, ..Default::default() }, &|| {})
+                    .film
+                    .to_rgb();
             // Pixels are independent estimates of the same value: compare their mean with its
             // standard error.
             let values: Vec<f64> = image.iter().map(|p| p.x as f64).collect();

@@ -62,7 +62,7 @@ fn same_seed_same_image_at_any_thread_count() {
     let mut s = scene(vec![object(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)))]);
     s.lights = vec![Light::Directional(DirectionalLight { direction: Vec3::Z, intensity: Rgb::ONE })];
     s.camera = s.camera.with_resolution(40, 30);
-    let settings = RenderSettings { spp: 8, seed: 7 };
+    let settings = RenderSettings { spp: 8, seed: 7, ..Default::default() };
     let integrator = IntegratorKind::Raycast.create(&Default::default());
     let images: Vec<_> = [1, 2, 3]
         .iter()
@@ -73,6 +73,8 @@ fn same_seed_same_image_at_any_thread_count() {
         .collect();
     assert!(images.windows(2).all(|w| w[0] == w[1]));
     // A different seed moves the jittered samples: the silhouette pixels change.
-    let other = render(&s, integrator.as_ref(), &RenderSettings { spp: 8, seed: 8 }, &|| {}).film.to_rgb();
+    let other = render(&s, integrator.as_ref(), &RenderSettings { spp: 8, seed: 8, ..Default::default() }, &|| {})
+        .film
+        .to_rgb();
     assert_ne!(images[0], other);
 }

@@ -36,7 +36,9 @@ direction = [1, -1, 1]
 
 fn image(scene: &LoadedScene) -> Vec<glint_core::Rgb> {
     let integrator = IntegratorKind::Raycast.create(&Default::default());
-    render(&scene.scene, integrator.as_ref(), &RenderSettings { spp: 1, seed: 0 }, &|| {}).film.to_rgb()
+    render(&scene.scene, integrator.as_ref(), &RenderSettings { spp: 1, seed: 0, ..Default::default() }, &|| {})
+        .film
+        .to_rgb()
 }
 
 /// The same torus, as an instance and as a baked mesh, under the same transform: one image.

@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Quat, Vec2, Vec3};
 use glint_core::camera::Camera;
+use glint_core::filter::Filter;
 use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
 use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight, SpotLight};
@@ -222,7 +223,12 @@ fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneErro
         min_contribution: r.min_contribution,
         transparent_shadows: r.transparent_shadows,
     };
-    Ok(RenderOptions { spp: r.spp, integrator, seed: r.seed, integrator_settings })
+    let filter = Filter::from_name(&r.filter).ok_or_else(|| {
+        let names = Filter::ALL.map(Filter::name);
+        let hint = closest_name(&r.filter, names).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
+        cx.error_at_key("filter", format!("unknown filter `{}`, expected one of {}{hint}", r.filter, quoted(&names)))
+    })?;
+    Ok(RenderOptions { spp: r.spp, integrator, seed: r.seed, integrator_settings, filter })
 }
 
 fn build_light(cx: &Context, index: usize, light: &Located<LightDesc>) -> Result<Light, SceneError> {

@@ -6,6 +6,7 @@ mod schema;
 
 use std::path::Path;
 
+use glint_core::filter::Filter;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
 use glint_core::scene::Scene;
 
@@ -26,6 +27,7 @@ pub struct RenderOptions {
     pub integrator: IntegratorKind,
     pub seed: u64,
     pub integrator_settings: IntegratorSettings,
+    pub filter: Filter,
 }
 
 pub struct LoadedScene {

@@ -80,6 +80,8 @@ pub struct RenderDesc {
     pub min_contribution: f32,
     #[serde(default)]
     pub transparent_shadows: bool,
+    #[serde(default = "default_filter")]
+    pub filter: String,
 }
 
 impl Default for RenderDesc {
@@ -92,8 +94,13 @@ impl Default for RenderDesc {
             seed: 0,
             min_contribution: default_min_contribution(),
             transparent_shadows: false,
+            filter: default_filter(),
         }
     }
+}
+
+fn default_filter() -> String {
+    "box".into()
 }
 
 fn default_min_contribution() -> f32 {
