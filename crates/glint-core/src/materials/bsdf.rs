@@ -6,15 +6,16 @@
 //! returns wi with the weight f·|cos θ_i| / pdf, so the caller multiplies its throughput by it;
 //! `pdf(wo, wi)` is the solid-angle density of `sample` for the non-delta part.
 //!
-//! Lobes: Lambert diffuse k_d, mirror reflection k_r and smooth refraction k_t (with Fresnel
-//! splitting k_t as for Whitted). At each hit one lobe is chosen by roulette with probability
+//! Lobes: Lambert diffuse k_d, reflection k_r (a perfect mirror, or GGX microfacets when the
+//! material has a roughness, see `ggx.rs`) and smooth refraction k_t (with Fresnel splitting
+//! k_t as for Whitted; the Fresnel factor is taken at the macro-surface angle). At each hit one lobe is chosen by roulette with probability
 //! proportional to its weight: the course's mixed material (say 30 % mirror, 20 % refraction,
 //! 50 % diffuse), and exact importance sampling for a single-lobe material. Surfaces are
 //! two-sided: the shading frame is turned to the side `wo` is on.
 
 use glam::{Vec2, Vec3};
 
-use super::PhongPoint;
+use super::{Ggx, PhongPoint};
 use crate::geometry::{orthonormal_basis, reflect, refract};
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::Rgb;
@@ -45,6 +46,8 @@ pub struct Bsdf {
     transmission: Rgb,
     /// n_incident / n_transmitted for this side.
     eta: f32,
+    /// GGX for a rough reflection lobe; `None`: a perfect mirror.
+    glossy: Option<Ggx>,
     /// Lobe selection probabilities: diffuse, reflection, transmission (sum 1, or all 0).
     p_diffuse: f32,
     p_reflection: f32,
@@ -77,11 +80,14 @@ impl Bsdf {
         let (ld, lr, lt) = (luminance(diffuse), luminance(reflection), luminance(transmission));
         let total = ld + lr + lt;
         let (p_diffuse, p_reflection) = if total > 0.0 { (ld / total, lr / total) } else { (0.0, 0.0) };
+        let glossy =
+            (material.roughness > 0.0).then(|| Ggx { alpha: (material.roughness * material.roughness).max(1e-4) });
         Self {
             normal,
             tangent,
             bitangent,
             geometric,
+            glossy,
             diffuse,
             reflection,
             transmission,
@@ -94,27 +100,46 @@ impl Bsdf {
 
     /// Whether light sampling can contribute (a non-delta lobe exists).
     pub fn has_diffuse(&self) -> bool {
-        self.p_diffuse > 0.0
+        self.p_diffuse > 0.0 || (self.glossy.is_some() && self.p_reflection > 0.0)
     }
 
     fn local_coordinates(&self, w: Vec3) -> Vec3 {
         Vec3::new(w.dot(self.tangent), w.dot(self.bitangent), w.dot(self.normal))
     }
 
-    /// f·|cos θ_i| for the non-delta part: Lambert, on the viewer's side only.
-    pub fn eval(&self, _wo: Vec3, wi: Vec3) -> Rgb {
+    /// f·|cos θ_i| for the non-delta part (Lambert, rough reflection), on the viewer's side.
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         let cos = wi.dot(self.normal);
         if cos <= 0.0 || wi.dot(self.geometric) <= 0.0 {
             return Rgb::ZERO;
         }
-        self.diffuse * (cos * std::f32::consts::FRAC_1_PI)
+        let mut f = self.diffuse * (cos * std::f32::consts::FRAC_1_PI);
+        if let Some(ggx) = &self.glossy {
+            f += self.reflection * ggx.reflection_eval(self.local_coordinates(wo), self.local_coordinates(wi));
+        }
+        f
     }
 
-    pub fn pdf(&self, _wo: Vec3, wi: Vec3) -> f32 {
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wi.dot(self.geometric) <= 0.0 {
             return 0.0;
         }
-        self.p_diffuse * cosine_hemisphere_pdf(self.local_coordinates(wi))
+        let local = self.local_coordinates(wi);
+        let mut pdf = self.p_diffuse * cosine_hemisphere_pdf(local);
+        if let Some(ggx) = &self.glossy {
+            pdf += self.p_reflection * ggx.reflection_pdf(self.local_coordinates(wo), local);
+        }
+        pdf
+    }
+
+    /// A sample of a non-delta lobe, weighted by the whole non-delta BSDF over its whole pdf
+    /// (so diffuse and glossy samples are one consistent strategy for MIS).
+    fn non_delta_sample(&self, wo: Vec3, wi: Vec3) -> Option<BsdfSample> {
+        let pdf = self.pdf(wo, wi);
+        if pdf <= 0.0 || wi.dot(self.normal) <= 0.0 || wi.dot(self.geometric) <= 0.0 {
+            return None;
+        }
+        Some(BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, delta: false, eta_squared: 1.0 })
     }
 
     /// Chooses a lobe with `u_lobe`, then a direction with `u` (diffuse only).
@@ -122,14 +147,15 @@ impl Bsdf {
         if u_lobe < self.p_diffuse {
             let local = square_to_cosine_hemisphere(u);
             let wi = local.x * self.tangent + local.y * self.bitangent + local.z * self.normal;
-            if local.z <= 0.0 || wi.dot(self.geometric) <= 0.0 {
-                return None;
-            }
-            // f·cos/pdf = (k_d/π · cos) / (p_d · cos/π) = k_d / p_d.
-            let pdf = self.p_diffuse * cosine_hemisphere_pdf(local);
-            return Some(BsdfSample { wi, weight: self.diffuse / self.p_diffuse, pdf, delta: false, eta_squared: 1.0 });
+            // With diffuse alone: f·cos/pdf = (k_d/π · cos) / (p_d · cos/π) = k_d / p_d.
+            return self.non_delta_sample(wo, wi);
         }
         if u_lobe < self.p_diffuse + self.p_reflection {
+            if let Some(ggx) = &self.glossy {
+                let h = ggx.sample_visible_normal(self.local_coordinates(wo), u);
+                let h = h.x * self.tangent + h.y * self.bitangent + h.z * self.normal;
+                return self.non_delta_sample(wo, reflect(-wo, h));
+            }
             let wi = reflect(-wo, self.normal);
             return Some(BsdfSample {
                 wi,
@@ -212,6 +238,35 @@ mod tests {
         let diffuse = bsdf.sample(wo, 0.1, Vec2::new(0.3, 0.7)).unwrap();
         assert!(!diffuse.delta && (diffuse.weight - Rgb::ONE).abs().max_element() < 1e-6);
         // 0.5 / 0.5
+    }
+
+    /// Rough reflection mixed with diffuse: sampling matches the mixture pdf, and every
+    /// sample's weight is eval / pdf.
+    #[test]
+    fn rough_reflection_mixture_matches_its_pdf() {
+        let mut p = point(0.3, 0.5, 0.0);
+        p.roughness = 0.5;
+        let n = Vec3::new(0.1, -0.2, 1.0).normalize();
+        let wo = Vec3::new(0.5, 0.3, 0.8).normalize();
+        let bsdf = Bsdf::new(&p, wo, n, n);
+        assert!(bsdf.has_diffuse());
+        let mut rng = crate::sampling::Rng::new(9, 9);
+        let r = chi2_test(
+            |u| bsdf.sample(wo, rng.next_f32(), u).map(|s| s.wi),
+            |w| bsdf.pdf(wo, w) as f64,
+            500_000,
+            21,
+            41,
+            13,
+        );
+        assert!(r.p_value > 0.01 / 8.0, "p = {}", r.p_value);
+        for _ in 0..1000 {
+            let u = Vec2::new(rng.next_f32(), rng.next_f32());
+            if let Some(s) = bsdf.sample(wo, rng.next_f32(), u) {
+                let expected = bsdf.eval(wo, s.wi) / bsdf.pdf(wo, s.wi);
+                assert!(!s.delta && (s.weight - expected).abs().max_element() < 1e-4);
+            }
+        }
     }
 
     #[test]

@@ -6,9 +6,11 @@
 //! the viewer's side by the integrator.
 
 mod bsdf;
+mod ggx;
 mod phong;
 
 pub use bsdf::{Bsdf, BsdfSample};
+pub use ggx::Ggx;
 pub use phong::{fresnel_dielectric, fresnel_schlick, Fresnel, Phong, PhongPoint};
 
 use crate::textures::TextureQuery;

@@ -48,6 +48,9 @@ pub struct Phong {
     pub transmission: Texture,
     pub ior: f32,
     pub fresnel: Fresnel,
+    /// Roughness of the reflection lobe for the path tracers (0 = perfect mirror; GGX with
+    /// α = roughness² otherwise). Whitted always reflects as a perfect mirror.
+    pub roughness: f32,
     /// Emitted radiance (an area light on whatever shape wears the material).
     pub emission: Rgb,
     /// Emit from both sides (default: only the side the geometric normal points to).
@@ -65,6 +68,7 @@ impl Default for Phong {
             transmission: Texture::Constant(Rgb::ZERO),
             ior: 1.5,
             fresnel: Fresnel::None,
+            roughness: 0.0,
             emission: Rgb::ZERO,
             two_sided_emission: false,
         }
@@ -84,6 +88,7 @@ impl Phong {
             transmission: self.transmission.evaluate(query),
             ior: self.ior,
             fresnel: self.fresnel,
+            roughness: self.roughness,
             emission: self.emission,
             two_sided_emission: self.two_sided_emission,
         }
@@ -101,6 +106,7 @@ pub struct PhongPoint {
     pub transmission: Rgb,
     pub ior: f32,
     pub fresnel: Fresnel,
+    pub roughness: f32,
     pub emission: Rgb,
     pub two_sided_emission: bool,
 }

@@ -111,10 +111,17 @@ pub(super) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
                 transmission,
                 ior,
                 fresnel,
+                roughness,
                 emission,
                 two_sided_emission,
             } => {
                 let mut phong = Phong::default();
+                if let Some(r) = roughness {
+                    if !(0.0..=1.0).contains(r) {
+                        return Err(at("roughness", format!("`roughness` must be between 0 and 1, got {r}")));
+                    }
+                    phong.roughness = *r;
+                }
                 if let Some(e) = emission {
                     phong.emission = non_negative(*e).map_err(|m| at("emission", m))?;
                 }

@@ -188,6 +188,7 @@ pub enum MaterialDesc {
         ior: Option<f32>,
         #[serde(default)]
         fresnel: FresnelDesc,
+        roughness: Option<f32>,
         emission: Option<Vector>,
         #[serde(default)]
         two_sided_emission: bool,
