@@ -54,10 +54,6 @@ impl Camera {
         let sy = (1.0 - 2.0 * film_y / self.height as f32) * self.tan_half_fov;
         Ray::new(self.position, (self.forward + sx * self.right + sy * self.up).normalize())
     }
-
-    pub fn forward(&self) -> Vec3 {
-        self.forward
-    }
 }
 
 #[cfg(test)]

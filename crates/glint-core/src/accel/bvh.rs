@@ -17,6 +17,9 @@ const MAX_LEAF_SIZE: usize = 8;
 const TRAVERSAL_COST_SMALL: f32 = 1.0;
 const TRAVERSAL_COST_LARGE: f32 = 2.0;
 const LARGE: usize = 1 << 16;
+/// The SAH cost in `BvhStats` counts a traversal step as one primitive test, whatever cost the
+/// build used, so costs of different trees compare.
+const REPORTED_TRAVERSAL_COST: f32 = 1.0;
 /// Below this depth the SAH chooses splits; deeper, subtrees split at the median, so the tree's
 /// depth stays under SAH_DEPTH + log2(n) and the fixed traversal stacks cannot overflow.
 const SAH_DEPTH: usize = 40;
@@ -43,7 +46,8 @@ pub struct BvhStats {
     pub nodes: usize,
     pub leaves: usize,
     pub depth: usize,
-    /// SAH cost of the tree (traversal steps + primitive tests, expected per random ray).
+    /// SAH cost of the tree (traversal steps + primitive tests, expected per random ray), with
+    /// a traversal step counted as one primitive test.
     pub sah_cost: f32,
     /// Memory of the traversal structures in bytes.
     pub bytes: usize,
@@ -180,7 +184,7 @@ impl Bvh {
                 stats.leaves += 1;
                 stats.sah_cost += area * n.count as f32;
             } else {
-                stats.sah_cost += area * TRAVERSAL_COST_SMALL;
+                stats.sah_cost += area * REPORTED_TRAVERSAL_COST;
                 stack.push((n.first as usize, depth + 1));
                 stack.push((n.first as usize + 1, depth + 1));
             }

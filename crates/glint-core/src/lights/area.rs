@@ -123,10 +123,6 @@ impl AreaLights {
         self.emitters.is_empty()
     }
 
-    pub fn len(&self) -> usize {
-        self.emitters.len()
-    }
-
     fn selection_probability(&self, i: usize) -> f32 {
         self.cdf[i] - if i == 0 { 0.0 } else { self.cdf[i - 1] }
     }

@@ -48,14 +48,6 @@ impl Texture {
             Texture::Wood(t) => t.evaluate(query.point),
         }
     }
-
-    /// The constant colour, if the texture is one.
-    pub fn as_constant(&self) -> Option<Rgb> {
-        match self {
-            Texture::Constant(c) => Some(*c),
-            _ => None,
-        }
-    }
 }
 
 impl From<Rgb> for Texture {
