@@ -147,8 +147,16 @@ impl Bsdf {
         if u_lobe < self.p_diffuse {
             let local = square_to_cosine_hemisphere(u);
             let wi = local.x * self.tangent + local.y * self.bitangent + local.z * self.normal;
-            // With diffuse alone: f·cos/pdf = (k_d/π · cos) / (p_d · cos/π) = k_d / p_d.
-            return self.non_delta_sample(wo, wi);
+            if self.glossy.is_some() {
+                return self.non_delta_sample(wo, wi);
+            }
+            // Diffuse the only non-delta lobe: f·cos/pdf = (k_d/π · cos) / (p_d · cos/π) = k_d / p_d,
+            // without evaluating the whole BSDF (the hot path of every diffuse bounce).
+            if local.z <= 0.0 || wi.dot(self.geometric) <= 0.0 {
+                return None;
+            }
+            let pdf = self.p_diffuse * cosine_hemisphere_pdf(local);
+            return Some(BsdfSample { wi, weight: self.diffuse / self.p_diffuse, pdf, delta: false, eta_squared: 1.0 });
         }
         if u_lobe < self.p_diffuse + self.p_reflection {
             if let Some(ggx) = &self.glossy {
