@@ -86,6 +86,27 @@ pub struct RenderArgs {
     /// uninterrupted render gives.
     #[arg(long)]
     resume: Option<PathBuf>,
+    /// Photon mapping: photons stored in the global map.
+    #[arg(long)]
+    photons: Option<u32>,
+    /// Photon mapping: photons stored in the caustic map.
+    #[arg(long)]
+    caustic_photons: Option<u32>,
+    /// Photon mapping: photons per radiance estimate (k nearest).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    photon_nearest: Option<u32>,
+    /// Photon mapping: largest search radius (0: 5 % of the scene's diagonal).
+    #[arg(long)]
+    photon_radius: Option<f32>,
+    /// Photon mapping: final-gather rays per camera sample (0: no indirect light but caustics).
+    #[arg(long)]
+    final_gather: Option<u32>,
+    /// SPPM: first search radius (0: three pixel footprints).
+    #[arg(long)]
+    sppm_radius: Option<f32>,
+    /// SPPM: photons per pass (0: as many as the image has pixels).
+    #[arg(long)]
+    photons_per_pass: Option<u32>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -95,6 +116,9 @@ enum IntegratorArg {
     BvhHeat,
     Path,
     PathNaive,
+    Light,
+    Photon,
+    Sppm,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -159,6 +183,9 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         Some(IntegratorArg::BvhHeat) => IntegratorKind::BvhHeat,
         Some(IntegratorArg::Path) => IntegratorKind::Path,
         Some(IntegratorArg::PathNaive) => IntegratorKind::PathNaive,
+        Some(IntegratorArg::Light) => IntegratorKind::Light,
+        Some(IntegratorArg::Photon) => IntegratorKind::Photon,
+        Some(IntegratorArg::Sppm) => IntegratorKind::Sppm,
         None => options.integrator,
     };
     let integrator_settings = args.integrator_settings(&options.integrator_settings)?;
@@ -250,7 +277,17 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         .expect("the template is valid")
         .progress_chars("=> "),
     );
-    let integrator = integrator_kind.create(&integrator_settings);
+    let started = Instant::now();
+    let mut renderer = pool.install(|| integrator_kind.renderer(&integrator_settings, &scene, settings.seed))?;
+    if integrator_kind == IntegratorKind::Photon && !args.quiet {
+        eprintln!("photon maps built in {:.2} s", started.elapsed().as_secs_f64());
+    }
+    if !renderer.resumable() && (args.checkpoint.is_some() || args.resume.is_some()) {
+        return Err(format!(
+            "--checkpoint and --resume are not available with --integrator {}: its per-pixel state is more than the image (Ctrl-C and --time still keep everything rendered)",
+            integrator_kind.name()
+        ));
+    }
     let progressive = Progressive { settings, time_limit };
     let mut last_checkpoint = Instant::now();
     let mut checkpoint_error = None;
@@ -265,7 +302,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         }
     };
     let result = pool.install(|| {
-        render_progressive(&scene, integrator.as_ref(), &progressive, resume, &stop, &|| progress.inc(1), &mut on_pass)
+        render_progressive(&scene, renderer.as_mut(), &progressive, resume, &stop, &|| progress.inc(1), &mut on_pass)
     });
     progress.finish_and_clear();
     if let Some(e) = checkpoint_error {
@@ -370,6 +407,19 @@ impl RenderArgs {
             s.min_contribution = c;
         }
         s.transparent_shadows |= self.transparent_shadows;
+        for (flag, value) in [("--photon-radius", self.photon_radius), ("--sppm-radius", self.sppm_radius)] {
+            if value.is_some_and(|v| !(v.is_finite() && v >= 0.0)) {
+                return Err(format!("{flag} must be a length ≥ 0 (0: automatic), got {}", value.unwrap_or_default()));
+            }
+        }
+        let p = &mut s.photon;
+        p.global_photons = self.photons.unwrap_or(p.global_photons);
+        p.caustic_photons = self.caustic_photons.unwrap_or(p.caustic_photons);
+        p.nearest = self.photon_nearest.unwrap_or(p.nearest);
+        p.max_radius = self.photon_radius.unwrap_or(p.max_radius);
+        p.final_gather = self.final_gather.unwrap_or(p.final_gather);
+        s.sppm_radius = self.sppm_radius.unwrap_or(s.sppm_radius);
+        s.photons_per_pass = self.photons_per_pass.unwrap_or(s.photons_per_pass);
         Ok(s)
     }
 }

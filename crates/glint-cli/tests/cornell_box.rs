@@ -55,7 +55,7 @@ fn render_with_variance(kind: IntegratorKind, seed: u64, spp: u32) -> (Vec<Rgb>,
     let loaded = glint_scene::load_scene(&scene_path).expect("the Cornell box loads");
     let mut scene = loaded.scene;
     scene.camera = scene.camera.with_resolution(SIZE, SIZE);
-    let integrator = kind.create(&loaded.render.integrator_settings);
+    let integrator = kind.create(&loaded.render.integrator_settings).expect("a camera integrator");
     (0..SIZE * SIZE)
         .into_par_iter()
         .map(|i| {

@@ -56,6 +56,42 @@ impl Camera {
     }
 }
 
+/// Where a point is seen on the film, for light tracing's connections to the camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Projection {
+    pub film_x: f32,
+    pub film_y: f32,
+    /// The pinhole's importance toward the point, converted to the point's area measure:
+    /// 1 / (A · cos³θ · d²), with A the image's area on the plane at distance 1 and θ the angle
+    /// off the optical axis. A point's contribution to the mean over the image of its pixel is
+    /// (pixel count) · (radiance toward the camera · |cos at the point|) · this.
+    pub importance: f32,
+}
+
+impl Camera {
+    /// The film position of `point` and the camera's importance toward it; `None` if it is
+    /// behind the camera or outside the image.
+    pub fn project(&self, point: Vec3) -> Option<Projection> {
+        let d = point - self.position;
+        let depth = d.dot(self.forward);
+        if depth <= 0.0 {
+            return None;
+        }
+        let aspect = self.width as f32 / self.height as f32;
+        let sx = d.dot(self.right) / depth;
+        let sy = d.dot(self.up) / depth;
+        let film_x = (sx / (self.tan_half_fov * aspect) + 1.0) * 0.5 * self.width as f32;
+        let film_y = (1.0 - sy / self.tan_half_fov) * 0.5 * self.height as f32;
+        if !(0.0..self.width as f32).contains(&film_x) || !(0.0..self.height as f32).contains(&film_y) {
+            return None;
+        }
+        let distance_squared = d.length_squared();
+        let cos = depth / distance_squared.sqrt();
+        let image_area = 4.0 * self.tan_half_fov * self.tan_half_fov * aspect;
+        Some(Projection { film_x, film_y, importance: 1.0 / (image_area * cos * cos * cos * distance_squared) })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -69,6 +105,42 @@ mod tests {
         assert!((top - Vec3::new(0.0, 1.0, 1.0).normalize()).length() < 1e-6);
         let right = cam.generate_ray(200.0, 50.0).direction;
         assert!((right - Vec3::new(-2.0, 0.0, 1.0).normalize()).length() < 1e-6);
+    }
+
+    #[test]
+    fn projection_inverts_generate_ray() {
+        let cam = Camera::new(Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.0, 1.5, 0.0), Vec3::Y, 50.0, 64, 48).unwrap();
+        for (fx, fy) in [(0.5, 0.5), (32.0, 24.0), (63.2, 47.9), (10.25, 40.75)] {
+            let ray = cam.generate_ray(fx, fy);
+            let p = cam.project(ray.at(7.0)).unwrap();
+            assert!((p.film_x - fx).abs() < 1e-3 && (p.film_y - fy).abs() < 1e-3, "{fx},{fy} -> {p:?}");
+        }
+        assert!(cam.project(cam.position - (Vec3::new(0.0, 1.5, 0.0) - cam.position)).is_none());
+    }
+
+    #[test]
+    fn importance_integrates_to_the_pixel_count_over_a_plane() {
+        // A plane facing the camera at distance 2, wider than the view: the importance times
+        // |cos| over it is the fraction of the image it covers, 1 here.
+        let cam = Camera::new(Vec3::ZERO, Vec3::Z, Vec3::Y, 60.0, 40, 30).unwrap();
+        let n = 400;
+        let half = 4.0;
+        let cell = (2.0 * half / n as f32).powi(2);
+        let mut total = 0.0f64;
+        for i in 0..n {
+            for j in 0..n {
+                let p = Vec3::new(
+                    -half + (i as f32 + 0.5) * 2.0 * half / n as f32,
+                    -half + (j as f32 + 0.5) * 2.0 * half / n as f32,
+                    2.0,
+                );
+                if let Some(proj) = cam.project(p) {
+                    let cos = p.normalize().z;
+                    total += (proj.importance * cos * cell) as f64;
+                }
+            }
+        }
+        assert!((total - 1.0).abs() < 0.01, "{total}");
     }
 
     #[test]

@@ -25,6 +25,16 @@ impl Film {
         self.weight[i] += count;
     }
 
+    /// Adds radiance to a pixel's sum without adding weight (light tracing's splats; the
+    /// pass adds its weight to every pixel with `add_weight_everywhere`).
+    pub fn add_splat(&mut self, x: u32, y: u32, radiance: Rgb) {
+        self.sum[(y * self.width + x) as usize] += radiance;
+    }
+
+    pub fn add_weight_everywhere(&mut self, weight: f32) {
+        self.weight.iter_mut().for_each(|w| *w += weight);
+    }
+
     /// The raw accumulators (for checkpoints): per-pixel radiance sums and weights.
     pub fn accumulators(&self) -> (&[Rgb], &[f32]) {
         (&self.sum, &self.weight)

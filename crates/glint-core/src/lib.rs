@@ -13,6 +13,7 @@ pub mod geometry;
 pub mod integrators;
 pub mod lights;
 pub mod materials;
+pub mod photons;
 pub mod render;
 pub mod sampling;
 pub mod scene;

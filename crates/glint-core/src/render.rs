@@ -62,6 +62,38 @@ pub enum StopReason {
     Interrupted,
 }
 
+/// What a progressive render repeats: a pass adds one more estimate of every pixel to the
+/// film. Camera integrators take one camera sample per pixel (`CameraPasses`); the particle
+/// integrators (light tracing, SPPM) trace as many light paths as the image has pixels.
+pub trait PassRenderer {
+    /// Renders pass `pass.index`; calls `on_tile` once per image tile's worth of work.
+    fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts;
+
+    /// Whether the film alone holds the render's state, so that a checkpoint of it can be
+    /// resumed (false for SPPM, whose per-pixel radii and photon counts live elsewhere).
+    fn resumable(&self) -> bool {
+        true
+    }
+}
+
+/// A camera integrator's passes: one sample per pixel.
+pub struct CameraPasses<'a>(pub &'a dyn Integrator);
+
+impl PassRenderer for CameraPasses<'_> {
+    fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
+        camera_pass(scene, self.0, pass, film, on_tile)
+    }
+}
+
+/// A camera integrator owned by its passes (one made for a scene, as photon mapping is).
+pub struct OwnedCameraPasses(pub Box<dyn Integrator>);
+
+impl PassRenderer for OwnedCameraPasses {
+    fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
+        camera_pass(scene, self.0.as_ref(), pass, film, on_tile)
+    }
+}
+
 /// Renders the scene's camera view in one go. `on_tile` is called per finished tile.
 pub fn render(
     scene: &Scene,
@@ -69,8 +101,18 @@ pub fn render(
     settings: &RenderSettings,
     on_tile: &(dyn Fn() + Sync),
 ) -> RenderOutput {
+    render_with(scene, &mut CameraPasses(integrator), settings, on_tile)
+}
+
+/// `render` for any pass renderer.
+pub fn render_with(
+    scene: &Scene,
+    renderer: &mut dyn PassRenderer,
+    settings: &RenderSettings,
+    on_tile: &(dyn Fn() + Sync),
+) -> RenderOutput {
     let progressive = Progressive { settings: *settings, time_limit: None };
-    render_progressive(scene, integrator, &progressive, None, &AtomicBool::new(false), on_tile, &mut |_, _| {})
+    render_progressive(scene, renderer, &progressive, None, &AtomicBool::new(false), on_tile, &mut |_, _| {})
 }
 
 /// Renders in passes of one sample per pixel (all samples in one pass at 1 spp, the pixel
@@ -78,7 +120,7 @@ pub fn render(
 /// between passes; `on_pass(film, spp_done)` is called after every pass (to save checkpoints).
 pub fn render_progressive(
     scene: &Scene,
-    integrator: &dyn Integrator,
+    renderer: &mut dyn PassRenderer,
     progressive: &Progressive,
     resume: Option<(Film, u32)>,
     stop: &AtomicBool,
@@ -102,8 +144,8 @@ pub fn render_progressive(
             break;
         }
         let centre = settings.spp == 1 && progressive.time_limit.is_none();
-        let pass = PassSettings { seed: settings.seed, sample: spp_done, centre, filter: settings.filter };
-        rays.add(&render_pass(scene, integrator, &pass, &mut film, on_tile));
+        let pass = Pass { seed: settings.seed, index: spp_done, centre, filter: settings.filter };
+        rays.add(&renderer.render_pass(scene, &pass, &mut film, on_tile));
         spp_done += 1;
         samples += width as u64 * height as u64;
         on_pass(&film, spp_done);
@@ -114,31 +156,42 @@ pub fn render_progressive(
 /// A camera sample's film position (in pixels) and radiance.
 type FilmSample = (f32, f32, Rgb);
 
-struct PassSettings {
-    seed: u64,
-    sample: u32,
-    centre: bool,
-    filter: Filter,
+/// One pass of a progressive render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Pass {
+    pub seed: u64,
+    /// Passes done before this one (the sample index of camera samples).
+    pub index: u32,
+    /// Camera samples through pixel centres (a single-sample render) rather than jittered.
+    pub centre: bool,
+    pub filter: Filter,
 }
 
-/// One sample per pixel, sample index `pass.sample`, added to the film: into its own pixel for
+/// The image tiles, as (x0, y0, x1, y1): the unit of parallel work of every pass.
+pub fn tiles(width: u32, height: u32) -> Vec<(u32, u32, u32, u32)> {
+    let (tiles_x, tiles_y) = (width.div_ceil(TILE_SIZE), height.div_ceil(TILE_SIZE));
+    (0..tiles_x * tiles_y)
+        .map(|tile| {
+            let (x0, y0) = ((tile % tiles_x) * TILE_SIZE, (tile / tiles_x) * TILE_SIZE);
+            (x0, y0, (x0 + TILE_SIZE).min(width), (y0 + TILE_SIZE).min(height))
+        })
+        .collect()
+}
+
+/// One sample per pixel, sample index `pass.index`, added to the film: into its own pixel for
 /// the box filter, splatted to every pixel within the filter's radius otherwise. The splatting
 /// is serial, after the parallel tiles, so the image does not depend on the thread count.
-fn render_pass(
+fn camera_pass(
     scene: &Scene,
     integrator: &dyn Integrator,
-    pass: &PassSettings,
+    pass: &Pass,
     film: &mut Film,
     on_tile: &(dyn Fn() + Sync),
 ) -> RayCounts {
     let (width, height) = (scene.camera.width, scene.camera.height);
-    let tiles_x = width.div_ceil(TILE_SIZE);
-    let tiles_y = height.div_ceil(TILE_SIZE);
-    let tiles: Vec<(u32, u32, Vec<FilmSample>, RayCounts)> = (0..tiles_x * tiles_y)
+    let tiles: Vec<(u32, u32, Vec<FilmSample>, RayCounts)> = tiles(width, height)
         .into_par_iter()
-        .map(|tile| {
-            let (x0, y0) = ((tile % tiles_x) * TILE_SIZE, (tile / tiles_x) * TILE_SIZE);
-            let (x1, y1) = ((x0 + TILE_SIZE).min(width), (y0 + TILE_SIZE).min(height));
+        .map(|(x0, y0, x1, y1)| {
             let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
             let mut rays = RayCounts::default();
             for y in y0..y1 {
@@ -166,7 +219,7 @@ fn render_pass(
 }
 
 /// Adds a sample at film position (fx, fy) to every pixel whose centre is within the radius.
-fn splat(film: &mut Film, filter: Filter, fx: f32, fy: f32, radiance: Rgb) {
+pub fn splat(film: &mut Film, filter: Filter, fx: f32, fy: f32, radiance: Rgb) {
     let r = filter.radius();
     let x0 = (fx - 0.5 - r).ceil().max(0.0) as u32;
     let y0 = (fy - 0.5 - r).ceil().max(0.0) as u32;
@@ -187,13 +240,13 @@ fn splat(film: &mut Film, filter: Filter, fx: f32, fy: f32, radiance: Rgb) {
 fn render_sample(
     scene: &Scene,
     integrator: &dyn Integrator,
-    pass: &PassSettings,
+    pass: &Pass,
     x: u32,
     y: u32,
     rays: &mut RayCounts,
 ) -> FilmSample {
     let pixel_index = y as u64 * scene.camera.width as u64 + x as u64;
-    let mut context = SampleContext::new(Rng::for_sample(pass.seed, pixel_index, pass.sample as u64));
+    let mut context = SampleContext::new(Rng::for_sample(pass.seed, pixel_index, pass.index as u64));
     // Through the pixel centre for a single-sample render; otherwise jittered over the pixel
     // (the box filter: every sample in the pixel's square weighs the same).
     let (dx, dy) = if pass.centre { (0.5, 0.5) } else { (context.rng.next_f32(), context.rng.next_f32()) };

@@ -37,7 +37,7 @@ fn every_path_integrator_matches_the_analytic_furnace() {
         let expected = emission / (1.0 - albedo);
         for kind in [IntegratorKind::Path, IntegratorKind::PathNaive] {
             let settings = IntegratorSettings { max_depth: u32::MAX, rr_depth: 3, ..Default::default() };
-            let integrator = kind.create(&settings);
+            let integrator = kind.create(&settings).expect("a camera integrator");
             let image =
                 render(&s, integrator.as_ref(), &RenderSettings { spp: 64, seed: 3, ..Default::default() }, &|| {})
                     .film

@@ -63,7 +63,7 @@ fn same_seed_same_image_at_any_thread_count() {
     s.lights = vec![Light::Directional(DirectionalLight { direction: Vec3::Z, intensity: Rgb::ONE })];
     s.camera = s.camera.with_resolution(40, 30);
     let settings = RenderSettings { spp: 8, seed: 7, ..Default::default() };
-    let integrator = IntegratorKind::Raycast.create(&Default::default());
+    let integrator = IntegratorKind::Raycast.create(&Default::default()).expect("a camera integrator");
     let images: Vec<_> = [1, 2, 3]
         .iter()
         .map(|&threads| {

@@ -35,7 +35,7 @@ direction = [1, -1, 1]
 "#;
 
 fn image(scene: &LoadedScene) -> Vec<glint_core::Rgb> {
-    let integrator = IntegratorKind::Raycast.create(&Default::default());
+    let integrator = IntegratorKind::Raycast.create(&Default::default()).expect("a camera integrator");
     render(&scene.scene, integrator.as_ref(), &RenderSettings { spp: 1, seed: 0, ..Default::default() }, &|| {})
         .film
         .to_rgb()

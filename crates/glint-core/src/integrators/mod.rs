@@ -2,17 +2,26 @@
 //! called once per render and reach the scene only through its query interface.
 
 mod bvh_heat;
+mod light;
+mod particle;
 mod path;
 mod path_naive;
+mod photon_mapping;
 mod raycast;
 pub mod recorder;
+mod sppm;
 mod whitted;
 
 pub use bvh_heat::{heat_colour, BvhHeat};
+pub use light::LightTracer;
 pub use path::{power_heuristic, PathTracer};
 pub use path_naive::NaivePathTracer;
+pub use photon_mapping::{PhotonMapper, PhotonSettings};
 pub use raycast::Raycast;
+pub use sppm::Sppm;
 pub use whitted::Whitted;
+
+use crate::render::{OwnedCameraPasses, PassRenderer};
 
 use crate::geometry::Ray;
 use crate::sampling::Rng;
@@ -38,11 +47,13 @@ pub struct RayCounts {
     pub shadow: u64,
     pub reflection: u64,
     pub refraction: u64,
+    /// Rays traced from lights (light tracing, photons).
+    pub light: u64,
 }
 
 impl RayCounts {
     pub fn total(&self) -> u64 {
-        self.camera + self.shadow + self.reflection + self.refraction
+        self.camera + self.shadow + self.reflection + self.refraction + self.light
     }
 
     pub fn add(&mut self, other: &RayCounts) {
@@ -50,11 +61,12 @@ impl RayCounts {
         self.shadow += other.shadow;
         self.reflection += other.reflection;
         self.refraction += other.refraction;
+        self.light += other.light;
     }
 }
 
 /// An integrator that estimates the radiance arriving along one camera ray.
-pub trait Integrator: Sync {
+pub trait Integrator: Send + Sync {
     fn radiance(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Rgb;
 }
 
@@ -67,6 +79,9 @@ pub enum IntegratorKind {
     BvhHeat,
     Path,
     PathNaive,
+    Light,
+    Photon,
+    Sppm,
 }
 
 /// Settings that integrators read (each uses the ones that apply to it).
@@ -80,21 +95,38 @@ pub struct IntegratorSettings {
     pub transparent_shadows: bool,
     /// Path tracers: Russian roulette starts after this many bounces.
     pub rr_depth: u32,
+    /// Photon mapping: map sizes, estimate size and radius, final gathering.
+    pub photon: PhotonSettings,
+    /// SPPM: the first search radius (0: three pixel footprints at the visible point).
+    pub sppm_radius: f32,
+    /// SPPM: photons per pass (0: as many as the image has pixels).
+    pub photons_per_pass: u32,
 }
 
 impl Default for IntegratorSettings {
     fn default() -> Self {
-        Self { max_depth: 5, min_contribution: 1e-3, transparent_shadows: false, rr_depth: 5 }
+        Self {
+            max_depth: 5,
+            min_contribution: 1e-3,
+            transparent_shadows: false,
+            rr_depth: 5,
+            photon: PhotonSettings::default(),
+            sppm_radius: 0.0,
+            photons_per_pass: 0,
+        }
     }
 }
 
 impl IntegratorKind {
-    pub const ALL: [IntegratorKind; 5] = [
+    pub const ALL: [IntegratorKind; 8] = [
         IntegratorKind::Raycast,
         IntegratorKind::Whitted,
         IntegratorKind::BvhHeat,
         IntegratorKind::Path,
         IntegratorKind::PathNaive,
+        IntegratorKind::Light,
+        IntegratorKind::Photon,
+        IntegratorKind::Sppm,
     ];
 
     pub fn name(self) -> &'static str {
@@ -104,15 +136,25 @@ impl IntegratorKind {
             IntegratorKind::BvhHeat => "bvh-heat",
             IntegratorKind::Path => "path",
             IntegratorKind::PathNaive => "path-naive",
+            IntegratorKind::Light => "light",
+            IntegratorKind::Photon => "photon",
+            IntegratorKind::Sppm => "sppm",
         }
+    }
+
+    /// Whether it follows light from the lights (and so needs physical lights).
+    pub fn traces_particles(self) -> bool {
+        matches!(self, IntegratorKind::Light | IntegratorKind::Photon | IntegratorKind::Sppm)
     }
 
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|k| k.name() == name)
     }
 
-    pub fn create(self, settings: &IntegratorSettings) -> Box<dyn Integrator> {
-        match self {
+    /// The integrator, for those that need nothing but the camera ray (`None` for those that
+    /// must first look at the scene: use `renderer`).
+    pub fn create(self, settings: &IntegratorSettings) -> Option<Box<dyn Integrator>> {
+        Some(match self {
             IntegratorKind::Raycast => Box::new(Raycast),
             IntegratorKind::BvhHeat => Box::new(BvhHeat),
             IntegratorKind::Path => Box::new(PathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth }),
@@ -124,6 +166,31 @@ impl IntegratorKind {
                 min_contribution: settings.min_contribution,
                 transparent_shadows: settings.transparent_shadows,
             }),
-        }
+            IntegratorKind::Light | IntegratorKind::Photon | IntegratorKind::Sppm => return None,
+        })
+    }
+
+    /// What renders the passes of this integrator on `scene` (photon mapping shoots its photons
+    /// here, with `seed`). An error if the scene cannot be rendered so (no physical light).
+    pub fn renderer(
+        self,
+        settings: &IntegratorSettings,
+        scene: &Scene,
+        seed: u64,
+    ) -> Result<Box<dyn PassRenderer + Send>, String> {
+        Ok(match self {
+            IntegratorKind::Light => Box::new(LightTracer::new(scene, settings.max_depth)?),
+            IntegratorKind::Sppm => {
+                Box::new(Sppm::new(scene, settings.max_depth, settings.sppm_radius, settings.photons_per_pass)?)
+            }
+            IntegratorKind::Photon => Box::new(OwnedCameraPasses(Box::new(PhotonMapper::new(
+                scene,
+                settings.max_depth,
+                settings.rr_depth,
+                settings.photon,
+                seed,
+            )?))),
+            camera => Box::new(OwnedCameraPasses(camera.create(settings).expect("a camera integrator"))),
+        })
     }
 }

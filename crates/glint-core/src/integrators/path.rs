@@ -70,7 +70,7 @@ impl Integrator for PathTracer {
             }
             let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, geometric);
             if bsdf.has_diffuse() {
-                radiance += throughput * sample_lights(scene, &hit, &bsdf, wo, context);
+                radiance += throughput * sample_lights(scene, &hit, &bsdf, wo, Weighting::Mis, context);
             }
             let u_lobe = context.rng.next_f32();
             let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
@@ -103,13 +103,25 @@ pub(super) fn russian_roulette(throughput: &mut Rgb, eta_scale: f32, context: &m
     true
 }
 
-/// Next-event estimation at a hit: one area-light sample weighted against BSDF sampling, plus
-/// every delta light (point, spot, directional), which only light sampling can find.
-fn sample_lights(
+/// How next-event estimation weighs its area-light sample.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Weighting {
+    /// Against BSDF sampling by the power heuristic (the caller counts BSDF-sampled emission
+    /// with the matching weight).
+    Mis,
+    /// In full: the caller never counts emission found by sampling the BSDF's non-delta
+    /// lobes (photon mapping, SPPM).
+    LightOnly,
+}
+
+/// Next-event estimation at a hit: one area-light sample, plus every delta light (point, spot,
+/// directional), which only light sampling can find.
+pub(super) fn sample_lights(
     scene: &Scene,
     hit: &crate::scene::SurfaceHit,
     bsdf: &Bsdf,
     wo: Vec3,
+    weighting: Weighting,
     context: &mut SampleContext,
 ) -> Rgb {
     let mut radiance = Rgb::ZERO;
@@ -124,7 +136,10 @@ fn sample_lights(
             let target = offset_ray_origin(light.point, light.error, light.normal, p - light.point);
             context.rays.shadow += 1;
             if !scene.occluded(&hit.spawn_ray_to(target)) {
-                let weight = power_heuristic(light.pdf, bsdf.pdf(wo, wi));
+                let weight = match weighting {
+                    Weighting::Mis => power_heuristic(light.pdf, bsdf.pdf(wo, wi)),
+                    Weighting::LightOnly => 1.0,
+                };
                 radiance += f * light.radiance * (weight / light.pdf);
             }
         }

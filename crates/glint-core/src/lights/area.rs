@@ -10,9 +10,11 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::geometry::gamma;
+use crate::geometry::{gamma, orthonormal_basis};
 use crate::materials::Material;
-use crate::sampling::warp::{square_to_triangle, square_to_uniform_sphere};
+use crate::sampling::warp::{
+    cosine_hemisphere_pdf, square_to_cosine_hemisphere, square_to_triangle, square_to_uniform_sphere,
+};
 use crate::scene::Object;
 use crate::shapes::Shape;
 use crate::Rgb;
@@ -50,6 +52,25 @@ pub struct AreaLights {
     cdf: Vec<f32>,
     /// Per object: index of its first emitter (its primitive p is `base + p`), or `NONE`.
     object_base: Vec<u32>,
+    /// Emitted power (flux, mean over RGB): Σ L_e · π · area · sides.
+    total_power: f32,
+}
+
+/// A particle leaving an area light (for light tracing and photon mapping).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AreaEmission {
+    pub point: Vec3,
+    /// The side of the surface the particle leaves from.
+    pub normal: Vec3,
+    pub error: Vec3,
+    pub direction: Vec3,
+    /// The emitter's radiance L_e and whether it emits from both sides.
+    pub radiance: Rgb,
+    pub two_sided: bool,
+    /// Density of `point` per unit area, including the emitter's selection probability.
+    pub pdf_area: f32,
+    /// Density of `direction` per solid angle (cosine-weighted on the emitting side).
+    pub pdf_direction: f32,
 }
 
 const NONE: u32 = u32::MAX;
@@ -114,9 +135,81 @@ impl AreaLights {
             *last = 1.0;
         }
         if total <= 0.0 {
-            return Self { emitters: Vec::new(), cdf: Vec::new(), object_base: vec![NONE; objects.len()] };
+            return Self::default_for(objects.len());
         }
-        Self { emitters, cdf, object_base }
+        Self { emitters, cdf, object_base, total_power: total * std::f32::consts::PI }
+    }
+
+    fn default_for(object_count: usize) -> Self {
+        Self { emitters: Vec::new(), cdf: Vec::new(), object_base: vec![NONE; object_count], total_power: 0.0 }
+    }
+
+    /// Total emitted flux (mean over RGB), for choosing between area and other lights.
+    pub fn total_power(&self) -> f32 {
+        self.total_power
+    }
+
+    /// A particle leaving some emitter: the emitter chosen by power, a point uniform on its
+    /// area, a direction cosine-weighted about the normal (on a side chosen at random if it
+    /// emits from both), so the particle's weight L_e·cos / (pdf_area · pdf_direction) is the
+    /// same for every particle of an emitter.
+    pub fn sample_emission(&self, u_select: f32, u_point: Vec2, u_direction: Vec2) -> Option<AreaEmission> {
+        if self.emitters.is_empty() {
+            return None;
+        }
+        let i = self.cdf.partition_point(|&c| c <= u_select).min(self.emitters.len() - 1);
+        let emitter = &self.emitters[i];
+        let (point, normal, area, error) = self.point_on(emitter, u_point);
+        if area <= 0.0 || emitter.radiance == Rgb::ZERO {
+            return None;
+        }
+        let mut u = u_direction;
+        let mut normal = normal;
+        let mut side_probability = 1.0;
+        if emitter.two_sided {
+            side_probability = 0.5;
+            if u.x < 0.5 {
+                u.x *= 2.0;
+            } else {
+                u.x = 2.0 * u.x - 1.0;
+                normal = -normal;
+            }
+        }
+        let local = square_to_cosine_hemisphere(u);
+        let (tangent, bitangent) = orthonormal_basis(normal);
+        let direction = local.x * tangent + local.y * bitangent + local.z * normal;
+        let pdf_direction = side_probability * cosine_hemisphere_pdf(local);
+        if pdf_direction <= 0.0 {
+            return None;
+        }
+        Some(AreaEmission {
+            point,
+            normal,
+            error,
+            direction,
+            radiance: emitter.radiance,
+            two_sided: emitter.two_sided,
+            pdf_area: self.selection_probability(i) / area,
+            pdf_direction,
+        })
+    }
+
+    /// A point uniform on an emitter: (point, normal, area, error bound).
+    fn point_on(&self, emitter: &Emitter, u: Vec2) -> (Vec3, Vec3, f32, Vec3) {
+        match emitter.shape {
+            EmitterShape::Triangle { a, b, c, normal, area } => {
+                let bary = square_to_triangle(u);
+                let w = 1.0 - bary.x - bary.y;
+                let point = w * a + bary.x * b + bary.y * c;
+                let error = gamma(7) * ((w * a).abs() + (bary.x * b).abs() + (bary.y * c).abs());
+                (point, normal, area, error)
+            }
+            EmitterShape::Sphere { center, radius } => {
+                let n = square_to_uniform_sphere(u);
+                let point = center + radius * n;
+                (point, n, 4.0 * std::f32::consts::PI * radius * radius, gamma(6) * (center.abs() + (radius * n).abs()))
+            }
+        }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -134,20 +227,7 @@ impl AreaLights {
         }
         let i = self.cdf.partition_point(|&c| c <= u_select).min(self.emitters.len() - 1);
         let emitter = &self.emitters[i];
-        let (point, normal, area, error) = match emitter.shape {
-            EmitterShape::Triangle { a, b, c, normal, area } => {
-                let bary = square_to_triangle(u);
-                let w = 1.0 - bary.x - bary.y;
-                let point = w * a + bary.x * b + bary.y * c;
-                let error = gamma(7) * ((w * a).abs() + (bary.x * b).abs() + (bary.y * c).abs());
-                (point, normal, area, error)
-            }
-            EmitterShape::Sphere { center, radius } => {
-                let n = square_to_uniform_sphere(u);
-                let point = center + radius * n;
-                (point, n, 4.0 * std::f32::consts::PI * radius * radius, gamma(6) * (center.abs() + (radius * n).abs()))
-            }
-        };
+        let (point, normal, area, error) = self.point_on(emitter, u);
         let to_light = point - from;
         let distance_squared = to_light.length_squared();
         let cos_light = -normal.dot(to_light) / distance_squared.sqrt();

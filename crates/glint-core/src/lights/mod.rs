@@ -1,14 +1,17 @@
 //! Lights: a closed set dispatched per shading point. Every light answers `illuminate(p)`:
 //! the unit direction from `p` toward it, the distance (∞ for directional light, for the
-//! shadow ray's range) and the intensity arriving at `p`.
+//! shadow ray's range) and the intensity arriving at `p`. For the integrators that trace light
+//! forward, `ParticleSource` makes every light (area ones included) emit particles.
 
 mod area;
 mod directional;
+mod emission;
 mod point;
 mod spot;
 
-pub use area::{AreaLights, LightSample};
+pub use area::{AreaEmission, AreaLights, LightSample};
 pub use directional::DirectionalLight;
+pub use emission::{Particle, ParticleSource};
 pub use point::{Falloff, PointLight};
 pub use spot::SpotLight;
 

@@ -132,6 +132,52 @@ impl Bsdf {
         pdf
     }
 
+    /// f without the cosine, for photon density estimates (Σ f·Φ / area): the non-delta part.
+    pub fn eval_without_cosine(&self, wo: Vec3, wi: Vec3) -> Rgb {
+        let cos = wi.dot(self.normal);
+        if cos <= 0.0 {
+            return Rgb::ZERO;
+        }
+        self.eval(wo, wi) / cos.max(1e-4)
+    }
+
+    /// The reflectance of the diffuse lobe, k_d.
+    pub fn diffuse_reflectance(&self) -> Rgb {
+        self.diffuse
+    }
+
+    /// The probability that `sample` picks a non-delta lobe (diffuse or rough reflection).
+    pub fn non_delta_probability(&self) -> f32 {
+        self.p_diffuse + if self.glossy.is_some() { self.p_reflection } else { 0.0 }
+    }
+
+    /// `sample` restricted to the non-delta lobes (final gathering); weight and pdf are those of
+    /// that restricted choice.
+    pub fn sample_non_delta(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let p = self.non_delta_probability();
+        if p <= 0.0 {
+            return None;
+        }
+        let mut s = self.sample(wo, u_lobe * p, u)?;
+        s.weight *= p;
+        s.pdf /= p;
+        Some(s)
+    }
+
+    /// `sample` restricted to the delta lobes (mirror, refraction): photon mapping follows them
+    /// while it estimates the rest from photons.
+    pub fn sample_delta(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let p = self.non_delta_probability();
+        let q = 1.0 - p;
+        if q <= 0.0 {
+            return None;
+        }
+        let mut s = self.sample(wo, p + u_lobe * q, u)?;
+        s.weight *= q;
+        s.pdf /= q;
+        Some(s)
+    }
+
     /// A sample of a non-delta lobe, weighted by the whole non-delta BSDF over its whole pdf
     /// (so diffuse and glossy samples are one consistent strategy for MIS).
     fn non_delta_sample(&self, wo: Vec3, wi: Vec3) -> Option<BsdfSample> {

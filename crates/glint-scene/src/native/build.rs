@@ -9,7 +9,7 @@ use glam::{Mat4, Quat, Vec2, Vec3};
 use glint_core::camera::Camera;
 use glint_core::filter::Filter;
 use glint_core::geometry::Transform;
-use glint_core::integrators::{IntegratorKind, IntegratorSettings};
+use glint_core::integrators::{IntegratorKind, IntegratorSettings, PhotonSettings};
 use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight, SpotLight};
 use glint_core::materials::{Fresnel, Material, Phong};
 use glint_core::scene::{Environment, Geometry, Object, Scene};
@@ -224,11 +224,28 @@ fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneErro
             cx.error_at_key("max_depth", format!("`max_depth` must be -1 (unbounded) or ≥ 0, got {}", r.max_depth))
         );
     }
+    for (key, value) in [("photon_radius", r.photon_radius), ("sppm_radius", r.sppm_radius)] {
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(cx.error_at_key(key, format!("`{key}` must be a length ≥ 0 (0: automatic), got {value}")));
+        }
+    }
+    if r.photon_nearest == 0 {
+        return Err(cx.error_at_key("photon_nearest", "`photon_nearest` must be at least 1".into()));
+    }
     let integrator_settings = IntegratorSettings {
         max_depth: if r.max_depth < 0 { u32::MAX } else { r.max_depth as u32 },
         rr_depth: r.rr_depth,
         min_contribution: r.min_contribution,
         transparent_shadows: r.transparent_shadows,
+        photon: PhotonSettings {
+            global_photons: r.photons,
+            caustic_photons: r.caustic_photons,
+            nearest: r.photon_nearest,
+            max_radius: r.photon_radius,
+            final_gather: r.final_gather,
+        },
+        sppm_radius: r.sppm_radius,
+        photons_per_pass: r.photons_per_pass,
     };
     let filter = Filter::from_name(&r.filter).ok_or_else(|| {
         let names = Filter::ALL.map(Filter::name);

@@ -3,6 +3,7 @@
 
 use std::collections::BTreeMap;
 
+use glint_core::integrators::PhotonSettings;
 use serde::Deserialize;
 
 use crate::located::Located;
@@ -82,6 +83,32 @@ pub struct RenderDesc {
     pub transparent_shadows: bool,
     #[serde(default = "default_filter")]
     pub filter: String,
+    /// Photon mapping (see `PhotonSettings`).
+    #[serde(default = "default_photons")]
+    pub photons: u32,
+    #[serde(default = "default_photons")]
+    pub caustic_photons: u32,
+    #[serde(default = "default_photon_nearest")]
+    pub photon_nearest: u32,
+    #[serde(default)]
+    pub photon_radius: f32,
+    #[serde(default = "default_final_gather")]
+    pub final_gather: u32,
+    /// SPPM.
+    #[serde(default)]
+    pub sppm_radius: f32,
+    #[serde(default)]
+    pub photons_per_pass: u32,
+}
+
+fn default_photons() -> u32 {
+    PhotonSettings::default().global_photons
+}
+fn default_photon_nearest() -> u32 {
+    PhotonSettings::default().nearest
+}
+fn default_final_gather() -> u32 {
+    PhotonSettings::default().final_gather
 }
 
 impl Default for RenderDesc {
@@ -95,6 +122,13 @@ impl Default for RenderDesc {
             min_contribution: default_min_contribution(),
             transparent_shadows: false,
             filter: default_filter(),
+            photons: default_photons(),
+            caustic_photons: default_photons(),
+            photon_nearest: default_photon_nearest(),
+            photon_radius: 0.0,
+            final_gather: default_final_gather(),
+            sppm_radius: 0.0,
+            photons_per_pass: 0,
         }
     }
 }

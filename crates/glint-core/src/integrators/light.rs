@@ -1,0 +1,141 @@
+//! Light tracing (`--integrator light`): the course's forward ray tracing. Particles leave the
+//! lights in proportion to their power; where one reaches a surface with a non-delta BSDF (and
+//! where it leaves an area light), a shadow ray connects it to the camera and its contribution
+//! is splatted into the pixel it is seen in. Each pass traces as many particles as the image
+//! has pixels, so a pass weighs like one sample per pixel of the path tracer.
+//!
+//! It converges to the same image as `path` wherever the camera sees the scene directly;
+//! light reaching the camera only through mirrors or glass (a pinhole cannot be hit by a
+//! particle) is missing, and emitters are seen only if they are area lights. Caustics on
+//! diffuse surfaces, which the path tracer finds slowly, come out quickly.
+//!
+//! The estimate for pixel j from a vertex x carrying flux β (per particle, N particles):
+//! β · f(x, wo → w_cam) · |cos θ_x| · W_e / N, with W_e the pinhole's importance in x's area
+//! measure (see `Camera::project`) times the pixel count. The splats are gathered per tile
+//! and added to the film in tile order, so the image does not depend on the thread count.
+
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+
+use super::particle::{trace_particle, ParticleVertex};
+use super::RayCounts;
+use crate::film::Film;
+use crate::geometry::{offset_ray_origin, Ray};
+use crate::lights::{AreaEmission, ParticleSource};
+use crate::render::{tiles, Pass, PassRenderer};
+use crate::sampling::Rng;
+use crate::scene::Scene;
+use crate::Rgb;
+
+pub struct LightTracer {
+    pub max_depth: u32,
+    source: ParticleSource,
+}
+
+/// A particle's contribution to one pixel.
+type Splat = (u32, u32, Rgb);
+
+impl LightTracer {
+    pub fn new(scene: &Scene, max_depth: u32) -> Result<Self, String> {
+        Ok(Self { max_depth, source: ParticleSource::new(scene)? })
+    }
+
+    /// Traces the particle of stream `index` and collects its splats (unscaled: the caller
+    /// multiplies by pixels / particles).
+    fn trace(&self, scene: &Scene, rng: &mut Rng, splats: &mut Vec<Splat>, rays: &mut RayCounts) {
+        let u_select = rng.next_f32();
+        let u_point = Vec2::new(rng.next_f32(), rng.next_f32());
+        let u_direction = Vec2::new(rng.next_f32(), rng.next_f32());
+        let Some(particle) = self.source.sample(scene, u_select, u_point, u_direction) else { return };
+        if let Some(emission) = &particle.area {
+            connect_emission(scene, emission, splats, rays);
+        }
+        trace_particle(scene, &particle, self.max_depth, rng, rays, |vertex, _, rays| {
+            connect_vertex(scene, vertex, splats, rays)
+        });
+    }
+}
+
+/// The light itself seen by the camera: L_e · |cos θ_light| · W_e / pdf_area.
+fn connect_emission(scene: &Scene, e: &AreaEmission, splats: &mut Vec<Splat>, rays: &mut RayCounts) {
+    let Some(projection) = scene.camera.project(e.point) else { return };
+    let to_camera = scene.camera.position - e.point;
+    let cos = to_camera.normalize().dot(e.normal);
+    // `normal` is the side the particle left from; a one-sided light shows only that side.
+    let cos = if e.two_sided { cos.abs() } else { cos };
+    if cos <= 0.0 {
+        return;
+    }
+    let side = if e.normal.dot(to_camera) >= 0.0 { e.normal } else { -e.normal };
+    let origin = offset_ray_origin(e.point, e.error, side, to_camera);
+    rays.shadow += 1;
+    if scene.occluded(&Ray::with_range(origin, scene.camera.position - origin, 0.0, 1.0)) {
+        return;
+    }
+    let value = e.radiance * (cos * projection.importance / e.pdf_area);
+    splats.push((projection.film_x as u32, projection.film_y as u32, value));
+}
+
+/// A particle at a surface seen by the camera: β · f · |cos| · W_e, with the shading-normal
+/// correction of importance transport.
+fn connect_vertex(scene: &Scene, v: &ParticleVertex, splats: &mut Vec<Splat>, rays: &mut RayCounts) {
+    let point = v.hit.geometry.point;
+    let Some(projection) = scene.camera.project(point) else { return };
+    let to_camera: Vec3 = (scene.camera.position - point).normalize();
+    let f = v.bsdf.eval(v.wo, to_camera);
+    if f == Rgb::ZERO {
+        return;
+    }
+    let (ns, ng) = (v.hit.geometry.shading_normal, v.hit.geometry.geometric_normal);
+    let correction = {
+        let denominator = to_camera.dot(ns).abs() * v.wo.dot(ng).abs();
+        if denominator <= 0.0 {
+            return;
+        }
+        to_camera.dot(ng).abs() * v.wo.dot(ns).abs() / denominator
+    };
+    rays.shadow += 1;
+    if scene.occluded(&v.hit.spawn_ray_to(scene.camera.position)) {
+        return;
+    }
+    let value = v.weight * f * (correction * projection.importance);
+    splats.push((projection.film_x as u32, projection.film_y as u32, value));
+}
+
+/// Streams of particle random numbers, apart from the camera samples' (seed, pixel, sample).
+const PARTICLE_STREAM: u64 = 0x4C49_4748_5400_0000;
+
+impl PassRenderer for LightTracer {
+    fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
+        let (width, height) = (scene.camera.width, scene.camera.height);
+        // One particle per pixel of each tile, so the work is cut as the camera passes cut it.
+        let per_tile: Vec<(Vec<Splat>, RayCounts)> = tiles(width, height)
+            .into_par_iter()
+            .map(|(x0, y0, x1, y1)| {
+                let mut splats = Vec::new();
+                let mut rays = RayCounts::default();
+                for y in y0..y1 {
+                    for x in x0..x1 {
+                        let index = y as u64 * width as u64 + x as u64;
+                        let mut rng = Rng::for_sample(pass.seed ^ PARTICLE_STREAM, index, pass.index as u64);
+                        self.trace(scene, &mut rng, &mut splats, &mut rays);
+                    }
+                }
+                on_tile();
+                (splats, rays)
+            })
+            .collect();
+        let mut rays = RayCounts::default();
+        // N particles = pixel count: the splat's factor pixels / N is 1.
+        for (splats, tile_rays) in per_tile {
+            for (x, y, value) in splats {
+                if value.is_finite() {
+                    film.add_splat(x.min(width - 1), y.min(height - 1), value);
+                }
+            }
+            rays.add(&tile_rays);
+        }
+        film.add_weight_everywhere(1.0);
+        rays
+    }
+}

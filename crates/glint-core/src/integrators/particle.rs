@@ -1,0 +1,88 @@
+//! Tracing a particle from a light through the scene, for every integrator that starts at the
+//! lights (light tracing, photon mapping, SPPM). The particle carries flux; at each surface it
+//! reaches, the caller sees it (to connect it to the camera or store a photon), then the BSDF
+//! scatters it. Russian roulette keeps its weight nearly constant (Jensen: absorb, or go on
+//! with the power scaled by the BSDF's weight over the survival probability).
+//!
+//! Shading normals make the BSDF non-symmetric for particles (importance transport): the
+//! weight is corrected by |wo·n_s||wi·n_g| / (|wo·n_g||wi·n_s|) (Veach 1997, §5.3).
+
+use glam::{Vec2, Vec3};
+
+use super::RayCounts;
+use crate::geometry::Ray;
+use crate::lights::Particle;
+use crate::materials::Bsdf;
+use crate::sampling::Rng;
+use crate::scene::{Scene, SurfaceHit};
+use crate::Rgb;
+
+/// A particle at a surface whose BSDF has a non-delta part (where a photon is stored or a
+/// camera connection made).
+pub(super) struct ParticleVertex {
+    pub hit: SurfaceHit,
+    pub bsdf: Bsdf,
+    /// Unit direction toward where the particle came from.
+    pub wo: Vec3,
+    /// Flux carried to this surface.
+    pub weight: Rgb,
+    /// Scattering events before this surface (0: straight from the light).
+    pub bounces: u32,
+    /// Whether every scattering event before this surface was specular (mirror, refraction):
+    /// with `bounces > 0`, a caustic path L S+ D.
+    pub specular_chain: bool,
+}
+
+/// The shading-normal correction for particles going from `wo` to `wi` at `hit`.
+pub(super) fn shading_correction(hit: &SurfaceHit, wo: Vec3, wi: Vec3) -> f32 {
+    let (ns, ng) = (hit.geometry.shading_normal, hit.geometry.geometric_normal);
+    let denominator = wo.dot(ng).abs() * wi.dot(ns).abs();
+    if denominator <= 0.0 {
+        return 0.0;
+    }
+    wo.dot(ns).abs() * wi.dot(ng).abs() / denominator
+}
+
+/// Traces `particle` for at most `max_depth` scattering events in all (the last vertex seen
+/// has `bounces = max_depth − 1`, so a connection from it makes a path of `max_depth`
+/// scattering events), calling `visit` at every surface with a non-delta part.
+pub(super) fn trace_particle(
+    scene: &Scene,
+    particle: &Particle,
+    max_depth: u32,
+    rng: &mut Rng,
+    rays: &mut RayCounts,
+    mut visit: impl FnMut(&ParticleVertex, &mut Rng, &mut RayCounts),
+) {
+    let mut ray: Ray = particle.ray;
+    let mut weight = particle.weight;
+    let mut bounces = 0u32;
+    let mut specular_chain = true;
+    while bounces < max_depth {
+        rays.light += 1;
+        let Some(hit) = scene.intersect(&ray) else { return };
+        let wo = -ray.direction.normalize();
+        let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
+        let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+        if bsdf.has_diffuse() {
+            let vertex = ParticleVertex { hit, bsdf, wo, weight, bounces, specular_chain };
+            visit(&vertex, rng, rays);
+        }
+        if bounces + 1 >= max_depth {
+            return;
+        }
+        let u_lobe = rng.next_f32();
+        let u = Vec2::new(rng.next_f32(), rng.next_f32());
+        let Some(sample) = bsdf.sample(wo, u_lobe, u) else { return };
+        let scale = sample.weight * shading_correction(&hit, wo, sample.wi);
+        // Survive with the largest channel's scale (capped, so a lossless mirror box ends).
+        let survival = scale.max_element().min(0.95);
+        if survival <= 0.0 || rng.next_f32() >= survival {
+            return;
+        }
+        weight *= scale / survival;
+        specular_chain &= sample.delta;
+        bounces += 1;
+        ray = hit.spawn_ray(sample.wi);
+    }
+}

@@ -1,0 +1,315 @@
+//! Photon mapping (`--integrator photon`), Jensen 1996, both passes.
+//!
+//! First pass, once per render: photons leave the lights in proportion to their power and are
+//! traced with the BSDFs' sampling and Russian roulette; wherever one lands on a surface with
+//! a non-delta BSDF it is stored in the **global map**, and, if its path from the light was
+//! L S+ D (only mirrors and glass before), in the **caustic map**, which is filled by shooting
+//! on until it holds its own count. Each map is a balanced kd-tree (`crate::photons`).
+//!
+//! Second pass, per camera sample: along the camera path through mirrors and glass, at every
+//! surface with a non-delta part the radiance is
+//! * direct light, by light sampling (emission seen directly or through specular bounces is
+//!   added where it is hit);
+//! * caustics, from the caustic map seen directly (k nearest photons, cone filter);
+//! * indirect light, by **final gathering**: rays sampled from the BSDF, each estimating the
+//!   radiance where it lands from the global map (through mirrors and glass, if it meets them).
+//!
+//! Those three cover every path once: L D, L S+ D and L … D (S*) D. Emitters that light
+//! sampling cannot sample (only transformed spheres and non-triangle shapes) light the scene
+//! through the photons only, and a constant background is not a photon source: its light is
+//! found by the gather rays that escape.
+
+use std::cell::RefCell;
+
+use glam::Vec2;
+use rayon::prelude::*;
+
+use super::particle::{trace_particle, ParticleVertex};
+use super::path::{russian_roulette, sample_lights, Weighting};
+use super::{Integrator, RayCounts, SampleContext};
+use crate::geometry::Ray;
+use crate::lights::ParticleSource;
+use crate::materials::Bsdf;
+use crate::photons::{NearestPhotons, Photon, PhotonMap};
+use crate::sampling::Rng;
+use crate::scene::{Scene, SurfaceHit};
+use crate::Rgb;
+
+/// Photon-mapping parameters (the defaults are `PhotonSettings::default()`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhotonSettings {
+    /// Photons stored in the global map.
+    pub global_photons: u32,
+    /// Photons stored in the caustic map.
+    pub caustic_photons: u32,
+    /// Photons in each radiance estimate.
+    pub nearest: u32,
+    /// Largest search radius of an estimate; 0: 5 % of the scene's bounding-box diagonal.
+    pub max_radius: f32,
+    /// Final-gather rays per camera sample.
+    pub final_gather: u32,
+}
+
+impl Default for PhotonSettings {
+    fn default() -> Self {
+        Self { global_photons: 200_000, caustic_photons: 200_000, nearest: 50, max_radius: 0.0, final_gather: 16 }
+    }
+}
+
+/// Particles per batch of photon shooting (the unit of parallel work; batch b draws from
+/// its own random stream, so the maps do not depend on the thread count).
+pub(super) const BATCH: u64 = 1024;
+/// Batches shot between checks of the stored count.
+const ROUND: u64 = 64;
+/// A map gives up after this many particles per photon wanted (few caustics, say).
+const CAUSTIC_EFFORT: u64 = 32;
+/// Gather rays follow at most this many specular bounces.
+const GATHER_SPECULAR_DEPTH: u32 = 8;
+/// The cone filter's constant k (Jensen: w = 1 − d / (k r)), and its normalisation.
+const CONE_K: f32 = 1.1;
+
+/// Random-number streams of the photon sets, apart from each other and the camera's.
+const GLOBAL_STREAM: u64 = 0x474C_4F42;
+const CAUSTIC_STREAM: u64 = 0x4341_5553;
+
+/// What shooting photons needs: the scene, its lights as particle sources, the path-length
+/// limit and the render's seed.
+pub(super) struct PhotonShooter<'a> {
+    pub scene: &'a Scene,
+    pub source: &'a ParticleSource,
+    pub max_depth: u32,
+    pub seed: u64,
+}
+
+/// Which particle vertices become photons.
+pub(super) type Keep<'k> = &'k (dyn Fn(&ParticleVertex) -> bool + Sync);
+
+impl PhotonShooter<'_> {
+    /// Shoots the batches `batches` of random stream `stream` (batch b draws from its own
+    /// generator) and keeps the photons `keep` accepts, in batch order. Returns the photons,
+    /// the particles emitted and the rays traced.
+    pub fn shoot(&self, stream: u64, batches: std::ops::Range<u64>, keep: Keep) -> (Vec<Photon>, u64, RayCounts) {
+        let per_batch: Vec<(Vec<Photon>, RayCounts)> = batches
+            .clone()
+            .into_par_iter()
+            .map(|batch| {
+                let mut rng = Rng::for_sample(self.seed ^ stream, batch, 0);
+                let mut photons = Vec::new();
+                let mut rays = RayCounts::default();
+                for _ in 0..BATCH {
+                    let u_select = rng.next_f32();
+                    let u_point = Vec2::new(rng.next_f32(), rng.next_f32());
+                    let u_direction = Vec2::new(rng.next_f32(), rng.next_f32());
+                    let Some(particle) = self.source.sample(self.scene, u_select, u_point, u_direction) else {
+                        continue;
+                    };
+                    trace_particle(self.scene, &particle, self.max_depth, &mut rng, &mut rays, |v, _, _| {
+                        if keep(v) {
+                            photons.push(Photon::new(v.hit.geometry.point, v.wo, v.weight));
+                        }
+                    });
+                }
+                (photons, rays)
+            })
+            .collect();
+        let mut rays = RayCounts::default();
+        let mut photons = Vec::new();
+        for (p, r) in per_batch {
+            photons.extend(p);
+            rays.add(&r);
+        }
+        (photons, (batches.end - batches.start) * BATCH, rays)
+    }
+
+    /// Shoots rounds of batches until `wanted` photons are kept or `max_particles` emitted.
+    fn fill_map(&self, stream: u64, wanted: u64, max_particles: u64, keep: Keep) -> (PhotonMap, RayCounts) {
+        let mut photons = Vec::new();
+        let mut emitted = 0u64;
+        let mut rays = RayCounts::default();
+        let mut next_batch = 0u64;
+        while (photons.len() as u64) < wanted && emitted < max_particles {
+            let (more, n, r) = self.shoot(stream, next_batch..next_batch + ROUND, keep);
+            photons.extend(more);
+            emitted += n;
+            rays.add(&r);
+            next_batch += ROUND;
+            if photons.is_empty() {
+                break; // none in a whole round: this scene makes none (no caustics, say)
+            }
+        }
+        (PhotonMap::build(photons, emitted), rays)
+    }
+}
+
+pub struct PhotonMapper {
+    pub max_depth: u32,
+    pub rr_depth: u32,
+    settings: PhotonSettings,
+    max_radius: f32,
+    global: PhotonMap,
+    caustic: PhotonMap,
+    /// Rays traced to build the maps.
+    pub photon_rays: RayCounts,
+}
+
+thread_local! {
+    static NEAREST: RefCell<NearestPhotons> = RefCell::new(NearestPhotons::default());
+}
+
+impl PhotonMapper {
+    /// Builds both photon maps for `scene` (the first pass).
+    pub fn new(
+        scene: &Scene,
+        max_depth: u32,
+        rr_depth: u32,
+        settings: PhotonSettings,
+        seed: u64,
+    ) -> Result<Self, String> {
+        let source = ParticleSource::new(scene)?;
+        let shooter = PhotonShooter { scene, source: &source, max_depth, seed };
+        let (global, mut photon_rays) = shooter.fill_map(
+            GLOBAL_STREAM,
+            settings.global_photons as u64,
+            settings.global_photons as u64 * CAUSTIC_EFFORT,
+            &|_| true,
+        );
+        let (caustic, caustic_rays) = shooter.fill_map(
+            CAUSTIC_STREAM,
+            settings.caustic_photons as u64,
+            settings.caustic_photons as u64 * CAUSTIC_EFFORT,
+            &|v| v.bounces > 0 && v.specular_chain,
+        );
+        photon_rays.add(&caustic_rays);
+        let bounds = scene.geometry.bounds();
+        let max_radius = if settings.max_radius > 0.0 {
+            settings.max_radius
+        } else if bounds.is_empty() {
+            1.0
+        } else {
+            0.05 * bounds.extent().length()
+        };
+        Ok(Self { max_depth, rr_depth, settings, max_radius, global, caustic, photon_rays })
+    }
+
+    pub fn global_map(&self) -> &PhotonMap {
+        &self.global
+    }
+
+    pub fn caustic_map(&self) -> &PhotonMap {
+        &self.caustic
+    }
+
+    pub fn max_radius(&self) -> f32 {
+        self.max_radius
+    }
+
+    /// Radiance reflected toward `wo` at `hit`, estimated from the `nearest` photons of `map`
+    /// with the cone filter.
+    pub fn estimate(&self, map: &PhotonMap, hit: &SurfaceHit, bsdf: &Bsdf, wo: glam::Vec3) -> Rgb {
+        if map.is_empty() {
+            return Rgb::ZERO;
+        }
+        NEAREST.with_borrow_mut(|nearest| {
+            map.k_nearest(hit.geometry.point, self.settings.nearest as usize, self.max_radius, nearest);
+            let r2 = nearest.max_distance_squared();
+            if r2 <= 0.0 {
+                return Rgb::ZERO;
+            }
+            let r = r2.sqrt();
+            let mut sum = Rgb::ZERO;
+            for (d2, i) in nearest.iter() {
+                let photon = map.photon(i);
+                let weight = 1.0 - d2.sqrt() / (CONE_K * r);
+                sum += bsdf.eval_without_cosine(wo, photon.incoming()) * photon.power * weight;
+            }
+            let normalisation = (1.0 - 2.0 / (3.0 * CONE_K)) * std::f32::consts::PI * r2 * map.emitted() as f32;
+            sum / normalisation
+        })
+    }
+
+    /// Indirect light at `hit` by final gathering into the global map.
+    fn gather(&self, scene: &Scene, hit: &SurfaceHit, bsdf: &Bsdf, wo: glam::Vec3, context: &mut SampleContext) -> Rgb {
+        let n = self.settings.final_gather;
+        let mut sum = Rgb::ZERO;
+        for _ in 0..n {
+            let u_lobe = context.rng.next_f32();
+            let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+            let Some(sample) = bsdf.sample_non_delta(wo, u_lobe, u) else { continue };
+            let mut weight = sample.weight;
+            let mut ray: Ray = hit.spawn_ray(sample.wi);
+            for _ in 0..GATHER_SPECULAR_DEPTH {
+                context.rays.reflection += 1;
+                let Some(y) = scene.intersect(&ray) else {
+                    sum += weight * scene.environment.background;
+                    break;
+                };
+                let wo_y = -ray.direction.normalize();
+                let material = scene.materials[y.material as usize].evaluate(&y.texture_query());
+                let bsdf_y = Bsdf::new(&material, wo_y, y.geometry.shading_normal, y.geometry.geometric_normal);
+                let p = bsdf_y.non_delta_probability();
+                if context.rng.next_f32() < p {
+                    sum += weight * self.estimate(&self.global, &y, &bsdf_y, wo_y) / p;
+                    break;
+                }
+                let u_lobe = context.rng.next_f32();
+                let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+                let Some(delta) = bsdf_y.sample_delta(wo_y, u_lobe, u) else { break };
+                weight *= delta.weight / (1.0 - p);
+                ray = y.spawn_ray(delta.wi);
+            }
+        }
+        if n == 0 {
+            Rgb::ZERO
+        } else {
+            sum / n as f32
+        }
+    }
+}
+
+impl Integrator for PhotonMapper {
+    fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
+        let mut radiance = Rgb::ZERO;
+        let mut throughput = Rgb::ONE;
+        let mut ray = *camera_ray;
+        let mut depth = 0u32;
+        loop {
+            if depth == 0 {
+                context.rays.camera += 1;
+            } else {
+                context.rays.refraction += 1;
+            }
+            let Some(hit) = scene.intersect(&ray) else {
+                radiance += throughput * scene.environment.background;
+                break;
+            };
+            let wo = -ray.direction.normalize();
+            let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
+            radiance += throughput * material.emitted(wo, hit.geometry.geometric_normal);
+            if depth >= self.max_depth {
+                break;
+            }
+            let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+            if bsdf.has_diffuse() {
+                let mut local = sample_lights(scene, &hit, &bsdf, wo, Weighting::LightOnly, context);
+                local += self.estimate(&self.caustic, &hit, &bsdf, wo);
+                if depth + 1 < self.max_depth {
+                    local += self.gather(scene, &hit, &bsdf, wo, context);
+                }
+                radiance += throughput * local;
+            }
+            let u_lobe = context.rng.next_f32();
+            let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+            let Some(sample) = bsdf.sample_delta(wo, u_lobe, u) else { break };
+            throughput *= sample.weight;
+            depth += 1;
+            if depth >= self.rr_depth && !russian_roulette(&mut throughput, 1.0, context) {
+                break;
+            }
+            if throughput == Rgb::ZERO {
+                break;
+            }
+            ray = hit.spawn_ray(sample.wi);
+        }
+        radiance
+    }
+}

@@ -1,0 +1,231 @@
+//! Stochastic progressive photon mapping (`--integrator sppm`; Hachisuka & Jensen 2009, as
+//! pbrt-v3 has it). Consistent: every pass shrinks each pixel's search radius, so the bias of
+//! density estimation vanishes as passes accumulate, and it renders caustics that path tracing
+//! cannot (from point lights) or finds slowly (from small lights).
+//!
+//! Each pass:
+//! 1. **camera pass**: a camera sample per pixel follows mirrors and glass to the first surface
+//!    with a non-delta part, its *visible point*; on the way, emission hit and light-sampled
+//!    direct light at each such surface are added to the pixel's direct estimate;
+//! 2. **photon pass**: as many photons as the image has pixels (or `photons_per_pass`) are
+//!    traced; those landing after at least one bounce (direct light is step 1's) are stored in
+//!    a kd-tree;
+//! 3. **update**: each visible point gathers the photons within its pixel's radius r; with M
+//!    found, N ← N + αM, r ← r·√(N_new / (N + M)), τ ← (τ + β·Σ f·Φ)·(r_new / r)², α = 2/3.
+//!
+//! A pixel's value is direct / passes + τ / (photons emitted · π r²). The first radius is
+//! `sppm_radius`, or three pixel footprints at the visible point's distance.
+//!
+//! Every step is parallel and deterministic (per-pixel and per-batch random streams, gathers
+//! in kd-tree order), so the image does not depend on the thread count. The state is per
+//! pixel beyond the film, so an SPPM render is not resumable from a film checkpoint.
+
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+
+use super::path::{sample_lights, Weighting};
+use super::photon_mapping::{PhotonShooter, BATCH};
+use super::{RayCounts, SampleContext};
+use crate::film::Film;
+use crate::lights::ParticleSource;
+use crate::materials::Bsdf;
+use crate::photons::PhotonMap;
+use crate::render::{tiles, Pass, PassRenderer};
+use crate::sampling::Rng;
+use crate::scene::Scene;
+use crate::Rgb;
+
+/// The fraction of new photons kept each pass.
+const ALPHA: f32 = 2.0 / 3.0;
+const PHOTON_STREAM: u64 = 0x5350_504D;
+
+/// A pixel's camera sample: its index, the direct light found, and its visible point.
+type CameraSample = (u32, Rgb, Option<VisiblePoint>);
+
+struct VisiblePoint {
+    point: Vec3,
+    wo: Vec3,
+    bsdf: Bsdf,
+    /// Camera throughput to the point, over the probability of stopping there.
+    weight: Rgb,
+    /// Path length from the camera (for the first radius).
+    distance: f32,
+}
+
+/// Per-pixel progressive state.
+#[derive(Clone, Copy, Debug, Default)]
+struct PixelState {
+    radius: f32,
+    photons: f32,
+    tau: Rgb,
+    direct: Rgb,
+}
+
+pub struct Sppm {
+    pub max_depth: u32,
+    /// First radius; 0: three pixel footprints at the visible point.
+    pub initial_radius: f32,
+    /// Photons per pass; 0: the pixel count.
+    pub photons_per_pass: u32,
+    source: ParticleSource,
+    pixels: Vec<PixelState>,
+    passes: u32,
+    emitted: u64,
+}
+
+impl Sppm {
+    pub fn new(scene: &Scene, max_depth: u32, initial_radius: f32, photons_per_pass: u32) -> Result<Self, String> {
+        let n = scene.camera.width as usize * scene.camera.height as usize;
+        Ok(Self {
+            max_depth,
+            initial_radius,
+            photons_per_pass,
+            source: ParticleSource::new(scene)?,
+            pixels: vec![PixelState::default(); n],
+            passes: 0,
+            emitted: 0,
+        })
+    }
+
+    /// The camera sample of pixel (x, y): direct light found on the way, and the visible point.
+    fn camera_path(
+        &self,
+        scene: &Scene,
+        pass: &Pass,
+        x: u32,
+        y: u32,
+        rays: &mut RayCounts,
+    ) -> (Rgb, Option<VisiblePoint>) {
+        let pixel_index = y as u64 * scene.camera.width as u64 + x as u64;
+        let mut context = SampleContext::new(Rng::for_sample(pass.seed, pixel_index, pass.index as u64));
+        let (dx, dy) = (context.rng.next_f32(), context.rng.next_f32());
+        let mut ray = scene.camera.generate_ray(x as f32 + dx, y as f32 + dy);
+        let mut direct = Rgb::ZERO;
+        let mut throughput = Rgb::ONE;
+        let mut distance = 0.0;
+        let mut visible = None;
+        for depth in 0..=self.max_depth {
+            context.rays.camera += 1;
+            let Some(hit) = scene.intersect(&ray) else {
+                direct += throughput * scene.environment.background;
+                break;
+            };
+            distance += hit.t * ray.direction.length();
+            let wo = -ray.direction.normalize();
+            let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
+            direct += throughput * material.emitted(wo, hit.geometry.geometric_normal);
+            if depth == self.max_depth {
+                break;
+            }
+            let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+            if bsdf.has_diffuse() {
+                direct += throughput * sample_lights(scene, &hit, &bsdf, wo, Weighting::LightOnly, &mut context);
+            }
+            let p = bsdf.non_delta_probability();
+            if context.rng.next_f32() < p {
+                // Photons give the indirect part (paths of two or more scattering events).
+                if depth + 1 < self.max_depth {
+                    let point = hit.geometry.point;
+                    visible = Some(VisiblePoint { point, wo, bsdf, weight: throughput / p, distance });
+                }
+                break;
+            }
+            let u_lobe = context.rng.next_f32();
+            let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+            let Some(sample) = bsdf.sample_delta(wo, u_lobe, u) else { break };
+            throughput *= sample.weight / (1.0 - p);
+            if throughput == Rgb::ZERO {
+                break;
+            }
+            ray = hit.spawn_ray(sample.wi);
+        }
+        rays.add(&context.rays);
+        (if direct.is_finite() { direct } else { Rgb::ZERO }, visible)
+    }
+}
+
+impl PassRenderer for Sppm {
+    fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
+        let (width, height) = (scene.camera.width, scene.camera.height);
+        let tile_list = tiles(width, height);
+        let per_tile: Vec<(Vec<CameraSample>, RayCounts)> = tile_list
+            .into_par_iter()
+            .map(|(x0, y0, x1, y1)| {
+                let mut rays = RayCounts::default();
+                let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+                for y in y0..y1 {
+                    for x in x0..x1 {
+                        let (direct, visible) = self.camera_path(scene, pass, x, y, &mut rays);
+                        out.push((y * width + x, direct, visible));
+                    }
+                }
+                on_tile();
+                (out, rays)
+            })
+            .collect();
+        let mut rays = RayCounts::default();
+        let mut visible: Vec<Option<VisiblePoint>> = (0..self.pixels.len()).map(|_| None).collect();
+        for (out, tile_rays) in per_tile {
+            rays.add(&tile_rays);
+            for (i, direct, vp) in out {
+                self.pixels[i as usize].direct += direct;
+                visible[i as usize] = vp;
+            }
+        }
+
+        // Photons after at least one bounce, into this pass's map.
+        let wanted = if self.photons_per_pass > 0 { self.photons_per_pass as u64 } else { self.pixels.len() as u64 };
+        let batches = wanted.div_ceil(BATCH);
+        let first = pass.index as u64 * batches;
+        let shooter = PhotonShooter { scene, source: &self.source, max_depth: self.max_depth, seed: pass.seed };
+        let (photons, emitted, photon_rays) = shooter.shoot(PHOTON_STREAM, first..first + batches, &|v| v.bounces > 0);
+        rays.add(&photon_rays);
+        let map = PhotonMap::build(photons, emitted);
+        self.emitted += emitted;
+        self.passes += 1;
+
+        let footprint = 2.0 * (0.5 * scene.camera.fov_degrees.to_radians()).tan() / height as f32;
+        let initial_radius = self.initial_radius;
+        self.pixels.par_iter_mut().zip(visible.par_iter()).for_each(|(state, vp)| {
+            let Some(vp) = vp else { return };
+            if state.radius == 0.0 {
+                state.radius = if initial_radius > 0.0 { initial_radius } else { 3.0 * footprint * vp.distance };
+            }
+            let mut flux = Rgb::ZERO;
+            let mut found = 0u32;
+            map.for_each_within(vp.point, state.radius, |photon, _| {
+                let f = vp.bsdf.eval_without_cosine(vp.wo, photon.incoming());
+                if f != Rgb::ZERO {
+                    flux += f * photon.power;
+                    found += 1;
+                }
+            });
+            if found == 0 {
+                return;
+            }
+            let m = found as f32;
+            let n_new = state.photons + ALPHA * m;
+            let ratio = n_new / (state.photons + m);
+            state.tau = (state.tau + vp.weight * flux) * ratio;
+            state.radius *= ratio.sqrt();
+            state.photons = n_new;
+        });
+
+        // The film holds the current estimate, one sample of weight 1 per pixel.
+        *film = Film::new(width, height);
+        let passes = self.passes as f32;
+        let emitted = self.emitted as f32;
+        for (i, state) in self.pixels.iter().enumerate() {
+            let mut value = state.direct / passes;
+            if state.radius > 0.0 {
+                value += state.tau / (emitted * std::f32::consts::PI * state.radius * state.radius);
+            }
+            film.add_samples(i as u32 % width, i as u32 / width, value, 1.0);
+        }
+        rays
+    }
+
+    fn resumable(&self) -> bool {
+        false
+    }
+}
