@@ -313,3 +313,69 @@ impl Integrator for PhotonMapper {
         radiance
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Camera;
+    use crate::lights::{Falloff, Light, PointLight, SpotLight};
+    use crate::materials::{Material, Phong};
+    use crate::scene::{Environment, Object};
+    use crate::shapes::{IntersectMethods, Shape, Sphere, Triangle};
+    use crate::textures::Texture;
+    use glam::Vec3;
+
+    /// Photon bookkeeping: inside a closed sphere every particle lands once straight from its
+    /// light, so the flux of first-hit photons over the particles emitted is the lights' power.
+    #[test]
+    fn first_hit_photons_carry_the_lights_power() {
+        let grey = Material::Phong(Phong { diffuse: Texture::Constant(Rgb::splat(0.5)), ..Phong::default() });
+        let lamp = Material::Phong(Phong {
+            diffuse: Texture::Constant(Rgb::splat(0.5)),
+            emission: Rgb::new(2.0, 1.0, 0.5),
+            ..Phong::default()
+        });
+        let (a, b, c) = (Vec3::new(-0.2, 0.5, 0.0), Vec3::new(0.2, 0.5, 0.0), Vec3::new(0.0, 0.5, 0.3));
+        let objects = vec![
+            Object {
+                name: "shell".into(),
+                shape: Shape::Sphere(Sphere::new(Vec3::ZERO, 3.0)),
+                transform: None,
+                material: 0,
+            },
+            Object {
+                name: "lamp".into(),
+                shape: Shape::Triangle(Triangle::new(a, b, c)),
+                transform: None,
+                material: 1,
+            },
+        ];
+        let point = PointLight {
+            position: Vec3::new(0.5, 0.0, 0.0),
+            intensity: Rgb::new(1.0, 2.0, 3.0),
+            falloff: Falloff::InverseSquare,
+        };
+        let spot = SpotLight::new(Vec3::ZERO, Vec3::Y, Rgb::splat(4.0), Falloff::InverseSquare, 30.0, 10.0);
+        let camera = Camera::new(Vec3::ZERO, Vec3::Z, Vec3::Y, 45.0, 8, 8).unwrap();
+        let scene = Scene::new(
+            camera,
+            objects,
+            vec![("grey".into(), grey), ("lamp".into(), lamp)],
+            vec![Light::Point(point), Light::Spot(spot.clone())],
+            Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO },
+            IntersectMethods::default(),
+        );
+        let source = ParticleSource::new(&scene).unwrap();
+        let shooter = PhotonShooter { scene: &scene, source: &source, max_depth: 1, seed: 9 };
+        let (photons, emitted, _) = shooter.shoot(1, 0..400, &|v| v.bounces == 0);
+        let flux: Rgb = photons.iter().map(|p| p.power).sum::<Rgb>() / emitted as f32;
+        let pi = std::f32::consts::PI;
+        let spot_power = 2.0 * pi * 4.0 * (1.0 - 0.5 * (spot.cos_full + spot.cos_cone));
+        // The lamp triangle is one-sided: L_e · π · area.
+        let lamp_power = Rgb::new(2.0, 1.0, 0.5) * pi * 0.5 * (b - a).cross(c - a).length();
+        let expected = Rgb::new(1.0, 2.0, 3.0) * 4.0 * pi + Rgb::splat(spot_power) + lamp_power;
+        let relative = (flux - expected).abs() / expected;
+        // 409,600 particles; the spot's weights vary over its edge, the rest are constant.
+        assert!(relative.max_element() < 0.015, "flux {flux} vs power {expected}");
+    }
+}
