@@ -348,11 +348,12 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
             s.bytes as f64 / g.primitive_count().max(1) as f64
         );
         eprintln!(
-            "rays: {} camera, {} shadow, {} reflection, {} refraction, {} in all",
+            "rays: {} camera, {} shadow, {} reflection, {} refraction, {} from lights, {} in all",
             r.camera,
             r.shadow,
             r.reflection,
             r.refraction,
+            r.light,
             r.total()
         );
     }

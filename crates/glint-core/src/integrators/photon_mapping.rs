@@ -14,7 +14,13 @@
 //! * indirect light, by **final gathering**: rays sampled from the BSDF, each estimating the
 //!   radiance where it lands from the global map (through mirrors and glass, if it meets them).
 //!
-//! Those three cover every path once: L D, L S+ D and L … D (S*) D. Emitters that light
+//! Those three cover every path once: L D, L S+ D and L … D (S*) D.
+//!
+//! Final gathering is what costs: every gather ray needs a radiance estimate. As Christensen
+//! (1999) and Jensen's book do, the irradiance is precomputed at every fourth photon of the
+//! global map (from its k nearest photons on the same side of the same surface); a gather ray
+//! landing on a Lambertian surface then takes k_d/π times the irradiance of the nearest such
+//! record facing the same way, and only glossy surfaces pay for a full estimate. Emitters that light
 //! sampling cannot sample (only transformed spheres and non-triangle shapes) light the scene
 //! through the photons only, and a constant background is not a photon source: its light is
 //! found by the gather rays that escape.
@@ -65,6 +71,12 @@ const ROUND: u64 = 64;
 const CAUSTIC_EFFORT: u64 = 32;
 /// Gather rays follow at most this many specular bounces.
 const GATHER_SPECULAR_DEPTH: u32 = 8;
+/// Every this many global photons, one irradiance record.
+const IRRADIANCE_STRIDE: usize = 4;
+/// Photons and records count as on the same surface when their normals agree this well.
+const SAME_SURFACE_COS: f32 = 0.9;
+/// Irradiance records examined for one facing the right way.
+const IRRADIANCE_CANDIDATES: usize = 8;
 /// The cone filter's constant k (Jensen: w = 1 − d / (k r)), and its normalisation.
 const CONE_K: f32 = 1.1;
 
@@ -105,7 +117,9 @@ impl PhotonShooter<'_> {
                     };
                     trace_particle(self.scene, &particle, self.max_depth, &mut rng, &mut rays, |v, _, _| {
                         if keep(v) {
-                            photons.push(Photon::new(v.hit.geometry.point, v.wo, v.weight));
+                            let n = v.hit.geometry.geometric_normal;
+                            let n = if n.dot(v.wo) < 0.0 { -n } else { n };
+                            photons.push(Photon::new(v.hit.geometry.point, v.wo, n, v.weight));
                         }
                     });
                 }
@@ -148,6 +162,9 @@ pub struct PhotonMapper {
     max_radius: f32,
     global: PhotonMap,
     caustic: PhotonMap,
+    /// Irradiance precomputed at every `IRRADIANCE_STRIDE`-th global photon: `power` holds the
+    /// irradiance, `normal` the surface's normal on the side it was estimated for.
+    irradiance: PhotonMap,
     /// Rays traced to build the maps.
     pub photon_rays: RayCounts,
 }
@@ -188,7 +205,25 @@ impl PhotonMapper {
         } else {
             0.05 * bounds.extent().length()
         };
-        Ok(Self { max_depth, rr_depth, settings, max_radius, global, caustic, photon_rays })
+        let irradiance = precompute_irradiance(&global, settings.nearest as usize, max_radius);
+        Ok(Self { max_depth, rr_depth, settings, max_radius, global, caustic, irradiance, photon_rays })
+    }
+
+    /// Radiance leaving a Lambertian surface at `hit` toward the side of `normal`, from the
+    /// nearest irradiance record on that surface; `None` if there is none near.
+    fn cached_radiance(&self, hit: &SurfaceHit, normal: glam::Vec3, reflectance: Rgb) -> Option<Rgb> {
+        NEAREST.with_borrow_mut(|nearest| {
+            self.irradiance.k_nearest(hit.geometry.point, IRRADIANCE_CANDIDATES, self.max_radius, nearest);
+            let mut best: Option<(f32, u32)> = None;
+            for (d2, i) in nearest.iter() {
+                if self.irradiance.photon(i).normal().dot(normal) >= SAME_SURFACE_COS
+                    && best.is_none_or(|(b, _)| d2 < b)
+                {
+                    best = Some((d2, i));
+                }
+            }
+            best.map(|(_, i)| reflectance * std::f32::consts::FRAC_1_PI * self.irradiance.photon(i).power)
+        })
     }
 
     pub fn global_map(&self) -> &PhotonMap {
@@ -248,7 +283,15 @@ impl PhotonMapper {
                 let bsdf_y = Bsdf::new(&material, wo_y, y.geometry.shading_normal, y.geometry.geometric_normal);
                 let p = bsdf_y.non_delta_probability();
                 if context.rng.next_f32() < p {
-                    sum += weight * self.estimate(&self.global, &y, &bsdf_y, wo_y) / p;
+                    let n = y.geometry.geometric_normal;
+                    let n = if n.dot(wo_y) < 0.0 { -n } else { n };
+                    let cached = if bsdf_y.is_lambertian() {
+                        self.cached_radiance(&y, n, bsdf_y.diffuse_reflectance())
+                    } else {
+                        None
+                    };
+                    let radiance = cached.unwrap_or_else(|| self.estimate(&self.global, &y, &bsdf_y, wo_y));
+                    sum += weight * radiance / p;
                     break;
                 }
                 let u_lobe = context.rng.next_f32();
@@ -264,6 +307,37 @@ impl PhotonMapper {
             sum / n as f32
         }
     }
+}
+
+/// Irradiance at every `IRRADIANCE_STRIDE`-th photon of `global`, from its `nearest` nearest
+/// photons on the same surface (normals within `SAME_SURFACE_COS`), as records of a new map.
+fn precompute_irradiance(global: &PhotonMap, nearest: usize, max_radius: f32) -> PhotonMap {
+    let records: Vec<Photon> = (0..global.len())
+        .step_by(IRRADIANCE_STRIDE)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|i| {
+            let photon = global.photon(i as u32);
+            let normal = photon.normal();
+            let irradiance = NEAREST.with_borrow_mut(|found| {
+                global.k_nearest(photon.position, nearest, max_radius, found);
+                let r2 = found.max_distance_squared();
+                if r2 <= 0.0 {
+                    return Rgb::ZERO;
+                }
+                let mut flux = Rgb::ZERO;
+                for (_, j) in found.iter() {
+                    let other = global.photon(j);
+                    if other.normal().dot(normal) >= SAME_SURFACE_COS {
+                        flux += other.power;
+                    }
+                }
+                flux / (std::f32::consts::PI * r2 * global.emitted() as f32)
+            });
+            Photon::new(photon.position, normal, normal, irradiance)
+        })
+        .collect();
+    PhotonMap::build(records, 1)
 }
 
 impl Integrator for PhotonMapper {

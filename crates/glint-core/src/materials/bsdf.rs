@@ -141,6 +141,11 @@ impl Bsdf {
         self.eval(wo, wi) / cos.max(1e-4)
     }
 
+    /// Whether the non-delta part is Lambert alone (no rough reflection).
+    pub fn is_lambertian(&self) -> bool {
+        self.glossy.is_none() || self.p_reflection == 0.0
+    }
+
     /// The reflectance of the diffuse lobe, k_d.
     pub fn diffuse_reflectance(&self) -> Rgb {
         self.diffuse

@@ -210,7 +210,7 @@ mod tests {
                 if i % 50 == 0 {
                     p = Vec3::splat(0.25); // coincident photons
                 }
-                Photon::new(p, Vec3::Z, Rgb::splat(i as f32))
+                Photon::new(p, Vec3::Z, Vec3::Z, Rgb::splat(i as f32))
             })
             .collect()
     }

@@ -1,5 +1,6 @@
 //! A stored photon in 32 bytes: position, power (RGB, f32), the direction it arrived from
-//! (octahedral, 2 × 16 bits) and the kd-tree's split axis.
+//! (octahedral, 2 × 16 bits), the surface normal on its side (octahedral, 2 × 8 bits: enough
+//! to tell surfaces apart) and the kd-tree's split axis.
 
 use glam::{Vec2, Vec3};
 
@@ -13,14 +14,30 @@ pub struct Photon {
     pub power: Rgb,
     /// Unit direction toward where the photon came from, octahedrally encoded.
     incoming: [u16; 2],
+    /// Unit geometric normal on the side the photon arrived, octahedrally encoded.
+    normal: [u8; 2],
     /// The kd-tree's split axis at this node (0, 1, 2), set when the map is built.
     pub(super) axis: u8,
 }
 
 impl Photon {
-    /// `incoming` points away from the surface, toward where the photon came from.
-    pub fn new(position: Vec3, incoming: Vec3, power: Rgb) -> Self {
-        Self { position, power, incoming: encode_octahedral(incoming), axis: 0 }
+    /// `incoming` points away from the surface, toward where the photon came from; `normal`
+    /// is the surface's normal on that side.
+    pub fn new(position: Vec3, incoming: Vec3, normal: Vec3, power: Rgb) -> Self {
+        let n = encode_octahedral(normal);
+        Self {
+            position,
+            power,
+            incoming: encode_octahedral(incoming),
+            normal: [(n[0] >> 8) as u8, (n[1] >> 8) as u8],
+            axis: 0,
+        }
+    }
+
+    /// The surface normal on the photon's side (within about 1°).
+    pub fn normal(&self) -> Vec3 {
+        let widen = |b: u8| (b as u16) << 8 | b as u16; // 0 → 0, 255 → 65535
+        decode_octahedral([widen(self.normal[0]), widen(self.normal[1])])
     }
 
     /// The unit direction toward where the photon came from (within 1e-4).
@@ -67,12 +84,15 @@ mod tests {
         for i in 0..200 {
             for j in 0..200 {
                 let w = square_to_uniform_sphere(Vec2::new((i as f32 + 0.5) / 200.0, (j as f32 + 0.5) / 200.0));
-                let back = Photon::new(Vec3::ZERO, w, Rgb::ONE).incoming();
+                let photon = Photon::new(Vec3::ZERO, w, w, Rgb::ONE);
+                let back = photon.incoming();
+                assert!(photon.normal().dot(w) > 0.999, "{w}");
                 worst = worst.max(back.cross(w).length().atan2(back.dot(w))); // acos is too coarse near 1 in f32
             }
         }
         for w in [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z] {
-            assert!(Photon::new(Vec3::ZERO, w, Rgb::ONE).incoming().dot(w) > 0.99999);
+            assert!(Photon::new(Vec3::ZERO, w, w, Rgb::ONE).incoming().dot(w) > 0.99999);
+            assert!(Photon::new(Vec3::ZERO, w, w, Rgb::ONE).normal().dot(w) > 0.999);
         }
         assert!(worst < 1e-4, "{worst}");
     }
