@@ -5,7 +5,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 use glint_core::integrators::recorder::{RayRecord, RayTree};
-use glint_core::integrators::{IntegratorSettings, SampleContext, Whitted};
+use glint_core::integrators::{IntegratorSettings, PhotonMapper, SampleContext, Whitted};
+use glint_core::materials::Bsdf;
+use glint_core::photons::NearestPhotons;
 use glint_core::sampling::Rng;
 use glint_core::scene::Scene;
 use glint_core::{Rgb, Vec3};
@@ -29,6 +31,11 @@ pub struct ExplainArgs {
     min_contribution: Option<f32>,
     #[arg(long)]
     transparent_shadows: bool,
+    /// Also shoot the scene's photon maps (photon mapping's first pass, with the scene's
+    /// settings and seed) and list the K photons of each map nearest to the pixel's first hit,
+    /// with the radiance estimates made from them.
+    #[arg(long, value_name = "K")]
+    photons: Option<u32>,
 }
 
 fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
@@ -60,7 +67,71 @@ pub fn run(args: ExplainArgs) -> Result<(), String> {
     settings.transparent_shadows |= args.transparent_shadows;
     let (tree, colour) = explain_pixel(&scene, &settings, x, y);
     print!("{}", format_tree(&scene, &settings, x, y, &tree, colour));
+    if let Some(k) = args.photons {
+        print!("{}", explain_photons(&scene, &settings, loaded.render.seed, x, y, k)?);
+    }
     Ok(())
+}
+
+/// The photons of both maps nearest to the first surface the pixel-centre ray hits, and the
+/// radiance estimates photon mapping makes there.
+pub fn explain_photons(
+    scene: &Scene,
+    settings: &IntegratorSettings,
+    seed: u64,
+    x: u32,
+    y: u32,
+    k: u32,
+) -> Result<String, String> {
+    let mapper = PhotonMapper::new(scene, settings.max_depth, settings.rr_depth, settings.photon, seed)?;
+    let mut out = String::new();
+    let ray = scene.camera.generate_ray(x as f32 + 0.5, y as f32 + 0.5);
+    let Some(hit) = scene.intersect(&ray) else {
+        let _ = writeln!(out, "photons: the pixel-centre ray hits nothing");
+        return Ok(out);
+    };
+    let wo = -ray.direction.normalize();
+    let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
+    let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+    let _ = writeln!(
+        out,
+        "photons near the first hit {} (search radius at most {:.6}, seed {seed}):",
+        v(hit.geometry.point),
+        mapper.max_radius()
+    );
+    for (name, map) in [("global", mapper.global_map()), ("caustic", mapper.caustic_map())] {
+        let _ = writeln!(
+            out,
+            "  {name} map: {} photons stored from {} emitted; the {k} nearest:",
+            map.len(),
+            map.emitted()
+        );
+        let mut nearest = NearestPhotons::default();
+        map.k_nearest(hit.geometry.point, k as usize, mapper.max_radius(), &mut nearest);
+        let mut found: Vec<(f32, u32)> = nearest.iter().collect();
+        found.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (d2, i) in found {
+            let photon = map.photon(i);
+            let _ = writeln!(
+                out,
+                "    at distance {:.6}: flux {} (per photon emitted), arrived from {}, surface normal {}",
+                d2.sqrt(),
+                v(photon.power / map.emitted().max(1) as f32),
+                v(photon.incoming()),
+                v(photon.normal())
+            );
+        }
+        if map.is_empty() {
+            let _ = writeln!(out, "    (none)");
+        }
+        let _ = writeln!(
+            out,
+            "    radiance estimate toward the camera ({} nearest, cone filter): {}",
+            settings.photon.nearest,
+            v(mapper.estimate(map, &hit, &bsdf, wo))
+        );
+    }
+    Ok(out)
 }
 
 /// Traces the pixel-centre ray with the Whitted integrator, recording the ray tree. The colour

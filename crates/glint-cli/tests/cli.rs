@@ -206,3 +206,79 @@ fn explain_prints_the_rendered_pixel_colour() {
     assert!(String::from_utf8_lossy(&o.stdout).contains("refraction ray"));
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `glint explain --photons K` lists the photons around a pixel's hit point: in the caustic
+/// under the glass ball the caustic map is dense and its estimate bright; on the far wall
+/// there is no caustic at all.
+#[test]
+fn explain_lists_the_photons_around_a_hit() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/caustic-point-light.toml");
+    let caustic_estimate = |pixel: &str| {
+        let o = glint(&["explain", scene.to_str().unwrap(), "--pixel", pixel, "--photons", "3"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = String::from_utf8_lossy(&o.stdout).to_string();
+        let caustic = text.split("caustic map:").nth(1).expect("the caustic map is listed").to_string();
+        let distances: Vec<f32> = caustic
+            .lines()
+            .filter_map(|l| l.trim().strip_prefix("at distance ")?.split(':').next()?.parse().ok())
+            .collect();
+        assert!(distances.windows(2).all(|w| w[0] <= w[1]), "{caustic}");
+        let estimate = caustic.lines().find(|l| l.contains("radiance estimate")).unwrap().to_string();
+        let value: f32 = estimate.split(": (").nth(1).unwrap().split(',').next().unwrap().parse().unwrap();
+        (distances.len(), value)
+    };
+    let (found, in_spot) = caustic_estimate("100,168");
+    assert_eq!(found, 3);
+    assert!(in_spot > 0.3, "{in_spot}");
+    let (_, on_wall) = caustic_estimate("128,40");
+    assert!(on_wall < 0.01 * in_spot, "{on_wall} vs {in_spot}");
+}
+
+/// The integrators that start at the lights refuse what they cannot honour, with a message.
+#[test]
+fn particle_integrators_refuse_unphysical_lights_and_sppm_checkpoints() {
+    let dir = temp_dir("particles");
+    let whitted = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/whitted-1980.toml");
+    let out = dir.join("x.png");
+    let o = glint(&["render", whitted.to_str().unwrap(), "--integrator", "light", "-o", out.to_str().unwrap()]);
+    let err = assert_clean_failure(&o);
+    assert!(err.contains("falloff") && err.contains("inverse-square"), "{err}");
+    let glass = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/caustic-glass.toml");
+    let checkpoint = dir.join("c.exr");
+    let o = glint(&[
+        "render",
+        glass.to_str().unwrap(),
+        "--width",
+        "16",
+        "--spp",
+        "2",
+        "--checkpoint",
+        checkpoint.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = assert_clean_failure(&o);
+    assert!(err.contains("sppm") && err.contains("--checkpoint"), "{err}");
+    // --time works for every progressive integrator: a short limit still writes an image.
+    for integrator in ["light", "photon", "sppm"] {
+        let o = glint(&[
+            "render",
+            glass.to_str().unwrap(),
+            "--width",
+            "24",
+            "--integrator",
+            integrator,
+            "--time",
+            "0.5",
+            "--photons",
+            "20000",
+            "--caustic-photons",
+            "20000",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{integrator}: {}", stderr(&o));
+        assert!(stderr(&o).contains("time limit"), "{integrator}: {}", stderr(&o));
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
