@@ -21,8 +21,12 @@ use glint_core::Rgb;
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// Scene file (.toml, or .json with the same schema). Without one, the built-in default scene.
+    /// Scene file: .toml (or .json with the same schema), or a Mitsuba 3 .xml. Without one, the
+    /// built-in default scene.
     scene: Option<PathBuf>,
+    /// Mitsuba scenes: set a <default> parameter, as Mitsuba's -D (repeatable): -D spp=64.
+    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
+    define: Vec<(String, String)>,
     /// Output image; the format follows the extension (.png, .exr, .pfm). Default: <scene>.png.
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -154,6 +158,15 @@ enum BoxArg {
     Woo,
 }
 
+/// `NAME=VALUE` of a -D parameter.
+pub fn parse_define(s: &str) -> Result<(String, String), String> {
+    let (name, value) = s.split_once('=').ok_or("expected NAME=VALUE (for example spp=64)")?;
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return Err(format!("`{name}` is not a parameter name (letters, digits and _)"));
+    }
+    Ok((name.to_string(), value.to_string()))
+}
+
 pub fn run(args: RenderArgs) -> Result<(), String> {
     let output = args.output.clone().unwrap_or_else(|| {
         let stem = args
@@ -167,7 +180,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     check_writable(&output)?;
 
     let loaded = match &args.scene {
-        Some(path) => glint_scene::load_scene(path),
+        Some(path) => glint_scene::load_scene_with(path, &args.define),
         None => glint_scene::default_scene(),
     }
     .map_err(|e| e.to_string())?;
@@ -210,8 +223,10 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         Some(path) => std::fs::read(path).unwrap_or_default(),
         None => b"<built-in default scene>".to_vec(),
     };
+    let defines = format!("{:?}", args.define);
     let fingerprint = checkpoint::fingerprint(&[
         &scene_text,
+        defines.as_bytes(),
         integrator_kind.name().as_bytes(),
         format!(
             "{integrator_settings:?} {:?} {}x{} {}",

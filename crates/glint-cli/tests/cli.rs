@@ -282,3 +282,23 @@ fn particle_integrators_refuse_unphysical_lights_and_sppm_checkpoints() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// A Mitsuba scene renders from the command line, its parameters set with -D as in Mitsuba.
+#[test]
+fn mitsuba_scenes_render_with_d_parameters() {
+    let dir = temp_dir("mitsuba");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../glint-scene/tests/mitsuba/furnace.xml");
+    let out = dir.join("f.pfm");
+    let o = glint(&["render", scene.to_str().unwrap(), "-D", "spp=3", "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("at 3 spp"), "{}", stderr(&o));
+    let (w, h, _) = read_pfm(&out).unwrap();
+    assert_eq!((w, h), (16, 16));
+    let o = glint(&["render", scene.to_str().unwrap(), "-D", "3", "-o", out.to_str().unwrap()]);
+    assert!(!o.status.success() && stderr(&o).contains("NAME=VALUE"), "{}", stderr(&o));
+    let toml = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
+    let o = glint(&["render", toml.to_str().unwrap(), "-D", "spp=3", "-o", out.to_str().unwrap()]);
+    let err = assert_clean_failure(&o);
+    assert!(err.contains("Mitsuba scenes"), "{err}");
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -51,8 +51,16 @@ fn read_downsampled(name: &str, variance: bool) -> Vec<Rgb> {
 
 /// Per-pixel mean and variance of the mean, from the samples themselves.
 fn render_with_variance(kind: IntegratorKind, seed: u64, spp: u32) -> (Vec<Rgb>, Vec<Rgb>) {
-    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
-    let loaded = glint_scene::load_scene(&scene_path).expect("the Cornell box loads");
+    render_scene_with_variance(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml"),
+        kind,
+        seed,
+        spp,
+    )
+}
+
+fn render_scene_with_variance(scene_path: &Path, kind: IntegratorKind, seed: u64, spp: u32) -> (Vec<Rgb>, Vec<Rgb>) {
+    let loaded = glint_scene::load_scene(scene_path).expect("the Cornell box loads");
     let mut scene = loaded.scene;
     scene.camera = scene.camera.with_resolution(SIZE, SIZE);
     let integrator = kind.create(&loaded.render.integrator_settings).expect("a camera integrator");
@@ -177,4 +185,21 @@ fn path_tracer_matches_the_mitsuba_reference_and_the_naive_path_tracer() {
     let naive = render_with_variance(IntegratorKind::PathNaive, 2, 4 * SPP);
     check_against("path-naive vs Mitsuba", &naive, &reference, 8, false);
     check_against("path vs path-naive", &path, &naive, 8, false);
+}
+
+/// The same ground truth through the Mitsuba XML reader: ../shared/scenes/cbox.xml, Mitsuba's
+/// own file for the reference, read by glint.
+#[test]
+fn mitsuba_xml_cornell_box_matches_the_mitsuba_reference() {
+    let xml = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes/cbox.xml");
+    if !reference_dir().join("cbox_256.exr").exists() || !xml.exists() {
+        eprintln!("skipped: ../shared/scenes/cbox.xml or its reference not found");
+        return;
+    }
+    let loaded = glint_scene::load_scene(&xml).expect("cbox.xml loads");
+    assert_eq!(loaded.render.integrator, IntegratorKind::Path);
+    assert_eq!(loaded.render.integrator_settings.max_depth, u32::MAX, "max_depth -1 is unbounded");
+    let reference = (read_downsampled("cbox_256.exr", false), read_downsampled("cbox_256_var.exr", true));
+    let path = render_scene_with_variance(&xml, IntegratorKind::Path, 5, SPP);
+    check_against("path (cbox.xml) vs Mitsuba", &path, &reference, 4, true);
 }

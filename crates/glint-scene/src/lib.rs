@@ -1,5 +1,6 @@
 //! Scene readers for glint. The native format (TOML, or the same schema as JSON) is
-//! documented in `docs/scene-format.md`; meshes come from OBJ and PLY files.
+//! documented in `docs/scene-format.md`, Mitsuba 3's XML in `docs/mitsuba.md`; meshes come
+//! from OBJ and PLY files.
 //!
 //! Every error names the file, the line and column where that can be known, and what was
 //! expected; nothing a user writes can make a reader panic.
@@ -8,11 +9,12 @@ mod error;
 mod image;
 mod located;
 pub mod mesh;
+pub mod mitsuba;
 pub mod native;
 mod source;
 
 pub use error::{Location, SceneError};
-pub use native::{load_scene, parse_scene, LoadedScene, RenderOptions};
+pub use native::{load_scene, load_scene_with, parse_scene, LoadedScene, RenderOptions};
 pub use source::Source;
 
 /// The scene `glint render` shows when given no scene file: spheres, a polygon, a box and a

@@ -49,7 +49,7 @@ impl Context<'_> {
     }
 }
 
-pub(super) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -> Result<LoadedScene, SceneError> {
+pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -> Result<LoadedScene, SceneError> {
     let cx = Context { text, file: path };
     let mut warnings = Vec::new();
 

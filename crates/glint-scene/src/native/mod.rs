@@ -2,7 +2,7 @@
 //! Field by field in docs/scene-format.md.
 
 mod build;
-mod schema;
+pub(crate) mod schema;
 
 use std::path::Path;
 
@@ -37,8 +37,24 @@ pub struct LoadedScene {
     pub warnings: Vec<String>,
 }
 
-/// Reads a scene file; `.json` is JSON, anything else TOML.
+/// Reads a scene file: `.xml` is a Mitsuba 3 scene, `.json` JSON, anything else TOML.
 pub fn load_scene(path: &Path) -> Result<LoadedScene, SceneError> {
+    load_scene_with(path, &[])
+}
+
+/// `load_scene` with `-D name=value` parameters for Mitsuba scenes (native scenes have none:
+/// giving any is an error).
+pub fn load_scene_with(path: &Path, defines: &[(String, String)]) -> Result<LoadedScene, SceneError> {
+    if path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("xml")) {
+        return crate::mitsuba::load_mitsuba(path, defines);
+    }
+    if let Some((name, _)) = defines.first() {
+        return Err(SceneError::new(
+            path,
+            None,
+            format!("-D {name}=…: parameters are for Mitsuba scenes (.xml); this is a native scene"),
+        ));
+    }
     let text = std::fs::read_to_string(path)
         .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
     let format = match path.extension().and_then(|e| e.to_str()) {
@@ -74,6 +90,17 @@ pub fn parse_scene(
         })?,
     };
     build::build(parsed, text, file, source)
+}
+
+/// Builds a scene from a native description made by another reader (Mitsuba XML): `text` is
+/// the file the description's spans point into.
+pub(crate) fn build_file(
+    file: schema::SceneFile,
+    text: &str,
+    path: &Path,
+    source: &Source,
+) -> Result<LoadedScene, SceneError> {
+    build::build(file, text, path, source)
 }
 
 /// serde_json appends " at line L column C" to its messages; the location is shown apart.

@@ -1,0 +1,1243 @@
+//! Mitsuba 3 plugins mapped onto glint's native scene description, which the native builder
+//! then checks and builds (so a Mitsuba scene and a TOML scene become the same `Scene`).
+//! docs/mitsuba.md lists every element and what it becomes; anything glint cannot render
+//! faithfully is an error naming the element and its line, or, where the image would only
+//! differ in its noise or in a documented approximation, a warning.
+
+use std::cell::RefCell;
+use std::collections::{BTreeMap, HashMap, HashSet};
+
+use glam::{Mat4, Vec3};
+
+use super::xml::{Element, Files, Position};
+use crate::error::SceneError;
+use crate::located::Located;
+use crate::native::schema::*;
+
+type Result<T> = std::result::Result<T, SceneError>;
+
+/// Tags that carry a named property rather than an object.
+const PROPERTY_TAGS: [&str; 10] =
+    ["float", "integer", "boolean", "string", "rgb", "spectrum", "point", "vector", "transform", "ref"];
+
+pub(super) struct Translator<'a> {
+    files: &'a Files,
+    /// Objects declared with an `id`, for `<ref>`.
+    ids: HashMap<String, &'a Element>,
+    scene: SceneFile,
+    pub warnings: Vec<String>,
+    /// Materials already made for a BSDF element (by its position), so shapes share them.
+    materials_by_element: HashMap<(usize, u32, u32), String>,
+}
+
+/// The properties of one plugin element, recording which ones were read.
+struct Properties<'e> {
+    element: &'e Element,
+    used: RefCell<HashSet<String>>,
+}
+
+impl<'a> Translator<'a> {
+    pub fn new(files: &'a Files, root: &'a Element) -> Result<Self> {
+        let mut ids = HashMap::new();
+        collect_ids(root, &mut ids, files)?;
+        let camera = CameraDesc {
+            position: [0.0, 0.0, 0.0],
+            look_at: [0.0, 0.0, 1.0],
+            up: [0.0, 1.0, 0.0],
+            fov: 39.6,
+            resolution: [768, 576],
+        };
+        let scene = SceneFile {
+            camera: Located { value: camera, span: None },
+            render: RenderDesc {
+                integrator: "path".into(),
+                max_depth: -1,
+                spp: 4,
+                filter: "gaussian".into(),
+                ..RenderDesc::default()
+            },
+            intersection: IntersectionDesc::default(),
+            environment: EnvironmentDesc::default(),
+            textures: BTreeMap::new(),
+            materials: BTreeMap::new(),
+            meshes: BTreeMap::new(),
+            lights: Vec::new(),
+            shapes: Vec::new(),
+        };
+        Ok(Self { files, ids, scene, warnings: Vec::new(), materials_by_element: HashMap::new() })
+    }
+
+    fn error(&self, at: &Position, message: impl Into<String>) -> SceneError {
+        self.files.error(at, message)
+    }
+
+    fn warn(&mut self, at: &Position, message: impl AsRef<str>) {
+        let (path, _) = &self.files.files[at.file];
+        self.warnings.push(format!("{}:{}:{}: {}", path.display(), at.line, at.column, message.as_ref()));
+    }
+
+    /// The whole scene.
+    pub fn translate(mut self, root: &'a Element) -> Result<(SceneFile, Vec<String>)> {
+        let mut sensors = 0;
+        let mut integrator = None;
+        for child in &root.children {
+            match child.tag.as_str() {
+                "sensor" => {
+                    sensors += 1;
+                    if sensors == 1 {
+                        self.sensor(child)?;
+                    } else {
+                        self.warn(&child.position, "a second <sensor>: glint renders the first one only");
+                    }
+                }
+                "integrator" => integrator = Some(child),
+                "shape" => self.shape(child)?,
+                "emitter" => self.emitter(child)?,
+                // Declared for <ref>; used where referenced.
+                "bsdf" | "texture" => {}
+                "medium" | "phase" | "volume" => {
+                    return Err(self.error(
+                        &child.position,
+                        format!("{}: participating media are not supported by glint", child.describe()),
+                    ))
+                }
+                other => {
+                    return Err(self.error(&child.position, format!("unexpected <{other}> in <scene>")));
+                }
+            }
+        }
+        if sensors == 0 {
+            return Err(self.error(&root.position, "the scene has no <sensor>: glint needs a camera"));
+        }
+        if let Some(i) = integrator {
+            self.integrator(i)?;
+        }
+        Ok((self.scene, self.warnings))
+    }
+
+    fn properties<'e>(&self, element: &'e Element) -> Properties<'e> {
+        Properties { element, used: RefCell::new(HashSet::new()) }
+    }
+
+    /// Warns about the properties of `p` no mapping read.
+    fn unused(&mut self, p: &Properties) {
+        let used = p.used.borrow();
+        let mut messages = Vec::new();
+        for child in &p.element.children {
+            if let Some(name) = child.attribute("name") {
+                if PROPERTY_TAGS.contains(&child.tag.as_str()) && !used.contains(name) {
+                    messages.push((
+                        child.position.clone(),
+                        format!(
+                            "<{} name=\"{name}\"> of {} is not used by glint (ignored)",
+                            child.tag,
+                            p.element.describe()
+                        ),
+                    ));
+                }
+            }
+        }
+        for (at, m) in messages {
+            self.warn(&at, m);
+        }
+    }
+
+    // ----- sensor, film, sampler, integrator -------------------------------------------------
+
+    fn sensor(&mut self, sensor: &Element) -> Result<()> {
+        let kind = sensor.attribute("type").unwrap_or("");
+        match kind {
+            "perspective" => {}
+            "thinlens" => self.warn(
+                &sensor.position,
+                "<sensor type=\"thinlens\">: rendered as a pinhole camera (glint has no depth of field yet)",
+            ),
+            _ => {
+                return Err(self.error(
+                    &sensor.position,
+                    format!("<sensor type=\"{kind}\"> is not supported; glint has a perspective (pinhole) camera"),
+                ))
+            }
+        }
+        let p = self.properties(sensor);
+        // Film first: the field of view's axis needs the aspect ratio.
+        let (mut width, mut height) = (768u32, 576u32);
+        for child in &sensor.children {
+            match child.tag.as_str() {
+                "film" => {
+                    let (w, h) = self.film(child)?;
+                    width = w;
+                    height = h;
+                }
+                "sampler" => self.sampler(child)?,
+                _ => {}
+            }
+        }
+        let aspect = width as f32 / height as f32;
+        let fov = match p.float(self, "fov")? {
+            Some(f) => f,
+            None => {
+                let focal = p.string(self, "focal_length")?.unwrap_or_else(|| "50mm".into());
+                let mm: f32 = focal.trim_end_matches("mm").trim().parse().map_err(|_| {
+                    self.error(&sensor.position, format!("`focal_length` must be like \"50mm\", got `{focal}`"))
+                })?;
+                // Relative to 36 mm film along the larger image side.
+                let larger = 2.0 * (36.0 / (2.0 * mm)).atan().to_degrees();
+                if aspect >= 1.0 {
+                    larger
+                } else {
+                    vertical_fov(larger, 1.0 / aspect, "x").unwrap_or(larger)
+                }
+            }
+        };
+        let axis = p.string(self, "fov_axis")?.unwrap_or_else(|| "x".into());
+        let vertical = vertical_fov(fov, aspect, &axis).ok_or_else(|| {
+            self.error(&sensor.position, format!("`fov_axis` must be x, y, diagonal, smaller or larger, got `{axis}`"))
+        })?;
+        for clip in ["near_clip", "far_clip"] {
+            p.float(self, clip)?; // glint's rays are not clipped; the defaults rarely matter
+        }
+        for lens in ["aperture_radius", "focus_distance"] {
+            p.float(self, lens)?;
+        }
+        let matrix = p.transform(self, "to_world")?.unwrap_or(Mat4::IDENTITY);
+        let position = matrix.transform_point3(Vec3::ZERO);
+        let forward = matrix.transform_vector3(Vec3::Z);
+        let up = matrix.transform_vector3(Vec3::Y);
+        // Mitsuba's image right is the camera's −x; glint's is forward × up. A mirroring
+        // to_world would flip the image, which a glint camera cannot do.
+        let left = matrix.transform_vector3(Vec3::X);
+        if (-left).dot(forward.cross(up)) <= 0.0 {
+            return Err(self.error(
+                &sensor.position,
+                "the sensor's to_world mirrors the image (a negative scale?); glint's camera cannot",
+            ));
+        }
+        let look_at = position + forward.normalize_or_zero();
+        self.scene.camera = Located {
+            value: CameraDesc {
+                position: position.to_array(),
+                look_at: look_at.to_array(),
+                up: up.to_array(),
+                fov: vertical,
+                resolution: [width, height],
+            },
+            span: sensor.position.span.clone(),
+        };
+        self.unused(&p);
+        Ok(())
+    }
+
+    fn film(&mut self, film: &Element) -> Result<(u32, u32)> {
+        let kind = film.attribute("type").unwrap_or("");
+        if kind != "hdrfilm" && kind != "specfilm" {
+            return Err(self.error(&film.position, format!("<film type=\"{kind}\"> is not supported; use hdrfilm")));
+        }
+        let p = self.properties(film);
+        let width = p.integer(self, "width")?.unwrap_or(768);
+        let height = p.integer(self, "height")?.unwrap_or(576);
+        for ignored in ["pixel_format", "component_format", "file_format", "sample_border", "banner"] {
+            p.string(self, ignored)?;
+        }
+        if p.element.children.iter().any(|c| c.tag == "string" && c.attribute("name") == Some("crop_width")) {
+            self.warn(&film.position, "film cropping is ignored: glint renders the whole image");
+        }
+        let mut filter = "gaussian".to_string(); // Mitsuba's default reconstruction filter
+        for child in &film.children {
+            if child.tag == "rfilter" {
+                let t = child.attribute("type").unwrap_or("");
+                filter = match t {
+                    "box" | "tent" | "gaussian" => t.to_string(),
+                    "mitchell" => "mitchell".into(),
+                    _ => {
+                        self.warn(&child.position, format!("<rfilter type=\"{t}\"> is not available: using gaussian"));
+                        "gaussian".into()
+                    }
+                };
+                let fp = self.properties(child);
+                if t == "gaussian" {
+                    if let Some(s) = fp.float(self, "stddev")? {
+                        if (s - 0.5).abs() > 1e-6 {
+                            self.warn(&child.position, "gaussian `stddev` other than 0.5: glint's is fixed at 0.5");
+                        }
+                    }
+                }
+                self.unused(&fp);
+            }
+        }
+        self.scene.render.filter = filter;
+        self.unused(&p);
+        let check = |v: i64, name: &str| -> Result<u32> {
+            u32::try_from(v).ok().filter(|v| (1..=32768).contains(v)).ok_or_else(|| {
+                self.error(&film.position, format!("film `{name}` must be between 1 and 32768, got {v}"))
+            })
+        };
+        Ok((check(width, "width")?, check(height, "height")?))
+    }
+
+    fn sampler(&mut self, sampler: &Element) -> Result<()> {
+        let kind = sampler.attribute("type").unwrap_or("");
+        match kind {
+            "independent" => {}
+            "stratified" | "multijitter" | "ldsampler" | "orthogonal" => self.warn(
+                &sampler.position,
+                format!("<sampler type=\"{kind}\">: glint samples independently (the same image, other noise)"),
+            ),
+            _ => return Err(self.error(&sampler.position, format!("<sampler type=\"{kind}\"> is not known"))),
+        }
+        let p = self.properties(sampler);
+        if let Some(n) = p.integer(self, "sample_count")? {
+            self.scene.render.spp = u32::try_from(n)
+                .ok()
+                .filter(|&n| n >= 1)
+                .ok_or_else(|| self.error(&sampler.position, format!("`sample_count` must be ≥ 1, got {n}")))?;
+        }
+        if let Some(seed) = p.integer(self, "seed")? {
+            self.scene.render.seed = seed as u64;
+        }
+        p.boolean(self, "jitter")?;
+        p.integer(self, "dimension")?;
+        self.unused(&p);
+        Ok(())
+    }
+
+    fn integrator(&mut self, integrator: &Element) -> Result<()> {
+        let kind = integrator.attribute("type").unwrap_or("");
+        let p = self.properties(integrator);
+        let max_depth = p.integer(self, "max_depth")?.unwrap_or(-1);
+        let rr_depth = p.integer(self, "rr_depth")?.unwrap_or(5);
+        p.boolean(self, "hide_emitters")?;
+        let name = match kind {
+            "path" => "path",
+            "volpath" | "volpathmis" => {
+                self.warn(&integrator.position, format!("<integrator type=\"{kind}\">: rendered by `path` (no media)"));
+                "path"
+            }
+            "direct" => "path",
+            "ptracer" => "light",
+            "photonmapper" => "photon",
+            "sppm" => "sppm",
+            _ => {
+                return Err(self.error(
+                    &integrator.position,
+                    format!(
+                        "<integrator type=\"{kind}\"> is not supported; glint maps path, volpath, direct, ptracer, photonmapper and sppm"
+                    ),
+                ))
+            }
+        };
+        self.scene.render.integrator = name.into();
+        // Mitsuba counts path vertices (1: emitters seen directly); glint counts scattering
+        // events (0: emitters seen directly).
+        self.scene.render.max_depth = match (kind, max_depth) {
+            ("direct", _) => 1,
+            (_, d) if d < 0 => -1,
+            (_, 0) => {
+                self.warn(&integrator.position, "max_depth 0 renders nothing in Mitsuba; glint shows emitters only");
+                0
+            }
+            (_, d) => d - 1,
+        };
+        self.scene.render.rr_depth = u32::try_from(rr_depth.max(0)).unwrap_or(5);
+        if kind == "direct" {
+            p.integer(self, "emitter_samples")?;
+            p.integer(self, "bsdf_samples")?;
+        }
+        self.unused(&p);
+        Ok(())
+    }
+
+    // ----- shapes ----------------------------------------------------------------------------
+
+    fn shape(&mut self, shape: &'a Element) -> Result<()> {
+        let kind = shape.attribute("type").unwrap_or("");
+        let p = self.properties(shape);
+        let name = shape.attribute("id").map(str::to_string).or(Some(format!("{kind}@{}", shape.position.line)));
+        let transform_matrix = p.transform(self, "to_world")?;
+        let transform: Vec<TransformOp> =
+            transform_matrix.map(|m| vec![TransformOp::Matrix(m.transpose().to_cols_array_2d())]).unwrap_or_default();
+        let face_normals = p.boolean(self, "face_normals")?.unwrap_or(false);
+        let flip_normals = p.boolean(self, "flip_normals")?.unwrap_or(false);
+        p.boolean(self, "flip_tex_coords")?;
+
+        let mut bsdf = None;
+        let mut emission = None;
+        for child in &shape.children {
+            match child.tag.as_str() {
+                "bsdf" => bsdf = Some(child),
+                "ref" => {
+                    let target = self.resolve(child)?;
+                    match target.tag.as_str() {
+                        "bsdf" => bsdf = Some(target),
+                        other => {
+                            return Err(self.error(
+                                &child.position,
+                                format!(
+                                    "a shape can refer to a <bsdf>, not to <{other}> `{}`",
+                                    child.attribute("id").unwrap_or("")
+                                ),
+                            ))
+                        }
+                    }
+                }
+                "emitter" => emission = Some(self.area_emitter(child)?),
+                _ => {}
+            }
+        }
+        if flip_normals && (emission.is_some() || bsdf.is_some_and(|b| self.is_dielectric(b))) {
+            return Err(self.error(
+                &shape.position,
+                "`flip_normals` on an emitter or a dielectric is not supported (it would swap the emitting side or the inside)",
+            ));
+        }
+        let material = self.material_for(bsdf, emission, &shape.position)?;
+        let span = shape.position.span.clone();
+        let desc = match kind {
+            "obj" | "ply" => {
+                let file = p.string(self, "filename")?.ok_or_else(|| {
+                    self.error(&shape.position, format!("<shape type=\"{kind}\"> needs a `filename`"))
+                })?;
+                ShapeDesc::Mesh { file, smooth: !face_normals, material, transform, name }
+            }
+            "rectangle" => ShapeDesc::Quad {
+                vertices: [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]],
+                material,
+                transform,
+                name,
+            },
+            "cube" => ShapeDesc::Box { min: [-1.0; 3], max: [1.0; 3], material, transform, name },
+            "sphere" => {
+                let center = p.point(self, "center")?.unwrap_or(Vec3::ZERO);
+                let radius = p.float(self, "radius")?.unwrap_or(1.0);
+                ShapeDesc::Sphere { center: center.to_array(), radius, material, transform, name }
+            }
+            "disk" => {
+                for t in disk_triangles() {
+                    self.push_triangle(t, None, &material, &transform, &name, &span);
+                }
+                self.unused(&p);
+                return Ok(());
+            }
+            "cylinder" => {
+                let p0 = p.point(self, "p0")?.unwrap_or(Vec3::ZERO);
+                let p1 = p.point(self, "p1")?.unwrap_or(Vec3::Z);
+                let radius = p.float(self, "radius")?.unwrap_or(1.0);
+                if (p1 - p0).length() <= 0.0 || radius <= 0.0 {
+                    return Err(self.error(&shape.position, "a cylinder needs p0 ≠ p1 and a radius > 0"));
+                }
+                for (t, n) in cylinder_triangles(p0, p1, radius) {
+                    self.push_triangle(t, if face_normals { None } else { Some(n) }, &material, &transform, &name, &span);
+                }
+                self.unused(&p);
+                return Ok(());
+            }
+            _ => {
+                return Err(self.error(
+                    &shape.position,
+                    format!(
+                        "<shape type=\"{kind}\"> is not supported; glint reads obj, ply, rectangle, cube, sphere, disk and cylinder"
+                    ),
+                ))
+            }
+        };
+        self.scene.shapes.push(Located { value: desc, span });
+        self.unused(&p);
+        Ok(())
+    }
+
+    fn push_triangle(
+        &mut self,
+        vertices: [Vec3; 3],
+        normals: Option<[Vec3; 3]>,
+        material: &str,
+        transform: &[TransformOp],
+        name: &Option<String>,
+        span: &Option<std::ops::Range<usize>>,
+    ) {
+        self.scene.shapes.push(Located {
+            value: ShapeDesc::Triangle {
+                vertices: vertices.map(|v| v.to_array()),
+                normals: normals.map(|n| n.map(|v| v.to_array())),
+                uvs: None,
+                material: material.to_string(),
+                transform: transform.to_vec(),
+                name: name.clone(),
+            },
+            span: span.clone(),
+        });
+    }
+
+    /// The material of a shape: its BSDF (Mitsuba's default: diffuse 0.5) plus its emission.
+    fn material_for(&mut self, bsdf: Option<&'a Element>, emission: Option<[f32; 3]>, at: &Position) -> Result<String> {
+        let key = bsdf.map(|b| (b.position.file, b.position.line, b.position.column));
+        if emission.is_none() {
+            if let Some(name) = key.and_then(|k| self.materials_by_element.get(&k)) {
+                return Ok(name.clone());
+            }
+        }
+        let mut desc = match bsdf {
+            Some(b) => self.bsdf(b)?,
+            None => MaterialDesc::Diffuse {
+                reflectance: Some(ColorDesc::Rgb([0.5; 3])),
+                emission: None,
+                two_sided_emission: false,
+            },
+        };
+        let base = match bsdf {
+            Some(b) => b.attribute("id").map(str::to_string).unwrap_or(format!("bsdf@{}", b.position.line)),
+            None => "default-diffuse".into(),
+        };
+        let name = match emission {
+            Some(e) => {
+                match &mut desc {
+                    MaterialDesc::Diffuse { emission, .. } | MaterialDesc::Phong { emission, .. } => {
+                        *emission = Some(e)
+                    }
+                }
+                format!("{base}+emitter@{}", at.line)
+            }
+            None => base,
+        };
+        let span = bsdf.and_then(|b| b.position.span.clone());
+        self.scene.materials.insert(name.clone(), Located { value: desc, span });
+        if emission.is_none() {
+            if let Some(k) = key {
+                self.materials_by_element.insert(k, name.clone());
+            }
+        }
+        Ok(name)
+    }
+
+    fn is_dielectric(&self, bsdf: &Element) -> bool {
+        match bsdf.attribute("type") {
+            Some("dielectric" | "roughdielectric") => true,
+            Some("twosided" | "bumpmap" | "normalmap") => {
+                bsdf.children.iter().filter(|c| c.tag == "bsdf").any(|c| self.is_dielectric(c))
+            }
+            _ => false,
+        }
+    }
+
+    // ----- BSDFs -----------------------------------------------------------------------------
+
+    fn bsdf(&mut self, bsdf: &'a Element) -> Result<MaterialDesc> {
+        let kind = bsdf.attribute("type").unwrap_or("");
+        let p = self.properties(bsdf);
+        let nested = || bsdf.children.iter().find(|c| c.tag == "bsdf" || c.tag == "ref");
+        let desc = match kind {
+            "twosided" | "bumpmap" | "normalmap" => {
+                let Some(inner) = nested() else {
+                    return Err(self.error(&bsdf.position, format!("{} needs a nested <bsdf>", bsdf.describe())));
+                };
+                let inner = if inner.tag == "ref" { self.resolve(inner)? } else { inner };
+                if kind != "twosided" {
+                    self.warn(&bsdf.position, format!("{}: the bump or normal map is ignored", bsdf.describe()));
+                } else if bsdf.children.iter().filter(|c| c.tag == "bsdf").count() > 1 {
+                    self.warn(&bsdf.position, "twosided with two BSDFs: glint uses the first on both sides");
+                }
+                self.bsdf(inner)?
+            }
+            "diffuse" => MaterialDesc::Diffuse {
+                reflectance: Some(p.color(self, "reflectance")?.unwrap_or(ColorDesc::Rgb([0.5; 3]))),
+                emission: None,
+                two_sided_emission: false,
+            },
+            "conductor" | "roughconductor" => {
+                let f0 = self.conductor_reflectance(&p)?;
+                let specular = p.rgb(self, "specular_reflectance")?.unwrap_or([1.0; 3]);
+                let reflection = [f0[0] * specular[0], f0[1] * specular[1], f0[2] * specular[2]];
+                let roughness = if kind == "roughconductor" { Some(self.roughness(&p)?) } else { None };
+                phong(None, Some(reflection), None, None, roughness)
+            }
+            "dielectric" | "roughdielectric" => {
+                let ior = self.ior_ratio(&p, 1.5046)?;
+                let transmission = p.rgb(self, "specular_transmittance")?.unwrap_or([1.0; 3]);
+                p.rgb(self, "specular_reflectance")?;
+                let roughness = if kind == "roughdielectric" {
+                    self.warn(
+                        &bsdf.position,
+                        "roughdielectric: glint refracts smoothly (rough transmission is not implemented); only the reflection is rough",
+                    );
+                    Some(self.roughness(&p)?)
+                } else {
+                    None
+                };
+                phong(None, None, Some(transmission), Some(ior), roughness)
+            }
+            "thindielectric" => {
+                // A thin slab: reflectance R + T²R / (1 − R²) = 2R / (1 + R) at normal
+                // incidence, the rest passing straight through (no bending).
+                let eta = self.ior_ratio(&p, 1.5046)?;
+                let r = ((eta - 1.0) / (eta + 1.0)).powi(2);
+                let reflected = 2.0 * r / (1.0 + r);
+                let mut desc = phong(None, Some([reflected; 3]), Some([1.0 - reflected; 3]), Some(1.0), None);
+                if let MaterialDesc::Phong { fresnel, .. } = &mut desc {
+                    *fresnel = FresnelDesc::None;
+                }
+                desc
+            }
+            "plastic" | "roughplastic" => {
+                let diffuse = p.color(self, "diffuse_reflectance")?.unwrap_or(ColorDesc::Rgb([0.5; 3]));
+                let eta = self.ior_ratio(&p, 1.49)?;
+                let f0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
+                p.boolean(self, "nonlinear")?;
+                p.rgb(self, "specular_reflectance")?;
+                let roughness = if kind == "roughplastic" { Some(self.roughness(&p)?) } else { None };
+                let mut desc = phong(Some(diffuse), Some([f0; 3]), None, None, roughness);
+                if let MaterialDesc::Phong { fresnel, .. } = &mut desc {
+                    *fresnel = FresnelDesc::None;
+                }
+                desc
+            }
+            _ => {
+                return Err(self.error(
+                    &bsdf.position,
+                    format!(
+                        "<bsdf type=\"{kind}\"> is not supported; glint reads diffuse, conductor, roughconductor, dielectric, thindielectric, roughdielectric, plastic, roughplastic and twosided"
+                    ),
+                ))
+            }
+        };
+        self.unused(&p);
+        Ok(desc)
+    }
+
+    /// Reflectance at normal incidence of a conductor: from `material` (a named metal) or from
+    /// `eta` and `k`: ((η − 1)² + k²) / ((η + 1)² + k²).
+    fn conductor_reflectance(&mut self, p: &Properties) -> Result<[f32; 3]> {
+        let eta = p.rgb(self, "eta")?;
+        let k = p.rgb(self, "k")?;
+        if let Some(eta) = eta {
+            let k = k.unwrap_or([0.0; 3]);
+            let f = |n: f32, k: f32| ((n - 1.0).powi(2) + k * k) / ((n + 1.0).powi(2) + k * k);
+            return Ok([f(eta[0], k[0]), f(eta[1], k[1]), f(eta[2], k[2])]);
+        }
+        let material = p.string(self, "material")?.unwrap_or_else(|| "none".into());
+        named_conductor(&material).ok_or_else(|| {
+            self.error(
+                &p.element.position,
+                format!(
+                    "unknown conductor material `{material}`; glint knows {}",
+                    CONDUCTORS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+                ),
+            )
+        })
+    }
+
+    /// GGX roughness (glint's α = roughness²) from Mitsuba's `alpha` (default 0.1).
+    fn roughness(&mut self, p: &Properties) -> Result<f32> {
+        if let Some(d) = p.string(self, "distribution")? {
+            if d != "ggx" {
+                self.warn(&p.element.position, format!("microfacet distribution `{d}`: glint uses GGX"));
+            }
+        }
+        p.boolean(self, "sample_visible")?;
+        let alpha = match p.float(self, "alpha")? {
+            Some(a) => a,
+            None => {
+                let u = p.float(self, "alpha_u")?;
+                let v = p.float(self, "alpha_v")?;
+                match (u, v) {
+                    (Some(u), Some(v)) => {
+                        if (u - v).abs() > 1e-6 {
+                            self.warn(
+                                &p.element.position,
+                                "anisotropic roughness: glint uses the mean of alpha_u and alpha_v",
+                            );
+                        }
+                        0.5 * (u + v)
+                    }
+                    _ => 0.1,
+                }
+            }
+        };
+        Ok(alpha.max(0.0).sqrt())
+    }
+
+    /// int_ior / ext_ior, each a number or a named material.
+    fn ior_ratio(&mut self, p: &Properties, default_inside: f32) -> Result<f32> {
+        let ior = |name: &str, default: f32| -> Result<f32> {
+            match p.string_or_number(self, name)? {
+                None => Ok(default),
+                Some(v) => v.parse::<f32>().ok().or_else(|| named_ior(&v)).ok_or_else(|| {
+                    self.error(&p.element.position, format!("`{name}`: unknown index of refraction `{v}`"))
+                }),
+            }
+        };
+        let inside = ior("int_ior", default_inside)?;
+        let outside = ior("ext_ior", 1.000277)?;
+        Ok(inside / outside)
+    }
+
+    // ----- emitters and textures ------------------------------------------------------------
+
+    fn area_emitter(&mut self, emitter: &Element) -> Result<[f32; 3]> {
+        let kind = emitter.attribute("type").unwrap_or("");
+        if kind != "area" {
+            return Err(self
+                .error(&emitter.position, format!("a shape's emitter must be `area`, got <emitter type=\"{kind}\">")));
+        }
+        let p = self.properties(emitter);
+        let radiance = p.rgb(self, "radiance")?.unwrap_or([1.0; 3]);
+        self.unused(&p);
+        Ok(radiance)
+    }
+
+    fn emitter(&mut self, emitter: &Element) -> Result<()> {
+        let kind = emitter.attribute("type").unwrap_or("");
+        let p = self.properties(emitter);
+        let at = &emitter.position;
+        let light = match kind {
+            "point" => {
+                let matrix = p.transform(self, "to_world")?;
+                let position = match p.point(self, "position")? {
+                    Some(position) => position,
+                    None => matrix.unwrap_or(Mat4::IDENTITY).transform_point3(Vec3::ZERO),
+                };
+                let intensity = p.rgb(self, "intensity")?.unwrap_or([1.0; 3]);
+                LightDesc::Point {
+                    position: position.to_array(),
+                    color: intensity,
+                    intensity: 1.0,
+                    falloff: FalloffDesc::InverseSquare,
+                }
+            }
+            "spot" => {
+                let matrix = p.transform(self, "to_world")?.unwrap_or(Mat4::IDENTITY);
+                let intensity = p.rgb(self, "intensity")?.unwrap_or([1.0; 3]);
+                let cutoff = p.float(self, "cutoff_angle")?.unwrap_or(20.0);
+                let beam = p.float(self, "beam_width")?.unwrap_or(cutoff * 0.75);
+                LightDesc::Spot {
+                    position: matrix.transform_point3(Vec3::ZERO).to_array(),
+                    direction: matrix.transform_vector3(Vec3::Z).to_array(),
+                    cone_angle: cutoff,
+                    edge: (cutoff - beam).max(0.0),
+                    color: intensity,
+                    intensity: 1.0,
+                    falloff: FalloffDesc::InverseSquare,
+                }
+            }
+            "directional" => {
+                let direction = match p.vector(self, "direction")? {
+                    Some(d) => d,
+                    None => p.transform(self, "to_world")?.unwrap_or(Mat4::IDENTITY).transform_vector3(Vec3::Z),
+                };
+                let irradiance = p.rgb(self, "irradiance")?.unwrap_or([1.0; 3]);
+                LightDesc::Directional { direction: direction.to_array(), color: irradiance, intensity: 1.0 }
+            }
+            "constant" => {
+                self.scene.environment.background = p.rgb(self, "radiance")?.unwrap_or([1.0; 3]);
+                self.unused(&p);
+                return Ok(());
+            }
+            "envmap" => {
+                return Err(self.error(
+                    at,
+                    "<emitter type=\"envmap\">: environment maps are not supported yet, and without it the image would be different",
+                ))
+            }
+            "area" => {
+                return Err(self.error(at, "an area emitter must be nested inside the <shape> that emits"));
+            }
+            _ => {
+                return Err(self.error(
+                    at,
+                    format!("<emitter type=\"{kind}\"> is not supported; glint reads area, point, spot, directional and constant"),
+                ))
+            }
+        };
+        self.scene.lights.push(Located { value: light, span: at.span.clone() });
+        self.unused(&p);
+        Ok(())
+    }
+
+    /// A texture element as a native texture; returns its name.
+    fn texture(&mut self, texture: &Element) -> Result<String> {
+        let name = texture
+            .attribute("id")
+            .map(str::to_string)
+            .unwrap_or(format!("texture@{}:{}", texture.position.line, texture.position.column));
+        if self.scene.textures.contains_key(&name) {
+            return Ok(name);
+        }
+        let kind = texture.attribute("type").unwrap_or("");
+        let p = self.properties(texture);
+        let uv_scale =
+            match p.element.children.iter().find(|c| c.tag == "transform" && c.attribute("name") == Some("to_uv")) {
+                None => None,
+                Some(t) => {
+                    p.used.borrow_mut().insert("to_uv".into());
+                    Some(self.uv_scale(t)?)
+                }
+            };
+        let desc = match kind {
+            "bitmap" => {
+                let file = p
+                    .string(self, "filename")?
+                    .ok_or_else(|| self.error(&texture.position, "a bitmap needs a `filename`"))?;
+                let wrap = match p.string(self, "wrap_mode")?.as_deref() {
+                    None | Some("repeat") => WrapDesc::Repeat,
+                    Some("clamp") => WrapDesc::Clamp,
+                    Some(other) => {
+                        self.warn(&texture.position, format!("wrap_mode `{other}`: glint repeats"));
+                        WrapDesc::Repeat
+                    }
+                };
+                p.string(self, "filter_type")?;
+                p.boolean(self, "raw")?;
+                TextureDesc::Image { file, wrap, scale: uv_scale.map(Scale2Desc::PerAxis) }
+            }
+            "checkerboard" => {
+                let even = p.rgb(self, "color0")?.unwrap_or([0.4; 3]);
+                let odd = p.rgb(self, "color1")?.unwrap_or([0.2; 3]);
+                // Mitsuba's checkerboard has 2 × 2 checks over the unit square.
+                let [su, sv] = uv_scale.unwrap_or([1.0, 1.0]);
+                TextureDesc::Checker { even, odd, scale: Some(Scale2Desc::PerAxis([2.0 * su, 2.0 * sv])) }
+            }
+            _ => {
+                return Err(self.error(
+                    &texture.position,
+                    format!("<texture type=\"{kind}\"> is not supported; glint reads bitmap and checkerboard"),
+                ))
+            }
+        };
+        self.scene.textures.insert(name.clone(), Located { value: desc, span: texture.position.span.clone() });
+        self.unused(&p);
+        Ok(name)
+    }
+
+    /// A `to_uv` transform made only of scales.
+    fn uv_scale(&self, transform: &Element) -> Result<[f32; 2]> {
+        let mut scale = [1.0f32, 1.0];
+        for op in &transform.children {
+            if op.tag != "scale" {
+                return Err(self
+                    .error(&op.position, format!("`to_uv` with <{}>: glint's textures take a uv scale only", op.tag)));
+            }
+            let v = xyz(self, op, 1.0)?;
+            scale = [scale[0] * v.x, scale[1] * v.y];
+        }
+        Ok(scale)
+    }
+
+    fn resolve(&self, reference: &Element) -> Result<&'a Element> {
+        let id = reference.attribute("id").ok_or_else(|| self.error(&reference.position, "<ref> needs an `id`"))?;
+        self.ids.get(id).copied().ok_or_else(|| {
+            let known: Vec<&String> = self.ids.keys().collect();
+            let hint = crate::error::closest_name(id, known.iter().map(|s| s.as_str()))
+                .map(|n| format!("; did you mean `{n}`?"))
+                .unwrap_or_default();
+            self.error(&reference.position, format!("no object with id `{id}`{hint}"))
+        })
+    }
+}
+
+/// Every object with an `id`, anywhere in the tree; a repeated id is an error.
+fn collect_ids<'a>(element: &'a Element, ids: &mut HashMap<String, &'a Element>, files: &Files) -> Result<()> {
+    for child in &element.children {
+        if !PROPERTY_TAGS.contains(&child.tag.as_str()) {
+            if let Some(id) = child.attribute("id") {
+                if ids.insert(id.to_string(), child).is_some() {
+                    return Err(files.error(&child.position, format!("the id `{id}` is used twice")));
+                }
+            }
+        }
+        collect_ids(child, ids, files)?;
+    }
+    Ok(())
+}
+
+fn phong(
+    diffuse: Option<ColorDesc>,
+    reflection: Option<[f32; 3]>,
+    transmission: Option<[f32; 3]>,
+    ior: Option<f32>,
+    roughness: Option<f32>,
+) -> MaterialDesc {
+    MaterialDesc::Phong {
+        diffuse: Some(diffuse.unwrap_or(ColorDesc::Rgb([0.0; 3]))),
+        ambient: Some(ColorDesc::Rgb([0.0; 3])),
+        specular: None,
+        shininess: None,
+        reflection: reflection.map(ColorDesc::Rgb),
+        transmission: transmission.map(ColorDesc::Rgb),
+        ior,
+        fresnel: if transmission.is_some() { FresnelDesc::Exact } else { FresnelDesc::None },
+        roughness,
+        emission: None,
+        two_sided_emission: false,
+    }
+}
+
+/// The vertical field of view for `fov` degrees along `axis` of an image of this aspect ratio.
+fn vertical_fov(fov: f32, aspect: f32, axis: &str) -> Option<f32> {
+    let t = (0.5 * fov.to_radians()).tan();
+    let vertical_tan = match axis {
+        "y" => t,
+        "x" => t / aspect,
+        "diagonal" => t / (1.0 + aspect * aspect).sqrt(),
+        "smaller" => {
+            if aspect >= 1.0 {
+                t
+            } else {
+                t / aspect
+            }
+        }
+        "larger" => {
+            if aspect >= 1.0 {
+                t / aspect
+            } else {
+                t
+            }
+        }
+        _ => return None,
+    };
+    Some(2.0 * vertical_tan.atan().to_degrees())
+}
+
+/// Normal-incidence reflectance of common metals (linear sRGB; Hoffman's table, as
+/// real-time renderers use it), for Mitsuba's named conductors.
+const CONDUCTORS: [(&str, [f32; 3]); 10] = [
+    ("none", [1.0, 1.0, 1.0]),
+    ("Au", [1.0, 0.782, 0.344]),
+    ("Ag", [0.972, 0.960, 0.915]),
+    ("Al", [0.913, 0.922, 0.924]),
+    ("Cu", [0.955, 0.638, 0.538]),
+    ("Cr", [0.549, 0.556, 0.554]),
+    ("Fe", [0.562, 0.565, 0.578]),
+    ("Ni", [0.660, 0.609, 0.526]),
+    ("Ti", [0.542, 0.497, 0.449]),
+    ("Pt", [0.673, 0.637, 0.585]),
+];
+
+fn named_conductor(name: &str) -> Option<[f32; 3]> {
+    CONDUCTORS.iter().find(|(n, _)| *n == name).map(|(_, rgb)| *rgb)
+}
+
+/// Mitsuba's named indices of refraction.
+fn named_ior(name: &str) -> Option<f32> {
+    Some(match name {
+        "vacuum" => 1.0,
+        "helium" => 1.000036,
+        "hydrogen" => 1.000132,
+        "air" => 1.000277,
+        "carbon dioxide" => 1.00045,
+        "water" => 1.333,
+        "acetone" => 1.36,
+        "ethanol" => 1.361,
+        "carbon tetrachloride" => 1.461,
+        "glycerol" => 1.4729,
+        "benzene" => 1.501,
+        "silicone oil" => 1.52045,
+        "bromine" => 1.661,
+        "water ice" => 1.31,
+        "fused quartz" => 1.458,
+        "pyrex" => 1.470,
+        "acrylic glass" => 1.49,
+        "polypropylene" => 1.49,
+        "bk7" => 1.5046,
+        "sodium chloride" => 1.544,
+        "amber" => 1.55,
+        "pet" => 1.5750,
+        "diamond" => 2.419,
+        _ => return None,
+    })
+}
+
+const SEGMENTS: usize = 128;
+
+/// Mitsuba's disk: radius 1 in the z = 0 plane, facing +z; a fan of `SEGMENTS` triangles.
+fn disk_triangles() -> Vec<[Vec3; 3]> {
+    (0..SEGMENTS)
+        .map(|i| {
+            let a = |j: usize| {
+                let t = std::f32::consts::TAU * j as f32 / SEGMENTS as f32;
+                Vec3::new(t.cos(), t.sin(), 0.0)
+            };
+            [Vec3::ZERO, a(i), a(i + 1)]
+        })
+        .collect()
+}
+
+/// Mitsuba's cylinder from `p0` to `p1` (open, no caps): `SEGMENTS` quads as triangles with
+/// smooth outward normals.
+fn cylinder_triangles(p0: Vec3, p1: Vec3, radius: f32) -> Vec<([Vec3; 3], [Vec3; 3])> {
+    let axis = (p1 - p0).normalize();
+    let (u, v) = glint_core::geometry::orthonormal_basis(axis);
+    let n = |j: usize| {
+        let t = std::f32::consts::TAU * j as f32 / SEGMENTS as f32;
+        t.cos() * u + t.sin() * v
+    };
+    let mut out = Vec::with_capacity(2 * SEGMENTS);
+    for i in 0..SEGMENTS {
+        let (n0, n1) = (n(i), n(i + 1));
+        let (a, b, c, d) = (p0 + radius * n0, p0 + radius * n1, p1 + radius * n1, p1 + radius * n0);
+        out.push(([a, b, c], [n0, n1, n1]));
+        out.push(([a, c, d], [n0, n1, n0]));
+    }
+    out
+}
+
+/// x, y, z attributes (each defaulting to `default`), or a `value` of one or three numbers.
+fn xyz(t: &Translator, e: &Element, default: f32) -> Result<Vec3> {
+    if let Some(v) = e.attribute("value") {
+        let numbers = parse_numbers(v).map_err(|m| t.error(&e.position, m))?;
+        return match numbers.as_slice() {
+            [x] => Ok(Vec3::splat(*x)),
+            [x, y, z] => Ok(Vec3::new(*x, *y, *z)),
+            _ => Err(t.error(&e.position, format!("expected one or three numbers, got `{v}`"))),
+        };
+    }
+    let mut out = Vec3::splat(default);
+    for (i, axis) in ["x", "y", "z"].iter().enumerate() {
+        if let Some(s) = e.attribute(axis) {
+            out[i] = parse_number(s).map_err(|m| t.error(&e.position, m))?;
+        }
+    }
+    Ok(out)
+}
+
+fn parse_number(s: &str) -> std::result::Result<f32, String> {
+    s.trim().parse::<f32>().map_err(|_| format!("`{s}` is not a number"))
+}
+
+/// Numbers separated by commas and/or spaces.
+fn parse_numbers(s: &str) -> std::result::Result<Vec<f32>, String> {
+    s.split(|c: char| c == ',' || c.is_whitespace()).filter(|p| !p.is_empty()).map(parse_number).collect()
+}
+
+impl<'e> Properties<'e> {
+    /// The property child named `name`, marked as used.
+    fn find(&self, name: &str) -> Option<&'e Element> {
+        let found = self
+            .element
+            .children
+            .iter()
+            .find(|c| PROPERTY_TAGS.contains(&c.tag.as_str()) && c.attribute("name") == Some(name))
+            .or_else(|| self.element.children.iter().find(|c| c.tag == "texture" && c.attribute("name") == Some(name)));
+        if found.is_some() {
+            self.used.borrow_mut().insert(name.to_string());
+        }
+        found
+    }
+
+    fn value<'t>(&self, t: &Translator, e: &'t Element) -> Result<&'t str> {
+        e.attribute("value").ok_or_else(|| t.error(&e.position, format!("<{}> needs a `value`", e.tag)))
+    }
+
+    fn float(&self, t: &Translator, name: &str) -> Result<Option<f32>> {
+        let Some(e) = self.find(name) else { return Ok(None) };
+        let v = self.value(t, e)?;
+        parse_number(v).map(Some).map_err(|m| t.error(&e.position, format!("`{name}`: {m}")))
+    }
+
+    fn integer(&self, t: &Translator, name: &str) -> Result<Option<i64>> {
+        let Some(e) = self.find(name) else { return Ok(None) };
+        let v = self.value(t, e)?;
+        v.trim()
+            .parse::<i64>()
+            .map(Some)
+            .map_err(|_| t.error(&e.position, format!("`{name}`: `{v}` is not an integer")))
+    }
+
+    fn boolean(&self, t: &Translator, name: &str) -> Result<Option<bool>> {
+        let Some(e) = self.find(name) else { return Ok(None) };
+        match self.value(t, e)?.trim() {
+            "true" => Ok(Some(true)),
+            "false" => Ok(Some(false)),
+            v => Err(t.error(&e.position, format!("`{name}`: expected true or false, got `{v}`"))),
+        }
+    }
+
+    fn string(&self, t: &Translator, name: &str) -> Result<Option<String>> {
+        let Some(e) = self.find(name) else { return Ok(None) };
+        Ok(Some(self.value(t, e)?.to_string()))
+    }
+
+    /// A `<string>` or `<float>` (indices of refraction come as either).
+    fn string_or_number(&self, t: &Translator, name: &str) -> Result<Option<String>> {
+        let Some(e) = self.find(name) else { return Ok(None) };
+        Ok(Some(self.value(t, e)?.trim().to_string()))
+    }
+
+    fn point(&self, t: &Translator, name: &str) -> Result<Option<Vec3>> {
+        let Some(e) = self.find(name) else { return Ok(None) };
+        xyz(t, e, 0.0).map(Some)
+    }
+
+    fn vector(&self, t: &Translator, name: &str) -> Result<Option<Vec3>> {
+        self.point(t, name)
+    }
+
+    /// A constant colour: `<rgb>`, a uniform `<spectrum>` or a `<float>`.
+    fn rgb(&self, t: &Translator, name: &str) -> Result<Option<[f32; 3]>> {
+        let Some(e) = self.find(name) else { return Ok(None) };
+        let v = match e.tag.as_str() {
+            "rgb" | "spectrum" | "float" => self.value(t, e)?,
+            "texture" | "ref" => {
+                return Err(t.error(&e.position, format!("`{name}` must be a constant colour here, not a texture")))
+            }
+            other => return Err(t.error(&e.position, format!("`{name}` must be a colour, got <{other}>"))),
+        };
+        if e.tag == "spectrum" && v.contains(':') {
+            return Err(t.error(
+                &e.position,
+                format!("`{name}`: a sampled spectrum (wavelength:value pairs); glint renders RGB: give <rgb> instead"),
+            ));
+        }
+        let numbers = parse_numbers(v).map_err(|m| t.error(&e.position, format!("`{name}`: {m}")))?;
+        match numbers.as_slice() {
+            [x] => Ok(Some([*x; 3])),
+            [r, g, b] => Ok(Some([*r, *g, *b])),
+            _ => Err(t.error(&e.position, format!("`{name}`: expected one or three numbers, got `{v}`"))),
+        }
+    }
+
+    /// A colour or a texture (nested, or by `<ref name="…" id="…"/>`).
+    fn color(&self, t: &mut Translator<'e>, name: &str) -> Result<Option<ColorDesc>> {
+        let Some(e) = self.find(name) else { return Ok(None) };
+        match e.tag.as_str() {
+            "texture" => Ok(Some(ColorDesc::Texture(t.texture(e)?))),
+            "ref" => {
+                let target = t.resolve(e)?;
+                if target.tag != "texture" {
+                    return Err(t.error(&e.position, format!("`{name}` refers to a <{}>, not a texture", target.tag)));
+                }
+                Ok(Some(ColorDesc::Texture(t.texture(target)?)))
+            }
+            _ => Ok(self.rgb(t, name)?.map(ColorDesc::Rgb)),
+        }
+    }
+
+    /// A `<transform name="…">` composed in Mitsuba's order (each operation applied after
+    /// the ones before it).
+    fn transform(&self, t: &Translator, name: &str) -> Result<Option<Mat4>> {
+        let Some(e) = self.find(name) else { return Ok(None) };
+        if e.tag != "transform" {
+            return Err(t.error(&e.position, format!("`{name}` must be a <transform>")));
+        }
+        let mut matrix = Mat4::IDENTITY;
+        for op in &e.children {
+            let m = match op.tag.as_str() {
+                "translate" => Mat4::from_translation(xyz(t, op, 0.0)?),
+                "scale" => Mat4::from_scale(xyz(t, op, 1.0)?),
+                "rotate" => {
+                    let axis = xyz(t, op, 0.0)?;
+                    let angle = op
+                        .attribute("angle")
+                        .ok_or_else(|| t.error(&op.position, "<rotate> needs an `angle` (degrees)"))
+                        .and_then(|a| parse_number(a).map_err(|m| t.error(&op.position, m)))?;
+                    let axis =
+                        axis.try_normalize().ok_or_else(|| t.error(&op.position, "<rotate> needs a non-zero axis"))?;
+                    Mat4::from_axis_angle(axis, angle.to_radians())
+                }
+                "matrix" => {
+                    let v = op.attribute("value").ok_or_else(|| t.error(&op.position, "<matrix> needs a `value`"))?;
+                    let n = parse_numbers(v).map_err(|m| t.error(&op.position, m))?;
+                    match n.len() {
+                        16 => Mat4::from_cols_slice(&n).transpose(),
+                        9 => {
+                            let m3 = glam::Mat3::from_cols_slice(&n).transpose();
+                            Mat4::from_mat3(m3)
+                        }
+                        _ => {
+                            return Err(
+                                t.error(&op.position, format!("<matrix> needs 16 (or 9) numbers, got {}", n.len()))
+                            )
+                        }
+                    }
+                }
+                "lookat" => {
+                    let get = |a: &str| -> Result<Vec3> {
+                        let v =
+                            op.attribute(a).ok_or_else(|| t.error(&op.position, format!("<lookat> needs `{a}`")))?;
+                        let n = parse_numbers(v).map_err(|m| t.error(&op.position, m))?;
+                        match n.as_slice() {
+                            [x, y, z] => Ok(Vec3::new(*x, *y, *z)),
+                            _ => Err(t.error(&op.position, format!("<lookat> `{a}` needs three numbers"))),
+                        }
+                    };
+                    let origin = get("origin")?;
+                    let target = get("target")?;
+                    let up = match op.attribute("up") {
+                        Some(_) => get("up")?,
+                        // Unspecified: any perpendicular will do (Mitsuba picks one too).
+                        None => {
+                            let dir = (target - origin).normalize_or_zero();
+                            if dir.cross(Vec3::Y).length() > 1e-3 {
+                                Vec3::Y
+                            } else {
+                                Vec3::Z
+                            }
+                        }
+                    };
+                    look_at(origin, target, up).ok_or_else(|| {
+                        t.error(&op.position, "<lookat>: target equals origin, or up is parallel to the view")
+                    })?
+                }
+                other => {
+                    return Err(t.error(&op.position, format!("unknown transform operation <{other}>")));
+                }
+            };
+            matrix = m * matrix;
+        }
+        Ok(Some(matrix))
+    }
+}
+
+/// Mitsuba's look-at matrix: columns left = up × dir, up' = dir × left, dir, origin.
+fn look_at(origin: Vec3, target: Vec3, up: Vec3) -> Option<Mat4> {
+    let dir = (target - origin).try_normalize()?;
+    let left = up.cross(dir).try_normalize()?;
+    let new_up = dir.cross(left);
+    Some(Mat4::from_cols(left.extend(0.0), new_up.extend(0.0), dir.extend(0.0), origin.extend(1.0)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn field_of_view_axes() {
+        let close = |a: f32, b: f32| (a - b).abs() < 1e-3;
+        assert!(close(vertical_fov(40.0, 2.0, "y").unwrap(), 40.0));
+        // Horizontal 90° on a 2:1 image: tan(v/2) = 1/2.
+        assert!(close(vertical_fov(90.0, 2.0, "x").unwrap(), 2.0 * 0.5f32.atan().to_degrees()));
+        assert!(close(vertical_fov(90.0, 2.0, "larger").unwrap(), vertical_fov(90.0, 2.0, "x").unwrap()));
+        assert!(close(vertical_fov(90.0, 2.0, "smaller").unwrap(), 90.0));
+        assert!(close(vertical_fov(90.0, 1.0, "diagonal").unwrap(), 2.0 * (1.0 / 2f32.sqrt()).atan().to_degrees()));
+        assert!(vertical_fov(40.0, 1.0, "z").is_none());
+    }
+
+    #[test]
+    fn look_at_puts_z_along_the_view() {
+        let m = look_at(Vec3::new(1.0, 2.0, 3.0), Vec3::new(1.0, 2.0, 4.0), Vec3::Y).unwrap();
+        assert!((m.transform_vector3(Vec3::Z) - Vec3::Z).length() < 1e-6);
+        assert!((m.transform_point3(Vec3::ZERO) - Vec3::new(1.0, 2.0, 3.0)).length() < 1e-6);
+        // left = up × dir = y × z = x.
+        assert!((m.transform_vector3(Vec3::X) - Vec3::X).length() < 1e-6);
+    }
+
+    #[test]
+    fn disk_and_cylinder_tessellations() {
+        let area: f32 = disk_triangles().iter().map(|[a, b, c]| 0.5 * (*b - *a).cross(*c - *a).length()).sum();
+        assert!((area / std::f32::consts::PI - 1.0).abs() < 1e-3);
+        for [a, b, c] in disk_triangles() {
+            assert!((b - a).cross(c - a).z > 0.0, "the disk faces +z");
+        }
+        let tris = cylinder_triangles(Vec3::ZERO, Vec3::new(0.0, 0.0, 2.0), 0.5);
+        for (t, n) in &tris {
+            let centroid = (t[0] + t[1] + t[2]) / 3.0;
+            let outward = Vec3::new(centroid.x, centroid.y, 0.0);
+            assert!(n[0].dot(outward) > 0.0 && (t[1] - t[0]).cross(t[2] - t[0]).dot(outward) > 0.0);
+        }
+    }
+
+    #[test]
+    fn conductor_reflectance_from_eta_and_k() {
+        let f = |n: f32, k: f32| ((n - 1.0).powi(2) + k * k) / ((n + 1.0).powi(2) + k * k);
+        assert!((f(1.5, 0.0) - 0.04).abs() < 1e-6);
+        assert_eq!(named_conductor("Au"), Some([1.0, 0.782, 0.344]));
+        assert_eq!(named_ior("bk7"), Some(1.5046));
+    }
+}

@@ -1,0 +1,213 @@
+//! Mitsuba's XML, read into a plain element tree: `<default>` parameters substituted into
+//! every `$name` (command-line `-D name=value` first), `<include>` files spliced in where they
+//! stand, and every element tagged with its file, line and column for messages.
+
+use std::collections::HashMap;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Location, SceneError};
+
+/// One XML element after substitution.
+#[derive(Clone, Debug)]
+pub(super) struct Element {
+    pub tag: String,
+    pub attributes: Vec<(String, String)>,
+    pub children: Vec<Element>,
+    pub position: Position,
+}
+
+/// Where an element starts: the file (an index into `Files`), line and column, and its byte
+/// range when it is in the main file (the native builder points its own errors there).
+#[derive(Clone, Debug)]
+pub(super) struct Position {
+    pub file: usize,
+    pub line: u32,
+    pub column: u32,
+    pub span: Option<Range<usize>>,
+}
+
+/// The files read: the main scene first, then includes.
+#[derive(Debug, Default)]
+pub(super) struct Files {
+    pub files: Vec<(PathBuf, String)>,
+}
+
+impl Files {
+    pub fn error(&self, at: &Position, message: impl Into<String>) -> SceneError {
+        let (path, text) = &self.files[at.file];
+        SceneError::new(path, Some(Location::from_line_column(text, at.line as usize, at.column as usize)), message)
+    }
+}
+
+impl Element {
+    pub fn attribute(&self, name: &str) -> Option<&str> {
+        self.attributes.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_str())
+    }
+
+    /// `<tag type="…">` for messages.
+    pub fn describe(&self) -> String {
+        match self.attribute("type") {
+            Some(t) => format!("<{} type=\"{t}\">", self.tag),
+            None => format!("<{}>", self.tag),
+        }
+    }
+}
+
+/// Reads `path` and everything it includes. `defines` are the command line's `-D` values,
+/// which take precedence over the file's `<default>`s.
+pub(super) fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(Element, Files), SceneError> {
+    let mut files = Files::default();
+    let mut parameters: HashMap<String, String> = defines.iter().cloned().collect();
+    let root = read_file(path, &mut files, &mut parameters, 0)?;
+    if root.tag != "scene" {
+        return Err(files.error(&root.position, format!("expected a <scene> root element, found <{}>", root.tag)));
+    }
+    match root.attribute("version") {
+        Some(v) if v.starts_with("3.") || v.starts_with("2.") => {}
+        Some(v) => {
+            return Err(files.error(
+                &root.position,
+                format!("scene version {v} is not supported; glint reads Mitsuba 3 scenes (version 3.x)"),
+            ))
+        }
+        None => return Err(files.error(&root.position, "the <scene> element needs a version attribute (3.0.0)")),
+    }
+    Ok((root, files))
+}
+
+const MAX_INCLUDE_DEPTH: u32 = 16;
+
+fn read_file(
+    path: &Path,
+    files: &mut Files,
+    parameters: &mut HashMap<String, String>,
+    depth: u32,
+) -> Result<Element, SceneError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+    let index = files.files.len();
+    files.files.push((path.to_path_buf(), text));
+    let text = files.files[index].1.clone();
+    let document = roxmltree::Document::parse(&text).map_err(|e| {
+        let p = e.pos();
+        SceneError::new(
+            path,
+            Some(Location::from_line_column(&text, p.row as usize, p.col as usize)),
+            format!("malformed XML: {e}"),
+        )
+    })?;
+    let directory = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let reader = Reader { document: &document, file: index, directory, main: index == 0 };
+    reader.element(document.root_element(), files, parameters, depth)
+}
+
+struct Reader<'d, 'input> {
+    document: &'d roxmltree::Document<'input>,
+    file: usize,
+    directory: PathBuf,
+    main: bool,
+}
+
+impl Reader<'_, '_> {
+    fn position(&self, node: roxmltree::Node) -> Position {
+        let p = self.document.text_pos_at(node.range().start);
+        Position { file: self.file, line: p.row, column: p.col, span: self.main.then(|| node.range()) }
+    }
+
+    fn element(
+        &self,
+        node: roxmltree::Node,
+        files: &mut Files,
+        parameters: &mut HashMap<String, String>,
+        depth: u32,
+    ) -> Result<Element, SceneError> {
+        let position = self.position(node);
+        let mut attributes = Vec::new();
+        for a in node.attributes() {
+            let value = substitute(a.value(), parameters).map_err(|m| files.error(&position, m))?;
+            attributes.push((a.name().to_string(), value));
+        }
+        let mut element =
+            Element { tag: node.tag_name().name().to_string(), attributes, children: Vec::new(), position };
+        for child in node.children().filter(|c| c.is_element()) {
+            let child_position = self.position(child);
+            match child.tag_name().name() {
+                "default" => {
+                    let name = child.attribute("name");
+                    let value = child.attribute("value");
+                    let (Some(name), Some(value)) = (name, value) else {
+                        return Err(files.error(&child_position, "<default> needs `name` and `value` attributes"));
+                    };
+                    // The command line's -D wins; the first <default> of a name counts.
+                    parameters.entry(name.to_string()).or_insert_with(|| value.to_string());
+                }
+                "include" => {
+                    let Some(filename) = child.attribute("filename") else {
+                        return Err(files.error(&child_position, "<include> needs a `filename` attribute"));
+                    };
+                    let filename = substitute(filename, parameters).map_err(|m| files.error(&child_position, m))?;
+                    if depth >= MAX_INCLUDE_DEPTH {
+                        return Err(files.error(&child_position, "includes nested too deeply (an include cycle?)"));
+                    }
+                    let path = self.directory.join(&filename);
+                    if !path.exists() {
+                        return Err(files.error(
+                            &child_position,
+                            format!("included file `{filename}` not found ({})", path.display()),
+                        ));
+                    }
+                    let included = read_file(&path, files, parameters, depth + 1)?;
+                    // An included <scene>'s children stand where the <include> was.
+                    if included.tag == "scene" {
+                        element.children.extend(included.children);
+                    } else {
+                        element.children.push(included);
+                    }
+                }
+                _ => element.children.push(self.element(child, files, parameters, depth)?),
+            }
+        }
+        Ok(element)
+    }
+}
+
+/// Replaces every `$name` in `value` by its parameter.
+fn substitute(value: &str, parameters: &HashMap<String, String>) -> Result<String, String> {
+    if !value.contains('$') {
+        return Ok(value.to_string());
+    }
+    let mut out = String::new();
+    let mut rest = value;
+    while let Some(i) = rest.find('$') {
+        out.push_str(&rest[..i]);
+        let after = &rest[i + 1..];
+        let end = after.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(after.len());
+        let name = &after[..end];
+        if name.is_empty() {
+            out.push('$');
+        } else {
+            let v = parameters.get(name).ok_or_else(|| {
+                format!("`${name}` is not defined: add <default name=\"{name}\" value=\"…\"/> or pass -D {name}=…")
+            })?;
+            out.push_str(v);
+        }
+        rest = &after[end..];
+    }
+    out.push_str(rest);
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn substitution() {
+        let p: HashMap<String, String> = [("spp".to_string(), "64".to_string())].into();
+        assert_eq!(substitute("$spp", &p).unwrap(), "64");
+        assert_eq!(substitute("a $spp b", &p).unwrap(), "a 64 b");
+        assert_eq!(substitute("no dollar", &p).unwrap(), "no dollar");
+        assert!(substitute("$nope", &p).unwrap_err().contains("`$nope` is not defined"));
+    }
+}

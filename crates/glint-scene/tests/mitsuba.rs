@@ -1,0 +1,188 @@
+//! The Mitsuba 3 reader on scene files written for it (tests/mitsuba/): every supported
+//! element, its mapping onto glint, an analytic render, and the errors.
+
+use std::path::{Path, PathBuf};
+
+use glint_core::filter::Filter;
+use glint_core::integrators::IntegratorKind;
+use glint_core::lights::Light;
+use glint_core::materials::Material;
+use glint_core::render::{render, RenderSettings};
+use glint_core::textures::Texture;
+use glint_core::{Rgb, Vec3};
+use glint_scene::{load_scene, load_scene_with};
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/mitsuba").join(name)
+}
+
+/// Writes `text` as a scene in a fresh directory beside the fixtures' meshes.
+fn scene_file(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("glint-mitsuba-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.xml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn every_element_maps_onto_glint() {
+    let loaded = load_scene(&fixture("every-element.xml")).unwrap_or_else(|e| panic!("{e}"));
+    let scene = &loaded.scene;
+    // Film, sampler and integrator: $spp from <default>, Mitsuba's max_depth 5 = glint's 4.
+    assert_eq!((scene.camera.width, scene.camera.height), (64, 32));
+    assert_eq!(loaded.render.spp, 16);
+    assert_eq!(loaded.render.seed, 7);
+    assert_eq!(loaded.render.filter, Filter::Tent);
+    assert_eq!(loaded.render.integrator, IntegratorKind::Path);
+    assert_eq!(loaded.render.integrator_settings.max_depth, 4);
+    assert_eq!(loaded.render.integrator_settings.rr_depth, 3);
+    // A 60° horizontal field of view on a 2:1 image is 2·atan(tan 30° / 2) vertically.
+    let vertical = 2.0 * ((30f32).to_radians().tan() / 2.0).atan().to_degrees();
+    assert!((scene.camera.fov_degrees - vertical).abs() < 1e-3, "{}", scene.camera.fov_degrees);
+    assert_eq!(scene.camera.position, Vec3::new(0.0, 2.0, -8.0));
+    // Shapes: obj, ply, rectangle, cube, two spheres, a 128-triangle disk, a 256-triangle cylinder.
+    assert_eq!(scene.objects().len(), 6 + 128 + 256);
+    // The cube: scaled by ½, turned 30° about y, then moved by (2, 0.5, 0) (Mitsuba's order).
+    let cube = scene.objects().iter().find(|o| o.name == "unit-cube").expect("the cube keeps its id");
+    let centre = cube.transform.as_ref().unwrap().point(Vec3::ZERO);
+    assert!((centre - Vec3::new(2.0, 0.5, 0.0)).length() < 1e-6);
+    let corner = cube.transform.as_ref().unwrap().point(Vec3::ONE);
+    assert!(((corner - centre).length() - 0.5 * 3f32.sqrt()).abs() < 1e-5);
+    // Lights: point, spot, directional; the constant emitter is the background; the disk
+    // emits (an area light of 128 triangles).
+    let kinds: Vec<&str> = scene.lights.iter().map(Light::kind).collect();
+    assert_eq!(kinds, ["point", "spot", "directional"]);
+    assert_eq!(scene.environment.background, Rgb::new(0.1, 0.2, 0.3));
+    assert!(!scene.area_lights.is_empty());
+    if let Light::Spot(spot) = &scene.lights[1] {
+        assert!((spot.direction - -Vec3::Y).length() < 1e-6);
+        assert!((spot.cos_cone - 30f32.to_radians().cos()).abs() < 1e-6);
+        assert!((spot.cos_full - 20f32.to_radians().cos()).abs() < 1e-6);
+    } else {
+        panic!("the second light is the spot");
+    }
+    // Materials: the gold conductor, plastic, dielectric and the textured ones are there.
+    for name in ["gold", "checkered"] {
+        assert!(scene.material_names.iter().any(|n| n == name), "{name}: {:?}", scene.material_names);
+    }
+    // Warnings for what is approximated: the sampler and the rough dielectric.
+    let warnings = loaded.warnings.join("\n");
+    assert!(warnings.contains("stratified"), "{warnings}");
+    assert!(warnings.contains("roughdielectric"), "{warnings}");
+    assert!(!warnings.contains("near_clip"), "read, so not reported: {warnings}");
+    // Mappings: gold by its normal-incidence reflectance, a roughconductor from eta and k
+    // with roughness √α, BK7 in air, the plastic's diffuse base under a 4 % coat.
+    let material = |name: &str| {
+        let i = scene.material_names.iter().position(|n| n == name).unwrap_or_else(|| panic!("{name}"));
+        match &scene.materials[i] {
+            Material::Phong(p) => p.clone(),
+        }
+    };
+    let constant = |t: &Texture| match t {
+        Texture::Constant(c) => *c,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(constant(&material("gold").reflection), Rgb::new(1.0, 0.782, 0.344));
+    let by_line = |line: u32| {
+        let name = scene.material_names.iter().find(|n| n.ends_with(&format!("@{line}"))).unwrap();
+        material(name)
+    };
+    let rough = by_line(40);
+    assert!((rough.roughness - 0.3).abs() < 1e-6);
+    let f = |n: f32, k: f32| ((n - 1.0).powi(2) + k * k) / ((n + 1.0).powi(2) + k * k);
+    assert!((constant(&rough.reflection) - Rgb::new(f(0.2, 3.9), f(0.9, 2.4), f(1.1, 2.2))).length() < 1e-6);
+    let glass = by_line(67);
+    assert!((glass.ior - 1.5046 / 1.000277).abs() < 1e-6);
+    assert_eq!(constant(&glass.transmission), Rgb::ONE);
+    let plastic = by_line(59);
+    assert_eq!(constant(&plastic.diffuse), Rgb::new(0.2, 0.4, 0.8));
+    assert!((constant(&plastic.reflection).x - 0.04).abs() < 1e-3);
+}
+
+#[test]
+fn command_line_parameters_override_defaults() {
+    let defines = [("spp".to_string(), "3".to_string()), ("res".to_string(), "20".to_string())];
+    let loaded = load_scene_with(&fixture("every-element.xml"), &defines).unwrap();
+    assert_eq!(loaded.render.spp, 3);
+    assert_eq!(loaded.scene.camera.width, 20);
+    let err = load_scene_with(&fixture("every-element.xml"), &[("spp".into(), "many".into())]).err().unwrap();
+    assert!(err.to_string().contains("`many` is not an integer"), "{err}");
+}
+
+#[test]
+fn a_diffuse_rectangle_under_a_constant_sky_reflects_albedo_times_sky() {
+    let loaded = load_scene(&fixture("furnace.xml")).unwrap();
+    let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).expect("path");
+    let settings = RenderSettings { spp: 64, seed: 1, filter: loaded.render.filter };
+    let image = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film.to_rgb();
+    let mean = image.iter().sum::<Rgb>() / image.len() as f32;
+    let expected = Rgb::new(0.8, 0.4, 0.2) * 0.25;
+    assert!(((mean - expected) / expected).abs().max_element() < 0.01, "{mean} vs {expected}");
+}
+
+fn error_of(name: &str, text: &str) -> String {
+    match load_scene(&scene_file(name, text)) {
+        Ok(_) => panic!("{name}: expected an error"),
+        Err(e) => e.to_string(),
+    }
+}
+
+const SENSOR: &str = r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
+
+#[test]
+fn errors_name_the_file_line_and_what_was_expected() {
+    // Malformed XML: line and column.
+    let e = error_of("malformed", "<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n</scene>\n");
+    assert!(e.contains("malformed.xml:3:") && e.contains("malformed XML"), "{e}");
+    // An unsupported plugin, at its line.
+    let e = error_of(
+        "plugin",
+        &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"hair\">\n</shape>\n</scene>\n"),
+    );
+    assert!(e.contains("plugin.xml:3:") && e.contains("<shape type=\"hair\"> is not supported"), "{e}");
+    // A missing mesh file.
+    let e = error_of(
+        "missing",
+        &format!(
+            "<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"obj\">\n<string name=\"filename\" value=\"nowhere.obj\"/>\n</shape>\n</scene>\n"
+        ),
+    );
+    assert!(e.contains("missing.xml:3:") && e.contains("nowhere.obj"), "{e}");
+    // A missing include.
+    let e = error_of("include", "<scene version=\"3.0.0\">\n<include filename=\"gone.xml\"/>\n</scene>\n");
+    assert!(e.contains("include.xml:2:") && e.contains("gone.xml"), "{e}");
+    // An undefined parameter.
+    let e = error_of("param", "<scene version=\"3.0.0\">\n<integrator type=\"$kind\"/>\n</scene>\n");
+    assert!(e.contains("param.xml:2:") && e.contains("`$kind` is not defined"), "{e}");
+    // An unknown reference, with a suggestion.
+    let e = error_of(
+        "ref",
+        &format!(
+            "<scene version=\"3.0.0\">\n{SENSOR}\n<bsdf type=\"diffuse\" id=\"white\"/>\n<shape type=\"sphere\">\n<ref id=\"whte\"/>\n</shape>\n</scene>\n"
+        ),
+    );
+    assert!(e.contains("ref.xml:5:") && e.contains("no object with id `whte`") && e.contains("white"), "{e}");
+    // An environment map would change the image: an error, not a silent skip.
+    let e = error_of("envmap", &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"envmap\"/>\n</scene>\n"));
+    assert!(e.contains("envmap.xml:3:") && e.contains("environment maps"), "{e}");
+    // Not Mitsuba 3.
+    let e = error_of("version", "<scene version=\"0.6.0\">\n</scene>\n");
+    assert!(e.contains("version 0.6.0"), "{e}");
+    // A sensor is required.
+    let e = error_of("nosensor", "<scene version=\"3.0.0\">\n</scene>\n");
+    assert!(e.contains("no <sensor>"), "{e}");
+}
+
+#[test]
+fn unknown_properties_are_reported_not_silently_dropped() {
+    let path = scene_file(
+        "unused",
+        &format!(
+            "<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"sphere\">\n<bsdf type=\"diffuse\">\n<float name=\"sheen\" value=\"1\"/>\n</bsdf>\n</shape>\n</scene>\n"
+        ),
+    );
+    let loaded = load_scene(&path).unwrap();
+    let warnings = loaded.warnings.join("\n");
+    assert!(warnings.contains("unused.xml:5:") && warnings.contains("sheen"), "{warnings}");
+}
