@@ -186,3 +186,52 @@ fn unknown_properties_are_reported_not_silently_dropped() {
     let warnings = loaded.warnings.join("\n");
     assert!(warnings.contains("unused.xml:5:") && warnings.contains("sheen"), "{warnings}");
 }
+
+/// The other sensors, samplers, integrators and emitter placements, one small scene each.
+#[test]
+fn sensor_sampler_integrator_and_emitter_variants() {
+    let scene_with = |name: &str, sensor: &str, rest: &str| {
+        let text = format!(
+            "<scene version=\"3.0.0\">\n<sensor type=\"{sensor}\"><film type=\"hdrfilm\"><integer name=\"width\" value=\"8\"/><integer name=\"height\" value=\"8\"/></film></sensor>\n{rest}\n<shape type=\"sphere\"/>\n</scene>\n"
+        );
+        load_scene(&scene_file(name, &text))
+    };
+    let thin = scene_with("thinlens", "thinlens", "").unwrap();
+    assert!(thin.warnings.join("\n").contains("depth of field"), "{:?}", thin.warnings);
+    let e = scene_with("ortho", "orthographic", "").err().unwrap().to_string();
+    assert!(e.contains("ortho.xml:2:") && e.contains("orthographic"), "{e}");
+    for (kind, expected, depth) in [
+        ("direct", IntegratorKind::Path, 1),
+        ("ptracer", IntegratorKind::Light, 2),
+        ("volpath", IntegratorKind::Path, 2),
+        ("sppm", IntegratorKind::Sppm, 2),
+    ] {
+        let loaded = scene_with(
+            kind,
+            "perspective",
+            &format!("<integrator type=\"{kind}\"><integer name=\"max_depth\" value=\"3\"/></integrator>"),
+        )
+        .unwrap();
+        assert_eq!(loaded.render.integrator, expected, "{kind}");
+        assert_eq!(loaded.render.integrator_settings.max_depth, depth, "{kind}");
+    }
+    let e = scene_with("aov", "perspective", "<integrator type=\"aov\"/>").err().unwrap().to_string();
+    assert!(e.contains("aov.xml:3:") && e.contains("<integrator type=\"aov\"> is not supported"), "{e}");
+    let ld = scene_with("ld", "perspective", "").unwrap();
+    assert!(ld.warnings.is_empty(), "{:?}", ld.warnings);
+    // A point light placed by to_world, a directional light along to_world's +z.
+    let lights = scene_with(
+        "lights",
+        "perspective",
+        r#"<emitter type="point"><transform name="to_world"><translate x="1" y="2" z="3"/></transform></emitter>
+<emitter type="directional"><transform name="to_world"><lookat origin="0,0,0" target="0,-1,0" up="0,0,1"/></transform></emitter>"#,
+    )
+    .unwrap();
+    match (&lights.scene.lights[0], &lights.scene.lights[1]) {
+        (Light::Point(p), Light::Directional(d)) => {
+            assert_eq!(p.position, Vec3::new(1.0, 2.0, 3.0));
+            assert!((d.direction - -Vec3::Y).length() < 1e-6);
+        }
+        other => panic!("{other:?}"),
+    }
+}

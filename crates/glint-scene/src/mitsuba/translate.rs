@@ -239,9 +239,6 @@ impl<'a> Translator<'a> {
         for ignored in ["pixel_format", "component_format", "file_format", "sample_border", "banner"] {
             p.string(self, ignored)?;
         }
-        if p.element.children.iter().any(|c| c.tag == "string" && c.attribute("name") == Some("crop_width")) {
-            self.warn(&film.position, "film cropping is ignored: glint renders the whole image");
-        }
         let mut filter = "gaussian".to_string(); // Mitsuba's default reconstruction filter
         for child in &film.children {
             if child.tag == "rfilter" {
