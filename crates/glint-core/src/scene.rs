@@ -103,10 +103,22 @@ impl SurfaceHit {
 /// Scene-wide values that are not objects.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Environment {
-    /// Radiance seen by rays that leave the scene.
+    /// Radiance seen by rays that leave the scene (when there is no map).
     pub background: Rgb,
     /// The course's ambient light level I_a.
     pub ambient_light: Rgb,
+    /// An environment map: radiance by direction, importance-sampled by the path tracer.
+    pub map: Option<std::sync::Arc<crate::lights::EnvironmentMap>>,
+}
+
+impl Environment {
+    /// Radiance seen looking along `direction` out of the scene.
+    pub fn radiance(&self, direction: Vec3) -> Rgb {
+        match &self.map {
+            Some(map) => map.radiance(direction),
+            None => self.background,
+        }
+    }
 }
 
 /// Objects and the acceleration structure over them: the closest-hit and any-hit queries.

@@ -163,9 +163,13 @@ fn errors_name_the_file_line_and_what_was_expected() {
         ),
     );
     assert!(e.contains("ref.xml:5:") && e.contains("no object with id `whte`") && e.contains("white"), "{e}");
-    // An environment map would change the image: an error, not a silent skip.
+    // An environment map without its file.
     let e = error_of("envmap", &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"envmap\"/>\n</scene>\n"));
-    assert!(e.contains("envmap.xml:3:") && e.contains("environment maps"), "{e}");
+    assert!(e.contains("envmap.xml:3:") && e.contains("filename"), "{e}");
+    // A participating medium would change the image: an error, not a silent skip.
+    let e =
+        error_of("medium", &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<medium type=\"homogeneous\"/>\n</scene>\n"));
+    assert!(e.contains("medium.xml:3:") && e.contains("participating media"), "{e}");
     // Not Mitsuba 3.
     let e = error_of("version", "<scene version=\"0.6.0\">\n</scene>\n");
     assert!(e.contains("version 0.6.0"), "{e}");
@@ -234,4 +238,53 @@ fn sensor_sampler_integrator_and_emitter_variants() {
         }
         other => panic!("{other:?}"),
     }
+}
+
+/// An equirectangular EXR: a warm upper half, a dark lower half.
+fn write_sky(dir: &Path) {
+    let sky = image::Rgb32FImage::from_fn(8, 4, |_, y| {
+        if y < 2 {
+            image::Rgb([2.0, 1.5, 1.0])
+        } else {
+            image::Rgb([0.1, 0.1, 0.1])
+        }
+    });
+    image::DynamicImage::ImageRgb32F(sky).save(dir.join("sky.exr")).unwrap();
+}
+
+#[test]
+fn environment_maps_from_mitsuba_and_native_scenes() {
+    let xml = scene_file(
+        "envmap-ok",
+        &format!(
+            "<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"envmap\">\n<string name=\"filename\" value=\"sky.exr\"/>\n<float name=\"scale\" value=\"2\"/>\n<transform name=\"to_world\"><rotate y=\"1\" angle=\"90\"/></transform>\n</emitter>\n</scene>\n"
+        ),
+    );
+    write_sky(xml.parent().unwrap());
+    let loaded = load_scene(&xml).unwrap_or_else(|e| panic!("{e}"));
+    let env = &loaded.scene.environment;
+    assert!(env.map.is_some());
+    // Up is the warm half, scaled by 2; down the dark one.
+    assert_eq!(env.radiance(Vec3::Y), Rgb::new(4.0, 3.0, 2.0));
+    assert_eq!(env.radiance(-Vec3::Y), Rgb::splat(0.2));
+    // A mirroring to_world is refused at its line.
+    let bad = scene_file(
+        "envmap-mirror",
+        &format!(
+            "<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"envmap\">\n<string name=\"filename\" value=\"sky.exr\"/>\n<transform name=\"to_world\"><scale x=\"-1\"/></transform>\n</emitter>\n</scene>\n"
+        ),
+    );
+    let e = load_scene(&bad).err().unwrap().to_string();
+    assert!(e.contains("envmap-mirror.xml:3:") && e.contains("rotation"), "{e}");
+    // The native format: [environment] map, map_scale, map_transform.
+    let dir = xml.parent().unwrap();
+    let toml = dir.join("sky.toml");
+    std::fs::write(
+        &toml,
+        "[camera]\nposition = [0, 0, -5]\nlook_at = [0, 0, 0]\n[environment]\nmap = \"sky.exr\"\nmap_scale = 0.5\nmap_transform = [{ rotate = { axis = [1, 0, 0], angle = 180 } }]\n",
+    )
+    .unwrap();
+    let native = load_scene(&toml).unwrap_or_else(|e| panic!("{e}"));
+    // Turned upside down: the warm half is below.
+    assert_eq!(native.scene.environment.radiance(-Vec3::Y), Rgb::new(1.0, 0.75, 0.5));
 }

@@ -47,7 +47,12 @@ impl Integrator for PathTracer {
                 context.rays.reflection += 1;
             }
             let Some(hit) = scene.intersect(&ray) else {
-                radiance += throughput * scene.environment.background;
+                // An environment map is also light-sampled: weigh this BSDF sample against that.
+                let weight = match (&scene.environment.map, previous) {
+                    (Some(map), Some((_, bsdf_pdf, false))) => power_heuristic(bsdf_pdf, map.pdf(ray.direction)),
+                    _ => 1.0,
+                };
+                radiance += throughput * scene.environment.radiance(ray.direction) * weight;
                 break;
             };
             let wo = -ray.direction.normalize();
@@ -114,8 +119,8 @@ pub(super) enum Weighting {
     LightOnly,
 }
 
-/// Next-event estimation at a hit: one area-light sample, plus every delta light (point, spot,
-/// directional), which only light sampling can find.
+/// Next-event estimation at a hit: one area-light sample, one environment-map sample, and
+/// every delta light (point, spot, directional), which only light sampling can find.
 pub(super) fn sample_lights(
     scene: &Scene,
     hit: &crate::scene::SurfaceHit,
@@ -141,6 +146,22 @@ pub(super) fn sample_lights(
                     Weighting::LightOnly => 1.0,
                 };
                 radiance += f * light.radiance * (weight / light.pdf);
+            }
+        }
+    }
+    if let Some(map) = &scene.environment.map {
+        let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+        if let Some(sample) = map.sample(u) {
+            let f = bsdf.eval(wo, sample.direction);
+            if f != Rgb::ZERO {
+                context.rays.shadow += 1;
+                if !scene.occluded(&hit.spawn_ray(sample.direction)) {
+                    let weight = match weighting {
+                        Weighting::Mis => power_heuristic(sample.pdf, bsdf.pdf(wo, sample.direction)),
+                        Weighting::LightOnly => 1.0,
+                    };
+                    radiance += f * sample.radiance * (weight / sample.pdf);
+                }
             }
         }
     }

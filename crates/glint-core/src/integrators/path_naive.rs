@@ -33,7 +33,7 @@ impl Integrator for NaivePathTracer {
                 context.rays.reflection += 1;
             }
             let Some(hit) = scene.intersect(&ray) else {
-                radiance += throughput * scene.environment.background;
+                radiance += throughput * scene.environment.radiance(ray.direction);
                 break;
             };
             let wo = -ray.direction.normalize();

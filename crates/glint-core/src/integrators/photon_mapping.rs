@@ -275,7 +275,10 @@ impl PhotonMapper {
             for _ in 0..GATHER_SPECULAR_DEPTH {
                 context.rays.reflection += 1;
                 let Some(y) = scene.intersect(&ray) else {
-                    sum += weight * scene.environment.background;
+                    // An environment map is direct light, which light sampling counted.
+                    if scene.environment.map.is_none() {
+                        sum += weight * scene.environment.background;
+                    }
                     break;
                 };
                 let wo_y = -ray.direction.normalize();
@@ -353,7 +356,7 @@ impl Integrator for PhotonMapper {
                 context.rays.refraction += 1;
             }
             let Some(hit) = scene.intersect(&ray) else {
-                radiance += throughput * scene.environment.background;
+                radiance += throughput * scene.environment.radiance(ray.direction);
                 break;
             };
             let wo = -ray.direction.normalize();
@@ -436,7 +439,7 @@ mod tests {
             objects,
             vec![("grey".into(), grey), ("lamp".into(), lamp)],
             vec![Light::Point(point), Light::Spot(spot.clone())],
-            Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO },
+            Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None },
             IntersectMethods::default(),
         );
         let source = ParticleSource::new(&scene).unwrap();

@@ -14,7 +14,7 @@ impl Integrator for Raycast {
     fn radiance(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Rgb {
         context.rays.camera += 1;
         let Some(hit) = scene.intersect(ray) else {
-            return scene.environment.background;
+            return scene.environment.radiance(ray.direction);
         };
         let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
         let normal = hit.facing(ray.direction);

@@ -107,7 +107,7 @@ impl Sppm {
         for depth in 0..=self.max_depth {
             context.rays.camera += 1;
             let Some(hit) = scene.intersect(&ray) else {
-                direct += throughput * scene.environment.background;
+                direct += throughput * scene.environment.radiance(ray.direction);
                 break;
             };
             distance += hit.t * ray.direction.length();

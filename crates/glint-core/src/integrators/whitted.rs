@@ -57,8 +57,9 @@ impl Whitted {
         }
         recorder.begin_ray(kind, depth, ray, weight);
         let Some(hit) = scene.intersect(ray) else {
-            recorder.miss(scene.environment.background);
-            return scene.environment.background;
+            let background = scene.environment.radiance(ray.direction);
+            recorder.miss(background);
+            return background;
         };
         recorder.hit(&hit);
         let radiance = self.shade(scene, ray, &hit, depth, weight, context, recorder);

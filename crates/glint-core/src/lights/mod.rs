@@ -6,12 +6,14 @@
 mod area;
 mod directional;
 mod emission;
+mod environment;
 mod point;
 mod spot;
 
 pub use area::{AreaEmission, AreaLights, LightSample};
 pub use directional::DirectionalLight;
 pub use emission::{Particle, ParticleSource};
+pub use environment::{EnvironmentMap, EnvironmentSample};
 pub use point::{Falloff, PointLight};
 pub use spot::SpotLight;
 

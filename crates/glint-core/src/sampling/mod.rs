@@ -2,6 +2,7 @@
 //! (render seed, pixel, sample index), so an image is bit-identical at any thread count.
 
 pub mod chi2;
+pub mod distribution;
 mod rng;
 pub mod warp;
 

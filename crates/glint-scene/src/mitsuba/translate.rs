@@ -728,10 +728,17 @@ impl<'a> Translator<'a> {
                 return Ok(());
             }
             "envmap" => {
-                return Err(self.error(
-                    at,
-                    "<emitter type=\"envmap\">: environment maps are not supported yet, and without it the image would be different",
-                ))
+                let file = p.string(self, "filename")?.ok_or_else(|| self.error(at, "an envmap needs a `filename`"))?;
+                let matrix = p.transform(self, "to_world")?;
+                let ops: Vec<TransformOp> =
+                    matrix.map(|m| vec![TransformOp::Matrix(m.transpose().to_cols_array_2d())]).unwrap_or_default();
+                crate::native::environment_rotation(&ops).map_err(|m| self.error(at, format!("envmap `to_world`: {m}")))?;
+                self.scene.environment.map = Some(file);
+                self.scene.environment.map_scale = p.float(self, "scale")?;
+                self.scene.environment.map_transform = ops;
+                p.string(self, "filter_type")?;
+                self.unused(&p);
+                return Ok(());
             }
             "area" => {
                 return Err(self.error(at, "an area emitter must be nested inside the <shape> that emits"));
@@ -739,7 +746,7 @@ impl<'a> Translator<'a> {
             _ => {
                 return Err(self.error(
                     at,
-                    format!("<emitter type=\"{kind}\"> is not supported; glint reads area, point, spot, directional and constant"),
+                    format!("<emitter type=\"{kind}\"> is not supported; glint reads area, point, spot, directional, constant and envmap"),
                 ))
             }
         };

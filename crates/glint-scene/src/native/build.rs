@@ -5,12 +5,12 @@ use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
 
-use glam::{Mat4, Quat, Vec2, Vec3};
+use glam::{Mat3, Mat4, Quat, Vec2, Vec3};
 use glint_core::camera::Camera;
 use glint_core::filter::Filter;
 use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings, PhotonSettings};
-use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight, SpotLight};
+use glint_core::lights::{DirectionalLight, EnvironmentMap, Falloff, Light, PointLight, SpotLight};
 use glint_core::materials::{Fresnel, Material, Phong};
 use glint_core::scene::{Environment, Geometry, Object, Scene};
 use glint_core::shapes::{
@@ -77,6 +77,7 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
     let environment = Environment {
         background: colour(&cx, "background", file.environment.background)?,
         ambient_light: colour(&cx, "ambient", file.environment.ambient)?,
+        map: build_environment_map(&file.environment, source).map_err(|(key, m)| cx.error_at_key(key, m))?,
     };
 
     let mut textures = Vec::new();
@@ -500,8 +501,36 @@ fn build_object(
     Ok(Object { name: name.map_or(label, str::to_string), shape, transform, material })
 }
 
+/// The environment map, loaded and set up for importance sampling.
+fn build_environment_map(
+    desc: &EnvironmentDesc,
+    source: &Source,
+) -> Result<Option<Arc<EnvironmentMap>>, (&'static str, String)> {
+    let Some(file) = &desc.map else { return Ok(None) };
+    let bytes = source.read(file).map_err(|m| ("map", format!("environment map: {m}")))?;
+    let (width, height, pixels) =
+        crate::image::decode(file, &bytes).map_err(|m| ("map", format!("environment map `{file}`: {m}")))?;
+    let scale = desc.map_scale.unwrap_or(1.0);
+    if !(scale.is_finite() && scale >= 0.0) {
+        return Err(("map_scale", format!("`map_scale` must be a number ≥ 0, got {scale}")));
+    }
+    let rotation = environment_rotation(&desc.map_transform).map_err(|m| ("map_transform", m))?;
+    Ok(Some(Arc::new(EnvironmentMap::new(width, height, pixels, scale, rotation))))
+}
+
+/// A transform that must be a rotation (an environment map can only be turned).
+pub(crate) fn environment_rotation(ops: &[TransformOp]) -> Result<Mat3, String> {
+    let Some(t) = build_transform(ops)? else { return Ok(Mat3::IDENTITY) };
+    let m = Mat3::from_mat4(t.to_world);
+    let orthonormal = (m.transpose() * m - Mat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() < 1e-4);
+    if !orthonormal || m.determinant() < 0.0 || t.to_world.w_axis.truncate().length() > 1e-6 {
+        return Err("an environment map's transform must be a rotation (no scale, mirror or translation)".into());
+    }
+    Ok(m)
+}
+
 /// Composes the operations in order: the first is applied to the shape first.
-fn build_transform(ops: &[TransformOp]) -> Result<Option<Transform>, String> {
+pub(crate) fn build_transform(ops: &[TransformOp]) -> Result<Option<Transform>, String> {
     if ops.is_empty() {
         return Ok(None);
     }

@@ -4,6 +4,8 @@
 mod build;
 pub(crate) mod schema;
 
+pub(crate) use build::environment_rotation;
+
 use std::path::Path;
 
 use glint_core::filter::Filter;

@@ -207,6 +207,12 @@ pub struct EnvironmentDesc {
     pub background: Vector,
     #[serde(default)]
     pub ambient: Vector,
+    /// An equirectangular environment map (EXR for HDR), relative to the scene.
+    pub map: Option<String>,
+    pub map_scale: Option<f32>,
+    /// Rotations of the map (applied in order).
+    #[serde(default)]
+    pub map_transform: Vec<TransformOp>,
 }
 
 #[derive(Deserialize, Debug)]

@@ -1,0 +1,154 @@
+//! Piecewise-constant distributions in 1D and 2D (pbrt's `PiecewiseConstant1D/2D`): sampled by
+//! inverting the cumulative distribution, continuous within each cell. The environment map
+//! samples its pixels with the 2D one, in proportion to their brightness.
+
+use glam::Vec2;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Distribution1D {
+    /// The function's cell values (non-negative).
+    function: Vec<f32>,
+    /// cdf[i] = ∫ over cells before i, normalised; n + 1 entries, the last 1.
+    cdf: Vec<f32>,
+    /// ∫ f over [0, 1).
+    integral: f32,
+}
+
+impl Distribution1D {
+    /// A distribution proportional to `function` over [0, 1), one cell per value. An all-zero
+    /// function samples uniformly.
+    pub fn new(function: Vec<f32>) -> Self {
+        let n = function.len().max(1);
+        let mut cdf = Vec::with_capacity(n + 1);
+        cdf.push(0.0f32);
+        let mut acc = 0.0f64;
+        for &f in &function {
+            acc += f.max(0.0) as f64 / n as f64;
+            cdf.push(acc as f32);
+        }
+        let integral = acc as f32;
+        if integral > 0.0 {
+            cdf.iter_mut().for_each(|c| *c /= integral);
+        } else {
+            cdf.iter_mut().enumerate().for_each(|(i, c)| *c = i as f32 / n as f32);
+        }
+        *cdf.last_mut().expect("n + 1 entries") = 1.0;
+        Self { function, cdf, integral }
+    }
+
+    pub fn integral(&self) -> f32 {
+        self.integral
+    }
+
+    pub fn count(&self) -> usize {
+        self.function.len()
+    }
+
+    /// A point x ∈ [0, 1) with density pdf(x), and its cell.
+    pub fn sample(&self, u: f32) -> (f32, f32, usize) {
+        let n = self.function.len().max(1);
+        let cell = self.cdf.partition_point(|&c| c <= u).saturating_sub(1).min(n - 1);
+        let (lo, hi) = (self.cdf[cell], self.cdf[cell + 1]);
+        let offset = if hi > lo { (u - lo) / (hi - lo) } else { 0.5 };
+        let x = ((cell as f32 + offset) / n as f32).min(1.0 - f32::EPSILON);
+        (x, self.pdf_of_cell(cell), cell)
+    }
+
+    fn pdf_of_cell(&self, cell: usize) -> f32 {
+        if self.integral > 0.0 {
+            self.function[cell].max(0.0) / self.integral
+        } else {
+            1.0
+        }
+    }
+
+    /// The density at x ∈ [0, 1).
+    pub fn pdf(&self, x: f32) -> f32 {
+        let n = self.function.len();
+        if n == 0 {
+            return 0.0;
+        }
+        self.pdf_of_cell(((x * n as f32) as usize).min(n - 1))
+    }
+}
+
+/// A distribution over [0, 1)², piecewise constant on a grid of `width × height` cells: a
+/// marginal over rows, then the row's conditional over columns.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Distribution2D {
+    rows: Vec<Distribution1D>,
+    marginal: Distribution1D,
+}
+
+impl Distribution2D {
+    /// `function` is row-major, `width` values per row; row 0 is v ∈ [0, 1/height).
+    pub fn new(function: &[f32], width: usize, height: usize) -> Self {
+        let rows: Vec<Distribution1D> =
+            (0..height).map(|r| Distribution1D::new(function[r * width..(r + 1) * width].to_vec())).collect();
+        let marginal = Distribution1D::new(rows.iter().map(Distribution1D::integral).collect());
+        Self { rows, marginal }
+    }
+
+    /// A point (u, v) and its density.
+    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
+        let (v, pdf_v, row) = self.marginal.sample(u.y);
+        let (x, pdf_u, _) = self.rows[row].sample(u.x);
+        (Vec2::new(x, v), pdf_v * pdf_u)
+    }
+
+    pub fn pdf(&self, p: Vec2) -> f32 {
+        let height = self.rows.len();
+        let row = ((p.y * height as f32) as usize).min(height - 1);
+        self.marginal.pdf(p.y) * self.rows[row].pdf(p.x)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Rng;
+
+    #[test]
+    fn one_d_by_hand() {
+        let d = Distribution1D::new(vec![1.0, 3.0, 0.0, 4.0]);
+        assert_eq!(d.integral(), 2.0);
+        assert_eq!(d.pdf(0.1), 0.5);
+        assert_eq!(d.pdf(0.3), 1.5);
+        assert_eq!(d.pdf(0.6), 0.0);
+        // u = 0.5 is the end of the second cell: 1/8 + 3/8.
+        let (x, pdf, cell) = d.sample(0.5 - 1e-6);
+        assert!((x - 0.5).abs() < 1e-5 && pdf == 1.5 && cell == 1);
+        let (x, _, cell) = d.sample(0.0625);
+        assert!((x - 0.125).abs() < 1e-6 && cell == 0);
+        // The empty cell is never chosen.
+        for i in 0..1000 {
+            assert_ne!(d.sample(i as f32 / 1000.0).2, 2);
+        }
+        // All zero: uniform.
+        let z = Distribution1D::new(vec![0.0; 4]);
+        assert_eq!(z.pdf(0.7), 1.0);
+        assert!((z.sample(0.3).0 - 0.3).abs() < 1e-6);
+    }
+
+    #[test]
+    fn two_d_histogram_matches_the_pdf() {
+        let (w, h) = (5, 4);
+        let f: Vec<f32> = (0..w * h).map(|i| ((i * 7) % 11) as f32).collect();
+        let d = Distribution2D::new(&f, w, h);
+        let total: f32 = f.iter().sum::<f32>() / (w * h) as f32;
+        let mut counts = vec![0usize; w * h];
+        let mut rng = Rng::new(3, 4);
+        let n = 400_000;
+        for _ in 0..n {
+            let (p, pdf) = d.sample(Vec2::new(rng.next_f32(), rng.next_f32()));
+            let cell = (p.y * h as f32) as usize * w + (p.x * w as f32) as usize;
+            assert!((pdf - f[cell] / total).abs() < 1e-4, "pdf {pdf} in cell {cell}");
+            assert!((d.pdf(p) - pdf).abs() < 1e-4);
+            counts[cell] += 1;
+        }
+        for (cell, &c) in counts.iter().enumerate() {
+            let expected = n as f32 * f[cell] / total / (w * h) as f32;
+            assert!((c as f32 - expected).abs() <= 5.0 * expected.sqrt().max(1.0), "cell {cell}: {c} vs {expected}");
+        }
+    }
+}

@@ -1,0 +1,59 @@
+//! Environment maps: a diffuse sphere under a uniform sky has the analytic radiance ρ·L
+//! (a convex body sees the whole sky from every point), and under a sky with a bright sun
+//! `path` (which samples the map) and `path-naive` (which only finds it by escaping) agree.
+
+mod common;
+
+use std::sync::Arc;
+
+use common::{object, scene};
+use glam::Mat3;
+use glint_core::integrators::{IntegratorKind, IntegratorSettings};
+use glint_core::lights::EnvironmentMap;
+use glint_core::render::{render, RenderSettings};
+use glint_core::shapes::{Shape, Sphere};
+use glint_core::{Rgb, Vec3};
+
+fn sphere_under(map: EnvironmentMap) -> glint_core::scene::Scene {
+    let mut s = scene(vec![object(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)))]);
+    s.environment.map = Some(Arc::new(map));
+    s
+}
+
+fn image(s: &glint_core::scene::Scene, kind: IntegratorKind, spp: u32, seed: u64) -> Vec<Rgb> {
+    let settings = IntegratorSettings { max_depth: u32::MAX, ..Default::default() };
+    let integrator = kind.create(&settings).expect("a camera integrator");
+    render(s, integrator.as_ref(), &RenderSettings { spp, seed, ..Default::default() }, &|| {}).film.to_rgb()
+}
+
+#[test]
+fn a_diffuse_sphere_under_a_uniform_sky_reflects_albedo_times_sky() {
+    let sky = Rgb::new(0.5, 1.0, 2.0);
+    let s = sphere_under(EnvironmentMap::new(8, 4, vec![sky; 32], 1.5, Mat3::from_rotation_z(0.3)));
+    let img = image(&s, IntegratorKind::Path, 64, 1);
+    // Pixel (8, 8) looks at the sphere's centre; pixel (0, 0) at the sky.
+    assert_eq!(img[0], sky * 1.5);
+    let centre: Rgb = [(7, 7), (7, 8), (8, 7), (8, 8)].iter().map(|&(x, y)| img[y * 16 + x]).sum::<Rgb>() / 4.0;
+    let expected = sky * 1.5 * 0.8; // the test material's albedo is 0.8
+    assert!(((centre - expected) / expected).abs().max_element() < 0.03, "{centre} vs {expected}");
+}
+
+#[test]
+fn path_and_path_naive_agree_under_a_sun() {
+    let (w, h) = (64u32, 32u32);
+    let pixels = (0..w * h)
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            if (20..23).contains(&x) && (8..10).contains(&y) {
+                Rgb::new(300.0, 280.0, 250.0) // a small sun high in the sky
+            } else {
+                Rgb::new(0.3, 0.4, 0.6)
+            }
+        })
+        .collect();
+    let s = sphere_under(EnvironmentMap::new(w, h, pixels, 1.0, Mat3::IDENTITY));
+    let mean = |img: &[Rgb]| img.iter().sum::<Rgb>() / img.len() as f32;
+    let path = mean(&image(&s, IntegratorKind::Path, 256, 2));
+    let naive = mean(&image(&s, IntegratorKind::PathNaive, 4096, 3));
+    assert!(((path - naive) / naive).abs().max_element() < 0.03, "path {path} vs naive {naive}");
+}
