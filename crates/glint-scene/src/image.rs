@@ -1,12 +1,13 @@
-//! Texture images through the `image` crate: PNG and JPEG (sRGB-encoded, decoded to linear)
-//! and OpenEXR (linear as stored).
+//! Texture images through the `image` crate: PNG and JPEG (sRGB-encoded, decoded to linear),
+//! OpenEXR and Radiance HDR (linear as stored).
 
 use glint_core::Rgb;
 
 /// Width, height and linear RGB pixels (row 0 = top) of an image file's bytes.
 pub(crate) fn decode(name: &str, bytes: &[u8]) -> Result<(u32, u32, Vec<Rgb>), String> {
     let image = image::load_from_memory(bytes).map_err(|e| format!("cannot decode: {e}"))?;
-    let linear_already = name.to_ascii_lowercase().ends_with(".exr");
+    let lower = name.to_ascii_lowercase();
+    let linear_already = lower.ends_with(".exr") || lower.ends_with(".hdr");
     let rgb = image.to_rgb32f();
     let (width, height) = rgb.dimensions();
     let pixels = rgb
@@ -41,6 +42,21 @@ mod tests {
         assert_eq!(srgb_to_linear(0.0), 0.0);
         assert!((srgb_to_linear(1.0) - 1.0).abs() < 1e-6);
         assert!((srgb_to_linear(0.5) - 0.214_041).abs() < 1e-5);
+    }
+
+    #[test]
+    fn hdr_and_exr_are_taken_as_linear() {
+        let values = [Rgb::new(2.0, 0.5, 0.25), Rgb::new(420.0, 400.0, 360.0)];
+        let img = image::Rgb32FImage::from_fn(2, 1, |x, _| image::Rgb(values[x as usize].to_array()));
+        for format in [image::ImageFormat::Hdr, image::ImageFormat::OpenExr] {
+            let mut bytes = std::io::Cursor::new(Vec::new());
+            image::DynamicImage::ImageRgb32F(img.clone()).write_to(&mut bytes, format).unwrap();
+            let name = if format == image::ImageFormat::Hdr { "sky.hdr" } else { "sky.exr" };
+            let (_, _, px) = decode(name, bytes.get_ref()).unwrap();
+            for (p, v) in px.iter().zip(values) {
+                assert!(((*p - v) / v).abs().max_element() < 0.01, "{name}: {p} vs {v}");
+            }
+        }
     }
 
     #[test]
