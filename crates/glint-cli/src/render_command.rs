@@ -17,6 +17,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use glint_cli::output::{check_writable, write_image, ImageFormat};
 use glint_core::integrators::heat_colour;
+use glint_core::sampling::SamplerKind;
 use glint_core::Rgb;
 
 #[derive(Args)]
@@ -60,6 +61,9 @@ pub struct RenderArgs {
     /// Pixel reconstruction filter (default: the scene's, else box).
     #[arg(long, value_enum)]
     filter: Option<FilterArg>,
+    /// Where each pixel sample's random numbers come from (default: the scene's).
+    #[arg(long, value_enum)]
+    sampler: Option<SamplerArg>,
     /// PNG exposure in stops (the image is multiplied by 2^exposure before sRGB encoding).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
@@ -123,6 +127,13 @@ enum IntegratorArg {
     Light,
     Photon,
     Sppm,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum SamplerArg {
+    Independent,
+    Stratified,
+    Sobol,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -209,8 +220,17 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         Some(FilterArg::Mitchell) => Filter::Mitchell,
         None => options.filter,
     };
-    let mut settings =
-        RenderSettings { spp: args.spp.unwrap_or(options.spp), seed: args.seed.unwrap_or(options.seed), filter };
+    let mut settings = RenderSettings {
+        spp: args.spp.unwrap_or(options.spp),
+        seed: args.seed.unwrap_or(options.seed),
+        filter,
+        sampler: match args.sampler {
+            Some(SamplerArg::Independent) => SamplerKind::Independent,
+            Some(SamplerArg::Stratified) => SamplerKind::Stratified,
+            Some(SamplerArg::Sobol) => SamplerKind::Sobol,
+            None => options.sampler,
+        },
+    };
     let time_limit = match args.time {
         Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
         Some(t) => return Err(format!("--time must be a positive number of seconds, got {t}")),
@@ -229,11 +249,14 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         defines.as_bytes(),
         integrator_kind.name().as_bytes(),
         format!(
-            "{integrator_settings:?} {:?} {}x{} {}",
+            "{integrator_settings:?} {:?} {}x{} {} {}{}",
             scene.geometry.methods,
             scene.camera.width,
             scene.camera.height,
-            filter.name()
+            filter.name(),
+            settings.sampler.name(),
+            // A stratified render's strata depend on its sample count.
+            if settings.sampler == SamplerKind::Stratified { format!(" {}", settings.spp) } else { String::new() }
         )
         .as_bytes(),
     ]);

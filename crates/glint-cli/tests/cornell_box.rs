@@ -71,8 +71,9 @@ fn render_scene_with_variance(scene_path: &Path, kind: IntegratorKind, seed: u64
             let (mut mean, mut m2) = (Rgb::ZERO, Rgb::ZERO);
             for s in 0..spp {
                 let mut context = SampleContext::new(Rng::for_sample(seed, i as u64, s as u64));
-                let ray =
-                    scene.camera.generate_ray(x as f32 + context.rng.next_f32(), y as f32 + context.rng.next_f32());
+                let ray = scene
+                    .camera
+                    .generate_ray(x as f32 + context.sampler.next_f32(), y as f32 + context.sampler.next_f32());
                 let value = integrator.radiance(&scene, &ray, &mut context);
                 // Welford's running mean and sum of squared deviations.
                 let delta = value - mean;

@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::integrators::{Integrator, RayCounts, SampleContext};
-use crate::sampling::Rng;
+use crate::sampling::{Sampler, SamplerKind};
 use crate::scene::Scene;
 use crate::Rgb;
 
@@ -27,11 +27,12 @@ pub struct RenderSettings {
     pub spp: u32,
     pub seed: u64,
     pub filter: Filter,
+    pub sampler: SamplerKind,
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        Self { spp: 1, seed: 0, filter: Filter::Box }
+        Self { spp: 1, seed: 0, filter: Filter::Box, sampler: SamplerKind::default() }
     }
 }
 
@@ -144,7 +145,15 @@ pub fn render_progressive(
             break;
         }
         let centre = settings.spp == 1 && progressive.time_limit.is_none();
-        let pass = Pass { seed: settings.seed, index: spp_done, centre, filter: settings.filter };
+        let pass = Pass {
+            seed: settings.seed,
+            index: spp_done,
+            centre,
+            filter: settings.filter,
+            sampler: settings.sampler,
+            // Stratification needs the count up front; a time limit leaves it open.
+            samples: if progressive.time_limit.is_some() { u32::MAX } else { settings.spp },
+        };
         rays.add(&renderer.render_pass(scene, &pass, &mut film, on_tile));
         spp_done += 1;
         samples += width as u64 * height as u64;
@@ -165,6 +174,9 @@ pub struct Pass {
     /// Camera samples through pixel centres (a single-sample render) rather than jittered.
     pub centre: bool,
     pub filter: Filter,
+    pub sampler: SamplerKind,
+    /// Samples per pixel the render will take (`u32::MAX` if a time limit decides).
+    pub samples: u32,
 }
 
 /// The image tiles, as (x0, y0, x1, y1): the unit of parallel work of every pass.
@@ -246,10 +258,11 @@ fn render_sample(
     rays: &mut RayCounts,
 ) -> FilmSample {
     let pixel_index = y as u64 * scene.camera.width as u64 + x as u64;
-    let mut context = SampleContext::new(Rng::for_sample(pass.seed, pixel_index, pass.index as u64));
+    let mut context =
+        SampleContext::with_sampler(Sampler::new(pass.sampler, pass.seed, pixel_index, pass.index, pass.samples));
     // Through the pixel centre for a single-sample render; otherwise jittered over the pixel
     // (the box filter: every sample in the pixel's square weighs the same).
-    let (dx, dy) = if pass.centre { (0.5, 0.5) } else { (context.rng.next_f32(), context.rng.next_f32()) };
+    let (dx, dy) = if pass.centre { (0.5, 0.5) } else { (context.sampler.next_f32(), context.sampler.next_f32()) };
     let (fx, fy) = (x as f32 + dx, y as f32 + dy);
     let ray = scene.camera.generate_ray(fx, fy);
     let radiance = integrator.radiance(scene, &ray, &mut context);

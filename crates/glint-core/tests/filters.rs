@@ -34,7 +34,7 @@ fn half_white() -> glint_core::scene::Scene {
 }
 
 fn image(s: &glint_core::scene::Scene, filter: Filter) -> Vec<Rgb> {
-    render(s, &Raycast, &RenderSettings { spp: 16, seed: 1, filter }, &|| {}).film.to_rgb()
+    render(s, &Raycast, &RenderSettings { spp: 16, seed: 1, filter, ..Default::default() }, &|| {}).film.to_rgb()
 }
 
 #[test]

@@ -1,6 +1,6 @@
 //! Furnace test: a camera inside a closed sphere whose inside is diffuse with albedo ρ and emits
 //! radiance L_e sees, in every direction, L = L_e / (1 − ρ) (the geometric series of bounces).
-//! Every Monte Carlo integrator must match it within its noise: the path tracers and light
+//! Every Monte Carlo integrator, with every sampler, must match it within its noise: the path tracers and light
 //! tracing (unbiased) by a Z-test on the image mean, photon mapping and SPPM (consistent; in a
 //! sphere a photon search disk of radius r covers exactly the cap area πr², so their density
 //! estimates have no bias here) within 2 %.
@@ -12,6 +12,7 @@ use glint_core::integrators::{IntegratorKind, IntegratorSettings};
 use glint_core::lights::AreaLights;
 use glint_core::materials::{Material, Phong};
 use glint_core::render::{render_with, RenderSettings};
+use glint_core::sampling::SamplerKind;
 use glint_core::shapes::{Shape, Sphere};
 use glint_core::textures::Texture;
 use glint_core::{Rgb, Vec3};
@@ -38,22 +39,29 @@ fn every_path_integrator_matches_the_analytic_furnace() {
         let s = furnace(albedo, emission);
         assert!(!s.area_lights.is_empty(), "the emitting sphere must be sampled as a light");
         let expected = emission / (1.0 - albedo);
-        for kind in [
-            IntegratorKind::Path,
-            IntegratorKind::PathNaive,
-            IntegratorKind::Light,
-            IntegratorKind::Photon,
-            IntegratorKind::Sppm,
-        ] {
+        // Every camera integrator with every sampler; the particle integrators draw their own
+        // streams.
+        let runs = SamplerKind::ALL
+            .into_iter()
+            .flat_map(|sampler| [(IntegratorKind::Path, sampler), (IntegratorKind::PathNaive, sampler)])
+            .chain(
+                [IntegratorKind::Light, IntegratorKind::Photon, IntegratorKind::Sppm]
+                    .map(|k| (k, SamplerKind::default())),
+            );
+        for (kind, sampler) in runs {
             let mut settings = IntegratorSettings { max_depth: u32::MAX, rr_depth: 3, ..Default::default() };
             settings.photon.global_photons = 50_000;
             settings.photon.final_gather = 4;
             let spp = if kind == IntegratorKind::Photon { 16 } else { 64 };
             let mut renderer = kind.renderer(&settings, &s, 3).expect("the furnace has a light");
-            let image =
-                render_with(&s, renderer.as_mut(), &RenderSettings { spp, seed: 3, ..Default::default() }, &|| {})
-                    .film
-                    .to_rgb();
+            let image = render_with(
+                &s,
+                renderer.as_mut(),
+                &RenderSettings { spp, seed: 3, sampler, ..Default::default() },
+                &|| {},
+            )
+            .film
+            .to_rgb();
             // Pixels are independent estimates of the same value: compare their mean with its
             // standard error.
             let values: Vec<f64> = image.iter().map(|p| p.x as f64).collect();
@@ -63,8 +71,11 @@ fn every_path_integrator_matches_the_analytic_furnace() {
             let standard_error = (variance / n).sqrt();
             let z = (mean - expected as f64) / standard_error;
             let unbiased = matches!(kind, IntegratorKind::Path | IntegratorKind::PathNaive | IntegratorKind::Light);
-            assert!(!unbiased || z.abs() < 4.0, "{kind:?} ρ={albedo}: mean {mean}, expected {expected}, z = {z:.2}");
-            assert!((mean / expected as f64 - 1.0).abs() < 0.02, "{kind:?}: {mean} vs {expected}");
+            assert!(
+                !unbiased || z.abs() < 4.0,
+                "{kind:?} ({sampler:?}) ρ={albedo}: mean {mean}, expected {expected}, z = {z:.2}"
+            );
+            assert!((mean / expected as f64 - 1.0).abs() < 0.02, "{kind:?} ({sampler:?}): {mean} vs {expected}");
         }
     }
 }

@@ -66,9 +66,9 @@ fn every_element_maps_onto_glint() {
     for name in ["gold", "checkered"] {
         assert!(scene.material_names.iter().any(|n| n == name), "{name}: {:?}", scene.material_names);
     }
-    // Warnings for what is approximated: the sampler and the rough dielectric.
+    // The stratified sampler maps to glint's; the rough dielectric is approximated (warning).
+    assert_eq!(loaded.render.sampler, glint_core::sampling::SamplerKind::Stratified);
     let warnings = loaded.warnings.join("\n");
-    assert!(warnings.contains("stratified"), "{warnings}");
     assert!(warnings.contains("roughdielectric"), "{warnings}");
     assert!(!warnings.contains("near_clip"), "read, so not reported: {warnings}");
     // Mappings: gold by its normal-incidence reflectance, a roughconductor from eta and k
@@ -114,7 +114,7 @@ fn command_line_parameters_override_defaults() {
 fn a_diffuse_rectangle_under_a_constant_sky_reflects_albedo_times_sky() {
     let loaded = load_scene(&fixture("furnace.xml")).unwrap();
     let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).expect("path");
-    let settings = RenderSettings { spp: 64, seed: 1, filter: loaded.render.filter };
+    let settings = RenderSettings { spp: 64, seed: 1, filter: loaded.render.filter, sampler: loaded.render.sampler };
     let image = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film.to_rgb();
     let mean = image.iter().sum::<Rgb>() / image.len() as f32;
     let expected = Rgb::new(0.8, 0.4, 0.2) * 0.25;

@@ -24,19 +24,25 @@ pub use whitted::Whitted;
 use crate::render::{OwnedCameraPasses, PassRenderer};
 
 use crate::geometry::Ray;
-use crate::sampling::Rng;
+use crate::sampling::{Rng, Sampler};
 use crate::scene::Scene;
 use crate::Rgb;
 
-/// Per-sample state an integrator may use: random numbers and counts of the rays it traced.
+/// Per-sample state an integrator may use: the sample's random numbers and counts of the rays
+/// it traced.
 pub struct SampleContext {
-    pub rng: Rng,
+    pub sampler: Sampler,
     pub rays: RayCounts,
 }
 
 impl SampleContext {
+    /// Independent random numbers from `rng`.
     pub fn new(rng: Rng) -> Self {
-        Self { rng, rays: RayCounts::default() }
+        Self::with_sampler(Sampler::independent(rng))
+    }
+
+    pub fn with_sampler(sampler: Sampler) -> Self {
+        Self { sampler, rays: RayCounts::default() }
     }
 }
 

@@ -77,8 +77,8 @@ impl Integrator for PathTracer {
             if bsdf.has_diffuse() {
                 radiance += throughput * sample_lights(scene, &hit, &bsdf, wo, Weighting::Mis, context);
             }
-            let u_lobe = context.rng.next_f32();
-            let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+            let u_lobe = context.sampler.next_f32();
+            let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
             let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break };
             throughput *= sample.weight;
             eta_scale *= sample.eta_squared;
@@ -101,7 +101,7 @@ impl Integrator for PathTracer {
 /// which keeps the estimate unbiased. Returns whether the path goes on.
 pub(super) fn russian_roulette(throughput: &mut Rgb, eta_scale: f32, context: &mut SampleContext) -> bool {
     let survival = (throughput.max_element() * eta_scale).min(0.95);
-    if survival <= 0.0 || context.rng.next_f32() >= survival {
+    if survival <= 0.0 || context.sampler.next_f32() >= survival {
         return false;
     }
     *throughput /= survival;
@@ -131,8 +131,8 @@ pub(super) fn sample_lights(
 ) -> Rgb {
     let mut radiance = Rgb::ZERO;
     let p = hit.geometry.point;
-    let u_select = context.rng.next_f32();
-    let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+    let u_select = context.sampler.next_f32();
+    let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
     if let Some(light) = scene.area_lights.sample(p, u_select, u) {
         let wi = (light.point - p).normalize();
         let f = bsdf.eval(wo, wi);
@@ -150,7 +150,7 @@ pub(super) fn sample_lights(
         }
     }
     if let Some(map) = &scene.environment.map {
-        let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+        let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
         if let Some(sample) = map.sample(u) {
             let f = bsdf.eval(wo, sample.direction);
             if f != Rgb::ZERO {

@@ -43,8 +43,8 @@ impl Integrator for NaivePathTracer {
                 break;
             }
             let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
-            let u_lobe = context.rng.next_f32();
-            let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+            let u_lobe = context.sampler.next_f32();
+            let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
             let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break };
             throughput *= sample.weight;
             eta_scale *= sample.eta_squared;

@@ -267,8 +267,8 @@ impl PhotonMapper {
         let n = self.settings.final_gather;
         let mut sum = Rgb::ZERO;
         for _ in 0..n {
-            let u_lobe = context.rng.next_f32();
-            let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+            let u_lobe = context.sampler.next_f32();
+            let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
             let Some(sample) = bsdf.sample_non_delta(wo, u_lobe, u) else { continue };
             let mut weight = sample.weight;
             let mut ray: Ray = hit.spawn_ray(sample.wi);
@@ -285,7 +285,7 @@ impl PhotonMapper {
                 let material = scene.materials[y.material as usize].evaluate(&y.texture_query());
                 let bsdf_y = Bsdf::new(&material, wo_y, y.geometry.shading_normal, y.geometry.geometric_normal);
                 let p = bsdf_y.non_delta_probability();
-                if context.rng.next_f32() < p {
+                if context.sampler.next_f32() < p {
                     let n = y.geometry.geometric_normal;
                     let n = if n.dot(wo_y) < 0.0 { -n } else { n };
                     let cached = if bsdf_y.is_lambertian() {
@@ -297,8 +297,8 @@ impl PhotonMapper {
                     sum += weight * radiance / p;
                     break;
                 }
-                let u_lobe = context.rng.next_f32();
-                let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+                let u_lobe = context.sampler.next_f32();
+                let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
                 let Some(delta) = bsdf_y.sample_delta(wo_y, u_lobe, u) else { break };
                 weight *= delta.weight / (1.0 - p);
                 ray = y.spawn_ray(delta.wi);
@@ -374,8 +374,8 @@ impl Integrator for PhotonMapper {
                 }
                 radiance += throughput * local;
             }
-            let u_lobe = context.rng.next_f32();
-            let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+            let u_lobe = context.sampler.next_f32();
+            let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
             let Some(sample) = bsdf.sample_delta(wo, u_lobe, u) else { break };
             throughput *= sample.weight;
             depth += 1;

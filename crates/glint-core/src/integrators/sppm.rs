@@ -98,7 +98,7 @@ impl Sppm {
     ) -> (Rgb, Option<VisiblePoint>) {
         let pixel_index = y as u64 * scene.camera.width as u64 + x as u64;
         let mut context = SampleContext::new(Rng::for_sample(pass.seed, pixel_index, pass.index as u64));
-        let (dx, dy) = (context.rng.next_f32(), context.rng.next_f32());
+        let (dx, dy) = (context.sampler.next_f32(), context.sampler.next_f32());
         let mut ray = scene.camera.generate_ray(x as f32 + dx, y as f32 + dy);
         let mut direct = Rgb::ZERO;
         let mut throughput = Rgb::ONE;
@@ -122,7 +122,7 @@ impl Sppm {
                 direct += throughput * sample_lights(scene, &hit, &bsdf, wo, Weighting::LightOnly, &mut context);
             }
             let p = bsdf.non_delta_probability();
-            if context.rng.next_f32() < p {
+            if context.sampler.next_f32() < p {
                 // Photons give the indirect part (paths of two or more scattering events).
                 if depth + 1 < self.max_depth {
                     let point = hit.geometry.point;
@@ -130,8 +130,8 @@ impl Sppm {
                 }
                 break;
             }
-            let u_lobe = context.rng.next_f32();
-            let u = Vec2::new(context.rng.next_f32(), context.rng.next_f32());
+            let u_lobe = context.sampler.next_f32();
+            let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
             let Some(sample) = bsdf.sample_delta(wo, u_lobe, u) else { break };
             throughput *= sample.weight / (1.0 - p);
             if throughput == Rgb::ZERO {

@@ -4,6 +4,8 @@
 pub mod chi2;
 pub mod distribution;
 mod rng;
+mod sampler;
 pub mod warp;
 
 pub use rng::Rng;
+pub use sampler::{Sampler, SamplerKind};

@@ -274,14 +274,13 @@ impl<'a> Translator<'a> {
 
     fn sampler(&mut self, sampler: &Element) -> Result<()> {
         let kind = sampler.attribute("type").unwrap_or("");
-        match kind {
-            "independent" => {}
-            "stratified" | "multijitter" | "ldsampler" | "orthogonal" => self.warn(
-                &sampler.position,
-                format!("<sampler type=\"{kind}\">: glint samples independently (the same image, other noise)"),
-            ),
+        self.scene.render.sampler = match kind {
+            "independent" => "independent",
+            "stratified" | "multijitter" | "orthogonal" => "stratified",
+            "ldsampler" => "sobol",
             _ => return Err(self.error(&sampler.position, format!("<sampler type=\"{kind}\"> is not known"))),
         }
+        .into();
         let p = self.properties(sampler);
         if let Some(n) = p.integer(self, "sample_count")? {
             self.scene.render.spp = u32::try_from(n)

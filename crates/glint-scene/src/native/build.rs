@@ -12,6 +12,7 @@ use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings, PhotonSettings};
 use glint_core::lights::{DirectionalLight, EnvironmentMap, Falloff, Light, PointLight, SpotLight};
 use glint_core::materials::{Fresnel, Material, Phong};
+use glint_core::sampling::SamplerKind;
 use glint_core::scene::{Environment, Geometry, Object, Scene};
 use glint_core::shapes::{
     AaBox, BoxMethod, Instance, IntersectMethods, Mesh, Plane, Polygon, PolygonTest, Shape, Sphere, SphereMethod,
@@ -253,7 +254,12 @@ fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneErro
         let hint = closest_name(&r.filter, names).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
         cx.error_at_key("filter", format!("unknown filter `{}`, expected one of {}{hint}", r.filter, quoted(&names)))
     })?;
-    Ok(RenderOptions { spp: r.spp, integrator, seed: r.seed, integrator_settings, filter })
+    let sampler = SamplerKind::from_name(&r.sampler).ok_or_else(|| {
+        let names = SamplerKind::ALL.map(SamplerKind::name);
+        let hint = closest_name(&r.sampler, names).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
+        cx.error_at_key("sampler", format!("unknown sampler `{}`, expected one of {}{hint}", r.sampler, quoted(&names)))
+    })?;
+    Ok(RenderOptions { spp: r.spp, integrator, seed: r.seed, integrator_settings, filter, sampler })
 }
 
 fn build_light(cx: &Context, index: usize, light: &Located<LightDesc>) -> Result<Light, SceneError> {

@@ -10,6 +10,7 @@ use std::path::Path;
 
 use glint_core::filter::Filter;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
+use glint_core::sampling::SamplerKind;
 use glint_core::scene::Scene;
 
 use crate::error::{with_suggestion, Location, SceneError};
@@ -30,6 +31,7 @@ pub struct RenderOptions {
     pub seed: u64,
     pub integrator_settings: IntegratorSettings,
     pub filter: Filter,
+    pub sampler: SamplerKind,
 }
 
 pub struct LoadedScene {

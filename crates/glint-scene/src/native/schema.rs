@@ -4,6 +4,7 @@
 use std::collections::BTreeMap;
 
 use glint_core::integrators::PhotonSettings;
+use glint_core::sampling::SamplerKind;
 use serde::Deserialize;
 
 use crate::located::Located;
@@ -83,6 +84,8 @@ pub struct RenderDesc {
     pub transparent_shadows: bool,
     #[serde(default = "default_filter")]
     pub filter: String,
+    #[serde(default = "default_sampler")]
+    pub sampler: String,
     /// Photon mapping (see `PhotonSettings`).
     #[serde(default = "default_photons")]
     pub photons: u32,
@@ -101,6 +104,9 @@ pub struct RenderDesc {
     pub photons_per_pass: u32,
 }
 
+fn default_sampler() -> String {
+    SamplerKind::default().name().into()
+}
 fn default_photons() -> u32 {
     PhotonSettings::default().global_photons
 }
@@ -122,6 +128,7 @@ impl Default for RenderDesc {
             min_contribution: default_min_contribution(),
             transparent_shadows: false,
             filter: default_filter(),
+            sampler: default_sampler(),
             photons: default_photons(),
             caustic_photons: default_photons(),
             photon_nearest: default_photon_nearest(),
