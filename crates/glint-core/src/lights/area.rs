@@ -261,3 +261,109 @@ impl AreaLights {
         self.selection_probability(i) * distance_squared / (cos_light * area)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::materials::Phong;
+    use crate::sampling::chi2::chi2_test_with_resolution;
+    use crate::shapes::{Sphere, Triangle};
+
+    /// A triangle and a sphere that emit, seen from a point outside both.
+    fn lights() -> (AreaLights, [Vec3; 3], (Vec3, f32)) {
+        let tri = [Vec3::new(1.0, -0.5, 2.0), Vec3::new(2.0, 0.5, 2.5), Vec3::new(0.5, 1.0, 1.5)];
+        let sphere = (Vec3::new(-1.5, 0.3, 1.0), 0.6);
+        let emitting =
+            |e: f32| Material::Phong(Phong { emission: Rgb::splat(e), two_sided_emission: true, ..Phong::default() });
+        let objects = vec![
+            Object {
+                name: "t".into(),
+                shape: Shape::Triangle(Triangle::new(tri[0], tri[1], tri[2])),
+                transform: None,
+                material: 0,
+            },
+            Object {
+                name: "s".into(),
+                shape: Shape::Sphere(Sphere::new(sphere.0, sphere.1)),
+                transform: None,
+                material: 1,
+            },
+        ];
+        (AreaLights::new(&objects, &[emitting(3.0), emitting(1.0)]), tri, sphere)
+    }
+
+    fn hit_triangle(o: Vec3, w: Vec3, [a, b, c]: [Vec3; 3]) -> Option<Vec3> {
+        let (e1, e2) = (b - a, c - a);
+        let p = w.cross(e2);
+        let det = e1.dot(p);
+        let s = o - a;
+        let (u, q) = (s.dot(p) / det, s.cross(e1));
+        let (v, t) = (w.dot(q) / det, e2.dot(q) / det);
+        (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then(|| o + t * w)
+    }
+
+    /// The triangle's light sampling from a point in front of it, as directions, against the
+    /// solid-angle pdf (chi-square).
+    #[test]
+    fn triangle_sampling_matches_its_pdf() {
+        let (lights, tri, _) = lights();
+        let from = Vec3::new(0.64, 0.43, 2.84); // one unit in front of the triangle's centroid
+        let p_triangle = lights.selection_probability(0) as f64;
+        // u_select = 0 always picks the triangle: its pdf is the full pdf over p_triangle.
+        let sample = |u: Vec2| lights.sample(from, 0.0, u).map(|s| (s.point - from).normalize());
+        let pdf = |w: Vec3| match hit_triangle(from, w, tri) {
+            Some(p) => {
+                let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
+                lights.pdf(from, 0, 0, p, n) as f64 / p_triangle
+            }
+            None => 0.0,
+        };
+        let r = chi2_test_with_resolution(sample, pdf, 500_000, 21, 41, 5, 64);
+        assert!(r.p_value > 0.01, "p = {}", r.p_value);
+    }
+
+    /// The sphere is sampled over its whole area, so a direction toward it is produced by its
+    /// near and its far point, and the pdf near the outline is singular (|cos| → 0), which a
+    /// histogram test cannot integrate. Instead: E[1 / pdf(ω)] over samples, with pdf(ω) summed
+    /// over both points, is the solid angle the sphere subtends, 2π(1 − √(1 − r²/d²)); and the
+    /// emitters are chosen by power.
+    #[test]
+    fn sphere_sampling_matches_its_pdf_and_emitters_are_chosen_by_power() {
+        let (lights, _, (centre, radius)) = lights();
+        let from = Vec3::new(0.64, 0.43, 2.84);
+        let p_sphere = 1.0 - lights.selection_probability(0) as f64;
+        let mut rng = crate::sampling::Rng::for_sample(1, 2, 3);
+        let n = 400_000;
+        let (mut sum, mut sum2, mut spheres) = (0.0f64, 0.0f64, 0usize);
+        for _ in 0..n {
+            let u_select = rng.next_f32();
+            let s = lights.sample(from, u_select, Vec2::new(rng.next_f32(), rng.next_f32())).unwrap();
+            if (s.point - centre).length() > radius * 1.001 {
+                continue; // the triangle
+            }
+            spheres += 1;
+            let w = (s.point - from).normalize();
+            let oc = from - centre;
+            let (b, c) = (oc.dot(w), oc.length_squared() - radius * radius);
+            let disc = (b * b - c).max(0.0);
+            let mut pdf = 0.0f64;
+            for t in [-b - disc.sqrt(), -b + disc.sqrt()] {
+                let p = from + t * w;
+                pdf += lights.pdf(from, 1, 0, p, (p - centre) / radius) as f64 / p_sphere;
+            }
+            let x = if pdf > 0.0 { 1.0 / pdf } else { 0.0 };
+            sum += x;
+            sum2 += x * x;
+        }
+        let m = spheres as f64;
+        let mean = sum / m;
+        let error = ((sum2 / m - mean * mean) / m).sqrt();
+        let d = (centre - from).length() as f64;
+        let r = radius as f64;
+        let solid_angle = 2.0 * std::f64::consts::PI * (1.0 - (1.0 - r * r / (d * d)).sqrt());
+        assert!((mean - solid_angle).abs() < 4.0 * error + 1e-4, "{mean} ± {error} vs {solid_angle}");
+        // The sphere chosen with its power share (binomial, 4σ).
+        let sigma = (n as f64 * p_sphere * (1.0 - p_sphere)).sqrt();
+        assert!((m - n as f64 * p_sphere).abs() < 4.0 * sigma, "{m} of {n} vs p = {p_sphere}");
+    }
+}

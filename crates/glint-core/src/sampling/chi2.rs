@@ -19,12 +19,26 @@ pub struct Chi2Result {
 /// `sample(u)` draws a direction from two uniform numbers (`None` = no sample); `pdf(w)` is its
 /// density per solid angle. Odd bin counts keep cell edges off symmetry planes.
 pub fn chi2_test(
+    sample: impl FnMut(Vec2) -> Option<Vec3>,
+    pdf: impl Fn(Vec3) -> f64,
+    samples: usize,
+    cos_bins: usize,
+    phi_bins: usize,
+    seed: u64,
+) -> Chi2Result {
+    chi2_test_with_resolution(sample, pdf, samples, cos_bins, phi_bins, seed, 8)
+}
+
+/// `chi2_test` integrating each cell's pdf on `sub × sub` points: finer for pdfs with sharp
+/// edges inside cells (a light's outline), whose partly covered cells must not come out empty.
+pub fn chi2_test_with_resolution(
     mut sample: impl FnMut(Vec2) -> Option<Vec3>,
     pdf: impl Fn(Vec3) -> f64,
     samples: usize,
     cos_bins: usize,
     phi_bins: usize,
     seed: u64,
+    sub: usize,
 ) -> Chi2Result {
     let cell = |w: Vec3| -> usize {
         let c = (((w.z as f64 + 1.0) * 0.5 * cos_bins as f64) as usize).min(cos_bins - 1);
@@ -41,20 +55,20 @@ pub fn chi2_test(
     }
     // Expected counts: integrate the pdf over each cell (uniform in cos θ and φ, so the
     // solid-angle measure of a sub-cell is its area in (cos θ, φ)).
-    const SUB: usize = 8;
+    let sub_cells = sub;
     let mut expected = vec![0.0f64; cos_bins * phi_bins];
     for c in 0..cos_bins {
         for p in 0..phi_bins {
             let mut integral = 0.0;
-            for i in 0..SUB {
-                let z = -1.0 + 2.0 * (c as f64 + (i as f64 + 0.5) / SUB as f64) / cos_bins as f64;
-                for j in 0..SUB {
-                    let phi = 2.0 * PI * (p as f64 + (j as f64 + 0.5) / SUB as f64) / phi_bins as f64;
+            for i in 0..sub_cells {
+                let z = -1.0 + 2.0 * (c as f64 + (i as f64 + 0.5) / sub_cells as f64) / cos_bins as f64;
+                for j in 0..sub_cells {
+                    let phi = 2.0 * PI * (p as f64 + (j as f64 + 0.5) / sub_cells as f64) / phi_bins as f64;
                     let r = (1.0 - z * z).max(0.0).sqrt();
                     integral += pdf(Vec3::new((r * phi.cos()) as f32, (r * phi.sin()) as f32, z as f32));
                 }
             }
-            let measure = (2.0 / cos_bins as f64) * (2.0 * PI / phi_bins as f64) / (SUB * SUB) as f64;
+            let measure = (2.0 / cos_bins as f64) * (2.0 * PI / phi_bins as f64) / (sub_cells * sub_cells) as f64;
             expected[c * phi_bins + p] = integral * measure * samples as f64;
         }
     }
