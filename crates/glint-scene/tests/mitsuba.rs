@@ -66,10 +66,10 @@ fn every_element_maps_onto_glint() {
     for name in ["gold", "checkered"] {
         assert!(scene.material_names.iter().any(|n| n == name), "{name}: {:?}", scene.material_names);
     }
-    // The stratified sampler maps to glint's; the rough dielectric is approximated (warning).
+    // The stratified sampler maps to glint's; the rough dielectric to rough glass.
     assert_eq!(loaded.render.sampler, glint_core::sampling::SamplerKind::Stratified);
     let warnings = loaded.warnings.join("\n");
-    assert!(warnings.contains("roughdielectric"), "{warnings}");
+
     assert!(!warnings.contains("near_clip"), "read, so not reported: {warnings}");
     // Mappings: gold by its normal-incidence reflectance, a roughconductor from eta and k
     // with roughness √α, BK7 in air, the plastic's diffuse base under a 4 % coat.
@@ -95,6 +95,8 @@ fn every_element_maps_onto_glint() {
     let glass = by_line(67);
     assert!((glass.ior - 1.5046 / 1.000277).abs() < 1e-6);
     assert_eq!(constant(&glass.transmission), Rgb::ONE);
+    let frosted = by_line(76);
+    assert!((frosted.roughness - 0.2f32.sqrt()).abs() < 1e-6 && constant(&frosted.transmission) == Rgb::ONE);
     let plastic = by_line(59);
     assert_eq!(constant(&plastic.diffuse), Rgb::new(0.2, 0.4, 0.8));
     assert!((constant(&plastic.reflection).x - 0.04).abs() < 1e-3);

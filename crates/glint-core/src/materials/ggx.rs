@@ -76,6 +76,39 @@ impl Ggx {
         let h = (wo + wi).normalize();
         self.d(h) * self.g2(wo, wi) / (4.0 * wo.z)
     }
+    /// The refraction half vector for `wo` (wo.z > 0) and `wi` below the surface (wi.z < 0),
+    /// with `eta` = n(wo's side) / n(wi's side): h ∝ −(η_o wo + η_i wi), turned to +z; `None`
+    /// if the pair cannot refract through any microfacet.
+    fn refraction_half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<Vec3> {
+        if wo.z <= 0.0 || wi.z >= 0.0 {
+            return None;
+        }
+        let h = -(wo + wi / eta);
+        let h = h.try_normalize()?;
+        let h = if h.z < 0.0 { -h } else { h };
+        (wo.dot(h) > 0.0 && wi.dot(h) < 0.0).then_some(h)
+    }
+
+    /// Density per solid angle of the refracted direction `wi` when `h` is sampled by
+    /// `sample_visible_normal` and `wo` refracted through it (Walter et al. 2007, eq. 17):
+    /// D_wo(h) · |dh/dwi|, with |dh/dwi| = η_i² |wi·h| / (η_o wo·h + η_i wi·h)².
+    pub fn transmission_pdf(&self, wo: Vec3, wi: Vec3, eta: f32) -> f32 {
+        let Some(h) = Self::refraction_half_vector(wo, wi, eta) else { return 0.0 };
+        let ratio = 1.0 / eta; // η_i / η_o
+        let denominator = wo.dot(h) + ratio * wi.dot(h);
+        let jacobian = ratio * ratio * wi.dot(h).abs() / (denominator * denominator);
+        self.g1(wo) * wo.dot(h) * self.d(h) / wo.z * jacobian
+    }
+
+    /// f(wo, wi)·|cos θ_i| of rough refraction without the Fresnel factor, in the form without
+    /// the radiance's η² scaling (the form the smooth refraction lobe uses, so that rough and
+    /// smooth glass agree as the roughness vanishes): its sampling weight is G2 / G1(wo).
+    pub fn transmission_eval(&self, wo: Vec3, wi: Vec3, eta: f32) -> f32 {
+        let Some(h) = Self::refraction_half_vector(wo, wi, eta) else { return 0.0 };
+        let ratio = 1.0 / eta;
+        let denominator = wo.dot(h) + ratio * wi.dot(h);
+        wi.dot(h).abs() * wo.dot(h) * ratio * ratio * self.d(h) * self.g2(wo, wi) / (wo.z * denominator * denominator)
+    }
 }
 
 #[cfg(test)]

@@ -549,15 +549,7 @@ impl<'a> Translator<'a> {
                 let ior = self.ior_ratio(&p, 1.5046)?;
                 let transmission = p.rgb(self, "specular_transmittance")?.unwrap_or([1.0; 3]);
                 p.rgb(self, "specular_reflectance")?;
-                let roughness = if kind == "roughdielectric" {
-                    self.warn(
-                        &bsdf.position,
-                        "roughdielectric: glint refracts smoothly (rough transmission is not implemented); only the reflection is rough",
-                    );
-                    Some(self.roughness(&p)?)
-                } else {
-                    None
-                };
+                let roughness = if kind == "roughdielectric" { Some(self.roughness(&p)?) } else { None };
                 phong(None, None, Some(transmission), Some(ior), roughness)
             }
             "thindielectric" => {
