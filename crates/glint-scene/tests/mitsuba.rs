@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use glint_core::filter::Filter;
 use glint_core::integrators::IntegratorKind;
 use glint_core::lights::Light;
-use glint_core::materials::Material;
+use glint_core::materials::{Fresnel, Material};
 use glint_core::render::{render, RenderSettings};
 use glint_core::textures::Texture;
 use glint_core::{Rgb, Vec3};
@@ -71,8 +71,8 @@ fn every_element_maps_onto_glint() {
     let warnings = loaded.warnings.join("\n");
 
     assert!(!warnings.contains("near_clip"), "read, so not reported: {warnings}");
-    // Mappings: gold by its normal-incidence reflectance, a roughconductor from eta and k
-    // with roughness √α, BK7 in air, the plastic's diffuse base under a 4 % coat.
+    // Mappings: gold and a roughconductor (from eta and k, roughness √α) with conductor
+    // Fresnel, BK7 in air, the plastic's diffuse base under a 4 % coat.
     let material = |name: &str| {
         let i = scene.material_names.iter().position(|n| n == name).unwrap_or_else(|| panic!("{name}"));
         match &scene.materials[i] {
@@ -83,15 +83,18 @@ fn every_element_maps_onto_glint() {
         Texture::Constant(c) => *c,
         other => panic!("{other:?}"),
     };
-    assert_eq!(constant(&material("gold").reflection), Rgb::new(1.0, 0.782, 0.344));
+    // Gold: a metal with gold's complex index (conductor Fresnel), untinted.
+    let gold = material("gold");
+    let (eta, k) = glint_core::materials::named_metal("Au").unwrap();
+    assert_eq!(gold.fresnel, Fresnel::Conductor { eta, k });
+    assert_eq!(constant(&gold.reflection), Rgb::ONE);
     let by_line = |line: u32| {
         let name = scene.material_names.iter().find(|n| n.ends_with(&format!("@{line}"))).unwrap();
         material(name)
     };
     let rough = by_line(40);
     assert!((rough.roughness - 0.3).abs() < 1e-6);
-    let f = |n: f32, k: f32| ((n - 1.0).powi(2) + k * k) / ((n + 1.0).powi(2) + k * k);
-    assert!((constant(&rough.reflection) - Rgb::new(f(0.2, 3.9), f(0.9, 2.4), f(1.1, 2.2))).length() < 1e-6);
+    assert_eq!(rough.fresnel, Fresnel::Conductor { eta: Rgb::new(0.2, 0.9, 1.1), k: Rgb::new(3.9, 2.4, 2.2) });
     let glass = by_line(67);
     assert!((glass.ior - 1.5046 / 1.000277).abs() < 1e-6);
     assert_eq!(constant(&glass.transmission), Rgb::ONE);
@@ -289,4 +292,32 @@ fn environment_maps_from_mitsuba_and_native_scenes() {
     let native = load_scene(&toml).unwrap_or_else(|e| panic!("{e}"));
     // Turned upside down: the warm half is below.
     assert_eq!(native.scene.environment.radiance(-Vec3::Y), Rgb::new(1.0, 0.75, 0.5));
+}
+
+/// The native `metal` material: by name or by η and k, with clear errors.
+#[test]
+fn native_metals_by_name_or_index() {
+    let dir = scene_file("metal", "").parent().unwrap().to_path_buf();
+    let write = |name: &str, material: &str| {
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(
+            &path,
+            format!("[camera]\nposition = [0, 0, -5]\nlook_at = [0, 0, 0]\n\n[materials.m]\ntype = \"metal\"\n{material}\n\n[[shapes]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"m\"\n"),
+        )
+        .unwrap();
+        load_scene(&path)
+    };
+    let copper = write("copper", "metal = \"Cu\"\nroughness = 0.2").unwrap();
+    match &copper.scene.materials[0] {
+        Material::Phong(p) => {
+            let (eta, k) = glint_core::materials::named_metal("Cu").unwrap();
+            assert_eq!(p.fresnel, Fresnel::Conductor { eta, k });
+            assert_eq!(p.roughness, 0.2);
+        }
+    }
+    assert!(write("by-index", "eta = [0.2, 0.9, 1.1]\nk = [3.9, 2.4, 2.2]").is_ok());
+    let e = write("typo", "metal = \"Cuu\"").err().unwrap().to_string();
+    assert!(e.contains("typo.toml:7:") && e.contains("unknown metal `Cuu`") && e.contains("`Cu`"), "{e}");
+    let e = write("both", "metal = \"Au\"\neta = [1, 1, 1]\nk = [1, 1, 1]").err().unwrap().to_string();
+    assert!(e.contains("either `metal`"), "{e}");
 }

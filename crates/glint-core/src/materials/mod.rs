@@ -6,10 +6,12 @@
 //! the viewer's side by the integrator.
 
 mod bsdf;
+mod conductor;
 mod ggx;
 mod phong;
 
 pub use bsdf::{Bsdf, BsdfSample};
+pub use conductor::{fresnel_conductor, named_metal, METAL_NAMES};
 pub use ggx::Ggx;
 pub use phong::{fresnel_dielectric, fresnel_schlick, Fresnel, Phong, PhongPoint};
 

@@ -29,12 +29,17 @@ use crate::geometry::reflect;
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Fresnel {
     #[default]
     None,
     Schlick,
     Exact,
+    /// A metal: k_r is multiplied by the conductor Fresnel reflectance of η + ik (per channel).
+    Conductor {
+        eta: Rgb,
+        k: Rgb,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -143,6 +148,9 @@ impl PhongPoint {
     pub fn ray_weights(&self, cos_incident: f32, eta: f32) -> (Rgb, Rgb) {
         let f = match self.fresnel {
             Fresnel::None => return (self.reflection, self.transmission),
+            Fresnel::Conductor { eta, k } => {
+                return (self.reflection * super::fresnel_conductor(cos_incident, eta, k), self.transmission)
+            }
             Fresnel::Schlick => fresnel_schlick(cos_incident, eta),
             Fresnel::Exact => fresnel_dielectric(cos_incident, eta),
         };

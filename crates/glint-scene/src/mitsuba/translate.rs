@@ -489,6 +489,9 @@ impl<'a> Translator<'a> {
                     MaterialDesc::Diffuse { emission, .. } | MaterialDesc::Phong { emission, .. } => {
                         *emission = Some(e)
                     }
+                    MaterialDesc::Metal { .. } => {
+                        return Err(self.error(at, "an emitting metal is not supported (glint's metals do not emit)"));
+                    }
                 }
                 format!("{base}+emitter@{}", at.line)
             }
@@ -539,11 +542,37 @@ impl<'a> Translator<'a> {
                 two_sided_emission: false,
             },
             "conductor" | "roughconductor" => {
-                let f0 = self.conductor_reflectance(&p)?;
-                let specular = p.rgb(self, "specular_reflectance")?.unwrap_or([1.0; 3]);
-                let reflection = [f0[0] * specular[0], f0[1] * specular[1], f0[2] * specular[2]];
                 let roughness = if kind == "roughconductor" { Some(self.roughness(&p)?) } else { None };
-                phong(None, Some(reflection), None, None, roughness)
+                let tint = p.color(self, "specular_reflectance")?;
+                let eta = p.rgb(self, "eta")?;
+                let k = p.rgb(self, "k")?;
+                let (metal, eta, k) = match eta {
+                    Some(eta) => (None, Some(eta), Some(k.unwrap_or([0.0; 3]))),
+                    None => match p.string(self, "material")?.as_deref() {
+                        None | Some("none") => {
+                            // Mitsuba's default: a perfect mirror.
+                            let mut desc = phong(None, Some([1.0; 3]), None, None, roughness);
+                            if let (MaterialDesc::Phong { reflection, .. }, Some(t)) = (&mut desc, tint) {
+                                *reflection = Some(t);
+                            }
+                            self.unused(&p);
+                            return Ok(desc);
+                        }
+                        Some(name) => {
+                            if glint_core::materials::named_metal(name).is_none() {
+                                return Err(self.error(
+                                    &bsdf.position,
+                                    format!(
+                                        "unknown conductor material `{name}`; glint knows none, {}",
+                                        glint_core::materials::METAL_NAMES.join(", ")
+                                    ),
+                                ));
+                            }
+                            (Some(name.to_string()), None, None)
+                        }
+                    },
+                };
+                MaterialDesc::Metal { metal, eta, k, tint, roughness }
             }
             "dielectric" | "roughdielectric" => {
                 let ior = self.ior_ratio(&p, 1.5046)?;
@@ -588,28 +617,6 @@ impl<'a> Translator<'a> {
         };
         self.unused(&p);
         Ok(desc)
-    }
-
-    /// Reflectance at normal incidence of a conductor: from `material` (a named metal) or from
-    /// `eta` and `k`: ((η − 1)² + k²) / ((η + 1)² + k²).
-    fn conductor_reflectance(&mut self, p: &Properties) -> Result<[f32; 3]> {
-        let eta = p.rgb(self, "eta")?;
-        let k = p.rgb(self, "k")?;
-        if let Some(eta) = eta {
-            let k = k.unwrap_or([0.0; 3]);
-            let f = |n: f32, k: f32| ((n - 1.0).powi(2) + k * k) / ((n + 1.0).powi(2) + k * k);
-            return Ok([f(eta[0], k[0]), f(eta[1], k[1]), f(eta[2], k[2])]);
-        }
-        let material = p.string(self, "material")?.unwrap_or_else(|| "none".into());
-        named_conductor(&material).ok_or_else(|| {
-            self.error(
-                &p.element.position,
-                format!(
-                    "unknown conductor material `{material}`; glint knows {}",
-                    CONDUCTORS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
-                ),
-            )
-        })
     }
 
     /// GGX roughness (glint's α = roughness²) from Mitsuba's `alpha` (default 0.1).
@@ -888,25 +895,6 @@ fn vertical_fov(fov: f32, aspect: f32, axis: &str) -> Option<f32> {
         _ => return None,
     };
     Some(2.0 * vertical_tan.atan().to_degrees())
-}
-
-/// Normal-incidence reflectance of common metals (linear sRGB; Hoffman's table, as
-/// real-time renderers use it), for Mitsuba's named conductors.
-const CONDUCTORS: [(&str, [f32; 3]); 10] = [
-    ("none", [1.0, 1.0, 1.0]),
-    ("Au", [1.0, 0.782, 0.344]),
-    ("Ag", [0.972, 0.960, 0.915]),
-    ("Al", [0.913, 0.922, 0.924]),
-    ("Cu", [0.955, 0.638, 0.538]),
-    ("Cr", [0.549, 0.556, 0.554]),
-    ("Fe", [0.562, 0.565, 0.578]),
-    ("Ni", [0.660, 0.609, 0.526]),
-    ("Ti", [0.542, 0.497, 0.449]),
-    ("Pt", [0.673, 0.637, 0.585]),
-];
-
-fn named_conductor(name: &str) -> Option<[f32; 3]> {
-    CONDUCTORS.iter().find(|(n, _)| *n == name).map(|(_, rgb)| *rgb)
 }
 
 /// Mitsuba's named indices of refraction.
@@ -1229,10 +1217,7 @@ mod tests {
     }
 
     #[test]
-    fn conductor_reflectance_from_eta_and_k() {
-        let f = |n: f32, k: f32| ((n - 1.0).powi(2) + k * k) / ((n + 1.0).powi(2) + k * k);
-        assert!((f(1.5, 0.0) - 0.04).abs() < 1e-6);
-        assert_eq!(named_conductor("Au"), Some([1.0, 0.782, 0.344]));
+    fn named_indices_of_refraction() {
         assert_eq!(named_ior("bk7"), Some(1.5046));
     }
 }

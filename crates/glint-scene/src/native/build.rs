@@ -11,7 +11,7 @@ use glint_core::filter::Filter;
 use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings, PhotonSettings};
 use glint_core::lights::{DirectionalLight, EnvironmentMap, Falloff, Light, PointLight, SpotLight};
-use glint_core::materials::{Fresnel, Material, Phong};
+use glint_core::materials::{named_metal, Fresnel, Material, Phong, METAL_NAMES};
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::{Environment, Geometry, Object, Scene};
 use glint_core::shapes::{
@@ -93,6 +93,40 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         let at = |key: &str, m: String| cx.error(&entry.span, Some(key), format!("material `{name}`: {m}"));
         let colour = |key: &str, c: &ColorDesc| resolve_colour(c, &textures).map_err(|m| at(key, m));
         let material = match &entry.value {
+            MaterialDesc::Metal { metal, eta, k, tint, roughness } => {
+                let (eta, k) = match (metal, eta, k) {
+                    (Some(m), None, None) => named_metal(m).ok_or_else(|| {
+                        let hint =
+                            closest_name(m, METAL_NAMES).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
+                        at("metal", format!("unknown metal `{m}`, expected one of {}{hint}", quoted(&METAL_NAMES)))
+                    })?,
+                    (None, Some(eta), Some(k)) => (
+                        positive_vector(*eta).map_err(|m| at("eta", format!("`eta` {m}")))?,
+                        non_negative(*k).map_err(|m| at("k", format!("`k` {m}")))?,
+                    ),
+                    _ => {
+                        return Err(at(
+                            "metal",
+                            "a metal needs either `metal` (a name) or both `eta` and `k`, not both".into(),
+                        ))
+                    }
+                };
+                let roughness = roughness.unwrap_or(0.0);
+                if !(0.0..=1.0).contains(&roughness) {
+                    return Err(at("roughness", format!("`roughness` must be between 0 and 1, got {roughness}")));
+                }
+                Material::Phong(Phong {
+                    diffuse: Texture::Constant(Rgb::ZERO),
+                    ambient: Some(Texture::Constant(Rgb::ZERO)),
+                    reflection: match tint {
+                        Some(c) => colour("tint", c)?,
+                        None => Texture::Constant(Rgb::ONE),
+                    },
+                    fresnel: Fresnel::Conductor { eta, k },
+                    roughness,
+                    ..Phong::default()
+                })
+            }
             MaterialDesc::Diffuse { reflectance, emission, two_sided_emission } => {
                 let mut phong = Phong { ambient: Some(Texture::Constant(Rgb::ZERO)), ..Phong::default() };
                 if let Some(c) = reflectance {
@@ -649,6 +683,14 @@ fn non_negative(v: Vector) -> Result<Vec3, String> {
     let v3 = finite(v)?;
     if v3.min_element() < 0.0 {
         return Err(format!("colours must be ≥ 0, got {v:?}"));
+    }
+    Ok(v3)
+}
+
+fn positive_vector(v: Vector) -> Result<Vec3, String> {
+    let v3 = finite(v)?;
+    if v3.min_element() <= 0.0 {
+        return Err(format!("must be > 0 on every channel, got {v:?}"));
     }
     Ok(v3)
 }

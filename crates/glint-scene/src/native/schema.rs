@@ -240,6 +240,15 @@ pub enum MaterialDesc {
         #[serde(default)]
         two_sided_emission: bool,
     },
+    /// A metal: a mirror (or GGX, with `roughness`) whose reflectance is the conductor
+    /// Fresnel of `metal` (a name) or of `eta` and `k`, times `tint`.
+    Metal {
+        metal: Option<String>,
+        eta: Option<Vector>,
+        k: Option<Vector>,
+        tint: Option<ColorDesc>,
+        roughness: Option<f32>,
+    },
     /// A Lambertian surface (the path tracer's plain diffuse material).
     Diffuse {
         reflectance: Option<ColorDesc>,

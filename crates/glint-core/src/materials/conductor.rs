@@ -1,0 +1,143 @@
+//! Metals: the Fresnel reflectance of a conductor, whose index of refraction is complex,
+//! η + ik, per RGB channel (pbrt-v4 §9.3.6), and the indices of common metals.
+//!
+//! F(θ) = ½ (|r∥|² + |r⊥|²) with r∥ = (η cos θ − cos θ_t) / (η cos θ + cos θ_t),
+//! r⊥ = (cos θ − η cos θ_t) / (cos θ + η cos θ_t), cos θ_t = √(1 − sin² θ / η²), all complex.
+//! At normal incidence it is ((n − 1)² + k²) / ((n + 1)² + k²); toward grazing it rises to 1.
+
+use crate::Rgb;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Complex {
+    re: f32,
+    im: f32,
+}
+
+impl Complex {
+    fn new(re: f32, im: f32) -> Self {
+        Self { re, im }
+    }
+    fn add(self, o: Self) -> Self {
+        Self::new(self.re + o.re, self.im + o.im)
+    }
+    fn sub(self, o: Self) -> Self {
+        Self::new(self.re - o.re, self.im - o.im)
+    }
+    fn mul(self, o: Self) -> Self {
+        Self::new(self.re * o.re - self.im * o.im, self.re * o.im + self.im * o.re)
+    }
+    fn div(self, o: Self) -> Self {
+        let d = o.re * o.re + o.im * o.im;
+        Self::new((self.re * o.re + self.im * o.im) / d, (self.im * o.re - self.re * o.im) / d)
+    }
+    fn norm(self) -> f32 {
+        self.re * self.re + self.im * self.im
+    }
+    /// The principal square root.
+    fn sqrt(self) -> Self {
+        let r = self.norm().sqrt();
+        if r == 0.0 {
+            return Self::new(0.0, 0.0);
+        }
+        let re = (0.5 * (r + self.re)).max(0.0).sqrt();
+        let im = (0.5 * (r - self.re)).max(0.0).sqrt();
+        Self::new(re, if self.im < 0.0 { -im } else { im })
+    }
+}
+
+/// The reflectance of one channel, for the cosine of the incident angle and η + ik.
+fn fresnel_complex(cos_incident: f32, eta: f32, k: f32) -> f32 {
+    let cos_i = cos_incident.clamp(0.0, 1.0);
+    let eta = Complex::new(eta, k);
+    let sin2_i = Complex::new(1.0 - cos_i * cos_i, 0.0);
+    let sin2_t = sin2_i.div(eta.mul(eta));
+    let cos_t = Complex::new(1.0, 0.0).sub(sin2_t).sqrt();
+    let ci = Complex::new(cos_i, 0.0);
+    let r_parallel = eta.mul(ci).sub(cos_t).div(eta.mul(ci).add(cos_t));
+    let r_perpendicular = ci.sub(eta.mul(cos_t)).div(ci.add(eta.mul(cos_t)));
+    (0.5 * (r_parallel.norm() + r_perpendicular.norm())).clamp(0.0, 1.0)
+}
+
+/// The Fresnel reflectance of a conductor per channel.
+pub fn fresnel_conductor(cos_incident: f32, eta: Rgb, k: Rgb) -> Rgb {
+    Rgb::new(
+        fresnel_complex(cos_incident, eta.x, k.x),
+        fresnel_complex(cos_incident, eta.y, k.y),
+        fresnel_complex(cos_incident, eta.z, k.z),
+    )
+}
+
+/// η and k of common metals at the red, green and blue wavelengths (RGB fits of measured data,
+/// as RGB renderers tabulate them); for Fe, Ni, Ti and Pt, derived from the normal-incidence
+/// reflectance with Gulbrandsen's fit (2014), edge tint = reflectance.
+pub fn named_metal(name: &str) -> Option<(Rgb, Rgb)> {
+    let measured = |eta: [f32; 3], k: [f32; 3]| Some((Rgb::from(eta), Rgb::from(k)));
+    match name {
+        "Au" => measured([0.143119, 0.374957, 1.44248], [3.98316, 2.38572, 1.60322]),
+        "Ag" => measured([0.155265, 0.116723, 0.138342], [4.82835, 3.12225, 2.14696]),
+        "Al" => measured([1.65746, 0.880369, 0.521229], [9.22387, 6.26952, 4.837]),
+        "Cu" => measured([0.200438, 0.924033, 1.10221], [3.91295, 2.45285, 2.14219]),
+        "Cr" => measured([4.36968, 2.9167, 1.6547], [5.20643, 4.23136, 3.75495]),
+        "Fe" => Some(from_reflectance(Rgb::new(0.562, 0.565, 0.578))),
+        "Ni" => Some(from_reflectance(Rgb::new(0.660, 0.609, 0.526))),
+        "Ti" => Some(from_reflectance(Rgb::new(0.542, 0.497, 0.449))),
+        "Pt" => Some(from_reflectance(Rgb::new(0.673, 0.637, 0.585))),
+        _ => None,
+    }
+}
+
+pub const METAL_NAMES: [&str; 9] = ["Au", "Ag", "Al", "Cu", "Cr", "Fe", "Ni", "Ti", "Pt"];
+
+/// η and k with normal-incidence reflectance `r` (Gulbrandsen, "Artist Friendly Metallic
+/// Fresnel", JCGT 3(4), 2014, with the edge tint g = r).
+fn from_reflectance(r: Rgb) -> (Rgb, Rgb) {
+    let channel = |r: f32| {
+        let r = r.clamp(0.0, 0.99);
+        let g = r;
+        let sqrt_r = r.sqrt();
+        let n = g * (1.0 - r) / (1.0 + r) + (1.0 - g) * (1.0 + sqrt_r) / (1.0 - sqrt_r);
+        let k2 = (r * (n + 1.0).powi(2) - (n - 1.0).powi(2)) / (1.0 - r);
+        (n, k2.max(0.0).sqrt())
+    };
+    let (a, b, c) = (channel(r.x), channel(r.y), channel(r.z));
+    (Rgb::new(a.0, b.0, c.0), Rgb::new(a.1, b.1, c.1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::materials::fresnel_dielectric;
+
+    #[test]
+    fn normal_incidence_by_hand_and_grazing_is_total() {
+        let f = fresnel_complex(1.0, 0.2, 3.9);
+        let expected = ((0.2f32 - 1.0).powi(2) + 3.9 * 3.9) / ((0.2f32 + 1.0).powi(2) + 3.9 * 3.9);
+        assert!((f - expected).abs() < 1e-5, "{f} vs {expected}");
+        assert!(fresnel_complex(1e-4, 0.2, 3.9) > 0.999);
+    }
+
+    #[test]
+    fn without_absorption_it_is_the_dielectric_fresnel() {
+        for cos in [1.0f32, 0.8, 0.5, 0.2, 0.05] {
+            let conductor = fresnel_complex(cos, 1.5, 0.0);
+            let dielectric = fresnel_dielectric(cos, 1.0 / 1.5);
+            assert!((conductor - dielectric).abs() < 1e-5, "cos {cos}: {conductor} vs {dielectric}");
+        }
+    }
+
+    #[test]
+    fn named_metals_reflect_as_expected() {
+        // Gold: red-yellow at normal incidence.
+        let (eta, k) = named_metal("Au").unwrap();
+        let f = fresnel_conductor(1.0, eta, k);
+        assert!(f.x > 0.9 && f.y > 0.75 && f.z < 0.45, "{f}");
+        // Gulbrandsen's fit reproduces the normal-incidence reflectance it is given.
+        let (eta, k) = named_metal("Ni").unwrap();
+        let f = fresnel_conductor(1.0, eta, k);
+        assert!((f - Rgb::new(0.660, 0.609, 0.526)).abs().max_element() < 1e-3, "{f}");
+        for name in METAL_NAMES {
+            assert!(named_metal(name).is_some());
+        }
+        assert!(named_metal("unobtainium").is_none());
+    }
+}
