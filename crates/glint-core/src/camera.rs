@@ -1,16 +1,32 @@
-//! Pinhole camera.
+//! The camera: a pinhole (the default), a thin lens (depth of field) or an orthographic view.
 //!
 //! Scene parameters (`[camera]`): `position`, `look_at` (points), `up` (vector, default
 //! [0, 1, 0]), `fov` (vertical field of view in degrees, default 45), `resolution`
-//! ([width, height] in pixels, default [640, 480]).
+//! ([width, height] in pixels, default [640, 480]); `aperture_radius` and `focus_distance`
+//! for a thin lens; `orthographic_height` (the height of the view in scene units) for an
+//! orthographic camera.
 //!
 //! Image conventions: pixel (0, 0) is the top-left, row 0 is the top row; image right is
 //! `forward × up`, image up is `right × forward`. Film coordinates are continuous: pixel
 //! (x, y) covers [x, x+1) × [y, y+1), its centre is (x + ½, y + ½).
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use crate::geometry::Ray;
+use crate::sampling::warp::square_to_disk;
+
+/// How rays leave the camera.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Lens {
+    /// Every ray through one point: everything in focus.
+    #[default]
+    Pinhole,
+    /// Rays through a disk of `radius`, focused on the plane at `focus_distance` along the
+    /// view direction: depth of field.
+    Thin { radius: f32, focus_distance: f32 },
+    /// Parallel rays from a film `height` scene units high (the width follows the aspect).
+    Orthographic { height: f32 },
+}
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
@@ -22,6 +38,7 @@ pub struct Camera {
     right: Vec3,
     up: Vec3,
     tan_half_fov: f32,
+    pub lens: Lens,
 }
 
 impl Camera {
@@ -39,7 +56,18 @@ impl Camera {
             right,
             up,
             tan_half_fov: (0.5 * fov_degrees.to_radians()).tan(),
+            lens: Lens::Pinhole,
         })
+    }
+
+    /// The same camera with another lens.
+    pub fn with_lens(self, lens: Lens) -> Self {
+        Self { lens, ..self }
+    }
+
+    /// Whether `generate_ray_through_lens` needs its lens sample (a thin lens).
+    pub fn samples_lens(&self) -> bool {
+        matches!(self.lens, Lens::Thin { radius, .. } if radius > 0.0)
     }
 
     /// The same camera at another resolution (the vertical field of view is kept).
@@ -47,12 +75,38 @@ impl Camera {
         Self { width, height, ..self.clone() }
     }
 
-    /// The ray through film point (x, y), in pixels from the top-left corner. Unit direction.
+    /// The ray through film point (x, y), in pixels from the top-left corner, through the lens
+    /// centre. Unit direction.
     pub fn generate_ray(&self, film_x: f32, film_y: f32) -> Ray {
+        self.generate_ray_through_lens(film_x, film_y, Vec2::splat(0.5))
+    }
+
+    /// The ray through film point (x, y) and the lens point `u_lens` (a uniform sample of the
+    /// unit square, mapped to the aperture disk; (½, ½) is the lens centre).
+    pub fn generate_ray_through_lens(&self, film_x: f32, film_y: f32, u_lens: Vec2) -> Ray {
         let aspect = self.width as f32 / self.height as f32;
-        let sx = (2.0 * film_x / self.width as f32 - 1.0) * self.tan_half_fov * aspect;
-        let sy = (1.0 - 2.0 * film_y / self.height as f32) * self.tan_half_fov;
-        Ray::new(self.position, (self.forward + sx * self.right + sy * self.up).normalize())
+        // Film position in [-1, 1] × [-1, 1], +y up.
+        let nx = 2.0 * film_x / self.width as f32 - 1.0;
+        let ny = 1.0 - 2.0 * film_y / self.height as f32;
+        match self.lens {
+            Lens::Orthographic { height } => {
+                let origin = self.position + (0.5 * height) * (nx * aspect * self.right + ny * self.up);
+                Ray::new(origin, self.forward)
+            }
+            Lens::Pinhole | Lens::Thin { .. } => {
+                let sx = nx * self.tan_half_fov * aspect;
+                let sy = ny * self.tan_half_fov;
+                let direction = (self.forward + sx * self.right + sy * self.up).normalize();
+                let Lens::Thin { radius, focus_distance } = self.lens else {
+                    return Ray::new(self.position, direction);
+                };
+                // The point in focus along the pinhole ray, seen from a point on the aperture.
+                let focus = self.position + direction * (focus_distance / direction.dot(self.forward));
+                let disk = square_to_disk(u_lens) * radius;
+                let origin = self.position + disk.x * self.right + disk.y * self.up;
+                Ray::new(origin, (focus - origin).normalize())
+            }
+        }
     }
 }
 
@@ -63,14 +117,20 @@ pub struct Projection {
     pub film_y: f32,
     /// The pinhole's importance toward the point, converted to the point's area measure:
     /// 1 / (A · cos³θ · d²), with A the image's area on the plane at distance 1 and θ the angle
-    /// off the optical axis. A point's contribution to the mean over the image of its pixel is
-    /// (pixel count) · (radiance toward the camera · |cos at the point|) · this.
+    /// off the optical axis (orthographic: 1 / A, A the film's area). A point's contribution to
+    /// the mean over the image of its pixel is (pixel count) · (radiance toward the camera ·
+    /// |cos at the point|) · this.
     pub importance: f32,
+    /// Unit direction from the point toward the camera, and where the camera is along it (the
+    /// end of a visibility ray).
+    pub to_camera: Vec3,
+    pub camera_point: Vec3,
 }
 
 impl Camera {
     /// The film position of `point` and the camera's importance toward it; `None` if it is
-    /// behind the camera or outside the image.
+    /// behind the camera or outside the image. A thin lens has no single point to connect to:
+    /// `None` (light tracing refuses such cameras).
     pub fn project(&self, point: Vec3) -> Option<Projection> {
         let d = point - self.position;
         let depth = d.dot(self.forward);
@@ -78,6 +138,24 @@ impl Camera {
             return None;
         }
         let aspect = self.width as f32 / self.height as f32;
+        match self.lens {
+            Lens::Thin { radius, .. } if radius > 0.0 => return None,
+            Lens::Orthographic { height } => {
+                let film_x = (d.dot(self.right) / (0.5 * height * aspect) + 1.0) * 0.5 * self.width as f32;
+                let film_y = (1.0 - d.dot(self.up) / (0.5 * height)) * 0.5 * self.height as f32;
+                if !(0.0..self.width as f32).contains(&film_x) || !(0.0..self.height as f32).contains(&film_y) {
+                    return None;
+                }
+                return Some(Projection {
+                    film_x,
+                    film_y,
+                    importance: 1.0 / (height * height * aspect),
+                    to_camera: -self.forward,
+                    camera_point: point - depth * self.forward,
+                });
+            }
+            _ => {}
+        }
         let sx = d.dot(self.right) / depth;
         let sy = d.dot(self.up) / depth;
         let film_x = (sx / (self.tan_half_fov * aspect) + 1.0) * 0.5 * self.width as f32;
@@ -88,7 +166,13 @@ impl Camera {
         let distance_squared = d.length_squared();
         let cos = depth / distance_squared.sqrt();
         let image_area = 4.0 * self.tan_half_fov * self.tan_half_fov * aspect;
-        Some(Projection { film_x, film_y, importance: 1.0 / (image_area * cos * cos * cos * distance_squared) })
+        Some(Projection {
+            film_x,
+            film_y,
+            importance: 1.0 / (image_area * cos * cos * cos * distance_squared),
+            to_camera: -d / distance_squared.sqrt(),
+            camera_point: self.position,
+        })
     }
 }
 
@@ -141,6 +225,44 @@ mod tests {
             }
         }
         assert!((total - 1.0).abs() < 0.01, "{total}");
+    }
+
+    #[test]
+    fn orthographic_rays_are_parallel_and_project_back() {
+        let cam = Camera::new(Vec3::new(0.0, 1.0, -5.0), Vec3::new(0.0, 1.0, 0.0), Vec3::Y, 45.0, 40, 20)
+            .unwrap()
+            .with_lens(Lens::Orthographic { height: 4.0 });
+        let top_left = cam.generate_ray(0.0, 0.0);
+        assert_eq!(top_left.direction, Vec3::Z);
+        // 4 high, 8 wide; image right is forward × up = −x.
+        assert!((top_left.origin - Vec3::new(4.0, 3.0, -5.0)).length() < 1e-5, "{}", top_left.origin);
+        for (fx, fy) in [(0.5, 0.5), (20.0, 10.0), (39.5, 19.5)] {
+            let p = cam.project(cam.generate_ray(fx, fy).at(3.0)).unwrap();
+            assert!((p.film_x - fx).abs() < 1e-3 && (p.film_y - fy).abs() < 1e-3);
+            assert_eq!(p.to_camera, -Vec3::Z);
+        }
+        // Importance × projected area over the film's area = 1.
+        let p = cam.project(Vec3::new(0.0, 1.0, 2.0)).unwrap();
+        assert!((p.importance * 32.0 - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_thin_lens_focuses_on_its_focus_plane() {
+        let cam = Camera::new(Vec3::ZERO, Vec3::Z, Vec3::Y, 40.0, 30, 30)
+            .unwrap()
+            .with_lens(Lens::Thin { radius: 0.5, focus_distance: 3.0 });
+        assert!(cam.samples_lens());
+        for (fx, fy) in [(15.0, 15.0), (2.0, 27.0)] {
+            let centre = cam.generate_ray(fx, fy);
+            let focus = centre.at(3.0 / centre.direction.z);
+            for u in [Vec2::new(0.1, 0.9), Vec2::new(0.8, 0.3), Vec2::new(0.5, 0.0)] {
+                let r = cam.generate_ray_through_lens(fx, fy, u);
+                assert!(r.origin.z == 0.0 && r.origin.length() <= 0.5 + 1e-6 && r.origin.length() > 0.0);
+                let at_focus = r.at((3.0 - r.origin.z) / r.direction.z);
+                assert!((at_focus - focus).length() < 1e-4, "{at_focus} vs {focus}");
+            }
+        }
+        assert!(cam.project(Vec3::new(0.0, 0.0, 3.0)).is_none(), "no connections to a lens");
     }
 
     #[test]

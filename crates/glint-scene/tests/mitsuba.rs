@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use glint_core::camera::Lens;
 use glint_core::filter::Filter;
 use glint_core::integrators::IntegratorKind;
 use glint_core::lights::Light;
@@ -205,10 +206,24 @@ fn sensor_sampler_integrator_and_emitter_variants() {
         );
         load_scene(&scene_file(name, &text))
     };
-    let thin = scene_with("thinlens", "thinlens", "").unwrap();
-    assert!(thin.warnings.join("\n").contains("depth of field"), "{:?}", thin.warnings);
-    let e = scene_with("ortho", "orthographic", "").err().unwrap().to_string();
-    assert!(e.contains("ortho.xml:2:") && e.contains("orthographic"), "{e}");
+    // A thin lens needs its focus distance; then it is glint's thin lens.
+    let e = scene_with("thinlens-nofocus", "thinlens", "").err().unwrap().to_string();
+    assert!(e.contains("thinlens-nofocus.xml:2:") && e.contains("focus_distance"), "{e}");
+    let thin = load_scene(&scene_file(
+        "thinlens",
+        r#"<scene version="3.0.0"><sensor type="thinlens"><float name="aperture_radius" value="0.2"/><float name="focus_distance" value="4"/><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor></scene>"#,
+    ))
+    .unwrap();
+    assert_eq!(thin.scene.camera.lens, Lens::Thin { radius: 0.2, focus_distance: 4.0 });
+    // Orthographic: the view's height is twice to_world's scale along y.
+    let ortho = load_scene(&scene_file(
+        "ortho",
+        r#"<scene version="3.0.0"><sensor type="orthographic"><transform name="to_world"><scale value="3"/><lookat origin="0,0,-5" target="0,0,0" up="0,1,0"/></transform><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor></scene>"#,
+    ))
+    .unwrap();
+    assert_eq!(ortho.scene.camera.lens, Lens::Orthographic { height: 6.0 });
+    let e = scene_with("pano", "spherical", "").err().unwrap().to_string();
+    assert!(e.contains("pano.xml:2:") && e.contains("spherical"), "{e}");
     for (kind, expected, depth) in [
         ("direct", IntegratorKind::Path, 1),
         ("ptracer", IntegratorKind::Light, 2),

@@ -37,6 +37,12 @@ type Splat = (u32, u32, Rgb);
 
 impl LightTracer {
     pub fn new(scene: &Scene, max_depth: u32) -> Result<Self, String> {
+        if scene.camera.samples_lens() {
+            return Err(
+                "light tracing connects to a single camera point: it needs a pinhole or orthographic camera, not a thin lens"
+                    .into(),
+            );
+        }
         Ok(Self { max_depth, source: ParticleSource::new(scene)? })
     }
 
@@ -59,8 +65,8 @@ impl LightTracer {
 /// The light itself seen by the camera: L_e · |cos θ_light| · W_e / pdf_area.
 fn connect_emission(scene: &Scene, e: &AreaEmission, splats: &mut Vec<Splat>, rays: &mut RayCounts) {
     let Some(projection) = scene.camera.project(e.point) else { return };
-    let to_camera = scene.camera.position - e.point;
-    let cos = to_camera.normalize().dot(e.normal);
+    let to_camera = projection.to_camera;
+    let cos = to_camera.dot(e.normal);
     // `normal` is the side the particle left from; a one-sided light shows only that side.
     let cos = if e.two_sided { cos.abs() } else { cos };
     if cos <= 0.0 {
@@ -69,7 +75,7 @@ fn connect_emission(scene: &Scene, e: &AreaEmission, splats: &mut Vec<Splat>, ra
     let side = if e.normal.dot(to_camera) >= 0.0 { e.normal } else { -e.normal };
     let origin = offset_ray_origin(e.point, e.error, side, to_camera);
     rays.shadow += 1;
-    if scene.occluded(&Ray::with_range(origin, scene.camera.position - origin, 0.0, 1.0)) {
+    if scene.occluded(&Ray::with_range(origin, projection.camera_point - origin, 0.0, 1.0)) {
         return;
     }
     let value = e.radiance * (cos * projection.importance / e.pdf_area);
@@ -81,7 +87,7 @@ fn connect_emission(scene: &Scene, e: &AreaEmission, splats: &mut Vec<Splat>, ra
 fn connect_vertex(scene: &Scene, v: &ParticleVertex, splats: &mut Vec<Splat>, rays: &mut RayCounts) {
     let point = v.hit.geometry.point;
     let Some(projection) = scene.camera.project(point) else { return };
-    let to_camera: Vec3 = (scene.camera.position - point).normalize();
+    let to_camera: Vec3 = projection.to_camera;
     let f = v.bsdf.eval(v.wo, to_camera);
     if f == Rgb::ZERO {
         return;
@@ -95,7 +101,7 @@ fn connect_vertex(scene: &Scene, v: &ParticleVertex, splats: &mut Vec<Splat>, ra
         to_camera.dot(ng).abs() * v.wo.dot(ns).abs() / denominator
     };
     rays.shadow += 1;
-    if scene.occluded(&v.hit.spawn_ray_to(scene.camera.position)) {
+    if scene.occluded(&v.hit.spawn_ray_to(projection.camera_point)) {
         return;
     }
     let value = v.weight * f * (correction * projection.importance);

@@ -46,6 +46,9 @@ impl<'a> Translator<'a> {
             up: [0.0, 1.0, 0.0],
             fov: 39.6,
             resolution: [768, 576],
+            aperture_radius: None,
+            focus_distance: None,
+            orthographic_height: None,
         };
         let scene = SceneFile {
             camera: Located { value: camera, span: None },
@@ -146,18 +149,13 @@ impl<'a> Translator<'a> {
 
     fn sensor(&mut self, sensor: &Element) -> Result<()> {
         let kind = sensor.attribute("type").unwrap_or("");
-        match kind {
-            "perspective" => {}
-            "thinlens" => self.warn(
+        if !matches!(kind, "perspective" | "thinlens" | "orthographic") {
+            return Err(self.error(
                 &sensor.position,
-                "<sensor type=\"thinlens\">: rendered as a pinhole camera (glint has no depth of field yet)",
-            ),
-            _ => {
-                return Err(self.error(
-                    &sensor.position,
-                    format!("<sensor type=\"{kind}\"> is not supported; glint has a perspective (pinhole) camera"),
-                ))
-            }
+                format!(
+                    "<sensor type=\"{kind}\"> is not supported; glint reads perspective, thinlens and orthographic"
+                ),
+            ));
         }
         let p = self.properties(sensor);
         // Film first: the field of view's axis needs the aspect ratio.
@@ -176,6 +174,7 @@ impl<'a> Translator<'a> {
         let aspect = width as f32 / height as f32;
         let fov = match p.float(self, "fov")? {
             Some(f) => f,
+            None if kind == "orthographic" => 45.0, // unused
             None => {
                 let focal = p.string(self, "focal_length")?.unwrap_or_else(|| "50mm".into());
                 let mm: f32 = focal.trim_end_matches("mm").trim().parse().map_err(|_| {
@@ -197,10 +196,19 @@ impl<'a> Translator<'a> {
         for clip in ["near_clip", "far_clip"] {
             p.float(self, clip)?; // glint's rays are not clipped; the defaults rarely matter
         }
-        for lens in ["aperture_radius", "focus_distance"] {
-            p.float(self, lens)?;
-        }
+        let (aperture_radius, focus_distance) = if kind == "thinlens" {
+            let radius = p.float(self, "aperture_radius")?.unwrap_or(0.03);
+            let focus = p
+                .float(self, "focus_distance")?
+                .ok_or_else(|| self.error(&sensor.position, "a thinlens sensor needs a `focus_distance`"))?;
+            (Some(radius), Some(focus))
+        } else {
+            (None, None)
+        };
         let matrix = p.transform(self, "to_world")?.unwrap_or(Mat4::IDENTITY);
+        // Mitsuba's orthographic view is the square [−1, 1]² (x scaled by the aspect ratio)
+        // under to_world: its height is twice to_world's scale along y.
+        let orthographic_height = (kind == "orthographic").then(|| 2.0 * matrix.transform_vector3(Vec3::Y).length());
         let position = matrix.transform_point3(Vec3::ZERO);
         let forward = matrix.transform_vector3(Vec3::Z);
         let up = matrix.transform_vector3(Vec3::Y);
@@ -221,6 +229,9 @@ impl<'a> Translator<'a> {
                 up: up.to_array(),
                 fov: vertical,
                 resolution: [width, height],
+                aperture_radius,
+                focus_distance,
+                orthographic_height,
             },
             span: sensor.position.span.clone(),
         };

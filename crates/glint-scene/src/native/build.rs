@@ -6,7 +6,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use glam::{Mat3, Mat4, Quat, Vec2, Vec3};
-use glint_core::camera::Camera;
+use glint_core::camera::{Camera, Lens};
 use glint_core::filter::Filter;
 use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings, PhotonSettings};
@@ -229,12 +229,34 @@ fn build_camera(cx: &Context, camera: &Located<CameraDesc>) -> Result<Camera, Sc
             format!("`resolution` must be [width, height] with each between 1 and 32768, got [{width}, {height}]"),
         ));
     }
-    Camera::new(position, look_at, up, c.fov, width, height).ok_or_else(|| {
+    let camera = Camera::new(position, look_at, up, c.fov, width, height).ok_or_else(|| {
         at(
             "look_at",
             "`look_at` must differ from `position`, and `up` must not be parallel to the view direction".into(),
         )
-    })
+    })?;
+    let length = |key: &str, v: f32| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(at(key, format!("`{key}` must be a length > 0, got {v}")))
+        }
+    };
+    let lens = match (c.aperture_radius, c.focus_distance, c.orthographic_height) {
+        (None, None, None) => Lens::Pinhole,
+        (None, None, Some(h)) => Lens::Orthographic { height: length("orthographic_height", h)? },
+        (Some(r), Some(f), None) => {
+            if !(r.is_finite() && r >= 0.0) {
+                return Err(at("aperture_radius", format!("`aperture_radius` must be ≥ 0, got {r}")));
+            }
+            Lens::Thin { radius: r, focus_distance: length("focus_distance", f)? }
+        }
+        (_, _, Some(_)) => {
+            return Err(at("orthographic_height", "an orthographic camera has no aperture or focus distance".into()))
+        }
+        _ => return Err(at("aperture_radius", "a thin lens needs both `aperture_radius` and `focus_distance`".into())),
+    };
+    Ok(camera.with_lens(lens))
 }
 
 fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneError> {

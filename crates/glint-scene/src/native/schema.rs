@@ -53,6 +53,11 @@ pub struct CameraDesc {
     pub fov: f32,
     #[serde(default = "default_resolution")]
     pub resolution: [u32; 2],
+    /// A thin lens: the aperture's radius and the distance in focus (scene units).
+    pub aperture_radius: Option<f32>,
+    pub focus_distance: Option<f32>,
+    /// An orthographic camera: the view's height in scene units.
+    pub orthographic_height: Option<f32>,
 }
 
 fn default_up() -> Vector {
