@@ -119,6 +119,44 @@ impl Environment {
             None => self.background,
         }
     }
+
+    /// Whether light arrives from outside the scene (a map, or a background that is not black):
+    /// then it is a light like the others, sampled and emitting particles.
+    pub fn emits(&self) -> bool {
+        self.map.is_some() || self.background != Rgb::ZERO
+    }
+
+    /// A direction toward the environment: by the map's brightness, or uniform over the sphere
+    /// for a constant background. `None` if nothing comes from outside.
+    pub fn sample(&self, u: glam::Vec2) -> Option<crate::lights::EnvironmentSample> {
+        match &self.map {
+            Some(map) => map.sample(u),
+            None if self.background != Rgb::ZERO => Some(crate::lights::EnvironmentSample {
+                direction: crate::sampling::warp::square_to_uniform_sphere(u),
+                radiance: self.background,
+                pdf: crate::sampling::warp::UNIFORM_SPHERE_PDF,
+            }),
+            None => None,
+        }
+    }
+
+    /// The solid-angle density of `sample` for `direction`.
+    pub fn pdf(&self, direction: Vec3) -> f32 {
+        match &self.map {
+            Some(map) => map.pdf(direction),
+            None if self.background != Rgb::ZERO => crate::sampling::warp::UNIFORM_SPHERE_PDF,
+            None => 0.0,
+        }
+    }
+
+    /// ∫ L dω over the sphere (mean over RGB): the power per unit area it sends across a
+    /// plane, summed over directions.
+    pub fn radiance_integral(&self) -> f32 {
+        match &self.map {
+            Some(map) => map.radiance_integral(),
+            None => 4.0 * std::f32::consts::PI * self.background.dot(Rgb::splat(1.0 / 3.0)),
+        }
+    }
 }
 
 /// Objects and the acceleration structure over them: the closest-hit and any-hit queries.

@@ -57,3 +57,40 @@ fn path_and_path_naive_agree_under_a_sun() {
     let naive = mean(&image(&s, IntegratorKind::PathNaive, 4096, 3));
     assert!(((path - naive) / naive).abs().max_element() < 0.03, "path {path} vs naive {naive}");
 }
+
+/// The environment is a light for the integrators that start at the lights too: light tracing,
+/// photon mapping and SPPM see the sphere under a uniform sky as ρ·L, whether the sky is a map
+/// or a constant background.
+#[test]
+fn particle_integrators_are_lit_by_the_sky() {
+    use glint_core::render::render_with;
+    let sky = Rgb::new(0.5, 1.0, 2.0);
+    let with_map = sphere_under(EnvironmentMap::new(8, 4, vec![sky; 32], 1.0, Mat3::IDENTITY));
+    let mut constant = sphere_under(EnvironmentMap::new(1, 1, vec![Rgb::ZERO], 1.0, Mat3::IDENTITY));
+    constant.environment.map = None;
+    constant.environment.background = sky;
+    for (name, s) in [("map", &with_map), ("constant", &constant)] {
+        for kind in [IntegratorKind::Path, IntegratorKind::Light, IntegratorKind::Photon, IntegratorKind::Sppm] {
+            let mut settings = IntegratorSettings { max_depth: u32::MAX, ..Default::default() };
+            settings.photon.global_photons = 20_000;
+            settings.photon.final_gather = 4;
+            let mut renderer = kind.renderer(&settings, s, 5).expect("the sky is a light");
+            let spp = match kind {
+                IntegratorKind::Photon => 64,
+                IntegratorKind::Light => 1024, // a particle lands in a given pixel rarely
+                _ => 64,
+            };
+            let img = render_with(s, renderer.as_mut(), &RenderSettings { spp, seed: 5, ..Default::default() }, &|| {})
+                .film
+                .to_rgb();
+            let centre: Rgb =
+                [(6, 6), (9, 6), (6, 9), (9, 9), (7, 7), (8, 8)].iter().map(|&(x, y)| img[y * 16 + x]).sum::<Rgb>()
+                    / 6.0;
+            let expected = sky * 0.8;
+            assert!(
+                ((centre - expected) / expected).abs().max_element() < 0.05,
+                "{kind:?} ({name}): {centre} vs {expected}"
+            );
+        }
+    }
+}

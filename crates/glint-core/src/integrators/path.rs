@@ -47,9 +47,11 @@ impl Integrator for PathTracer {
                 context.rays.reflection += 1;
             }
             let Some(hit) = scene.intersect(&ray) else {
-                // An environment map is also light-sampled: weigh this BSDF sample against that.
-                let weight = match (&scene.environment.map, previous) {
-                    (Some(map), Some((_, bsdf_pdf, false))) => power_heuristic(bsdf_pdf, map.pdf(ray.direction)),
+                // The environment is light-sampled too: weigh this BSDF sample against that.
+                let weight = match previous {
+                    Some((_, bsdf_pdf, false)) if scene.environment.emits() => {
+                        power_heuristic(bsdf_pdf, scene.environment.pdf(ray.direction))
+                    }
                     _ => 1.0,
                 };
                 radiance += throughput * scene.environment.radiance(ray.direction) * weight;
@@ -119,7 +121,8 @@ pub(super) enum Weighting {
     LightOnly,
 }
 
-/// Next-event estimation at a hit: one area-light sample, one environment-map sample, and
+/// Next-event estimation at a hit: one area-light sample, one environment sample (map or
+/// constant background), and
 /// every delta light (point, spot, directional), which only light sampling can find.
 pub(super) fn sample_lights(
     scene: &Scene,
@@ -149,9 +152,9 @@ pub(super) fn sample_lights(
             }
         }
     }
-    if let Some(map) = &scene.environment.map {
+    if scene.environment.emits() {
         let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
-        if let Some(sample) = map.sample(u) {
+        if let Some(sample) = scene.environment.sample(u) {
             let f = bsdf.eval(wo, sample.direction);
             if f != Rgb::ZERO {
                 context.rays.shadow += 1;

@@ -20,10 +20,11 @@
 //! (1999) and Jensen's book do, the irradiance is precomputed at every fourth photon of the
 //! global map (from its k nearest photons on the same side of the same surface); a gather ray
 //! landing on a Lambertian surface then takes k_d/π times the irradiance of the nearest such
-//! record facing the same way, and only glossy surfaces pay for a full estimate. Emitters that light
-//! sampling cannot sample (only transformed spheres and non-triangle shapes) light the scene
-//! through the photons only, and a constant background is not a photon source: its light is
-//! found by the gather rays that escape.
+//! record facing the same way, and only glossy surfaces pay for a full estimate.
+//!
+//! Emitters that light sampling cannot sample (only transformed spheres and non-triangle
+//! shapes) light the scene through the photons only. The environment (map or constant
+//! background) is sampled for direct light and emits photons like any light.
 
 use std::cell::RefCell;
 
@@ -274,13 +275,8 @@ impl PhotonMapper {
             let mut ray: Ray = hit.spawn_ray(sample.wi);
             for _ in 0..GATHER_SPECULAR_DEPTH {
                 context.rays.reflection += 1;
-                let Some(y) = scene.intersect(&ray) else {
-                    // An environment map is direct light, which light sampling counted.
-                    if scene.environment.map.is_none() {
-                        sum += weight * scene.environment.background;
-                    }
-                    break;
-                };
+                // Light from the environment is direct light, which light sampling counted.
+                let Some(y) = scene.intersect(&ray) else { break };
                 let wo_y = -ray.direction.normalize();
                 let material = scene.materials[y.material as usize].evaluate(&y.texture_query());
                 let bsdf_y = Bsdf::new(&material, wo_y, y.geometry.shading_normal, y.geometry.geometric_normal);

@@ -4,8 +4,10 @@
 //!
 //! Powers (mean over RGB): area light L_e·π·A (twice that if two-sided), point light 4π·I,
 //! spot light 2π·I·(1 − (cos θ_full + cos θ_cone)/2) (the smooth edge counted half), directional
-//! light E·π·R² over a disk that covers the scene's bounding sphere of radius R. Lights with
-//! `falloff = "none"` are not physical (their power is unbounded) and are refused.
+//! light E·π·R² over a disk that covers the scene's bounding sphere of radius R, and the
+//! environment (a map or a constant background) π·R²·∫L dω: a direction drawn as light
+//! sampling draws it, then a point on the disk facing it. Lights with `falloff = "none"` are
+//! not physical (their power is unbounded) and are refused.
 
 use glam::{Vec2, Vec3};
 
@@ -31,8 +33,8 @@ pub struct Particle {
 /// All lights of a scene as one distribution over particles.
 #[derive(Clone, Debug)]
 pub struct ParticleSource {
-    /// Cumulative selection probabilities: the scene's `lights` in order, then the area lights
-    /// as one group (they choose among themselves by power).
+    /// Cumulative selection probabilities: the scene's `lights` in order, then the environment,
+    /// then the area lights as one group (they choose among themselves by power).
     cdf: Vec<f32>,
     scene_center: Vec3,
     scene_radius: f32,
@@ -61,6 +63,8 @@ impl ParticleSource {
             };
             powers.push(power);
         }
+        let disk = std::f32::consts::PI * scene_radius * scene_radius;
+        powers.push(if scene.environment.emits() { disk * scene.environment.radiance_integral() } else { 0.0 });
         powers.push(scene.area_lights.total_power());
         let total_power: f32 = powers.iter().sum();
         if total_power.is_nan() || total_power <= 0.0 {
@@ -91,6 +95,17 @@ impl ParticleSource {
         let probability = self.cdf[i] - lower;
         if probability <= 0.0 {
             return None;
+        }
+        if i == scene.lights.len() {
+            // The environment: a direction toward it, then a point on the disk that faces it
+            // just outside the scene; the particle travels back along the direction.
+            let s = scene.environment.sample(u_direction)?;
+            let (t, b) = orthonormal_basis(s.direction);
+            let disk = square_to_disk(u_point) * self.scene_radius;
+            let origin = self.scene_center + s.direction * self.scene_radius + disk.x * t + disk.y * b;
+            let area = std::f32::consts::PI * self.scene_radius * self.scene_radius;
+            let weight = s.radiance * (area / (s.pdf * probability));
+            return Some(Particle { ray: Ray::new(origin, -s.direction), weight, area: None });
         }
         let Some(light) = scene.lights.get(i) else {
             // The area group: rescale u_select to reuse it for the emitter choice.

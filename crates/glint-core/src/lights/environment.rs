@@ -71,6 +71,18 @@ impl EnvironmentMap {
         self.pixels[(y * self.width + x) as usize]
     }
 
+    /// ∫ L dω over the sphere, mean over RGB (each pixel's radiance times its solid angle).
+    pub fn radiance_integral(&self) -> f32 {
+        let (w, h) = (self.width as usize, self.height as usize);
+        let pixel = 2.0 * std::f32::consts::PI / w as f32 * std::f32::consts::PI / h as f32;
+        let mut total = 0.0f64;
+        for (i, p) in self.pixels.iter().enumerate() {
+            let sin = (std::f32::consts::PI * ((i / w) as f32 + 0.5) / h as f32).sin();
+            total += (p.dot(Rgb::splat(1.0 / 3.0)) * sin * pixel) as f64;
+        }
+        total as f32
+    }
+
     /// Radiance arriving along `-direction`, i.e. seen when looking toward `direction`.
     pub fn radiance(&self, direction: Vec3) -> Rgb {
         self.texel(self.uv(direction))
