@@ -149,7 +149,7 @@ fn check_falloff(falloff: Falloff, index: usize) -> Result<(), String> {
     match falloff {
         Falloff::InverseSquare => Ok(()),
         Falloff::None => Err(format!(
-            "light {} has falloff = \"none\", which no physical light has; light tracing and photon mapping need falloff = \"inverse-square\"",
+            "light {} has falloff = \"none\", which no physical light has; light tracing, photon mapping and SPPM need falloff = \"inverse-square\"",
             index + 1
         )),
     }
