@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use glint_core::filter::Filter;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
-use glint_core::render::{render_progressive, Progressive, RenderSettings, StopReason};
+use glint_core::render::{render_progressive, PassRenderer, Progressive, RenderSettings, StopReason};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -272,7 +272,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
             if !args.quiet {
                 eprintln!("resuming from `{}` at {} spp", path.display(), c.spp_done);
             }
-            Some((c.film, c.spp_done))
+            Some(c)
         }
         None => None,
     };
@@ -302,8 +302,8 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     let (width, height) = (scene.camera.width, scene.camera.height);
     let tiles = (width.div_ceil(16) * height.div_ceil(16)) as u64;
     let progress = ProgressBar::new(tiles * settings.spp.min(1 << 20) as u64);
-    if let Some((_, done)) = &resume {
-        progress.set_position(tiles * *done as u64);
+    if let Some(c) = &resume {
+        progress.set_position(tiles * c.spp_done as u64);
     }
     if args.quiet || !std::io::stderr().is_terminal() {
         progress.set_draw_target(ProgressDrawTarget::hidden());
@@ -320,19 +320,24 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     if integrator_kind == IntegratorKind::Photon && !args.quiet {
         eprintln!("photon maps built in {:.2} s", started.elapsed().as_secs_f64());
     }
-    if !renderer.resumable() && (args.checkpoint.is_some() || args.resume.is_some()) {
-        return Err(format!(
-            "--checkpoint and --resume are not available with --integrator {}: its per-pixel state is more than the image (Ctrl-C and --time still keep everything rendered)",
-            integrator_kind.name()
-        ));
-    }
+    let resume = match resume {
+        Some(c) => {
+            let path = args.resume.as_ref().expect("a checkpoint came from --resume");
+            renderer.restore(&c.state).map_err(|m| format!("`{}`: {m}", path.display()))?;
+            Some((c.film, c.spp_done))
+        }
+        None => None,
+    };
     let progressive = Progressive { settings, time_limit };
     let mut last_checkpoint = Instant::now();
     let mut checkpoint_error = None;
-    let mut on_pass = |film: &glint_core::film::Film, spp_done: u32| {
+    // The state as of the last pass (or as resumed, if no pass runs).
+    let mut final_state = renderer.state();
+    let mut on_pass = |film: &glint_core::film::Film, spp_done: u32, renderer: &dyn PassRenderer| {
         if let Some(path) = &args.checkpoint {
+            final_state = renderer.state();
             if last_checkpoint.elapsed().as_secs_f64() >= args.checkpoint_interval {
-                if let Err(e) = checkpoint::save(path, film, spp_done, settings.seed, fingerprint) {
+                if let Err(e) = checkpoint::save(path, film, spp_done, settings.seed, fingerprint, &final_state) {
                     checkpoint_error.get_or_insert(e);
                 }
                 last_checkpoint = Instant::now();
@@ -347,7 +352,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         eprintln!("warning: {e}");
     }
     if let Some(path) = &args.checkpoint {
-        checkpoint::save(path, &result.film, result.spp_done, settings.seed, fingerprint)?;
+        checkpoint::save(path, &result.film, result.spp_done, settings.seed, fingerprint, &final_state)?;
     }
     if result.spp_done == 0 {
         return Err("the render was stopped before its first pass: nothing to write".into());

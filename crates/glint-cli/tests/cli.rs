@@ -234,9 +234,10 @@ fn explain_lists_the_photons_around_a_hit() {
     assert!(on_wall < 0.01 * in_spot, "{on_wall} vs {in_spot}");
 }
 
-/// The integrators that start at the lights refuse what they cannot honour, with a message.
+/// The integrators that start at the lights refuse what they cannot honour, with a message;
+/// SPPM resumes from a checkpoint exactly; all of them honour --time.
 #[test]
-fn particle_integrators_refuse_unphysical_lights_and_sppm_checkpoints() {
+fn particle_integrators_refuse_unphysical_lights_and_sppm_resumes() {
     let dir = temp_dir("particles");
     let whitted = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/whitted-1980.toml");
     let out = dir.join("x.png");
@@ -244,21 +245,23 @@ fn particle_integrators_refuse_unphysical_lights_and_sppm_checkpoints() {
     let err = assert_clean_failure(&o);
     assert!(err.contains("falloff") && err.contains("inverse-square"), "{err}");
     let glass = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/caustic-glass.toml");
-    let checkpoint = dir.join("c.exr");
-    let o = glint(&[
-        "render",
-        glass.to_str().unwrap(),
-        "--width",
-        "16",
-        "--spp",
-        "2",
-        "--checkpoint",
-        checkpoint.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    let err = assert_clean_failure(&o);
-    assert!(err.contains("sppm") && err.contains("--checkpoint"), "{err}");
+    // SPPM resumed from a checkpoint (its per-pixel radii and fluxes saved with the film)
+    // equals an uninterrupted render.
+    let sppm = |spp: &str, out: &str, extra: &[&str]| {
+        let out = dir.join(out);
+        let mut args =
+            vec!["render", glass.to_str().unwrap(), "--integrator", "sppm", "--width", "24", "--spp", spp, "-q"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-o", out.to_str().unwrap()]);
+        let o = glint(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(out).unwrap()
+    };
+    let checkpoint = dir.join("s.ckp");
+    let full = sppm("6", "full.pfm", &[]);
+    sppm("3", "part.pfm", &["--checkpoint", checkpoint.to_str().unwrap()]);
+    let resumed = sppm("6", "resumed.pfm", &["--resume", checkpoint.to_str().unwrap()]);
+    assert_eq!(full, resumed, "SPPM resumed from a checkpoint differs from an uninterrupted render");
     // --time works for every progressive integrator: a short limit still writes an image.
     for integrator in ["light", "photon", "sppm"] {
         let o = glint(&[

@@ -70,10 +70,19 @@ pub trait PassRenderer {
     /// Renders pass `pass.index`; calls `on_tile` once per image tile's worth of work.
     fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts;
 
-    /// Whether the film alone holds the render's state, so that a checkpoint of it can be
-    /// resumed (false for SPPM, whose per-pixel radii and photon counts live elsewhere).
-    fn resumable(&self) -> bool {
-        true
+    /// The render's state beyond the film, for checkpoints (SPPM's per-pixel radii, photon
+    /// counts and fluxes); empty when the film holds everything.
+    fn state(&self) -> Vec<u8> {
+        Vec::new()
+    }
+
+    /// Restores what `state` saved, before resuming.
+    fn restore(&mut self, state: &[u8]) -> Result<(), String> {
+        if state.is_empty() {
+            Ok(())
+        } else {
+            Err("the checkpoint holds state this integrator does not have".into())
+        }
     }
 }
 
@@ -113,12 +122,13 @@ pub fn render_with(
     on_tile: &(dyn Fn() + Sync),
 ) -> RenderOutput {
     let progressive = Progressive { settings: *settings, time_limit: None };
-    render_progressive(scene, renderer, &progressive, None, &AtomicBool::new(false), on_tile, &mut |_, _| {})
+    render_progressive(scene, renderer, &progressive, None, &AtomicBool::new(false), on_tile, &mut |_, _, _| {})
 }
 
 /// Renders in passes of one sample per pixel (all samples in one pass at 1 spp, the pixel
 /// centre). `resume` is a film and its sample count from a checkpoint; `stop` is checked
-/// between passes; `on_pass(film, spp_done)` is called after every pass (to save checkpoints).
+/// between passes; `on_pass(film, spp_done, renderer)` is called after every pass (to save
+/// checkpoints, with the renderer's own state).
 pub fn render_progressive(
     scene: &Scene,
     renderer: &mut dyn PassRenderer,
@@ -126,7 +136,7 @@ pub fn render_progressive(
     resume: Option<(Film, u32)>,
     stop: &AtomicBool,
     on_tile: &(dyn Fn() + Sync),
-    on_pass: &mut dyn FnMut(&Film, u32),
+    on_pass: &mut dyn FnMut(&Film, u32, &dyn PassRenderer),
 ) -> RenderOutput {
     let start = Instant::now();
     let settings = progressive.settings;
@@ -157,7 +167,7 @@ pub fn render_progressive(
         rays.add(&renderer.render_pass(scene, &pass, &mut film, on_tile));
         spp_done += 1;
         samples += width as u64 * height as u64;
-        on_pass(&film, spp_done);
+        on_pass(&film, spp_done, &*renderer);
     }
     RenderOutput { film, rays, samples, spp_done, elapsed: start.elapsed(), stopped_early }
 }

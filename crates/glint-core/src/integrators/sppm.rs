@@ -17,8 +17,9 @@
 //! `sppm_radius`, or three pixel footprints at the visible point's distance.
 //!
 //! Every step is parallel and deterministic (per-pixel and per-batch random streams, gathers
-//! in kd-tree order), so the image does not depend on the thread count. The state is per
-//! pixel beyond the film, so an SPPM render is not resumable from a film checkpoint.
+//! in kd-tree order), so the image does not depend on the thread count. The per-pixel state
+//! (radius, photon count, flux, direct sum) goes into checkpoints with the film, so a resumed
+//! render equals an uninterrupted one.
 
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -230,7 +231,38 @@ impl PassRenderer for Sppm {
         rays
     }
 
-    fn resumable(&self) -> bool {
-        false
+    fn state(&self) -> Vec<u8> {
+        let mut bytes = Vec::with_capacity(16 + self.pixels.len() * 32);
+        bytes.extend_from_slice(&self.passes.to_le_bytes());
+        bytes.extend_from_slice(&self.emitted.to_le_bytes());
+        bytes.extend_from_slice(&(self.pixels.len() as u32).to_le_bytes());
+        for p in &self.pixels {
+            for v in [p.radius, p.photons, p.tau.x, p.tau.y, p.tau.z, p.direct.x, p.direct.y, p.direct.z] {
+                bytes.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        bytes
+    }
+
+    fn restore(&mut self, state: &[u8]) -> Result<(), String> {
+        let bad = || "the checkpoint's SPPM state does not match this render".to_string();
+        if state.len() != 16 + self.pixels.len() * 32 {
+            return Err(bad());
+        }
+        let word = |i: usize| u32::from_le_bytes([state[i], state[i + 1], state[i + 2], state[i + 3]]);
+        if word(12) as usize != self.pixels.len() {
+            return Err(bad());
+        }
+        self.passes = word(0);
+        self.emitted = u64::from(word(4)) | u64::from(word(8)) << 32;
+        let float = |i: usize| f32::from_bits(word(i));
+        for (k, p) in self.pixels.iter_mut().enumerate() {
+            let o = 16 + 32 * k;
+            p.radius = float(o);
+            p.photons = float(o + 4);
+            p.tau = Rgb::new(float(o + 8), float(o + 12), float(o + 16));
+            p.direct = Rgb::new(float(o + 20), float(o + 24), float(o + 28));
+        }
+        Ok(())
     }
 }

@@ -80,6 +80,7 @@ impl Sampler {
     }
 
     /// The next dimension, uniform in [0, 1).
+    #[inline]
     pub fn next_f32(&mut self) -> f32 {
         let d = self.dimension;
         self.dimension += 1;
