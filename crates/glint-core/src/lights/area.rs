@@ -154,11 +154,7 @@ impl AreaLights {
     /// emits from both), so the particle's weight L_e·cos / (pdf_area · pdf_direction) is the
     /// same for every particle of an emitter.
     pub fn sample_emission(&self, u_select: f32, u_point: Vec2, u_direction: Vec2) -> Option<AreaEmission> {
-        if self.emitters.is_empty() {
-            return None;
-        }
-        let i = self.cdf.partition_point(|&c| c <= u_select).min(self.emitters.len() - 1);
-        let emitter = &self.emitters[i];
+        let (i, emitter) = self.choose(u_select)?;
         let (point, normal, area, error) = self.point_on(emitter, u_point);
         if area <= 0.0 || emitter.radiance == Rgb::ZERO {
             return None;
@@ -216,17 +212,22 @@ impl AreaLights {
         self.emitters.is_empty()
     }
 
+    /// The emitter `u_select` picks, in proportion to power, and its index.
+    fn choose(&self, u_select: f32) -> Option<(usize, &Emitter)> {
+        if self.emitters.is_empty() {
+            return None;
+        }
+        let i = self.cdf.partition_point(|&c| c <= u_select).min(self.emitters.len() - 1);
+        Some((i, &self.emitters[i]))
+    }
+
     fn selection_probability(&self, i: usize) -> f32 {
         self.cdf[i] - if i == 0 { 0.0 } else { self.cdf[i - 1] }
     }
 
     /// A point on some light for the shading point `from`.
     pub fn sample(&self, from: Vec3, u_select: f32, u: Vec2) -> Option<LightSample> {
-        if self.emitters.is_empty() {
-            return None;
-        }
-        let i = self.cdf.partition_point(|&c| c <= u_select).min(self.emitters.len() - 1);
-        let emitter = &self.emitters[i];
+        let (i, emitter) = self.choose(u_select)?;
         let (point, normal, area, error) = self.point_on(emitter, u);
         let to_light = point - from;
         let distance_squared = to_light.length_squared();
