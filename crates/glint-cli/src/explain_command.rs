@@ -16,6 +16,9 @@ use glint_core::{Rgb, Vec3};
 pub struct ExplainArgs {
     /// Scene file (default: the built-in scene).
     scene: Option<PathBuf>,
+    /// Mitsuba scenes: set a <default> parameter, as for `render` (repeatable).
+    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = crate::render_command::parse_define)]
+    define: Vec<(String, String)>,
     /// The pixel, as X,Y from the top-left corner (at the scene's resolution, or --width/--height).
     #[arg(long, value_parser = parse_pixel)]
     pixel: (u32, u32),
@@ -46,7 +49,7 @@ fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
 
 pub fn run(args: ExplainArgs) -> Result<(), String> {
     let loaded = match &args.scene {
-        Some(path) => glint_scene::load_scene(path),
+        Some(path) => glint_scene::load_scene_with(path, &args.define),
         None => glint_scene::default_scene(),
     }
     .map_err(|e| e.to_string())?;
