@@ -331,13 +331,11 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     let progressive = Progressive { settings, time_limit };
     let mut last_checkpoint = Instant::now();
     let mut checkpoint_error = None;
-    // The state as of the last pass (or as resumed, if no pass runs).
-    let mut final_state = renderer.state();
     let mut on_pass = |film: &glint_core::film::Film, spp_done: u32, renderer: &dyn PassRenderer| {
         if let Some(path) = &args.checkpoint {
-            final_state = renderer.state();
             if last_checkpoint.elapsed().as_secs_f64() >= args.checkpoint_interval {
-                if let Err(e) = checkpoint::save(path, film, spp_done, settings.seed, fingerprint, &final_state) {
+                let state = renderer.state();
+                if let Err(e) = checkpoint::save(path, film, spp_done, settings.seed, fingerprint, &state) {
                     checkpoint_error.get_or_insert(e);
                 }
                 last_checkpoint = Instant::now();
@@ -352,7 +350,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         eprintln!("warning: {e}");
     }
     if let Some(path) = &args.checkpoint {
-        checkpoint::save(path, &result.film, result.spp_done, settings.seed, fingerprint, &final_state)?;
+        checkpoint::save(path, &result.film, result.spp_done, settings.seed, fingerprint, &renderer.state())?;
     }
     if result.spp_done == 0 {
         return Err("the render was stopped before its first pass: nothing to write".into());

@@ -17,7 +17,7 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::particle::{trace_particle, ParticleVertex};
+use super::particle::{shading_correction, trace_particle, ParticleVertex};
 use super::RayCounts;
 use crate::film::Film;
 use crate::geometry::{offset_ray_origin, Ray};
@@ -92,14 +92,10 @@ fn connect_vertex(scene: &Scene, v: &ParticleVertex, splats: &mut Vec<Splat>, ra
     if f == Rgb::ZERO {
         return;
     }
-    let (ns, ng) = (v.hit.geometry.shading_normal, v.hit.geometry.geometric_normal);
-    let correction = {
-        let denominator = to_camera.dot(ns).abs() * v.wo.dot(ng).abs();
-        if denominator <= 0.0 {
-            return;
-        }
-        to_camera.dot(ng).abs() * v.wo.dot(ns).abs() / denominator
-    };
+    let correction = shading_correction(&v.hit, v.wo, to_camera);
+    if correction == 0.0 {
+        return;
+    }
     rays.shadow += 1;
     if scene.occluded(&v.hit.spawn_ray_to(projection.camera_point)) {
         return;
