@@ -81,6 +81,17 @@ impl Camera {
         self.generate_ray_through_lens(film_x, film_y, Vec2::splat(0.5))
     }
 
+    /// The ray of one camera sample through film point (x, y): `next` draws the lens sample's
+    /// two numbers only for a camera that has a lens to sample.
+    pub fn sample_ray(&self, film_x: f32, film_y: f32, mut next: impl FnMut() -> f32) -> Ray {
+        if self.samples_lens() {
+            let u_lens = Vec2::new(next(), next());
+            self.generate_ray_through_lens(film_x, film_y, u_lens)
+        } else {
+            self.generate_ray(film_x, film_y)
+        }
+    }
+
     /// The ray through film point (x, y) and the lens point `u_lens` (a uniform sample of the
     /// unit square, mapped to the aperture disk; (½, ½) is the lens centre).
     pub fn generate_ray_through_lens(&self, film_x: f32, film_y: f32, u_lens: Vec2) -> Ray {

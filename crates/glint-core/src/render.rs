@@ -274,12 +274,7 @@ fn render_sample(
     // (the box filter: every sample in the pixel's square weighs the same).
     let (dx, dy) = if pass.centre { (0.5, 0.5) } else { (context.sampler.next_f32(), context.sampler.next_f32()) };
     let (fx, fy) = (x as f32 + dx, y as f32 + dy);
-    let ray = if scene.camera.samples_lens() {
-        let u_lens = glam::Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
-        scene.camera.generate_ray_through_lens(fx, fy, u_lens)
-    } else {
-        scene.camera.generate_ray(fx, fy)
-    };
+    let ray = scene.camera.sample_ray(fx, fy, || context.sampler.next_f32());
     let radiance = integrator.radiance(scene, &ray, &mut context);
     rays.add(&context.rays);
     (fx, fy, if radiance.is_finite() { radiance } else { Rgb::ZERO })

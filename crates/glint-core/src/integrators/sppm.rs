@@ -100,12 +100,7 @@ impl Sppm {
         let pixel_index = y as u64 * scene.camera.width as u64 + x as u64;
         let mut context = SampleContext::new(Rng::for_sample(pass.seed, pixel_index, pass.index as u64));
         let (dx, dy) = (context.sampler.next_f32(), context.sampler.next_f32());
-        let mut ray = if scene.camera.samples_lens() {
-            let u_lens = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
-            scene.camera.generate_ray_through_lens(x as f32 + dx, y as f32 + dy, u_lens)
-        } else {
-            scene.camera.generate_ray(x as f32 + dx, y as f32 + dy)
-        };
+        let mut ray = scene.camera.sample_ray(x as f32 + dx, y as f32 + dy, || context.sampler.next_f32());
         let mut direct = Rgb::ZERO;
         let mut throughput = Rgb::ONE;
         let mut distance = 0.0;

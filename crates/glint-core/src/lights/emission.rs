@@ -100,12 +100,9 @@ impl ParticleSource {
             // The environment: a direction toward it, then a point on the disk that faces it
             // just outside the scene; the particle travels back along the direction.
             let s = scene.environment.sample(u_direction)?;
-            let (t, b) = orthonormal_basis(s.direction);
-            let disk = square_to_disk(u_point) * self.scene_radius;
-            let origin = self.scene_center + s.direction * self.scene_radius + disk.x * t + disk.y * b;
-            let area = std::f32::consts::PI * self.scene_radius * self.scene_radius;
+            let (ray, area) = self.arriving_from(s.direction, u_point);
             let weight = s.radiance * (area / (s.pdf * probability));
-            return Some(Particle { ray: Ray::new(origin, -s.direction), weight, area: None });
+            return Some(Particle { ray, weight, area: None });
         }
         let Some(light) = scene.lights.get(i) else {
             // The area group: rescale u_select to reuse it for the emitter choice.
@@ -133,15 +130,23 @@ impl ParticleSource {
                 (Ray::new(s.light.position, direction), intensity * solid_angle)
             }
             Light::Directional(d) => {
-                // A disk perpendicular to the light, covering the scene, just outside it.
-                let (t, b) = orthonormal_basis(d.direction);
-                let disk = square_to_disk(u_point) * self.scene_radius;
-                let origin = self.scene_center + disk.x * t + disk.y * b - d.direction * self.scene_radius;
-                let area = std::f32::consts::PI * self.scene_radius * self.scene_radius;
-                (Ray::new(origin, d.direction), d.intensity * area)
+                let (ray, area) = self.arriving_from(-d.direction, u_point);
+                (ray, d.intensity * area)
             }
         };
         Some(Particle { ray, weight: weight / probability, area: None })
+    }
+}
+
+impl ParticleSource {
+    /// Light from infinitely far in direction `source` (a unit vector toward it): a ray from a
+    /// point uniform on the disk perpendicular to it that covers the scene, just outside it,
+    /// travelling back into the scene; and the disk's area.
+    fn arriving_from(&self, source: Vec3, u_point: Vec2) -> (Ray, f32) {
+        let (t, b) = orthonormal_basis(source);
+        let disk = square_to_disk(u_point) * self.scene_radius;
+        let origin = self.scene_center + source * self.scene_radius + disk.x * t + disk.y * b;
+        (Ray::new(origin, -source), std::f32::consts::PI * self.scene_radius * self.scene_radius)
     }
 }
 
