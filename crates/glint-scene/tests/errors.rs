@@ -1,5 +1,7 @@
 //! Bad input gets a clear error naming the file, the line and what was expected.
 
+mod common;
+
 use glint_scene::native::Format;
 use glint_scene::{parse_scene, SceneError, Source};
 
@@ -194,36 +196,8 @@ fn mutated_native_scenes_never_panic() {
     let scenes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
     let original = std::fs::read_to_string(scenes.join("whitted-1980.toml")).unwrap().into_bytes();
     let source = glint_scene::Source::Directory(scenes.clone());
-    let mut state = 0x2545_F491_4F6C_DD1Du64;
-    let mut next = |n: usize| {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state % n as u64) as usize
-    };
-    let specials = b"[]{}=\",.-#\n0123456789e";
     let (mut loaded, mut refused) = (0, 0);
-    for _ in 0..1500 {
-        let mut bytes = original.clone();
-        for _ in 0..1 + next(4) {
-            let i = next(bytes.len());
-            match next(4) {
-                0 => {
-                    let end = (i + 1 + next(12)).min(bytes.len());
-                    bytes.drain(i..end);
-                }
-                1 => {
-                    let end = (i + 1 + next(12)).min(bytes.len());
-                    let copy = bytes[i..end].to_vec();
-                    bytes.splice(i..i, copy);
-                }
-                2 => bytes[i] = specials[next(specials.len())],
-                _ => bytes.truncate(i),
-            }
-            if bytes.is_empty() {
-                break;
-            }
-        }
+    for bytes in common::mutants(&original, b"[]{}=\",.-#\n0123456789e", 1500, 0x2545_F491_4F6C_DD1D) {
         let Ok(text) = String::from_utf8(bytes) else { continue };
         let result = std::panic::catch_unwind(|| {
             glint_scene::parse_scene(&text, glint_scene::native::Format::Toml, "mutant.toml", &source)

@@ -1,6 +1,8 @@
 //! The Mitsuba 3 reader on scene files written for it (tests/mitsuba/): every supported
 //! element, its mapping onto glint, an analytic render, and the errors.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use glint_core::camera::Lens;
@@ -348,37 +350,9 @@ fn mutated_scenes_never_panic() {
         std::fs::copy(fixture(file), dir.join(file)).unwrap();
     }
     let original = std::fs::read(fixture("every-element.xml")).unwrap();
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let mut next = |n: usize| {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state % n as u64) as usize
-    };
-    let specials = b"<>/\"=&$ 0-9.e\n";
     let path = dir.join("mutant.xml");
     let (mut loaded, mut refused) = (0, 0);
-    for _ in 0..1500 {
-        let mut bytes = original.clone();
-        for _ in 0..1 + next(4) {
-            let i = next(bytes.len());
-            match next(4) {
-                0 => {
-                    let end = (i + 1 + next(12)).min(bytes.len());
-                    bytes.drain(i..end);
-                }
-                1 => {
-                    let end = (i + 1 + next(12)).min(bytes.len());
-                    let copy = bytes[i..end].to_vec();
-                    bytes.splice(i..i, copy);
-                }
-                2 => bytes[i] = specials[next(specials.len())],
-                _ => bytes.truncate(i),
-            }
-            if bytes.is_empty() {
-                break;
-            }
-        }
+    for bytes in common::mutants(&original, b"<>/\"=&$ 0-9.e\n", 1500, 0x9E37_79B9_7F4A_7C15) {
         std::fs::write(&path, &bytes).unwrap();
         match std::panic::catch_unwind(|| load_scene(&path)) {
             Ok(Ok(_)) => loaded += 1,
