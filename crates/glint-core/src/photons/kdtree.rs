@@ -9,6 +9,7 @@
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
+use std::ops::Range;
 
 use glam::Vec3;
 
@@ -143,26 +144,34 @@ fn build_range(photons: &mut [Photon]) {
     }
 }
 
-fn within(photons: &[Photon], p: Vec3, radius_squared: f32, f: &mut impl FnMut(&Photon, f32)) {
-    if photons.is_empty() {
-        return;
-    }
+/// The node of a non-empty subtree, the query's signed distance to its splitting plane, and
+/// the index ranges of the subtrees on the query's side (near) and the other (far).
+fn split(photons: &[Photon], p: Vec3) -> (usize, f32, Range<usize>, Range<usize>) {
     let middle = photons.len() / 2;
     let node = &photons[middle];
     let axis = node.axis as usize;
     let d = p[axis] - node.position[axis];
-    let (near, far) = if d < 0.0 {
-        (&photons[..middle], &photons[middle + 1..])
+    let (below, above) = (0..middle, middle + 1..photons.len());
+    if d < 0.0 {
+        (middle, d, below, above)
     } else {
-        (&photons[middle + 1..], &photons[..middle])
-    };
-    within(near, p, radius_squared, f);
+        (middle, d, above, below)
+    }
+}
+
+fn within(photons: &[Photon], p: Vec3, radius_squared: f32, f: &mut impl FnMut(&Photon, f32)) {
+    if photons.is_empty() {
+        return;
+    }
+    let (middle, d, near, far) = split(photons, p);
+    within(&photons[near], p, radius_squared, f);
+    let node = &photons[middle];
     let distance_squared = (node.position - p).length_squared();
     if distance_squared <= radius_squared {
         f(node, distance_squared);
     }
     if d * d <= radius_squared {
-        within(far, p, radius_squared, f);
+        within(&photons[far], p, radius_squared, f);
     }
 }
 
@@ -171,14 +180,9 @@ fn nearest(photons: &[Photon], offset: usize, p: Vec3, out: &mut NearestPhotons)
     if photons.is_empty() {
         return;
     }
-    let middle = photons.len() / 2;
+    let (middle, d, near, far) = split(photons, p);
     let node = &photons[middle];
-    let axis = node.axis as usize;
-    let d = p[axis] - node.position[axis];
-    let below = (&photons[..middle], offset);
-    let above = (&photons[middle + 1..], offset + middle + 1);
-    let (near, far) = if d < 0.0 { (below, above) } else { (above, below) };
-    nearest(near.0, near.1, p, out);
+    nearest(&photons[near.clone()], offset + near.start, p, out);
     let distance_squared = (node.position - p).length_squared();
     if distance_squared <= out.radius_squared {
         out.heap.push(Candidate { distance_squared, index: (offset + middle) as u32 });
@@ -190,7 +194,7 @@ fn nearest(photons: &[Photon], offset: usize, p: Vec3, out: &mut NearestPhotons)
         }
     }
     if d * d <= out.radius_squared {
-        nearest(far.0, far.1, p, out);
+        nearest(&photons[far.clone()], offset + far.start, p, out);
     }
 }
 
