@@ -3,13 +3,16 @@
 
 use glam::Vec3;
 
-use crate::accel::{Bvh, Bvh4, BvhStats, NoCounter, TraversalCounter, TraversalCounts};
+use crate::accel::{
+    Bvh, Bvh4, BvhStats, NoCounter, TraversalCounter, TraversalCounts, Triangle4, WatertightRay4, EMPTY, GENERIC, LANES,
+};
 use crate::camera::Camera;
 use crate::geometry::{offset_ray_origin, transform_point_with_error, Aabb, Ray, Transform};
 use crate::lights::{AreaLights, Light};
 use crate::materials::Material;
 use crate::shapes::{
-    moller_trumbore_edges, IntersectMethods, PrimHit, Shape, SurfaceGeometry, TriangleMethod, WatertightRay,
+    intersect_cramer, moller_trumbore_edges, IntersectMethods, PrimHit, Shape, SurfaceGeometry, TriangleMethod,
+    WatertightRay,
 };
 use crate::textures::TextureQuery;
 use crate::Rgb;
@@ -161,19 +164,23 @@ impl Environment {
 
 /// Objects and the acceleration structure over them: the closest-hit and any-hit queries.
 ///
-/// Built once: a binned-SAH binary BVH, converted to a 4-wide BVH for traversal. Triangles
-/// without a transform (mesh triangles, plain triangles) are copied in leaf order as their
-/// three vertices, so a leaf test reads one contiguous record instead of chasing object → mesh
+/// Built once: a binned-SAH binary BVH, converted to a 4-wide BVH for traversal whose leaves
+/// are blocks of four primitives (`Triangle4`). Triangles without a transform (mesh triangles,
+/// plain triangles) are copied into the blocks as their vertices, lane by lane, so a leaf test
+/// reads contiguous records and tests four triangles at once instead of chasing object → mesh
 /// → index → vertex. (Vertices, not edges: the watertight test needs the exact vertices that
-/// neighbouring triangles share.)
+/// neighbouring triangles share.) Other primitives sit in the blocks as `GENERIC` lanes and
+/// are tested one by one through their object.
 pub struct Geometry {
     pub objects: Vec<Object>,
     pub methods: IntersectMethods,
-    /// Per BVH leaf slot: the object (with `TRIANGLE_FLAG` when `triangles` holds its data)
-    /// and the primitive within it.
-    prims: Vec<(u32, u32)>,
-    /// Per BVH leaf slot: the vertices of flagged triangles, unused otherwise.
-    triangles: Vec<[Vec3; 3]>,
+    /// The BVH's leaf blocks, in the order the wide tree references them.
+    blocks: Vec<Triangle4>,
+    /// (object, primitive) of the `GENERIC` lanes, by the index in their lane id.
+    generic: Vec<(u32, u32)>,
+    /// The id of each object's first primitive: triangle lane ids number the primitives of all
+    /// objects in order, so an id maps back to (object, primitive) by binary search.
+    object_first: Vec<u32>,
     /// Primitives without bounds (planes), tested on every ray.
     unbounded: Vec<(u32, u32)>,
     bvh: Bvh4,
@@ -182,16 +189,20 @@ pub struct Geometry {
     build_time: std::time::Duration,
 }
 
-const TRIANGLE_FLAG: u32 = 1 << 31;
-
 impl Geometry {
     pub fn new(objects: Vec<Object>, methods: IntersectMethods) -> Self {
         let start = std::time::Instant::now();
         let mut bounded = Vec::new();
         let mut bounds = Vec::new();
         let mut unbounded = Vec::new();
+        let mut object_first = Vec::with_capacity(objects.len());
+        let mut ids = 0u64;
         for (o, object) in objects.iter().enumerate() {
-            for p in 0..object.shape.primitive_count() {
+            object_first.push(ids as u32);
+            let count = object.shape.primitive_count();
+            ids += u64::from(count);
+            assert!(ids < u64::from(EMPTY), "more than 2^31 - 1 primitives in one scene");
+            for p in 0..count {
                 match object.world_bounds(p) {
                     Some(b) => {
                         bounded.push((o as u32, p));
@@ -203,39 +214,47 @@ impl Geometry {
         }
         let world_bounds = bounds.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
         let (binary, order) = Bvh::build(&bounds);
-        let bvh = Bvh4::from_binary(&binary);
+        drop(bounds);
         let mut stats = binary.stats();
-        drop(binary);
-        let mut prims = Vec::with_capacity(order.len());
-        let mut triangles = Vec::with_capacity(order.len());
-        for &i in &order {
-            let (o, p) = bounded[i as usize];
-            let object = &objects[o as usize];
-            let vertices = match (&object.shape, &object.transform) {
-                (Shape::Mesh(m), None) => Some(m.triangle_vertices(p as usize)),
-                (Shape::Triangle(t), None) => Some(t.vertices),
-                _ => None,
-            };
-            match vertices {
-                Some([a, b, c]) => {
-                    prims.push((o | TRIANGLE_FLAG, p));
-                    triangles.push([a, b, c]);
+        let mut blocks = Vec::with_capacity(order.len() / 3 + 1);
+        let mut generic = Vec::new();
+        let bvh = Bvh4::from_binary_with_leaves(&binary, |first, count| {
+            let block_first = blocks.len() as u32;
+            for chunk in order[first as usize..(first + count) as usize].chunks(LANES) {
+                let mut block = Triangle4::empty();
+                for (lane, &i) in chunk.iter().enumerate() {
+                    let (o, p) = bounded[i as usize];
+                    let object = &objects[o as usize];
+                    let vertices = match (&object.shape, &object.transform) {
+                        (Shape::Mesh(m), None) => Some(m.triangle_vertices(p as usize)),
+                        (Shape::Triangle(t), None) => Some(t.vertices),
+                        _ => None,
+                    };
+                    match vertices {
+                        Some(v) => block.set_triangle(lane, object_first[o as usize] + p, v),
+                        None => {
+                            block.set_generic(lane, generic.len() as u32);
+                            generic.push((o, p));
+                        }
+                    }
                 }
-                None => {
-                    prims.push((o, p));
-                    triangles.push([Vec3::ZERO; 3]);
-                }
+                blocks.push(block);
             }
-        }
+            (block_first, blocks.len() as u32 - block_first)
+        });
+        drop(binary);
         stats.wide_nodes = bvh.node_count();
+        stats.leaf_blocks = blocks.len();
         stats.bytes = bvh.bytes()
-            + prims.len() * std::mem::size_of::<(u32, u32)>()
-            + triangles.len() * std::mem::size_of::<[Vec3; 3]>();
+            + blocks.len() * std::mem::size_of::<Triangle4>()
+            + generic.len() * std::mem::size_of::<(u32, u32)>()
+            + object_first.len() * std::mem::size_of::<u32>();
         Self {
             objects,
             methods,
-            prims,
-            triangles,
+            blocks,
+            generic,
+            object_first,
             unbounded,
             bvh,
             bounds: world_bounds,
@@ -255,7 +274,7 @@ impl Geometry {
     }
 
     pub fn primitive_count(&self) -> usize {
-        self.prims.len() + self.unbounded.len()
+        self.objects.iter().map(|o| o.shape.primitive_count() as usize).sum()
     }
 
     /// Shape of the binary build (nodes, leaves, depth, SAH cost) and the memory of the
@@ -275,19 +294,73 @@ impl Geometry {
         self.closest_primitive(&mut ray).map(|(id, hit)| self.surface_hit(id, &ray, &hit))
     }
 
-    /// Leaf slot `i` against the ray (`prepared` is the ray set up for the watertight test).
+    /// (object, primitive) of a lane id.
+    #[inline]
+    fn locate(&self, id: u32) -> (u32, u32) {
+        if id & GENERIC != 0 {
+            return self.generic[(id & !GENERIC) as usize];
+        }
+        let o = self.object_first.partition_point(|&first| first <= id) - 1;
+        (o as u32, id - self.object_first[o])
+    }
+
+    /// The nearest hit among the lanes of leaf block `b`: its lane id and hit.
     #[inline(always)]
-    fn intersect_slot(&self, i: u32, ray: &Ray, prepared: &WatertightRay) -> Option<PrimHit> {
-        let (o, p) = self.prims[i as usize];
-        if o & TRIANGLE_FLAG != 0 {
-            let [a, b, c] = self.triangles[i as usize];
-            match self.methods.triangle {
-                TriangleMethod::Watertight => return prepared.intersect(a, b, c, ray),
-                TriangleMethod::MollerTrumbore => return moller_trumbore_edges(a, b - a, c - a, ray),
-                TriangleMethod::Cramer => {}
+    fn closest_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay4) -> Option<(u32, PrimHit)> {
+        let block = &self.blocks[b as usize];
+        let mut best = None;
+        if self.methods.triangle == TriangleMethod::Watertight {
+            if let Some((lane, hit)) = prepared.intersect(block, ray.t_min, ray.t_max).nearest() {
+                best = Some((block.ids[lane], hit));
+            }
+            if !block.has_generic() {
+                return best;
             }
         }
-        self.objects[(o & !TRIANGLE_FLAG) as usize].intersect(p, ray, &self.methods)
+        let mut ray = *ray;
+        if let Some((_, hit)) = best {
+            ray.t_max = hit.t;
+        }
+        for (lane, &id) in block.ids.iter().enumerate() {
+            if let Some(hit) = self.intersect_lane(block, lane, id, &ray) {
+                ray.t_max = hit.t;
+                best = Some((id, hit));
+            }
+        }
+        best
+    }
+
+    /// Whether some lane of leaf block `b` is hit.
+    #[inline(always)]
+    fn any_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay4) -> bool {
+        let block = &self.blocks[b as usize];
+        if self.methods.triangle == TriangleMethod::Watertight {
+            if prepared.intersect(block, ray.t_min, ray.t_max).mask != 0 {
+                return true;
+            }
+            if !block.has_generic() {
+                return false;
+            }
+        }
+        block.ids.iter().enumerate().any(|(lane, &id)| self.intersect_lane(block, lane, id, ray).is_some())
+    }
+
+    /// One lane by the scalar path: generic primitives always, triangles only when the chosen
+    /// triangle method is not the watertight test (which the SIMD path has already run).
+    fn intersect_lane(&self, block: &Triangle4, lane: usize, id: u32, ray: &Ray) -> Option<PrimHit> {
+        if id == EMPTY {
+            return None;
+        }
+        if id & GENERIC != 0 {
+            let (o, p) = self.generic[(id & !GENERIC) as usize];
+            return self.objects[o as usize].intersect(p, ray, &self.methods);
+        }
+        let [a, b, c] = block.triangle(lane);
+        match self.methods.triangle {
+            TriangleMethod::Watertight => None,
+            TriangleMethod::MollerTrumbore => moller_trumbore_edges(a, b - a, c - a, ray),
+            TriangleMethod::Cramer => intersect_cramer(a, b, c, ray),
+        }
     }
 
     /// The nearest primitive and its distance, without building the surface record; `ray.t_max`
@@ -313,27 +386,31 @@ impl Geometry {
         counter: &mut C,
     ) -> Option<((u32, u32), PrimHit)> {
         let mut best: Option<((u32, u32), PrimHit)> = None;
+        counter.primitives(self.unbounded.len() as u32);
         for &(o, p) in &self.unbounded {
-            counter.primitive();
             if let Some(h) = self.objects[o as usize].intersect(p, ray, &self.methods) {
                 ray.t_max = h.t;
                 best = Some(((o, p), h));
             }
         }
-        let mut best_slot = None;
-        let prepared = WatertightRay::new(ray);
+        let mut best_lane = None;
+        let mut tested = 0;
+        let prepared = WatertightRay4::new(ray, &WatertightRay::new(ray));
         self.bvh.closest_counted(
             ray,
-            |i, ray| {
-                let h = self.intersect_slot(i, ray, &prepared)?;
-                best_slot = Some((i, h));
+            |b, ray| {
+                if C::ACTIVE {
+                    tested += self.blocks[b as usize].ids.iter().filter(|&&id| id != EMPTY).count() as u32;
+                }
+                let (id, h) = self.closest_in_block(b, ray, &prepared)?;
+                best_lane = Some((id, h));
                 Some(h.t)
             },
             counter,
         );
-        if let Some((i, h)) = best_slot {
-            let (o, p) = self.prims[i as usize];
-            best = Some(((o & !TRIANGLE_FLAG, p), h));
+        counter.primitives(tested);
+        if let Some((id, h)) = best_lane {
+            best = Some((self.locate(id), h));
         }
         best
     }
@@ -341,8 +418,8 @@ impl Geometry {
     /// Whether anything lies along the ray within `(t_min, t_max)`; stops at the first hit.
     pub fn occluded(&self, ray: &Ray) -> bool {
         self.unbounded.iter().any(|&(o, p)| self.objects[o as usize].intersect(p, ray, &self.methods).is_some()) || {
-            let prepared = WatertightRay::new(ray);
-            self.bvh.any(ray, |i, ray| self.intersect_slot(i, ray, &prepared).is_some())
+            let prepared = WatertightRay4::new(ray, &WatertightRay::new(ray));
+            self.bvh.any(ray, |b, ray| self.any_in_block(b, ray, &prepared))
         }
     }
 
@@ -350,8 +427,12 @@ impl Geometry {
     pub fn intersect_brute_force(&self, ray: &Ray) -> Option<SurfaceHit> {
         let mut ray = *ray;
         let mut best = None;
-        let bounded = self.prims.iter().map(|&(o, p)| (o & !TRIANGLE_FLAG, p));
-        for (o, p) in self.unbounded.iter().copied().chain(bounded) {
+        let all = self
+            .objects
+            .iter()
+            .enumerate()
+            .flat_map(|(o, object)| (0..object.shape.primitive_count()).map(move |p| (o as u32, p)));
+        for (o, p) in all {
             if let Some(h) = self.objects[o as usize].intersect(p, &ray, &self.methods) {
                 ray.t_max = h.t;
                 best = Some(((o, p), h));

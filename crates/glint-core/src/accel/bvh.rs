@@ -1,5 +1,6 @@
 //! Bounding volume hierarchy: binned SAH build (Wald 2007, "On fast construction of SAH-based
 //! bounding volume hierarchies") into a flat array of 32-byte nodes, traversed near child first.
+//! The SAH prices leaves in blocks of four primitives, the width of the leaf test.
 //!
 //! The build reorders nothing the caller owns: it returns `primitive_order`, the permutation
 //! the leaves index into, and the caller lays its primitives out in that order.
@@ -10,13 +11,14 @@ use crate::geometry::{Aabb, Ray};
 
 const BINS: usize = 16;
 const MAX_LEAF_SIZE: usize = 8;
-/// Cost of one traversal step relative to one primitive test, for the SAH. Small trees use 1:
-/// smaller leaves, fewer scalar triangle tests (the Cornell box renders 40 % faster). Large ones
-/// use 2: on the dragon it is as fast and keeps the traversal data within 64 bytes per triangle
-/// (62 instead of 76). Measurements in docs/performance.md.
-const TRAVERSAL_COST_SMALL: f32 = 1.0;
-const TRAVERSAL_COST_LARGE: f32 = 2.0;
-const LARGE: usize = 1 << 16;
+/// Primitives a leaf test handles at once (the SIMD width of `Triangle4`): the SAH prices a
+/// leaf by its number of blocks, so leaves fill their blocks.
+const LEAF_BLOCK: usize = 4;
+/// Cost of one traversal step (four box tests) relative to one leaf-block test (four triangle
+/// tests), for the SAH. On the dragon, 0.5 to 2 trace within noise of each other; 1 keeps the
+/// traversal data smallest among the fast ones (54 bytes per triangle). Measurements in
+/// docs/performance.md.
+const TRAVERSAL_COST: f32 = 1.0;
 /// The SAH cost in `BvhStats` counts a traversal step as one primitive test, whatever cost the
 /// build used, so costs of different trees compare.
 const REPORTED_TRAVERSAL_COST: f32 = 1.0;
@@ -53,6 +55,8 @@ pub struct BvhStats {
     pub bytes: usize,
     /// Nodes of the 4-wide traversal BVH (0 when only the binary tree is built).
     pub wide_nodes: usize,
+    /// Leaf blocks of up to four primitives (0 when only the binary tree is built).
+    pub leaf_blocks: usize,
 }
 
 struct BuildPrim {
@@ -76,8 +80,7 @@ impl Bvh {
         let mut nodes = Vec::with_capacity(2 * prims.len());
         nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
         let len = prims.len();
-        let traversal_cost = if len < LARGE { TRAVERSAL_COST_SMALL } else { TRAVERSAL_COST_LARGE };
-        build_node(&mut nodes, 0, &mut prims, 0, len, 0, traversal_cost);
+        build_node(&mut nodes, 0, &mut prims, 0, len, 0);
         let order = prims.iter().map(|p| p.index).collect();
         (Self { nodes }, order)
     }
@@ -198,15 +201,7 @@ fn node_hit(node: &Node, ray: &Ray, inv: Vec3) -> Option<f32> {
     Aabb::new(node.min, node.max).hit_distance(ray.origin, inv, ray.t_min, ray.t_max)
 }
 
-fn build_node(
-    nodes: &mut Vec<Node>,
-    index: usize,
-    prims: &mut [BuildPrim],
-    start: usize,
-    end: usize,
-    depth: usize,
-    traversal_cost: f32,
-) {
+fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], start: usize, end: usize, depth: usize) {
     let slice = &mut prims[start..end];
     let bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
     let centroid_bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
@@ -222,10 +217,10 @@ fn build_node(
         let axis = centroid_bounds.extent().max_position();
         let mid = count / 2;
         slice.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-        return split_node(nodes, index, prims, (start, mid, end), depth, &bounds, traversal_cost);
+        return split_node(nodes, index, prims, (start, mid, end), depth, &bounds);
     }
-    let split = find_split(slice, &bounds, &centroid_bounds, traversal_cost);
-    let leaf_cost = count as f32;
+    let split = find_split(slice, &bounds, &centroid_bounds);
+    let leaf_cost = blocks(count);
     let mid = match split {
         Some((axis, position, cost)) if cost < leaf_cost || count > MAX_LEAF_SIZE => {
             let mid = partition(slice, |p| p.centroid[axis] < position);
@@ -238,7 +233,7 @@ fn build_node(
         None if count > MAX_LEAF_SIZE => count / 2, // coincident centroids
         _ => return make_leaf(nodes),
     };
-    split_node(nodes, index, prims, (start, mid, end), depth, &bounds, traversal_cost);
+    split_node(nodes, index, prims, (start, mid, end), depth, &bounds);
 }
 
 fn split_node(
@@ -248,24 +243,18 @@ fn split_node(
     (start, mid, end): (usize, usize, usize),
     depth: usize,
     bounds: &Aabb,
-    traversal_cost: f32,
 ) {
     let left = nodes.len();
     nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
     nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
     nodes[index] = Node { min: bounds.min, first: left as u32, max: bounds.max, count: 0 };
-    build_node(nodes, left, prims, start, start + mid, depth + 1, traversal_cost);
-    build_node(nodes, left + 1, prims, start + mid, end, depth + 1, traversal_cost);
+    build_node(nodes, left, prims, start, start + mid, depth + 1);
+    build_node(nodes, left + 1, prims, start + mid, end, depth + 1);
 }
 
 /// The best binned SAH split: (axis, centroid position, cost relative to one primitive test).
 /// One pass over the primitives fills the bins of all three axes.
-fn find_split(
-    prims: &[BuildPrim],
-    bounds: &Aabb,
-    centroid_bounds: &Aabb,
-    traversal_cost: f32,
-) -> Option<(usize, f32, f32)> {
+fn find_split(prims: &[BuildPrim], bounds: &Aabb, centroid_bounds: &Aabb) -> Option<(usize, f32, f32)> {
     let area = bounds.surface_area().max(f32::MIN_POSITIVE);
     let lo = centroid_bounds.min;
     let extent = centroid_bounds.extent();
@@ -302,14 +291,21 @@ fn find_split(
             if n == 0 || right_count[b + 1] == 0 {
                 continue;
             }
-            let cost =
-                traversal_cost + (acc.surface_area() * n as f32 + right_area[b + 1] * right_count[b + 1] as f32) / area;
+            let cost = TRAVERSAL_COST
+                + (acc.surface_area() * blocks(n as usize) + right_area[b + 1] * blocks(right_count[b + 1] as usize))
+                    / area;
             if best.is_none_or(|(_, _, c)| cost < c) {
                 best = Some((axis, lo[axis] + (b + 1) as f32 / scale[axis], cost));
             }
         }
     }
     best
+}
+
+/// The cost of testing `n` primitives in a leaf, in block tests.
+#[inline(always)]
+fn blocks(n: usize) -> f32 {
+    n.div_ceil(LEAF_BLOCK) as f32
 }
 
 /// In-place partition; returns the number of elements for which `left` is true.

@@ -2,7 +2,9 @@
 //! passes a closure that intersects primitive `i` (tinybvh, obvhs).
 
 mod bvh;
+mod triangle4;
 mod wide;
 
 pub use bvh::{Bvh, BvhStats};
+pub use triangle4::{Hits4, Triangle4, WatertightRay4, EMPTY, GENERIC, LANES};
 pub use wide::{Bvh4, NoCounter, TraversalCounter, TraversalCounts};

@@ -41,9 +41,22 @@ pub struct Bvh4 {
 
 impl Bvh4 {
     /// Collapses a binary BVH: each wide node adopts the children of its largest interior
-    /// children until it has four.
+    /// children until it has four. Leaves keep the binary tree's primitive ranges.
     pub fn from_binary(bvh: &Bvh) -> Self {
+        Self::from_binary_with_leaves(bvh, |first, count| (first, count))
+    }
+
+    /// `from_binary`, with each leaf's range of primitives (first, count) replaced by the range
+    /// of items `leaf` returns for it (at most 15 items, the first below 2²⁷). Leaves are
+    /// visited in the order the wide tree is laid out, so items allocated in that order sit
+    /// near the nodes that reference them.
+    pub fn from_binary_with_leaves(bvh: &Bvh, mut leaf: impl FnMut(u32, u32) -> (u32, u32)) -> Self {
         let nodes = &bvh.nodes;
+        let mut leaf_reference = |n: &Node| {
+            let (first, count) = leaf(n.first, n.count);
+            assert!(count < 16 && first <= FIRST_MASK, "leaf of {count} items at {first} does not fit a reference");
+            LEAF_BIT | (count << COUNT_SHIFT) | first
+        };
         if nodes.is_empty() {
             return Self::default();
         }
@@ -103,7 +116,7 @@ impl Bvh4 {
         self.closest_counted(ray, hit, &mut NoCounter)
     }
 
-    /// `closest`, reporting every node visited and primitive tested to `counter`.
+    /// `closest`, reporting every node visited to `counter`.
     #[inline]
     pub fn closest_counted<C: TraversalCounter>(
         &self,
@@ -111,17 +124,16 @@ impl Bvh4 {
         mut hit: impl FnMut(u32, &Ray) -> Option<f32>,
         counter: &mut C,
     ) {
-        let mut leaf = |reference: u32, ray: &mut Ray, counter: &mut C| {
+        let mut leaf = |reference: u32, ray: &mut Ray| {
             let (first, count) = leaf_range(reference);
             for i in first..first + count {
-                counter.primitive();
                 if let Some(t) = hit(i, ray) {
                     ray.t_max = t;
                 }
             }
         };
         if let Some(reference) = self.root_leaf {
-            return leaf(reference, ray, counter);
+            return leaf(reference, ray);
         }
         if self.nodes.is_empty() {
             return;
@@ -131,7 +143,7 @@ impl Bvh4 {
         let mut current = 0u32;
         loop {
             if current & LEAF_BIT != 0 {
-                leaf(current, ray, counter);
+                leaf(current, ray);
             } else {
                 counter.node();
                 let node = &self.nodes[current as usize];
@@ -240,19 +252,23 @@ impl<T: Copy> Stack<T> {
     }
 }
 
-/// Receives the work a traversal does; `NoCounter` compiles to nothing.
+/// Receives the work a traversal does; `NoCounter` compiles to nothing. The tree counts the
+/// nodes it visits; what a leaf item holds is the caller's to count (`primitives`).
 pub trait TraversalCounter {
+    /// Whether counting does anything (callers skip work that only feeds the counter).
+    const ACTIVE: bool;
     fn node(&mut self);
-    fn primitive(&mut self);
+    fn primitives(&mut self, n: u32);
 }
 
 pub struct NoCounter;
 
 impl TraversalCounter for NoCounter {
+    const ACTIVE: bool = false;
     #[inline(always)]
     fn node(&mut self) {}
     #[inline(always)]
-    fn primitive(&mut self) {}
+    fn primitives(&mut self, _: u32) {}
 }
 
 /// Nodes visited and primitives tested by one or more traversals.
@@ -263,11 +279,12 @@ pub struct TraversalCounts {
 }
 
 impl TraversalCounter for TraversalCounts {
+    const ACTIVE: bool = true;
     fn node(&mut self) {
         self.nodes += 1;
     }
-    fn primitive(&mut self) {
-        self.primitives += 1;
+    fn primitives(&mut self, n: u32) {
+        self.primitives += n;
     }
 }
 
@@ -310,11 +327,6 @@ fn empty_node() -> Node4 {
     let min = Vec4::splat(f32::INFINITY);
     let max = Vec4::splat(f32::NEG_INFINITY);
     Node4 { bounds: [[min, max]; 3], children: [EMPTY; 4] }
-}
-
-fn leaf_reference(n: &Node) -> u32 {
-    debug_assert!(n.count < 16 && n.first <= FIRST_MASK);
-    LEAF_BIT | (n.count << COUNT_SHIFT) | n.first
 }
 
 #[inline(always)]

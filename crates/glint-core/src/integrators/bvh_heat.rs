@@ -1,5 +1,6 @@
 //! BVH heat map (`--integrator bvh-heat`): how much work the acceleration structure does for
 //! each camera ray. The "radiance" is (nodes visited + primitives tested, nodes, primitives),
+//! where the primitives of a leaf block (up to four, tested together) count one by one,
 //! averaged over the pixel's samples; the CLI turns the first channel into a false-colour PNG
 //! with a colour bar, and EXR/PFM keep the raw counts. It shows students what the hierarchy
 //! does, and us where it is slow. (Counts are of the scene's top-level BVH; an instance's own

@@ -25,7 +25,7 @@ pub use mesh::Mesh;
 pub use plane::Plane;
 pub use polygon::{inverse_bilinear, Polygon, PolygonTest};
 pub use sphere::{Sphere, SphereMethod};
-pub use triangle::{moller_trumbore_edges, Triangle, TriangleMethod, WatertightRay};
+pub use triangle::{intersect_cramer, moller_trumbore_edges, Triangle, TriangleMethod, WatertightRay};
 
 use glam::{Vec2, Vec3};
 

@@ -135,8 +135,10 @@ pub fn moller_trumbore_edges(a: Vec3, edge1: Vec3, edge2: Vec3, ray: &Ray) -> Op
 /// zeros (the ray through an edge or a vertex) are recomputed in f64.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
-    axes: [usize; 3],
-    shear: Vec3,
+    /// The permutation (kx, ky, kz) that makes the ray's largest direction component z.
+    pub(crate) axes: [usize; 3],
+    /// (dx/dz, dy/dz, 1/dz) in the permuted frame.
+    pub(crate) shear: Vec3,
 }
 
 impl WatertightRay {
