@@ -378,7 +378,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         let s = g.bvh_stats();
         let r = &result.rays;
         eprintln!(
-            "BVH: {} primitives, built in {:.3} s; binary tree {} nodes, {} leaves, depth {}, SAH cost {:.2}; 4-wide tree {} nodes; {:.1} bytes per primitive",
+            "BVH: {} primitives, built in {:.3} s; binary tree {} nodes, {} leaves, depth {}, SAH cost {:.2}; 8-wide tree {} nodes; {:.1} bytes per primitive",
             g.primitive_count(),
             g.build_time().as_secs_f64(),
             s.nodes,

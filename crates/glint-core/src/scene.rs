@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use crate::accel::{
-    Bvh, Bvh4, BvhStats, NoCounter, TraversalCounter, TraversalCounts, Triangle4, WatertightRay4, EMPTY, GENERIC, LANES,
+    Bvh, Bvh8, BvhStats, NoCounter, TraversalCounter, TraversalCounts, Triangle4, WatertightRay4, EMPTY, GENERIC, LANES,
 };
 use crate::camera::Camera;
 use crate::geometry::{offset_ray_origin, transform_point_with_error, Aabb, Ray, Transform};
@@ -164,7 +164,7 @@ impl Environment {
 
 /// Objects and the acceleration structure over them: the closest-hit and any-hit queries.
 ///
-/// Built once: a binned-SAH binary BVH, converted to a 4-wide BVH for traversal whose leaves
+/// Built once: a binned-SAH binary BVH, converted to a 8-wide BVH for traversal whose leaves
 /// are blocks of four primitives (`Triangle4`). Triangles without a transform (mesh triangles,
 /// plain triangles) are copied into the blocks as their vertices, lane by lane, so a leaf test
 /// reads contiguous records and tests four triangles at once instead of chasing object → mesh
@@ -183,7 +183,7 @@ pub struct Geometry {
     object_first: Vec<u32>,
     /// Primitives without bounds (planes), tested on every ray.
     unbounded: Vec<(u32, u32)>,
-    bvh: Bvh4,
+    bvh: Bvh8,
     bounds: Aabb,
     stats: BvhStats,
     build_time: std::time::Duration,
@@ -218,7 +218,7 @@ impl Geometry {
         let mut stats = binary.stats();
         let mut blocks = Vec::with_capacity(order.len() / 3 + 1);
         let mut generic = Vec::new();
-        let bvh = Bvh4::from_binary_with_leaves(&binary, |first, count| {
+        let bvh = Bvh8::from_binary_with_leaves(&binary, |first, count| {
             let block_first = blocks.len() as u32;
             for chunk in order[first as usize..(first + count) as usize].chunks(LANES) {
                 let mut block = Triangle4::empty();

@@ -53,7 +53,7 @@ pub struct BvhStats {
     pub sah_cost: f32,
     /// Memory of the traversal structures in bytes.
     pub bytes: usize,
-    /// Nodes of the 4-wide traversal BVH (0 when only the binary tree is built).
+    /// Nodes of the 8-wide traversal BVH (0 when only the binary tree is built).
     pub wide_nodes: usize,
     /// Leaf blocks of up to four primitives (0 when only the binary tree is built).
     pub leaf_blocks: usize,

@@ -7,4 +7,4 @@ mod wide;
 
 pub use bvh::{Bvh, BvhStats};
 pub use triangle4::{Hits4, Triangle4, WatertightRay4, EMPTY, GENERIC, LANES};
-pub use wide::{Bvh4, NoCounter, TraversalCounter, TraversalCounts};
+pub use wide::{Bvh8, NoCounter, TraversalCounter, TraversalCounts};

@@ -83,16 +83,18 @@ impl Hits4 {
         if self.mask == 0 {
             return None;
         }
+        // Arrays, not `Vec4`s: indexing a `Vec4` by a variable lane compiles to a jump table.
+        let t = self.t.to_array();
         let mut best = self.mask.trailing_zeros() as usize;
         let mut rest = self.mask & (self.mask - 1);
         while rest != 0 {
             let k = rest.trailing_zeros() as usize;
-            if self.t[k] < self.t[best] {
+            if t[k] < t[best] {
                 best = k;
             }
             rest &= rest - 1;
         }
-        Some((best, PrimHit { t: self.t[best], u: self.u[best], v: self.v[best], inner: 0 }))
+        Some((best, PrimHit { t: t[best], u: self.u.to_array()[best], v: self.v.to_array()[best], inner: 0 }))
     }
 }
 

@@ -1,6 +1,8 @@
-//! A 4-wide BVH for traversal, converted from the binary SAH build (tinybvh's "build apart from
-//! traversal"): each node holds the boxes of up to four children in SIMD-friendly order, so one
-//! step tests four boxes at once (glam's `Vec4` is a 128-bit SSE register on x86-64).
+//! An 8-wide BVH for traversal, converted from the binary SAH build (tinybvh's "build apart from
+//! traversal"): each node holds the boxes of up to eight children in SIMD-friendly order, tested
+//! four at a time (glam's `Vec4` is a 128-bit SSE register on x86-64). Eight beat four on the
+//! bunny by 4 % (primary rays) to 20 % (random rays): half the levels, so fewer dependent
+//! loads per ray (docs/performance.md).
 //!
 //! The box test chooses each axis's near and far plane by the sign of the ray direction (the
 //! ray's octant), so it needs no min/max per axis, an empty slot (min = +∞, max = −∞) can never
@@ -14,8 +16,12 @@ use glam::{Vec3, Vec4};
 use super::bvh::{Bvh, Node};
 use crate::geometry::Ray;
 
-/// Each wide level pushes at most 3 entries; the binary build bounds the depth (see bvh.rs).
-const STACK_SIZE: usize = 3 * 128;
+/// Groups of four children a node holds: its width is `4 * HALVES`, tested four at a time.
+const HALVES: usize = 2;
+const WIDTH: usize = 4 * HALVES;
+/// Each wide level pushes at most WIDTH - 1 entries; the binary build bounds the depth (see
+/// bvh.rs).
+const STACK_SIZE: usize = (WIDTH - 1) * 128;
 const EMPTY: u32 = u32::MAX;
 /// Leaf references: the high bit set, the primitive count in the next 4 bits, the first
 /// primitive in the low 27.
@@ -24,22 +30,23 @@ const COUNT_SHIFT: u32 = 27;
 const FIRST_MASK: u32 = (1 << COUNT_SHIFT) - 1;
 
 #[derive(Clone, Copy, Debug)]
-/// 112 bytes: 16-byte aligned for the SIMD loads (64-byte alignment would pad it to 128).
+/// 224 bytes, 16-byte aligned for the SIMD loads (aligning 4-wide nodes to cache lines gained
+/// nothing measurable).
 #[repr(C, align(16))]
-struct Node4 {
-    /// `bounds[axis][0]` = the four children's minima on that axis, `[1]` the maxima.
-    bounds: [[Vec4; 2]; 3],
-    children: [u32; 4],
+struct Node8 {
+    /// `bounds[h][axis][0]` = the minima on that axis of children 4h to 4h + 3, `[1]` the maxima.
+    bounds: [[[Vec4; 2]; 3]; HALVES],
+    children: [u32; WIDTH],
 }
 
 #[derive(Clone, Debug, Default)]
-pub struct Bvh4 {
-    nodes: Vec<Node4>,
+pub struct Bvh8 {
+    nodes: Vec<Node8>,
     /// A tree whose root is a leaf (one or two primitives) has no node: this is that leaf.
     root_leaf: Option<u32>,
 }
 
-impl Bvh4 {
+impl Bvh8 {
     /// Collapses a binary BVH: each wide node adopts the children of its largest interior
     /// children until it has four. Leaves keep the binary tree's primitive ranges.
     pub fn from_binary(bvh: &Bvh) -> Self {
@@ -68,7 +75,7 @@ impl Bvh4 {
         let mut work = vec![(0usize, 0usize)]; // (binary node, wide slot)
         while let Some((binary, slot)) = work.pop() {
             let mut children: Vec<usize> = vec![nodes[binary].first as usize, nodes[binary].first as usize + 1];
-            while children.len() < 4 {
+            while children.len() < WIDTH {
                 // Open the interior child with the largest surface area.
                 let best = children
                     .iter()
@@ -85,8 +92,8 @@ impl Bvh4 {
             for (k, &c) in children.iter().enumerate() {
                 let n = &nodes[c];
                 for axis in 0..3 {
-                    node.bounds[axis][0][k] = n.min[axis];
-                    node.bounds[axis][1][k] = n.max[axis];
+                    node.bounds[k / 4][axis][0][k % 4] = n.min[axis];
+                    node.bounds[k / 4][axis][1][k % 4] = n.max[axis];
                 }
                 node.children[k] = if n.count > 0 {
                     leaf_reference(n)
@@ -106,7 +113,7 @@ impl Bvh4 {
     }
 
     pub fn bytes(&self) -> usize {
-        self.nodes.len() * std::mem::size_of::<Node4>()
+        self.nodes.len() * std::mem::size_of::<Node8>()
     }
 
     /// Closest hit, as `Bvh::closest`: `hit(i, ray)` returns the distance of a hit within the
@@ -151,11 +158,10 @@ impl Bvh4 {
                 if mask != 0 {
                     // Push the entered children far to near, then continue with the nearest:
                     // leaves and subtrees alike are visited in order of entry distance.
-                    let mut hits = [(0f32, 0u32); 4];
+                    let mut hits = [(0f32, 0u32); WIDTH];
                     let mut n = 0;
-                    for k in 0..4 {
+                    for (k, entry) in t_near.into_iter().zip(node.children).enumerate() {
                         if mask & (1 << k) != 0 {
-                            let entry = (t_near[k], node.children[k]);
                             let mut j = n;
                             while j > 0 && hits[j - 1].0 < entry.0 {
                                 hits[j] = hits[j - 1];
@@ -202,7 +208,7 @@ impl Bvh4 {
         while let Some(index) = stack.pop() {
             let node = &self.nodes[index as usize];
             let (_, mask) = query.test(node, ray.t_min, ray.t_max);
-            for k in 0..4 {
+            for k in 0..WIDTH {
                 if mask & (1 << k) != 0 {
                     let child = node.children[k];
                     if child & LEAF_BIT != 0 {
@@ -307,26 +313,34 @@ impl Query {
         }
     }
 
-    /// Entry distances of the four children and the mask of those entered within (t_min, t_max].
+    /// Entry distances of the children (four per half) and the mask of those entered within
+    /// (t_min, t_max].
     #[inline(always)]
-    fn test(&self, node: &Node4, t_min: f32, t_max: f32) -> (Vec4, u32) {
-        let mut t_near = Vec4::splat(t_min);
-        let mut t_far = Vec4::splat(t_max);
-        for axis in 0..3 {
-            let near = (node.bounds[axis][self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
-            let far = (node.bounds[axis][1 - self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
-            // `x.max(acc)` returns `acc` when x is NaN (SSE maxps and f32::max alike).
-            t_near = near.max(t_near);
-            t_far = far.min(t_far);
+    fn test(&self, node: &Node8, t_min: f32, t_max: f32) -> ([f32; WIDTH], u32) {
+        // An array, not `Vec4`s: indexing a `Vec4` by a variable lane compiles to a jump table.
+        let mut entries = [0.0; WIDTH];
+        let mut mask = 0;
+        for (h, bounds) in node.bounds.iter().enumerate() {
+            let mut t_near = Vec4::splat(t_min);
+            let mut t_far = Vec4::splat(t_max);
+            for axis in 0..3 {
+                let near = (bounds[axis][self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
+                let far = (bounds[axis][1 - self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
+                // `x.max(acc)` returns `acc` when x is NaN (SSE maxps and f32::max alike).
+                t_near = near.max(t_near);
+                t_far = far.min(t_far);
+            }
+            t_near.write_to_slice(&mut entries[4 * h..4 * h + 4]);
+            mask |= t_near.cmple(t_far).bitmask() << (4 * h);
         }
-        (t_near, t_near.cmple(t_far).bitmask())
+        (entries, mask)
     }
 }
 
-fn empty_node() -> Node4 {
+fn empty_node() -> Node8 {
     let min = Vec4::splat(f32::INFINITY);
     let max = Vec4::splat(f32::NEG_INFINITY);
-    Node4 { bounds: [[min, max]; 3], children: [EMPTY; 4] }
+    Node8 { bounds: [[[min, max]; 3]; HALVES], children: [EMPTY; WIDTH] }
 }
 
 #[inline(always)]
@@ -352,7 +366,7 @@ mod tests {
             Aabb::new(Vec3::new(5.0, 0.0, 0.0), Vec3::new(6.0, 1.0, 1.0)),
             Aabb::new(Vec3::new(0.0, 5.0, 0.0), Vec3::new(1.0, 6.0, 1.0)),
         ]);
-        let wide = Bvh4::from_binary(&bvh);
+        let wide = Bvh8::from_binary(&bvh);
         for origin in [Vec3::new(-1.0, 0.0, 0.5), Vec3::new(-1.0, 1.0, 0.5)] {
             let ray = Ray::new(origin, Vec3::X);
             let mut seen = Vec::new();
@@ -373,7 +387,7 @@ mod tests {
             })
             .collect();
         let (bvh, order) = Bvh::build(&boxes);
-        let wide = Bvh4::from_binary(&bvh);
+        let wide = Bvh8::from_binary(&bvh);
         assert!(wide.node_count() > 0 && wide.node_count() < bvh.stats().nodes);
         for k in 0..200 {
             let origin = Vec3::new(-3.0, k as f32 * 0.07, (k % 13) as f32 * 0.9);
