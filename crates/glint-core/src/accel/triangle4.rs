@@ -143,6 +143,11 @@ impl WatertightRay4 {
         let negative = u.cmplt(zero) | v_.cmplt(zero) | w.cmplt(zero);
         let positive = u.cmpgt(zero) | v_.cmpgt(zero) | w.cmpgt(zero);
         let det = u + v_ + w;
+        let inside = !(negative & positive) & det.cmpne(zero);
+        if !inside.any() {
+            // Most blocks a ray reaches it misses: skip the distance and its error bound.
+            return Hits4 { mask: 0, t: Vec4::ZERO, u: Vec4::ZERO, v: Vec4::ZERO };
+        }
         let (az, bz, cz) = (sz * a_z, sz * b_z, sz * c_z);
         let t_scaled = u * az + v_ * bz + w * cz;
         let inv_det = Vec4::ONE / det;
@@ -159,7 +164,6 @@ impl WatertightRay4 {
         let delta_t = Vec4::splat(3.0)
             * (Vec4::splat(gamma(3)) * max_e * max_z + delta_e * max_z + delta_z * max_e)
             * inv_det.abs();
-        let inside = !(negative & positive) & det.cmpne(zero);
         let hit = inside & t.cmpgt(delta_t) & t.cmpgt(Vec4::splat(t_min)) & t.cmplt(Vec4::splat(t_max));
         Hits4 { mask: hit.bitmask(), t, u: v_ * inv_det, v: w * inv_det }
     }
