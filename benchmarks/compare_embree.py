@@ -6,7 +6,12 @@ Runs ../shared/anchors/embree/bench_embree.py (Embree through embreex) and then
 ratios (glint / Embree). Standard library only; Embree runs in its own venv.
 
     python3 benchmarks/compare_embree.py --embree-python ~/venvs/embree/bin/python \
-        --rays-dir /tmp/rt_anchor_rays [--meshes bunny dragon] [--threads 1] [--repeats 3]
+        --rays-dir /tmp/rt_anchor_rays [--meshes bunny dragon] [--threads 1] [--repeats 3] [--rounds 5]
+
+This machine's speed drifts by 20 % or more from minute to minute (a shared host), so one
+Embree run followed by one glint run can be skewed either way. With --rounds N the pair runs
+N times back to back; the table gives each side's median rate and the median of the N
+per-round ratios.
 
 The ray sets come from the anchor: `$EMBREE_PY ../shared/anchors/embree/gen_rays.py --rays-dir DIR`.
 Build glint first: `cargo build --release`.
@@ -14,6 +19,7 @@ Build glint first: `cargo build --release`.
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -58,28 +64,45 @@ def main():
     p.add_argument("--meshes", nargs="+", default=["bunny", "dragon"], choices=sorted(MESHES))
     p.add_argument("--threads", type=int, default=1)
     p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--rounds", type=int, default=1, help="Embree-then-glint pairs; medians are reported")
     p.add_argument("--glint", default=os.path.join(ROOT, "target", "release", "glint"))
     args = p.parse_args()
 
     print("load average before:", os.getloadavg()[0], file=sys.stderr)
-    embree = run_embree(args)
-    rows = ["| mesh | rays | query | glint Mrays/s | Embree Mrays/s | glint / Embree |", "| --- | --- | --- | ---: | ---: | ---: |"]
-    builds = []
+    rounds = []  # per round: {(mesh, set, query) or (mesh, "build"): (glint, embree)}
+    for r in range(args.rounds):
+        print(f"round {r + 1} of {args.rounds}", file=sys.stderr)
+        embree = run_embree(args)
+        pairs = {}
+        for mesh in args.meshes:
+            for ray_set in SETS:
+                g = run_glint(args, mesh, ray_set)
+                for query, key in (("closest", "closest_mrays"), ("occluded", "anyhit_mrays")):
+                    pairs[(mesh, ray_set, query)] = (float(g[key]), embree[(mesh, ray_set, query)])
+                if ray_set == SETS[0]:
+                    pairs[(mesh, "build")] = (float(g["build_s"]), embree[(mesh, "build")])
+                print(f"{mesh}/{ray_set}: matches {g['matches']}", file=sys.stderr)
+        rounds.append(pairs)
+
+    def median(key):
+        ours = statistics.median(p[key][0] for p in rounds)
+        theirs = statistics.median(p[key][1] for p in rounds)
+        ratio = statistics.median(p[key][0] / p[key][1] for p in rounds)
+        return ours, theirs, ratio
+
+    print("| mesh | rays | query | glint Mrays/s | Embree Mrays/s | glint / Embree |")
+    print("| --- | --- | --- | ---: | ---: | ---: |")
     for mesh in args.meshes:
         for ray_set in SETS:
-            g = run_glint(args, mesh, ray_set)
-            for query, key in (("closest", "closest_mrays"), ("occluded", "anyhit_mrays")):
-                ours, theirs = float(g[key]), embree[(mesh, ray_set, query)]
-                rows.append(f"| {mesh} | {ray_set} | {query} | {ours:.2f} | {theirs:.2f} | {ours / theirs:.2f} |")
-            if ray_set == SETS[0]:
-                builds.append((mesh, float(g["build_s"]), embree[(mesh, "build")]))
-            print(f"{mesh}/{ray_set}: matches {g['matches']}", file=sys.stderr)
-    print("\n".join(rows))
+            for query in ("closest", "occluded"):
+                ours, theirs, ratio = median((mesh, ray_set, query))
+                print(f"| {mesh} | {ray_set} | {query} | {ours:.2f} | {theirs:.2f} | {ratio:.2f} |")
     print()
     print("| mesh | glint build s | Embree build s | glint / Embree |")
     print("| --- | ---: | ---: | ---: |")
-    for mesh, ours, theirs in builds:
-        print(f"| {mesh} | {ours:.3f} | {theirs:.3f} | {ours / theirs:.2f} |")
+    for mesh in args.meshes:
+        ours, theirs, ratio = median((mesh, "build"))
+        print(f"| {mesh} | {ours:.3f} | {theirs:.3f} | {ratio:.2f} |")
     print("load average after:", os.getloadavg()[0], file=sys.stderr)
 
 
