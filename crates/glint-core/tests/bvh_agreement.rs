@@ -3,13 +3,17 @@
 
 mod common;
 
-use common::{object, scene, TestRng};
+use common::{object, scene, scene_with_methods, TestRng};
 use glint_core::geometry::Ray;
 use glint_core::scene::Scene;
-use glint_core::shapes::{AaBox, Mesh, Plane, Polygon, Shape, Sphere, Triangle};
+use glint_core::shapes::{AaBox, IntersectMethods, Mesh, Plane, Polygon, Shape, Sphere, Triangle, TriangleMethod};
 use glint_core::Vec3;
 
 fn random_scene(rng: &mut TestRng, n: usize) -> Scene {
+    scene(random_objects(rng, n))
+}
+
+fn random_objects(rng: &mut TestRng, n: usize) -> Vec<glint_core::scene::Object> {
     let mut objects = Vec::new();
     for _ in 0..n {
         let c = rng.vec3(-5.0, 5.0);
@@ -37,7 +41,7 @@ fn random_scene(rng: &mut TestRng, n: usize) -> Scene {
         };
         objects.push(object(shape));
     }
-    scene(objects)
+    objects
 }
 
 fn check_ray(scene: &Scene, ray: &Ray) {
@@ -69,6 +73,22 @@ fn bvh_equals_brute_force_on_random_scenes() {
             check_ray(&scene, &ray);
             let short = Ray::with_range(origin, ray.direction, rng.range(0.0, 2.0), rng.range(2.0, 10.0));
             check_ray(&scene, &short);
+        }
+    }
+}
+
+/// The leaf blocks test triangles four at a time with the watertight test; the other triangle
+/// methods take the scalar path through the same blocks.
+#[test]
+fn every_triangle_method_agrees_with_brute_force() {
+    for triangle in [TriangleMethod::Watertight, TriangleMethod::MollerTrumbore, TriangleMethod::Cramer] {
+        let mut rng = TestRng(3);
+        let methods = IntersectMethods { triangle, ..IntersectMethods::default() };
+        let scene = scene_with_methods(random_objects(&mut rng, 300), methods);
+        for _ in 0..10_000 {
+            let origin = rng.vec3(-8.0, 8.0);
+            let ray = Ray::new(origin, rng.vec3(-1.0, 1.0).normalize_or(Vec3::X));
+            check_ray(&scene, &ray);
         }
     }
 }

@@ -48,7 +48,11 @@ pub fn white() -> Vec<(String, Material)> {
 }
 
 pub fn scene(objects: Vec<Object>) -> Scene {
+    scene_with_methods(objects, IntersectMethods::default())
+}
+
+pub fn scene_with_methods(objects: Vec<Object>, methods: IntersectMethods) -> Scene {
     let camera = Camera::new(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, Vec3::Y, 45.0, 16, 16).unwrap();
     let environment = Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None };
-    Scene::new(camera, objects, white(), Vec::new(), environment, IntersectMethods::default())
+    Scene::new(camera, objects, white(), Vec::new(), environment, methods)
 }
