@@ -6,7 +6,9 @@
 //!
 //! It converges to the same image as `path` wherever the camera sees the scene directly;
 //! light reaching the camera only through mirrors or glass (a pinhole cannot be hit by a
-//! particle) is missing, and emitters are seen only if they are area lights. Caustics on
+//! particle) is missing. Area lights are seen by connecting their particles' origins to the
+//! camera; the environment, which no particle can bring to a pinhole, by one camera ray per
+//! pixel and pass; point, spot and directional lights are invisible, as in every integrator. Caustics on
 //! diffuse surfaces, which the path tracer finds slowly, come out quickly.
 //!
 //! The estimate for pixel j from a vertex x carrying flux β (per particle, N particles):
@@ -106,6 +108,20 @@ fn connect_vertex(scene: &Scene, v: &ParticleVertex, splats: &mut Vec<Splat>, ra
 
 /// Streams of particle random numbers, apart from the camera samples' (seed, pixel, sample).
 const PARTICLE_STREAM: u64 = 0x4C49_4748_5400_0000;
+/// Streams of the camera rays that look for the directly visible environment.
+const SKY_STREAM: u64 = 0x534B_5900_0000_0000;
+
+/// The environment where the camera sees it directly: no particle can reach a pinhole from
+/// infinitely far, so one camera ray per pixel and pass looks for it instead. The splat is the
+/// radiance itself: a pass adds one such ray to each pixel, as it adds one sample's worth of
+/// particles.
+fn see_environment(scene: &Scene, (x, y): (u32, u32), rng: &mut Rng, splats: &mut Vec<Splat>, rays: &mut RayCounts) {
+    let ray = scene.camera.generate_ray(x as f32 + rng.next_f32(), y as f32 + rng.next_f32());
+    rays.camera += 1;
+    if scene.intersect(&ray).is_none() {
+        splats.push((x, y, scene.environment.radiance(ray.direction)));
+    }
+}
 
 impl PassRenderer for LightTracer {
     fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
@@ -121,6 +137,10 @@ impl PassRenderer for LightTracer {
                         let index = y as u64 * width as u64 + x as u64;
                         let mut rng = Rng::for_sample(pass.seed ^ PARTICLE_STREAM, index, pass.index as u64);
                         self.trace(scene, &mut rng, &mut splats, &mut rays);
+                        if scene.environment.emits() {
+                            let mut rng = Rng::for_sample(pass.seed ^ SKY_STREAM, index, pass.index as u64);
+                            see_environment(scene, (x, y), &mut rng, &mut splats, &mut rays);
+                        }
                     }
                 }
                 on_tile();
