@@ -164,7 +164,7 @@ impl Environment {
 
 /// Objects and the acceleration structure over them: the closest-hit and any-hit queries.
 ///
-/// Built once: a binned-SAH binary BVH, converted to a 8-wide BVH for traversal whose leaves
+/// Built once: a binned-SAH binary BVH, converted to an 8-wide BVH for traversal whose leaves
 /// are blocks of four primitives (`Triangle4`). Triangles without a transform (mesh triangles,
 /// plain triangles) are copied into the blocks as their vertices, lane by lane, so a leaf test
 /// reads contiguous records and tests four triangles at once instead of chasing object → mesh

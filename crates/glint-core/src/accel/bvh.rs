@@ -14,10 +14,10 @@ const MAX_LEAF_SIZE: usize = 8;
 /// Primitives a leaf test handles at once (the SIMD width of `Triangle4`): the SAH prices a
 /// leaf by its number of blocks, so leaves fill their blocks.
 const LEAF_BLOCK: usize = 4;
-/// Cost of one traversal step (four box tests) relative to one leaf-block test (four triangle
-/// tests), for the SAH. On the dragon, 0.5 to 2 trace within noise of each other; 1 keeps the
-/// traversal data smallest among the fast ones (54 bytes per triangle). Measurements in
-/// docs/performance.md.
+/// Cost of one traversal step (one wide node's box tests) relative to one leaf-block test
+/// (four triangle tests), for the SAH. On the dragon, 0.5 to 2 trace within noise of each
+/// other; 1 keeps the traversal data smallest among the fast ones (56 bytes per triangle).
+/// Measurements in docs/performance.md.
 const TRAVERSAL_COST: f32 = 1.0;
 /// The SAH cost in `BvhStats` counts a traversal step as one primitive test, whatever cost the
 /// build used, so costs of different trees compare.
@@ -49,7 +49,8 @@ pub struct BvhStats {
     pub leaves: usize,
     pub depth: usize,
     /// SAH cost of the tree (traversal steps + primitive tests, expected per random ray), with
-    /// a traversal step counted as one primitive test.
+    /// a traversal step counted as one primitive test and every primitive counted (the build
+    /// itself prices leaves per block of four), so that trees of any build compare.
     pub sah_cost: f32,
     /// Memory of the traversal structures in bytes.
     pub bytes: usize,

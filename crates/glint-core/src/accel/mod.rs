@@ -1,5 +1,5 @@
-//! Acceleration structures. They know boxes and primitive indices, never shapes: the caller
-//! passes a closure that intersects primitive `i` (tinybvh, obvhs).
+//! Acceleration structures. They know boxes and item indices, never shapes: the caller passes
+//! a closure that intersects leaf item `i` (a primitive, or a block of four; tinybvh, obvhs).
 
 mod bvh;
 mod triangle4;

@@ -143,7 +143,8 @@ impl WatertightRay4 {
         let negative = u.cmplt(zero) | v_.cmplt(zero) | w.cmplt(zero);
         let positive = u.cmpgt(zero) | v_.cmpgt(zero) | w.cmpgt(zero);
         let det = u + v_ + w;
-        let inside = !(negative & positive) & det.cmpne(zero);
+        // `det == det` drops the NaN lanes (empty and generic ones), which `cmpne` would keep.
+        let inside = !(negative & positive) & det.cmpne(zero) & det.cmpeq(det);
         if !inside.any() {
             // Most blocks a ray reaches it misses: skip the distance and its error bound.
             return Hits4 { mask: 0, t: Vec4::ZERO, u: Vec4::ZERO, v: Vec4::ZERO };

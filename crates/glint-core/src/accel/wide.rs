@@ -23,14 +23,14 @@ const WIDTH: usize = 4 * HALVES;
 /// bvh.rs).
 const STACK_SIZE: usize = (WIDTH - 1) * 128;
 const EMPTY: u32 = u32::MAX;
-/// Leaf references: the high bit set, the primitive count in the next 4 bits, the first
-/// primitive in the low 27.
+/// Leaf references: the high bit set, the item count in the next 4 bits, the first item in
+/// the low 27 (items are primitives, or whatever `from_binary_with_leaves` maps leaves to).
 const LEAF_BIT: u32 = 1 << 31;
 const COUNT_SHIFT: u32 = 27;
 const FIRST_MASK: u32 = (1 << COUNT_SHIFT) - 1;
 
 #[derive(Clone, Copy, Debug)]
-/// 224 bytes, 16-byte aligned for the SIMD loads (aligning 4-wide nodes to cache lines gained
+/// 224 bytes, 16-byte aligned for the SIMD loads (aligning the former 4-wide nodes to cache lines gained
 /// nothing measurable).
 #[repr(C, align(16))]
 struct Node8 {
@@ -42,13 +42,13 @@ struct Node8 {
 #[derive(Clone, Debug, Default)]
 pub struct Bvh8 {
     nodes: Vec<Node8>,
-    /// A tree whose root is a leaf (one or two primitives) has no node: this is that leaf.
+    /// A tree whose root is a leaf (a few primitives) has no node: this is that leaf.
     root_leaf: Option<u32>,
 }
 
 impl Bvh8 {
     /// Collapses a binary BVH: each wide node adopts the children of its largest interior
-    /// children until it has four. Leaves keep the binary tree's primitive ranges.
+    /// children until it has eight. Leaves keep the binary tree's primitive ranges.
     pub fn from_binary(bvh: &Bvh) -> Self {
         Self::from_binary_with_leaves(bvh, |first, count| (first, count))
     }
