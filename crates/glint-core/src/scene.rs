@@ -213,24 +213,28 @@ impl Geometry {
             }
         }
         let world_bounds = bounds.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
-        let (binary, order) = Bvh::build(&bounds);
+        // The vertices of a plain triangle (no transform), which the blocks test four at a time.
+        let vertices = |(o, p): (u32, u32)| match (&objects[o as usize].shape, &objects[o as usize].transform) {
+            (Shape::Mesh(m), None) => Some(m.triangle_vertices(p as usize)),
+            (Shape::Triangle(t), None) => Some(t.vertices),
+            _ => None,
+        };
+        let (binary, order) = Bvh::build_mixed(&bounds, |i| vertices(bounded[i]).is_none());
         drop(bounds);
         let mut stats = binary.stats();
         let mut blocks = Vec::with_capacity(order.len() / 3 + 1);
         let mut generic = Vec::new();
         let bvh = Bvh8::from_binary_with_leaves(&binary, |first, count| {
             let block_first = blocks.len() as u32;
-            for chunk in order[first as usize..(first + count) as usize].chunks(LANES) {
+            // Triangles first: a block with any triangle has one in lane 0, and a block of
+            // other primitives only skips the SIMD test.
+            let mut leaf = order[first as usize..(first + count) as usize].to_vec();
+            leaf.sort_by_key(|&i| vertices(bounded[i as usize]).is_none());
+            for chunk in leaf.chunks(LANES) {
                 let mut block = Triangle4::empty();
                 for (lane, &i) in chunk.iter().enumerate() {
                     let (o, p) = bounded[i as usize];
-                    let object = &objects[o as usize];
-                    let vertices = match (&object.shape, &object.transform) {
-                        (Shape::Mesh(m), None) => Some(m.triangle_vertices(p as usize)),
-                        (Shape::Triangle(t), None) => Some(t.vertices),
-                        _ => None,
-                    };
-                    match vertices {
+                    match vertices((o, p)) {
                         Some(v) => block.set_triangle(lane, object_first[o as usize] + p, v),
                         None => {
                             block.set_generic(lane, generic.len() as u32);
@@ -309,19 +313,18 @@ impl Geometry {
     fn closest_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay4) -> Option<(u32, PrimHit)> {
         let block = &self.blocks[b as usize];
         let mut best = None;
-        if self.methods.triangle == TriangleMethod::Watertight {
+        let mut ray = *ray;
+        if self.methods.triangle == TriangleMethod::Watertight && block.has_triangles() {
             if let Some((lane, hit)) = prepared.intersect(block, ray.t_min, ray.t_max).nearest() {
+                ray.t_max = hit.t;
                 best = Some((block.ids[lane], hit));
             }
             if !block.has_generic() {
                 return best;
             }
         }
-        let mut ray = *ray;
-        if let Some((_, hit)) = best {
-            ray.t_max = hit.t;
-        }
-        for (lane, &id) in block.ids.iter().enumerate() {
+        // Empty lanes come last.
+        for (lane, &id) in block.ids.iter().enumerate().take_while(|(_, &id)| id != EMPTY) {
             if let Some(hit) = self.intersect_lane(block, lane, id, &ray) {
                 ray.t_max = hit.t;
                 best = Some((id, hit));
@@ -334,7 +337,7 @@ impl Geometry {
     #[inline(always)]
     fn any_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay4) -> bool {
         let block = &self.blocks[b as usize];
-        if self.methods.triangle == TriangleMethod::Watertight {
+        if self.methods.triangle == TriangleMethod::Watertight && block.has_triangles() {
             if prepared.intersect(block, ray.t_min, ray.t_max).mask != 0 {
                 return true;
             }
@@ -342,15 +345,17 @@ impl Geometry {
                 return false;
             }
         }
-        block.ids.iter().enumerate().any(|(lane, &id)| self.intersect_lane(block, lane, id, ray).is_some())
+        block
+            .ids
+            .iter()
+            .enumerate()
+            .take_while(|(_, &id)| id != EMPTY)
+            .any(|(lane, &id)| self.intersect_lane(block, lane, id, ray).is_some())
     }
 
     /// One lane by the scalar path: generic primitives always, triangles only when the chosen
     /// triangle method is not the watertight test (which the SIMD path has already run).
     fn intersect_lane(&self, block: &Triangle4, lane: usize, id: u32, ray: &Ray) -> Option<PrimHit> {
-        if id == EMPTY {
-            return None;
-        }
         if id & GENERIC != 0 {
             let (o, p) = self.generic[(id & !GENERIC) as usize];
             return self.objects[o as usize].intersect(p, ray, &self.methods);

@@ -64,16 +64,25 @@ struct BuildPrim {
     bounds: Aabb,
     centroid: Vec3,
     index: u32,
+    /// Tested on its own, not four at a time with others (see `leaf_cost`).
+    alone: bool,
 }
 
 impl Bvh {
-    /// Builds over the given primitive bounds. Returns the tree and the order in which the
-    /// leaves reference the primitives.
+    /// Builds over the given primitive bounds, all of them tested four at a time. Returns the
+    /// tree and the order in which the leaves reference the primitives.
     pub fn build(bounds: &[Aabb]) -> (Self, Vec<u32>) {
+        Self::build_mixed(bounds, |_| false)
+    }
+
+    /// `build`, where `alone(i)` tells the primitives a leaf tests one by one (spheres, boxes,
+    /// instances, …) rather than four at a time (plain triangles): the SAH prices each such
+    /// primitive as a block.
+    pub fn build_mixed(bounds: &[Aabb], alone: impl Fn(usize) -> bool) -> (Self, Vec<u32>) {
         let mut prims: Vec<BuildPrim> = bounds
             .iter()
             .enumerate()
-            .map(|(i, b)| BuildPrim { bounds: *b, centroid: b.centroid(), index: i as u32 })
+            .map(|(i, b)| BuildPrim { bounds: *b, centroid: b.centroid(), index: i as u32, alone: alone(i) })
             .collect();
         if prims.is_empty() {
             return (Self { nodes: Vec::new() }, Vec::new());
@@ -221,7 +230,7 @@ fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], star
         return split_node(nodes, index, prims, (start, mid, end), depth, &bounds);
     }
     let split = find_split(slice, &bounds, &centroid_bounds);
-    let leaf_cost = blocks(count);
+    let leaf_cost = leaf_cost(count, slice.iter().filter(|p| p.alone).count());
     let mid = match split {
         Some((axis, position, cost)) if cost < leaf_cost || count > MAX_LEAF_SIZE => {
             let mid = partition(slice, |p| p.centroid[axis] < position);
@@ -261,13 +270,15 @@ fn find_split(prims: &[BuildPrim], bounds: &Aabb, centroid_bounds: &Aabb) -> Opt
     let extent = centroid_bounds.extent();
     let scale = Vec3::select(extent.cmpgt(Vec3::ZERO), Vec3::splat(BINS as f32) / extent, Vec3::ZERO);
     let mut bin_bounds = [[Aabb::EMPTY; BINS]; 3];
-    let mut bin_count = [[0u32; BINS]; 3];
+    // Per bin: (primitives, those of them tested alone).
+    let mut bin_count = [[(0usize, 0usize); BINS]; 3];
     for p in prims {
         let b = ((p.centroid - lo) * scale).as_uvec3().min(glam::UVec3::splat(BINS as u32 - 1));
         for axis in 0..3 {
             let k = b[axis] as usize;
             bin_bounds[axis][k] = bin_bounds[axis][k].union(p.bounds);
-            bin_count[axis][k] += 1;
+            bin_count[axis][k].0 += 1;
+            bin_count[axis][k].1 += usize::from(p.alone);
         }
     }
     let mut best: Option<(usize, f32, f32)> = None;
@@ -277,24 +288,24 @@ fn find_split(prims: &[BuildPrim], bounds: &Aabb, centroid_bounds: &Aabb) -> Opt
         }
         // Sweep from the right to get the right-hand areas, then from the left.
         let mut right_area = [0.0f32; BINS];
-        let mut right_count = [0u32; BINS];
-        let (mut acc, mut n) = (Aabb::EMPTY, 0);
+        let mut right_count = [(0, 0); BINS];
+        let (mut acc, mut n) = (Aabb::EMPTY, (0, 0));
         for b in (1..BINS).rev() {
             acc = acc.union(bin_bounds[axis][b]);
-            n += bin_count[axis][b];
+            n = (n.0 + bin_count[axis][b].0, n.1 + bin_count[axis][b].1);
             right_area[b] = acc.surface_area();
             right_count[b] = n;
         }
-        let (mut acc, mut n) = (Aabb::EMPTY, 0);
+        let (mut acc, mut n) = (Aabb::EMPTY, (0, 0));
         for b in 0..BINS - 1 {
             acc = acc.union(bin_bounds[axis][b]);
-            n += bin_count[axis][b];
-            if n == 0 || right_count[b + 1] == 0 {
+            n = (n.0 + bin_count[axis][b].0, n.1 + bin_count[axis][b].1);
+            let right = right_count[b + 1];
+            if n.0 == 0 || right.0 == 0 {
                 continue;
             }
             let cost = TRAVERSAL_COST
-                + (acc.surface_area() * blocks(n as usize) + right_area[b + 1] * blocks(right_count[b + 1] as usize))
-                    / area;
+                + (acc.surface_area() * leaf_cost(n.0, n.1) + right_area[b + 1] * leaf_cost(right.0, right.1)) / area;
             if best.is_none_or(|(_, _, c)| cost < c) {
                 best = Some((axis, lo[axis] + (b + 1) as f32 / scale[axis], cost));
             }
@@ -303,10 +314,11 @@ fn find_split(prims: &[BuildPrim], bounds: &Aabb, centroid_bounds: &Aabb) -> Opt
     best
 }
 
-/// The cost of testing `n` primitives in a leaf, in block tests.
+/// The cost of testing a leaf of `n` primitives, `alone` of which are tested one by one, in
+/// block tests: the others go four to a block.
 #[inline(always)]
-fn blocks(n: usize) -> f32 {
-    n.div_ceil(LEAF_BLOCK) as f32
+fn leaf_cost(n: usize, alone: usize) -> f32 {
+    ((n - alone).div_ceil(LEAF_BLOCK) + alone) as f32
 }
 
 /// In-place partition; returns the number of elements for which `left` is true.

@@ -35,9 +35,11 @@ impl Triangle4 {
         Self { vertices: [[Vec4::NAN; 3]; 3], ids: [EMPTY; LANES] }
     }
 
-    /// Puts a triangle into `lane`.
+    /// Puts a triangle into `lane`. Triangles take the first lanes of a block (see
+    /// `has_triangles`).
     pub fn set_triangle(&mut self, lane: usize, id: u32, [a, b, c]: [Vec3; 3]) {
         debug_assert!(id < EMPTY);
+        debug_assert!(self.ids[..lane].iter().all(|&id| id < EMPTY), "triangles come first in a block");
         for (k, v) in [a, b, c].into_iter().enumerate() {
             for axis in 0..3 {
                 self.vertices[k][axis][lane] = v[axis];
@@ -50,6 +52,13 @@ impl Triangle4 {
     pub fn set_generic(&mut self, lane: usize, index: u32) {
         debug_assert!(index < EMPTY);
         self.ids[lane] = GENERIC | index;
+    }
+
+    /// Whether some lane holds a triangle (triangles come first, so lane 0 does): a block of
+    /// other primitives only skips the SIMD test.
+    #[inline(always)]
+    pub fn has_triangles(&self) -> bool {
+        self.ids[0] < EMPTY
     }
 
     /// Whether some lane holds a generic primitive.
@@ -261,11 +270,11 @@ mod tests {
     #[test]
     fn generic_and_empty_lanes() {
         let mut block = Triangle4::empty();
-        assert!(!block.has_generic());
+        assert!(!block.has_generic() && !block.has_triangles());
         block.set_triangle(0, 5, [Vec3::ZERO, Vec3::X, Vec3::Y]);
         assert!(!block.has_generic());
         block.set_generic(2, 9);
-        assert!(block.has_generic());
+        assert!(block.has_generic() && block.has_triangles());
         assert_eq!(block.triangle(0), [Vec3::ZERO, Vec3::X, Vec3::Y]);
         // A ray straight through every lane's position hits only the triangle.
         let ray = Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z);

@@ -154,7 +154,7 @@ impl Bvh8 {
             } else {
                 counter.node();
                 let node = &self.nodes[current as usize];
-                let (t_near, mask) = query.test(node, ray.t_min, ray.t_max);
+                let (t_near, mask) = query.test::<false>(node, ray.t_min, ray.t_max);
                 if mask != 0 {
                     // Push the entered children far to near, then continue with the nearest:
                     // leaves and subtrees alike are visited in order of entry distance.
@@ -207,7 +207,7 @@ impl Bvh8 {
         stack.push(0);
         while let Some(index) = stack.pop() {
             let node = &self.nodes[index as usize];
-            let (_, mask) = query.test(node, ray.t_min, ray.t_max);
+            let (_, mask) = query.test::<true>(node, ray.t_min, ray.t_max);
             for k in 0..WIDTH {
                 if mask & (1 << k) != 0 {
                     let child = node.children[k];
@@ -316,11 +316,17 @@ impl Query {
     /// Entry distances of the children (four per half) and the mask of those entered within
     /// (t_min, t_max].
     #[inline(always)]
-    fn test(&self, node: &Node8, t_min: f32, t_max: f32) -> ([f32; WIDTH], u32) {
+    /// With `SKIP_EMPTY_HALF`, a node of at most four children skips its second half (slots
+    /// fill in order): measured, this pays for any-hit traversal (+7 %) and costs closest-hit
+    /// traversal (−5 %), whose entry distances the branch delays.
+    fn test<const SKIP_EMPTY_HALF: bool>(&self, node: &Node8, t_min: f32, t_max: f32) -> ([f32; WIDTH], u32) {
         // An array, not `Vec4`s: indexing a `Vec4` by a variable lane compiles to a jump table.
         let mut entries = [0.0; WIDTH];
         let mut mask = 0;
         for (h, bounds) in node.bounds.iter().enumerate() {
+            if SKIP_EMPTY_HALF && h > 0 && node.children[4 * h] == EMPTY {
+                break;
+            }
             let mut t_near = Vec4::splat(t_min);
             let mut t_far = Vec4::splat(t_max);
             for axis in 0..3 {
