@@ -219,7 +219,8 @@ impl Geometry {
             (Shape::Triangle(t), None) => Some(t.vertices),
             _ => None,
         };
-        let (binary, order) = Bvh::build_mixed(&bounds, |i| vertices(bounded[i]).is_none());
+        let alone: Vec<bool> = bounded.iter().map(|&id| vertices(id).is_none()).collect();
+        let (binary, order) = Bvh::build_mixed(&bounds, |i| alone[i]);
         drop(bounds);
         let mut stats = binary.stats();
         let mut blocks = Vec::with_capacity(order.len() / 3 + 1);
@@ -229,7 +230,7 @@ impl Geometry {
             // Triangles first: a block with any triangle has one in lane 0, and a block of
             // other primitives only skips the SIMD test.
             let mut leaf = order[first as usize..(first + count) as usize].to_vec();
-            leaf.sort_by_key(|&i| vertices(bounded[i as usize]).is_none());
+            leaf.sort_by_key(|&i| alone[i as usize]);
             for chunk in leaf.chunks(LANES) {
                 let mut block = Triangle4::empty();
                 for (lane, &i) in chunk.iter().enumerate() {

@@ -48,13 +48,8 @@ pub struct Bvh8 {
 
 impl Bvh8 {
     /// Collapses a binary BVH: each wide node adopts the children of its largest interior
-    /// children until it has eight. Leaves keep the binary tree's primitive ranges.
-    pub fn from_binary(bvh: &Bvh) -> Self {
-        Self::from_binary_with_leaves(bvh, |first, count| (first, count))
-    }
-
-    /// `from_binary`, with each leaf's range of primitives (first, count) replaced by the range
-    /// of items `leaf` returns for it (at most 15 items, the first below 2²⁷). Leaves are
+    /// children until it has eight. Each leaf's range of primitives (first, count) becomes the
+    /// range of items `leaf` returns for it (at most 15 items, the first below 2²⁷). Leaves are
     /// visited in the order the wide tree is laid out, so items allocated in that order sit
     /// near the nodes that reference them.
     pub fn from_binary_with_leaves(bvh: &Bvh, mut leaf: impl FnMut(u32, u32) -> (u32, u32)) -> Self {
@@ -372,7 +367,7 @@ mod tests {
             Aabb::new(Vec3::new(5.0, 0.0, 0.0), Vec3::new(6.0, 1.0, 1.0)),
             Aabb::new(Vec3::new(0.0, 5.0, 0.0), Vec3::new(1.0, 6.0, 1.0)),
         ]);
-        let wide = Bvh8::from_binary(&bvh);
+        let wide = Bvh8::from_binary_with_leaves(&bvh, |first, count| (first, count));
         for origin in [Vec3::new(-1.0, 0.0, 0.5), Vec3::new(-1.0, 1.0, 0.5)] {
             let ray = Ray::new(origin, Vec3::X);
             let mut seen = Vec::new();
@@ -393,7 +388,7 @@ mod tests {
             })
             .collect();
         let (bvh, order) = Bvh::build(&boxes);
-        let wide = Bvh8::from_binary(&bvh);
+        let wide = Bvh8::from_binary_with_leaves(&bvh, |first, count| (first, count));
         assert!(wide.node_count() > 0 && wide.node_count() < bvh.stats().nodes);
         for k in 0..200 {
             let origin = Vec3::new(-3.0, k as f32 * 0.07, (k % 13) as f32 * 0.9);
