@@ -341,22 +341,38 @@ mod tests {
         let bsdf = Bsdf::new(&p, wo, n, n);
         assert!(bsdf.has_diffuse());
         let mut rng = crate::sampling::Rng::new(9, 9);
+        sampling_matches_pdf(&bsdf, wo, &mut rng, 13, 1000, 1e-4);
+    }
+
+    /// Sampling `bsdf` from `wo` matches its pdf (chi-square, seed `chi2_seed`), and each of
+    /// `checks` further samples weighs eval / pdf within `tolerance`; returns those samples.
+    fn sampling_matches_pdf(
+        bsdf: &Bsdf,
+        wo: Vec3,
+        rng: &mut crate::sampling::Rng,
+        chi2_seed: u64,
+        checks: usize,
+        tolerance: f32,
+    ) -> Vec<BsdfSample> {
         let r = chi2_test(
             |u| bsdf.sample(wo, rng.next_f32(), u).map(|s| s.wi),
             |w| bsdf.pdf(wo, w) as f64,
             500_000,
             21,
             41,
-            13,
+            chi2_seed,
         );
-        assert!(r.p_value > 0.01 / 8.0, "p = {}", r.p_value);
-        for _ in 0..1000 {
+        assert!(r.p_value > 0.01 / 8.0, "wo {wo}: p = {}", r.p_value);
+        let mut samples = Vec::new();
+        for _ in 0..checks {
             let u = Vec2::new(rng.next_f32(), rng.next_f32());
             if let Some(s) = bsdf.sample(wo, rng.next_f32(), u) {
                 let expected = bsdf.eval(wo, s.wi) / bsdf.pdf(wo, s.wi);
-                assert!(!s.delta && (s.weight - expected).abs().max_element() < 1e-4);
+                assert!(!s.delta && (s.weight - expected).abs().max_element() < tolerance, "{s:?} vs {expected}");
+                samples.push(s);
             }
         }
+        samples
     }
 
     #[test]
@@ -385,26 +401,8 @@ mod tests {
             let bsdf = Bsdf::new(&p, wo, n, n);
             assert!(bsdf.has_diffuse() && !bsdf.is_lambertian());
             let mut rng = crate::sampling::Rng::new(4, 4);
-            let r = chi2_test(
-                |u| bsdf.sample(wo, rng.next_f32(), u).map(|s| s.wi),
-                |w| bsdf.pdf(wo, w) as f64,
-                500_000,
-                21,
-                41,
-                17,
-            );
-            assert!(r.p_value > 0.01 / 8.0, "wo {wo}: p = {}", r.p_value);
-            let mut through = 0;
-            for _ in 0..2000 {
-                let u = Vec2::new(rng.next_f32(), rng.next_f32());
-                if let Some(s) = bsdf.sample(wo, rng.next_f32(), u) {
-                    let expected = bsdf.eval(wo, s.wi) / bsdf.pdf(wo, s.wi);
-                    assert!(!s.delta && (s.weight - expected).abs().max_element() < 1e-3, "{s:?} vs {expected}");
-                    if s.wi.dot(n) * wo.dot(n) < 0.0 {
-                        through += 1;
-                    }
-                }
-            }
+            let samples = sampling_matches_pdf(&bsdf, wo, &mut rng, 17, 2000, 1e-3);
+            let through = samples.iter().filter(|s| s.wi.dot(n) * wo.dot(n) < 0.0).count();
             assert!(through > 100, "some samples refract ({through})");
         }
         // Nearly smooth: the mean refraction weight is the smooth lobe's, k_t (1 − F).
