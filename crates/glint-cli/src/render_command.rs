@@ -11,6 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::checkpoint;
+use glint_core::lights::TriangleSampling;
 use glint_core::shapes::{BoxMethod, PolygonTest, SphereMethod, TriangleMethod};
 use glint_scene::LoadedScene;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -75,6 +76,10 @@ pub struct RenderArgs {
     polygon_test: Option<PolygonArg>,
     #[arg(long, value_enum)]
     box_method: Option<BoxArg>,
+    /// How next-event estimation samples triangle lights: uniformly on their area (default),
+    /// or uniformly in the solid angle they subtend (less noise near a light, slower).
+    #[arg(long, value_enum)]
+    light_sampling: Option<LightSamplingArg>,
     /// No progress bar and no summary line.
     #[arg(short, long)]
     quiet: bool,
@@ -148,6 +153,12 @@ enum FilterArg {
 enum SphereArg {
     Algebraic,
     Geometric,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum LightSamplingArg {
+    Area,
+    SolidAngle,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -504,6 +515,12 @@ fn apply_overrides(args: &RenderArgs, scene: &mut glint_core::scene::Scene) {
         m.aabox = match b {
             BoxArg::Slabs => BoxMethod::Slabs,
             BoxArg::Woo => BoxMethod::Woo,
+        };
+    }
+    if let Some(l) = args.light_sampling {
+        scene.area_lights.triangle_sampling = match l {
+            LightSamplingArg::Area => TriangleSampling::Area,
+            LightSamplingArg::SolidAngle => TriangleSampling::SolidAngle,
         };
     }
 }

@@ -140,6 +140,27 @@ fn alternative_intersection_algorithms_render_the_same_image() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// `--light-sampling solid-angle` reaches the light sampler: the same scene and seed give a
+/// different image (other light samples) of the same brightness.
+#[test]
+fn solid_angle_light_sampling_changes_the_samples_not_the_image() {
+    let dir = temp_dir("light-sampling");
+    let cornell = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/cornell-box.toml");
+    let render = |name: &str, strategy: &str| {
+        let out = dir.join(name);
+        let args = ["render", cornell, "--width", "32", "--spp", "64", "--light-sampling", strategy, "-q", "-o"];
+        let o = glint(&[&args[..], &[out.to_str().unwrap()]].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+        read_pfm(&out).unwrap().2
+    };
+    let (area, solid_angle) = (render("a.pfm", "area"), render("s.pfm", "solid-angle"));
+    assert_ne!(area, solid_angle);
+    let mean = |img: &[glint_core::Rgb]| img.iter().map(|p| p.element_sum() as f64).sum::<f64>() / img.len() as f64;
+    let (a, s) = (mean(&area), mean(&solid_angle));
+    assert!((a / s - 1.0).abs() < 0.03, "{a} vs {s}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 #[test]
 fn bad_scene_names_file_and_line() {
     let dir = temp_dir("bad");

@@ -6,8 +6,10 @@
 use std::path::Path;
 
 use glint_core::integrators::{IntegratorKind, SampleContext};
+use glint_core::lights::TriangleSampling;
 use glint_core::sampling::chi2::gamma_q;
 use glint_core::sampling::Rng;
+use glint_core::scene::Scene;
 use glint_core::Rgb;
 use rayon::prelude::*;
 
@@ -60,9 +62,21 @@ fn render_with_variance(kind: IntegratorKind, seed: u64, spp: u32) -> (Vec<Rgb>,
 }
 
 fn render_scene_with_variance(scene_path: &Path, kind: IntegratorKind, seed: u64, spp: u32) -> (Vec<Rgb>, Vec<Rgb>) {
+    render_configured_with_variance(scene_path, kind, seed, spp, |_| {})
+}
+
+/// `render_scene_with_variance` after `configure` has changed the loaded scene.
+fn render_configured_with_variance(
+    scene_path: &Path,
+    kind: IntegratorKind,
+    seed: u64,
+    spp: u32,
+    configure: impl FnOnce(&mut Scene),
+) -> (Vec<Rgb>, Vec<Rgb>) {
     let loaded = glint_scene::load_scene(scene_path).expect("the Cornell box loads");
     let mut scene = loaded.scene;
     scene.camera = scene.camera.with_resolution(SIZE, SIZE);
+    configure(&mut scene);
     let integrator = kind.create(&loaded.render.integrator_settings).expect("a camera integrator");
     (0..SIZE * SIZE)
         .into_par_iter()
@@ -186,6 +200,21 @@ fn path_tracer_matches_the_mitsuba_reference_and_the_naive_path_tracer() {
     let naive = render_with_variance(IntegratorKind::PathNaive, 2, 4 * SPP);
     check_against("path-naive vs Mitsuba", &naive, &reference, 8, false);
     check_against("path vs path-naive", &path, &naive, 8, false);
+}
+
+/// The light sampled by solid angle (spherical triangles) instead of by area: the same image.
+#[test]
+fn solid_angle_light_sampling_matches_the_mitsuba_reference() {
+    if !reference_dir().join("cbox_256.exr").exists() {
+        eprintln!("skipped: ../shared/references/cbox_256.exr not found");
+        return;
+    }
+    let reference = (read_downsampled("cbox_256.exr", false), read_downsampled("cbox_256_var.exr", true));
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
+    let path = render_configured_with_variance(&scene, IntegratorKind::Path, 3, SPP, |s| {
+        s.area_lights.triangle_sampling = TriangleSampling::SolidAngle;
+    });
+    check_against("path (solid-angle light sampling) vs Mitsuba", &path, &reference, 4, true);
 }
 
 /// The same ground truth through the Mitsuba XML reader: ../shared/scenes/cbox.xml, Mitsuba's

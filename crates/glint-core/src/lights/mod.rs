@@ -10,7 +10,7 @@ mod environment;
 mod point;
 mod spot;
 
-pub use area::{AreaEmission, AreaLights, LightSample};
+pub use area::{AreaEmission, AreaLights, LightSample, TriangleSampling};
 pub use directional::DirectionalLight;
 pub use emission::{Particle, ParticleSource};
 pub use environment::{EnvironmentMap, EnvironmentSample};

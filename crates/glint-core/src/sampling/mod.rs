@@ -5,6 +5,7 @@ pub mod chi2;
 pub mod distribution;
 mod rng;
 mod sampler;
+pub mod spherical;
 pub mod warp;
 
 pub use rng::Rng;

@@ -1,0 +1,271 @@
+//! Directions uniform in the solid angle a light subtends: a spherical triangle (Arvo 1995,
+//! "Stratified Sampling of Spherical Triangles") and a spherical cap (the cone of directions
+//! toward a sphere). Sampling a nearby light by solid angle rather than by area takes the
+//! 1/d² and cos θ_light variation across it out of the estimate.
+
+use glam::{Vec2, Vec3};
+
+use crate::geometry::orthonormal_basis;
+
+/// The angle between two unit vectors, accurate near 0 and π too (unlike `acos` of the dot).
+fn angle_between(x: Vec3, y: Vec3) -> f32 {
+    if x.dot(y) < 0.0 {
+        std::f32::consts::PI - 2.0 * ((x + y).length() / 2.0).min(1.0).asin()
+    } else {
+        2.0 * ((y - x).length() / 2.0).min(1.0).asin()
+    }
+}
+
+/// `v` made perpendicular to the unit vector `axis`, normalised (Gram–Schmidt).
+fn perpendicular(v: Vec3, axis: Vec3) -> Vec3 {
+    (v - v.dot(axis) * axis).normalize_or_zero()
+}
+
+/// A triangle as seen from a point: its corners as unit directions and its solid angle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphericalTriangle {
+    a: Vec3,
+    b: Vec3,
+    c: Vec3,
+    /// The interior angle at corner `a`.
+    alpha: f32,
+    solid_angle: f32,
+}
+
+impl SphericalTriangle {
+    /// The triangle `corners` seen from `p`; `None` when it subtends no solid angle (`p` on
+    /// its plane, or a degenerate triangle).
+    pub fn new(p: Vec3, corners: [Vec3; 3]) -> Option<Self> {
+        let [a, b, c] = corners.map(|v| (v - p).normalize_or_zero());
+        // The great circles through each pair of corners, by their normals.
+        let n_ab = a.cross(b).normalize_or_zero();
+        let n_bc = b.cross(c).normalize_or_zero();
+        let n_ca = c.cross(a).normalize_or_zero();
+        if n_ab == Vec3::ZERO || n_bc == Vec3::ZERO || n_ca == Vec3::ZERO {
+            return None;
+        }
+        // Girard's theorem: the area is the angle excess over a flat triangle's π.
+        let alpha = angle_between(n_ab, -n_ca);
+        let beta = angle_between(n_bc, -n_ab);
+        let gamma = angle_between(n_ca, -n_bc);
+        let solid_angle = alpha + beta + gamma - std::f32::consts::PI;
+        (solid_angle > 0.0).then_some(Self { a, b, c, alpha, solid_angle })
+    }
+
+    pub fn solid_angle(&self) -> f32 {
+        self.solid_angle
+    }
+
+    /// A direction uniform over the triangle's solid angle: `u.x` chooses the sub-triangle
+    /// (a, b, ĉ) with ĉ on the arc from a to c that holds the fraction `u.x` of the area, `u.y`
+    /// a point on the arc from b to ĉ so that the area is swept uniformly.
+    pub fn sample(&self, u: Vec2) -> Vec3 {
+        let Self { a, b, c, alpha, .. } = *self;
+        let (sin_alpha, cos_alpha) = alpha.sin_cos();
+        let (s, t) = (u.x * self.solid_angle - alpha).sin_cos();
+        let p = t - cos_alpha;
+        let q = s + sin_alpha * a.dot(b);
+        // cos of the arc from a to ĉ (Arvo's equation for the sub-triangle's area).
+        let cos_arc = (((q * t - p * s) * cos_alpha - q) / ((q * s + p * t) * sin_alpha)).clamp(-1.0, 1.0);
+        let c_hat = cos_arc * a + (1.0 - cos_arc * cos_arc).max(0.0).sqrt() * perpendicular(c, a);
+        let z = 1.0 - u.y * (1.0 - c_hat.dot(b));
+        z * b + (1.0 - z * z).max(0.0).sqrt() * perpendicular(c_hat, b)
+    }
+
+    /// The `u` that `sample` maps to the direction `w` inside the triangle: the inverse warp.
+    pub fn invert(&self, w: Vec3) -> Vec2 {
+        let Self { a, b, c, .. } = *self;
+        // ĉ: where the great circle through b and w crosses the arc from a to c.
+        let mut c_hat = b.cross(w).cross(c.cross(a)).normalize_or_zero();
+        if c_hat.dot(a + c) < 0.0 {
+            c_hat = -c_hat;
+        }
+        let sub_area = Self::new(Vec3::ZERO, [a, b, c_hat]).map_or(0.0, |t| t.solid_angle);
+        let u_x = (sub_area / self.solid_angle).clamp(0.0, 1.0);
+        let u_y = ((1.0 - w.dot(b)) / (1.0 - c_hat.dot(b))).clamp(0.0, 1.0);
+        Vec2::new(u_x, u_y)
+    }
+}
+
+/// The cone of directions from a point outside a sphere toward it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphericalCap {
+    /// Unit direction from the point to the sphere's centre.
+    axis: Vec3,
+    sin2_max: f32,
+    cos_max: f32,
+    /// 1 − cos θ_max, kept accurate for small cones.
+    one_minus_cos_max: f32,
+}
+
+/// Points this close to a sphere (relative to r²) count as on it: far above the rounding of a
+/// computed hit point (a few ulps).
+const ON_SURFACE: f32 = 1e-4;
+
+/// Below this sin² θ_max (about 1.5°), 1 − cos θ_max cancels in f32: use its Taylor form.
+const SMALL_CONE: f32 = 0.000_685_23;
+
+impl SphericalCap {
+    /// The cap a sphere subtends from `p`; `None` from inside it or from its surface (a
+    /// shading point on the sphere itself, which rounding may put just outside: it sees the
+    /// inside, not the cap).
+    pub fn new(p: Vec3, center: Vec3, radius: f32) -> Option<Self> {
+        let to_center = center - p;
+        let d2 = to_center.length_squared();
+        if d2 <= radius * radius * (1.0 + ON_SURFACE) {
+            return None;
+        }
+        let sin2_max = radius * radius / d2;
+        let cos_max = (1.0 - sin2_max).max(0.0).sqrt();
+        let one_minus_cos_max = if sin2_max < SMALL_CONE { sin2_max / 2.0 } else { 1.0 - cos_max };
+        Some(Self { axis: to_center / d2.sqrt(), sin2_max, cos_max, one_minus_cos_max })
+    }
+
+    pub fn solid_angle(&self) -> f32 {
+        2.0 * std::f32::consts::PI * self.one_minus_cos_max
+    }
+
+    /// A direction uniform over the cap, as the unit normal of the sphere's point it meets
+    /// (the visible side): `center + radius · normal` is the sampled point.
+    pub fn sample_normal(&self, u: Vec2) -> Vec3 {
+        let (sin2_theta, cos_theta) = if self.sin2_max < SMALL_CONE {
+            let sin2 = self.sin2_max * u.x;
+            (sin2, (1.0 - sin2).sqrt())
+        } else {
+            let cos = 1.0 - u.x * (1.0 - self.cos_max);
+            (1.0 - cos * cos, cos)
+        };
+        // The angle at the centre between the axis back to p and the sampled point: the law of
+        // sines in the triangle (p, centre, point), solved for the nearer intersection.
+        let sin_max = self.sin2_max.sqrt();
+        let cos_alpha = sin2_theta / sin_max + cos_theta * (1.0 - sin2_theta / self.sin2_max).max(0.0).sqrt();
+        let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
+        let phi = 2.0 * std::f32::consts::PI * u.y;
+        let (tangent, bitangent) = orthonormal_basis(self.axis);
+        let (sin_phi, cos_phi) = phi.sin_cos();
+        -(cos_alpha * self.axis) + sin_alpha * (cos_phi * tangent + sin_phi * bitangent)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::chi2::chi2_test_with_resolution;
+
+    fn corners() -> [Vec3; 3] {
+        [Vec3::new(1.0, -0.5, 2.0), Vec3::new(2.0, 0.5, 2.5), Vec3::new(0.5, 1.0, 1.5)]
+    }
+
+    fn inside(from: Vec3, w: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
+        let (e1, e2) = (b - a, c - a);
+        let p = w.cross(e2);
+        let det = e1.dot(p);
+        let s = from - a;
+        let (u, q) = (s.dot(p) / det, s.cross(e1));
+        let (v, t) = (w.dot(q) / det, e2.dot(q) / det);
+        u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0
+    }
+
+    /// An octant of the sphere is a spherical triangle with three right angles: area 4π/8.
+    #[test]
+    fn an_octant_has_an_eighth_of_the_sphere() {
+        let t = SphericalTriangle::new(Vec3::ZERO, [Vec3::X, Vec3::Y, Vec3::Z]).unwrap();
+        assert!((t.solid_angle() - std::f32::consts::FRAC_PI_2).abs() < 1e-6, "{}", t.solid_angle());
+        assert!(SphericalTriangle::new(Vec3::new(0.5, 0.5, 0.0), [Vec3::X, Vec3::Y, Vec3::ZERO]).is_none());
+    }
+
+    /// The Van Oosterom–Strackee formula, an independent route to the same solid angle.
+    #[test]
+    fn solid_angle_agrees_with_van_oosterom_strackee() {
+        let mut rng = crate::sampling::Rng::for_sample(5, 6, 7);
+        for _ in 0..1000 {
+            let mut v = || Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 - 1.0;
+            let (p, corners) = (v(), [v(), v(), v()]);
+            let Some(t) = SphericalTriangle::new(p, corners) else { continue };
+            let [a, b, c] = corners.map(|x| (x - p).as_dvec3().normalize());
+            let expected = 2.0 * a.dot(b.cross(c)).abs().atan2(1.0 + a.dot(b) + b.dot(c) + c.dot(a));
+            assert!((t.solid_angle() as f64 - expected).abs() < 2e-4 * (1.0 + expected), "{t:?} vs {expected}");
+        }
+    }
+
+    #[test]
+    fn spherical_triangle_sampling_is_uniform_in_solid_angle() {
+        let tri = corners();
+        // In front, close (2.3 sr), and nearly in the triangle's plane (wide, flat angles).
+        for from in [Vec3::new(0.64, 0.43, 2.84), Vec3::new(1.1, 0.35, 2.05), Vec3::new(0.2, 0.6, 2.05)] {
+            let t = SphericalTriangle::new(from, tri).unwrap();
+            assert!(t.solid_angle() > 0.2, "from {from}: {} sr, too small for the histogram", t.solid_angle());
+            let pdf = |w: Vec3| if inside(from, w, tri) { 1.0 / t.solid_angle() as f64 } else { 0.0 };
+            let r = chi2_test_with_resolution(|u| Some(t.sample(u)), pdf, 300_000, 21, 41, 3, 64);
+            assert!(r.p_value > 0.01, "from {from}: p = {}", r.p_value);
+        }
+    }
+
+    #[test]
+    fn spherical_triangle_sampling_round_trips() {
+        for from in [Vec3::new(0.64, 0.43, 2.84), Vec3::new(-3.0, 2.0, 1.0)] {
+            let t = SphericalTriangle::new(from, corners()).unwrap();
+            for i in 1..20 {
+                for j in 1..20 {
+                    let u = Vec2::new(i as f32 / 20.0, j as f32 / 20.0);
+                    let w = t.sample(u);
+                    assert!(inside(from, w, corners()), "{u} -> {w} outside");
+                    let back = t.invert(w);
+                    assert!((back - u).abs().max_element() < 2e-3, "{u} -> {back}");
+                }
+            }
+        }
+    }
+
+    /// From inside the sphere and from points on it (rounded either way) there is no cap.
+    #[test]
+    fn no_cap_from_inside_or_on_the_sphere() {
+        let (center, radius) = (Vec3::new(0.3, -0.2, 1.5), 0.6);
+        assert!(SphericalCap::new(center, center, radius).is_none());
+        for w in [Vec3::X, Vec3::new(0.6, 0.0, 0.8), Vec3::new(-0.48, 0.6, 0.64)] {
+            let on = center + radius * w;
+            assert!(SphericalCap::new(on, center, radius).is_none());
+            assert!(SphericalCap::new(center + radius * 1.000_001 * w, center, radius).is_none());
+            assert!(SphericalCap::new(center + radius * 1.001 * w, center, radius).is_some());
+        }
+    }
+
+    #[test]
+    fn spherical_cap_sampling_is_uniform_in_solid_angle() {
+        let (center, radius) = (Vec3::new(0.3, -0.2, 1.5), 0.6);
+        for (from, r) in [(Vec3::ZERO, radius), (Vec3::new(0.0, 0.0, -40.0), radius)] {
+            let cap = SphericalCap::new(from, center, r).unwrap();
+            let mut points_on_sphere = true;
+            let sample = |u: Vec2| {
+                let n = cap.sample_normal(u);
+                let p = center + r * n;
+                points_on_sphere &= n.is_normalized() && (p - from).dot(n) < 1e-4 * (p - from).length();
+                Some((p - from).normalize())
+            };
+            let axis = (center - from).normalize();
+            let cos_max = (1.0 - r * r / (center - from).length_squared()).sqrt() as f64;
+            let pdf = |w: Vec3| {
+                if w.dot(axis) as f64 >= cos_max {
+                    1.0 / cap.solid_angle() as f64
+                } else {
+                    0.0
+                }
+            };
+            if from == Vec3::ZERO {
+                let r = chi2_test_with_resolution(sample, pdf, 300_000, 21, 41, 9, 64);
+                assert!(r.p_value > 0.01, "p = {}", r.p_value);
+            } else {
+                // A cone of 0.86°, narrower than a histogram cell: check the outline instead.
+                let mut rng = crate::sampling::Rng::for_sample(1, 1, 1);
+                let mut sample = sample;
+                for _ in 0..10_000 {
+                    let w = sample(Vec2::new(rng.next_f32(), rng.next_f32())).unwrap();
+                    assert!(w.dot(axis) as f64 >= cos_max - 1e-6);
+                }
+                let expected = 2.0 * std::f64::consts::PI * (1.0 - cos_max);
+                assert!((cap.solid_angle() as f64 / expected - 1.0).abs() < 2e-3);
+            }
+            assert!(points_on_sphere, "a sampled point faces away from {from}");
+        }
+    }
+}
