@@ -119,9 +119,10 @@ pub struct WatertightRay4 {
 impl WatertightRay4 {
     pub fn new(ray: &Ray, scalar: &WatertightRay) -> Self {
         let axes = scalar.axes;
+        let origin = ray.origin.to_array();
         Self {
             axes,
-            origin: axes.map(|a| Vec4::splat(ray.origin[a])),
+            origin: axes.map(|a| Vec4::splat(origin[a])),
             shear: [0, 1, 2].map(|i| Vec4::splat(scalar.shear[i])),
         }
     }

@@ -44,15 +44,17 @@ pub fn offset_ray_origin(point: Vec3, error: Vec3, normal: Vec3, direction: Vec3
     if direction.dot(normal) < 0.0 {
         offset = -offset;
     }
-    let mut origin = point + offset;
-    for axis in 0..3 {
+    // Arrays, not `Vec3` indexing, which compiles to a branch per lane.
+    let (origin, offset) = ((point + offset).to_array(), offset.to_array());
+    Vec3::from_array(std::array::from_fn(|axis| {
         if offset[axis] > 0.0 {
-            origin[axis] = next_float_up(origin[axis]);
+            next_float_up(origin[axis])
         } else if offset[axis] < 0.0 {
-            origin[axis] = next_float_down(origin[axis]);
+            next_float_down(origin[axis])
+        } else {
+            origin[axis]
         }
-    }
-    origin
+    }))
 }
 
 /// Transforms a point and its error bound (pbrt-v4 §6.8.6, eq. 6.30).

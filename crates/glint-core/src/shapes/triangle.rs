@@ -143,8 +143,10 @@ pub struct WatertightRay {
 
 impl WatertightRay {
     pub fn new(ray: &Ray) -> Self {
-        let d = ray.direction;
-        let kz = d.abs().max_position();
+        // An array, not a `Vec3`: indexing a `Vec3` by a variable compiles to a branch per
+        // lane.
+        let d = ray.direction.to_array();
+        let kz = ray.direction.abs().max_position();
         let mut kx = (kz + 1) % 3;
         let mut ky = (kx + 1) % 3;
         if d[kz] < 0.0 {
@@ -157,7 +159,7 @@ impl WatertightRay {
     pub fn intersect(&self, a: Vec3, b: Vec3, c: Vec3, ray: &Ray) -> Option<PrimHit> {
         let [kx, ky, kz] = self.axes;
         let (sx, sy, sz) = (self.shear.x, self.shear.y, self.shear.z);
-        let (a, b, c) = (a - ray.origin, b - ray.origin, c - ray.origin);
+        let [a, b, c] = [a, b, c].map(|p| (p - ray.origin).to_array());
         let (ax, ay) = (a[kx] - sx * a[kz], a[ky] - sy * a[kz]);
         let (bx, by) = (b[kx] - sx * b[kz], b[ky] - sy * b[kz]);
         let (cx, cy) = (c[kx] - sx * c[kz], c[ky] - sy * c[kz]);
