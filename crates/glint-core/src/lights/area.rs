@@ -8,7 +8,7 @@
 //!   (pdf_ω = pdf_A · d² / |cos θ_light|), or, with `TriangleSampling::SolidAngle`, uniformly
 //!   in the spherical triangle they subtend (Arvo 1995). Solid-angle sampling has less noise
 //!   next to a light but costs more: on the Cornell box it lowered the error by 2 % at equal
-//!   samples and took 35 % longer (docs/performance.md), so area is the default.
+//!   samples and took 24 % longer (docs/performance.md), so area is the default.
 //!
 //! Sampled: triangles (triangle shapes, mesh triangles, quads; any transform, taken in world
 //! space) and spheres without a transform. Other emissive shapes still emit: a path finds them

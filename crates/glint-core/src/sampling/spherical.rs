@@ -7,15 +7,6 @@ use glam::{Vec2, Vec3};
 
 use crate::geometry::orthonormal_basis;
 
-/// The angle between two unit vectors, accurate near 0 and π too (unlike `acos` of the dot).
-fn angle_between(x: Vec3, y: Vec3) -> f32 {
-    if x.dot(y) < 0.0 {
-        std::f32::consts::PI - 2.0 * ((x + y).length() / 2.0).min(1.0).asin()
-    } else {
-        2.0 * ((y - x).length() / 2.0).min(1.0).asin()
-    }
-}
-
 /// `v` made perpendicular to the unit vector `axis`, normalised (Gram–Schmidt).
 fn perpendicular(v: Vec3, axis: Vec3) -> Vec3 {
     (v - v.dot(axis) * axis).normalize_or_zero()
@@ -27,8 +18,9 @@ pub struct SphericalTriangle {
     a: Vec3,
     b: Vec3,
     c: Vec3,
-    /// The interior angle at corner `a`.
-    alpha: f32,
+    /// The interior angle α at corner `a`, by its cosine and sine.
+    cos_alpha: f32,
+    sin_alpha: f32,
     solid_angle: f32,
 }
 
@@ -37,19 +29,20 @@ impl SphericalTriangle {
     /// its plane, or a degenerate triangle).
     pub fn new(p: Vec3, corners: [Vec3; 3]) -> Option<Self> {
         let [a, b, c] = corners.map(|v| (v - p).normalize_or_zero());
-        // The great circles through each pair of corners, by their normals.
-        let n_ab = a.cross(b).normalize_or_zero();
-        let n_bc = b.cross(c).normalize_or_zero();
-        let n_ca = c.cross(a).normalize_or_zero();
-        if n_ab == Vec3::ZERO || n_bc == Vec3::ZERO || n_ca == Vec3::ZERO {
+        let (ab, ac) = (a.cross(b), a.cross(c));
+        let (ab_length, ac_length) = (ab.length(), ac.length());
+        let triple = a.dot(b.cross(c));
+        if ab_length == 0.0 || ac_length == 0.0 || triple == 0.0 {
             return None;
         }
-        // Girard's theorem: the area is the angle excess over a flat triangle's π.
-        let alpha = angle_between(n_ab, -n_ca);
-        let beta = angle_between(n_bc, -n_ab);
-        let gamma = angle_between(n_ca, -n_bc);
-        let solid_angle = alpha + beta + gamma - std::f32::consts::PI;
-        (solid_angle > 0.0).then_some(Self { a, b, c, alpha, solid_angle })
+        // Van Oosterom and Strackee (1983): one arctangent, stable for small and large
+        // triangles alike.
+        let solid_angle = 2.0 * triple.abs().atan2(1.0 + a.dot(b) + b.dot(c) + c.dot(a));
+        // α is the angle between the great circles a–b and a–c, whose normals are a × b and
+        // a × c; (a × b) × (a × c) = (a · (b × c)) a gives its sine without trigonometry.
+        let cos_alpha = (ab.dot(ac) / (ab_length * ac_length)).clamp(-1.0, 1.0);
+        let sin_alpha = (triple.abs() / (ab_length * ac_length)).min(1.0);
+        (solid_angle > 0.0).then_some(Self { a, b, c, cos_alpha, sin_alpha, solid_angle })
     }
 
     pub fn solid_angle(&self) -> f32 {
@@ -60,9 +53,11 @@ impl SphericalTriangle {
     /// (a, b, ĉ) with ĉ on the arc from a to c that holds the fraction `u.x` of the area, `u.y`
     /// a point on the arc from b to ĉ so that the area is swept uniformly.
     pub fn sample(&self, u: Vec2) -> Vec3 {
-        let Self { a, b, c, alpha, .. } = *self;
-        let (sin_alpha, cos_alpha) = alpha.sin_cos();
-        let (s, t) = (u.x * self.solid_angle - alpha).sin_cos();
+        let Self { a, b, c, cos_alpha, sin_alpha, .. } = *self;
+        // sin and cos of (Â − α), Â = u.x · Ω the sub-triangle's area.
+        let (sin_area, cos_area) = (u.x * self.solid_angle).sin_cos();
+        let s = sin_area * cos_alpha - cos_area * sin_alpha;
+        let t = cos_area * cos_alpha + sin_area * sin_alpha;
         let p = t - cos_alpha;
         let q = s + sin_alpha * a.dot(b);
         // cos of the arc from a to ĉ (Arvo's equation for the sub-triangle's area).
@@ -145,6 +140,21 @@ impl SphericalCap {
         let (sin_phi, cos_phi) = phi.sin_cos();
         -(cos_alpha * self.axis) + sin_alpha * (cos_phi * tangent + sin_phi * bitangent)
     }
+
+    /// The `u` that `sample_normal` maps to the point seen in direction `w` (unit, inside the
+    /// cap): the inverse warp. The point and its direction share the azimuth about the axis.
+    pub fn invert(&self, w: Vec3) -> Vec2 {
+        let cos_theta = w.dot(self.axis).min(1.0);
+        let u_x = if self.sin2_max < SMALL_CONE {
+            // sin² θ from the cross product: 1 − cos² θ would cancel near the axis.
+            w.cross(self.axis).length_squared() / self.sin2_max
+        } else {
+            (1.0 - cos_theta) / (1.0 - self.cos_max)
+        };
+        let (tangent, bitangent) = orthonormal_basis(self.axis);
+        let phi = w.dot(bitangent).atan2(w.dot(tangent)).rem_euclid(2.0 * std::f32::consts::PI);
+        Vec2::new(u_x.clamp(0.0, 1.0), phi / (2.0 * std::f32::consts::PI))
+    }
 }
 
 #[cfg(test)]
@@ -174,18 +184,30 @@ mod tests {
         assert!(SphericalTriangle::new(Vec3::new(0.5, 0.5, 0.0), [Vec3::X, Vec3::Y, Vec3::ZERO]).is_none());
     }
 
-    /// The Van Oosterom–Strackee formula, an independent route to the same solid angle.
+    /// Girard's theorem in f64, an independent route to the same solid angle: the interior
+    /// angles' excess over π.
     #[test]
-    fn solid_angle_agrees_with_van_oosterom_strackee() {
+    fn solid_angle_agrees_with_girards_theorem() {
         let mut rng = crate::sampling::Rng::for_sample(5, 6, 7);
+        let mut tested = 0;
         for _ in 0..1000 {
             let mut v = || Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 - 1.0;
             let (p, corners) = (v(), [v(), v(), v()]);
             let Some(t) = SphericalTriangle::new(p, corners) else { continue };
             let [a, b, c] = corners.map(|x| (x - p).as_dvec3().normalize());
-            let expected = 2.0 * a.dot(b.cross(c)).abs().atan2(1.0 + a.dot(b) + b.dot(c) + c.dot(a));
+            let angle = |x: glam::DVec3, y: glam::DVec3, z: glam::DVec3| {
+                x.cross(y).normalize().dot(x.cross(z).normalize()).clamp(-1.0, 1.0).acos()
+            };
+            let expected = angle(a, b, c) + angle(b, c, a) + angle(c, a, b) - std::f64::consts::PI;
             assert!((t.solid_angle() as f64 - expected).abs() < 2e-4 * (1.0 + expected), "{t:?} vs {expected}");
+            let cos_alpha = a.cross(b).normalize().dot(a.cross(c).normalize());
+            assert!(
+                (t.cos_alpha as f64 - cos_alpha).abs() < 1e-4
+                    && (t.sin_alpha as f64 - (1.0 - cos_alpha.powi(2)).sqrt()).abs() < 1e-3
+            );
+            tested += 1;
         }
+        assert!(tested > 900);
     }
 
     #[test]
@@ -227,6 +249,23 @@ mod tests {
             assert!(SphericalCap::new(on, center, radius).is_none());
             assert!(SphericalCap::new(center + radius * 1.000_001 * w, center, radius).is_none());
             assert!(SphericalCap::new(center + radius * 1.001 * w, center, radius).is_some());
+        }
+    }
+
+    #[test]
+    fn spherical_cap_sampling_round_trips() {
+        let (center, radius) = (Vec3::new(0.3, -0.2, 1.5), 0.6);
+        // A wide cone, and one narrow enough for the small-angle form.
+        for (from, tolerance) in [(Vec3::ZERO, 1e-3), (Vec3::new(0.0, 0.0, -40.0), 1e-3)] {
+            let cap = SphericalCap::new(from, center, radius).unwrap();
+            for i in 1..20 {
+                for j in 1..20 {
+                    let u = Vec2::new(i as f32 / 20.0, j as f32 / 20.0);
+                    let w = (center + radius * cap.sample_normal(u) - from).normalize();
+                    let back = cap.invert(w);
+                    assert!((back - u).abs().max_element() < tolerance, "from {from}: {u} -> {back}");
+                }
+            }
         }
     }
 
