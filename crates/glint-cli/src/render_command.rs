@@ -260,14 +260,20 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         defines.as_bytes(),
         integrator_kind.name().as_bytes(),
         format!(
-            "{integrator_settings:?} {:?} {}x{} {} {}{}",
+            "{integrator_settings:?} {:?} {}x{} {} {}{}{}",
             scene.geometry.methods,
             scene.camera.width,
             scene.camera.height,
             filter.name(),
             settings.sampler.name(),
             // A stratified render's strata depend on its sample count.
-            if settings.sampler == SamplerKind::Stratified { format!(" {}", settings.spp) } else { String::new() }
+            if settings.sampler == SamplerKind::Stratified { format!(" {}", settings.spp) } else { String::new() },
+            // Only when not the default, so that earlier checkpoints still resume.
+            if scene.area_lights.triangle_sampling == TriangleSampling::SolidAngle {
+                " solid-angle lights"
+            } else {
+                ""
+            }
         )
         .as_bytes(),
     ]);
@@ -276,7 +282,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
             let c = checkpoint::load(path)?;
             if c.fingerprint != fingerprint || c.seed != settings.seed {
                 return Err(format!(
-                    "the checkpoint `{}` was made from another scene or other settings (scene file, integrator, resolution, seed and methods must be the same)",
+                    "the checkpoint `{}` was made from another scene or other settings (scene file, integrator, resolution, seed, methods and light sampling must be the same)",
                     path.display()
                 ));
             }

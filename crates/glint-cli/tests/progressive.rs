@@ -135,5 +135,11 @@ fn resume_from_a_checkpoint_equals_an_uninterrupted_render() {
         .unwrap();
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("another scene or other settings"));
+    // So is one made with the other light sampling: it would converge to the same image, but
+    // not equal the uninterrupted render.
+    let args = ["render", &scene, "--width", "48", "--spp", "9", "--light-sampling", "solid-angle", "-o"];
+    let o = glint().args(args).args([&path("y.pfm"), "--resume", &path("c.ckp")]).output().unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("another scene or other settings"));
     std::fs::remove_dir_all(dir).unwrap();
 }
