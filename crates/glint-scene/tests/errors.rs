@@ -213,3 +213,17 @@ fn mutated_native_scenes_never_panic() {
     }
     assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
 }
+
+/// `light_sampling` in `[render]` reaches the scene's area lights; a misspelt value is an
+/// error at its line with the closest name.
+#[test]
+fn light_sampling_is_read_and_checked() {
+    use glint_core::lights::TriangleSampling;
+    let with = |value: &str| format!("[render]\nlight_sampling = \"{value}\"\n\n{GOOD}");
+    let loaded = parse(&with("solid-angle")).unwrap();
+    assert_eq!(loaded.scene.area_lights.triangle_sampling, TriangleSampling::SolidAngle);
+    assert_eq!(parse(GOOD).unwrap().scene.area_lights.triangle_sampling, TriangleSampling::Area);
+    let e = error(&with("solid-angel"));
+    assert!(e.to_string().contains("did you mean `solid-angle`?"), "{e}");
+    assert_eq!(line_of(&e), 2);
+}

@@ -72,6 +72,21 @@ pub enum TriangleSampling {
     SolidAngle,
 }
 
+impl TriangleSampling {
+    pub const ALL: [TriangleSampling; 2] = [TriangleSampling::Area, TriangleSampling::SolidAngle];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            TriangleSampling::Area => "area",
+            TriangleSampling::SolidAngle => "solid-angle",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.name() == name)
+    }
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct AreaLights {
     pub triangle_sampling: TriangleSampling,

@@ -10,6 +10,7 @@ use glint_core::camera::{Camera, Lens};
 use glint_core::filter::Filter;
 use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings, PhotonSettings};
+use glint_core::lights::TriangleSampling;
 use glint_core::lights::{DirectionalLight, EnvironmentMap, Falloff, Light, PointLight, SpotLight};
 use glint_core::materials::{named_metal, Fresnel, Material, Phong, METAL_NAMES};
 use glint_core::sampling::SamplerKind;
@@ -206,7 +207,8 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         objects.push(build_object(&cx, i, entry, &materials, &mut library, source, &mut warnings)?);
     }
 
-    let scene = Scene::new(camera, objects, materials, lights, environment, methods);
+    let mut scene = Scene::new(camera, objects, materials, lights, environment, methods);
+    scene.area_lights.triangle_sampling = render.light_sampling;
     Ok(LoadedScene { scene, render, warnings })
 }
 
@@ -315,7 +317,14 @@ fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneErro
         let hint = closest_name(&r.sampler, names).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
         cx.error_at_key("sampler", format!("unknown sampler `{}`, expected one of {}{hint}", r.sampler, quoted(&names)))
     })?;
-    Ok(RenderOptions { spp: r.spp, integrator, seed: r.seed, integrator_settings, filter, sampler })
+    let light_sampling = TriangleSampling::from_name(&r.light_sampling).ok_or_else(|| {
+        let names = TriangleSampling::ALL.map(TriangleSampling::name);
+        let hint = closest_name(&r.light_sampling, names).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
+        let message =
+            format!("unknown light sampling `{}`, expected one of {}{hint}", r.light_sampling, quoted(&names));
+        cx.error_at_key("light_sampling", message)
+    })?;
+    Ok(RenderOptions { spp: r.spp, integrator, seed: r.seed, integrator_settings, filter, sampler, light_sampling })
 }
 
 fn build_light(cx: &Context, index: usize, light: &Located<LightDesc>) -> Result<Light, SceneError> {

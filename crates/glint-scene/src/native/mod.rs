@@ -10,6 +10,7 @@ use std::path::Path;
 
 use glint_core::filter::Filter;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
+use glint_core::lights::TriangleSampling;
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::Scene;
 
@@ -32,6 +33,8 @@ pub struct RenderOptions {
     pub integrator_settings: IntegratorSettings,
     pub filter: Filter,
     pub sampler: SamplerKind,
+    /// How the path tracer samples triangle lights (set on the scene's area lights too).
+    pub light_sampling: TriangleSampling,
 }
 
 pub struct LoadedScene {

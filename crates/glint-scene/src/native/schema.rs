@@ -4,6 +4,7 @@
 use std::collections::BTreeMap;
 
 use glint_core::integrators::PhotonSettings;
+use glint_core::lights::TriangleSampling;
 use glint_core::sampling::SamplerKind;
 use serde::Deserialize;
 
@@ -91,6 +92,8 @@ pub struct RenderDesc {
     pub filter: String,
     #[serde(default = "default_sampler")]
     pub sampler: String,
+    #[serde(default = "default_light_sampling")]
+    pub light_sampling: String,
     /// Photon mapping (see `PhotonSettings`).
     #[serde(default = "default_photons")]
     pub photons: u32,
@@ -111,6 +114,9 @@ pub struct RenderDesc {
 
 fn default_sampler() -> String {
     SamplerKind::default().name().into()
+}
+fn default_light_sampling() -> String {
+    TriangleSampling::default().name().into()
 }
 fn default_photons() -> u32 {
     PhotonSettings::default().global_photons
@@ -134,6 +140,7 @@ impl Default for RenderDesc {
             transparent_shadows: false,
             filter: default_filter(),
             sampler: default_sampler(),
+            light_sampling: default_light_sampling(),
             photons: default_photons(),
             caustic_photons: default_photons(),
             photon_nearest: default_photon_nearest(),
