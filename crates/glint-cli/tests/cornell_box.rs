@@ -187,13 +187,18 @@ fn bonferroni_critical_values() {
     assert!((z_critical(768) - 4.36).abs() < 0.01, "{}", z_critical(768));
 }
 
-#[test]
-fn path_tracer_matches_the_mitsuba_reference_and_the_naive_path_tracer() {
+/// The Mitsuba reference and its variance at 64², or `None` (saying so) without ../shared.
+fn reference() -> Option<(Vec<Rgb>, Vec<Rgb>)> {
     if !reference_dir().join("cbox_256.exr").exists() {
         eprintln!("skipped: ../shared/references/cbox_256.exr not found");
-        return;
+        return None;
     }
-    let reference = (read_downsampled("cbox_256.exr", false), read_downsampled("cbox_256_var.exr", true));
+    Some((read_downsampled("cbox_256.exr", false), read_downsampled("cbox_256_var.exr", true)))
+}
+
+#[test]
+fn path_tracer_matches_the_mitsuba_reference_and_the_naive_path_tracer() {
+    let Some(reference) = reference() else { return };
     let path = render_with_variance(IntegratorKind::Path, 1, SPP);
     check_against("path vs Mitsuba", &path, &reference, 4, true);
     // The naive tracer finds the small light only by chance: it needs more samples.
@@ -205,11 +210,7 @@ fn path_tracer_matches_the_mitsuba_reference_and_the_naive_path_tracer() {
 /// The light sampled by solid angle (spherical triangles) instead of by area: the same image.
 #[test]
 fn solid_angle_light_sampling_matches_the_mitsuba_reference() {
-    if !reference_dir().join("cbox_256.exr").exists() {
-        eprintln!("skipped: ../shared/references/cbox_256.exr not found");
-        return;
-    }
-    let reference = (read_downsampled("cbox_256.exr", false), read_downsampled("cbox_256_var.exr", true));
+    let Some(reference) = reference() else { return };
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
     let path = render_configured_with_variance(&scene, IntegratorKind::Path, 3, SPP, |s| {
         s.area_lights.triangle_sampling = TriangleSampling::SolidAngle;
@@ -222,14 +223,14 @@ fn solid_angle_light_sampling_matches_the_mitsuba_reference() {
 #[test]
 fn mitsuba_xml_cornell_box_matches_the_mitsuba_reference() {
     let xml = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes/cbox.xml");
-    if !reference_dir().join("cbox_256.exr").exists() || !xml.exists() {
-        eprintln!("skipped: ../shared/scenes/cbox.xml or its reference not found");
+    if !xml.exists() {
+        eprintln!("skipped: ../shared/scenes/cbox.xml not found");
         return;
     }
+    let Some(reference) = reference() else { return };
     let loaded = glint_scene::load_scene(&xml).expect("cbox.xml loads");
     assert_eq!(loaded.render.integrator, IntegratorKind::Path);
     assert_eq!(loaded.render.integrator_settings.max_depth, u32::MAX, "max_depth -1 is unbounded");
-    let reference = (read_downsampled("cbox_256.exr", false), read_downsampled("cbox_256_var.exr", true));
     let path = render_scene_with_variance(&xml, IntegratorKind::Path, 5, SPP);
     check_against("path (cbox.xml) vs Mitsuba", &path, &reference, 4, true);
 }

@@ -384,6 +384,7 @@ mod tests {
     use super::*;
     use crate::materials::Phong;
     use crate::sampling::chi2::chi2_test_with_resolution;
+    use crate::shapes::test_util::ray_meets_triangle;
     use crate::shapes::{Sphere, Triangle};
 
     /// A triangle and a sphere that emit, seen from a point outside both.
@@ -409,16 +410,6 @@ mod tests {
         (AreaLights::new(&objects, &[emitting(3.0), emitting(1.0)]), tri, sphere)
     }
 
-    fn hit_triangle(o: Vec3, w: Vec3, [a, b, c]: [Vec3; 3]) -> Option<Vec3> {
-        let (e1, e2) = (b - a, c - a);
-        let p = w.cross(e2);
-        let det = e1.dot(p);
-        let s = o - a;
-        let (u, q) = (s.dot(p) / det, s.cross(e1));
-        let (v, t) = (w.dot(q) / det, e2.dot(q) / det);
-        (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then(|| o + t * w)
-    }
-
     /// The triangle's light sampling from a point in front of it, as directions, against the
     /// solid-angle pdf (chi-square), by area and by solid angle.
     #[test]
@@ -430,7 +421,7 @@ mod tests {
             lights.triangle_sampling = strategy;
             // u_select = 0 always picks the triangle: its pdf is the full pdf over p_triangle.
             let sample = |u: Vec2| lights.sample(from, 0.0, u).map(|s| (s.point - from).normalize());
-            let pdf = |w: Vec3| match hit_triangle(from, w, tri) {
+            let pdf = |w: Vec3| match ray_meets_triangle(from, w, tri) {
                 Some(p) => {
                     let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
                     lights.pdf(from, 0, 0, p, n) as f64 / p_triangle

@@ -169,19 +169,14 @@ impl SphericalCap {
 mod tests {
     use super::*;
     use crate::sampling::chi2::chi2_test_with_resolution;
+    use crate::shapes::test_util::ray_meets_triangle;
 
     fn corners() -> [Vec3; 3] {
         [Vec3::new(1.0, -0.5, 2.0), Vec3::new(2.0, 0.5, 2.5), Vec3::new(0.5, 1.0, 1.5)]
     }
 
-    fn inside(from: Vec3, w: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
-        let (e1, e2) = (b - a, c - a);
-        let p = w.cross(e2);
-        let det = e1.dot(p);
-        let s = from - a;
-        let (u, q) = (s.dot(p) / det, s.cross(e1));
-        let (v, t) = (w.dot(q) / det, e2.dot(q) / det);
-        u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0
+    fn inside(from: Vec3, w: Vec3, tri: [Vec3; 3]) -> bool {
+        ray_meets_triangle(from, w, tri).is_some()
     }
 
     /// An octant of the sphere is a spherical triangle with three right angles: area 4π/8.

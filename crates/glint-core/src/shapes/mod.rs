@@ -178,6 +178,20 @@ pub(crate) fn first_in_range(ray: &Ray, t0: f32, t1: f32) -> Option<f32> {
 
 #[cfg(test)]
 pub(crate) mod test_util {
+    use glam::Vec3;
+
+    /// Where the ray from `o` along `w` meets the triangle, by Möller–Trumbore in plain form:
+    /// the independent check that sampled light directions land on the light.
+    pub fn ray_meets_triangle(o: Vec3, w: Vec3, [a, b, c]: [Vec3; 3]) -> Option<Vec3> {
+        let (e1, e2) = (b - a, c - a);
+        let p = w.cross(e2);
+        let det = e1.dot(p);
+        let s = o - a;
+        let (u, q) = (s.dot(p) / det, s.cross(e1));
+        let (v, t) = (w.dot(q) / det, e2.dot(q) / det);
+        (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then(|| o + t * w)
+    }
+
     /// A tiny deterministic generator for randomized tests (SplitMix64).
     pub struct TestRng(pub u64);
 
