@@ -61,6 +61,9 @@ impl Object {
     }
 }
 
+/// How far short of a target surface a shadow ray stops, as a fraction of its length.
+const SHADOW_EPSILON: f32 = 1e-4;
+
 /// One intersected surface point, everything an integrator needs to shade it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceHit {
@@ -91,6 +94,17 @@ impl SurfaceHit {
         let g = &self.geometry;
         let origin = offset_ray_origin(g.point, g.error, g.geometric_normal, target - g.point);
         Ray::with_range(origin, target - origin, 0.0, 1.0)
+    }
+
+    /// A shadow ray toward `target`, a point sampled on another surface (a light): it stops
+    /// 10⁻⁴ of the way short, pbrt-v4's and Mitsuba 3's shadow epsilon. That surface's own
+    /// intersection routine may place it a few ulps of the distance before the sampled point:
+    /// a sphere's quadratic did so for 2 % of the shadow rays toward a sphere light of radius
+    /// 0.5 two units away, darkening the floor below by 0.5 % (tests/sphere_light.rs).
+    pub fn spawn_ray_to_surface(&self, target: Vec3) -> Ray {
+        let mut ray = self.spawn_ray_to(target);
+        ray.t_max = 1.0 - SHADOW_EPSILON;
+        ray
     }
 
     /// The shading normal turned to the side the ray came from (two-sided shading).

@@ -143,7 +143,7 @@ pub(super) fn sample_lights(
             // Offset the far end too, so the shadow ray stops short of the light's own surface.
             let target = offset_ray_origin(light.point, light.error, light.normal, p - light.point);
             context.rays.shadow += 1;
-            if !scene.occluded(&hit.spawn_ray_to(target)) {
+            if !scene.occluded(&hit.spawn_ray_to_surface(target)) {
                 let weight = match weighting {
                     Weighting::Mis => power_heuristic(light.pdf, bsdf.pdf(wo, wi)),
                     Weighting::LightOnly => 1.0,
