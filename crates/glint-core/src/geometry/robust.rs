@@ -4,7 +4,10 @@
 //! (pbrt-v4 §6.8: Higham's γ_n = nε/(1 − nε) bounds n roundings). A spawned ray's origin is
 //! moved along the geometric normal just past that error box, then rounded away from the
 //! surface, so it lies strictly on the side the ray leaves toward. No fixed epsilon: the offset
-//! scales with the coordinates, so the same scene at 1e-3 or 1e5 renders the same.
+//! scales with the coordinates, so the same scene at 1e-3 or 1e5 renders the same. The one
+//! margin is relative too: a shadow ray toward a point on a light stops 10⁻⁴ of its length
+//! short (`SurfaceHit::spawn_ray_to_surface`), since the light's own intersection routine may
+//! find its surface a few ulps before the sampled point.
 
 use glam::{Mat4, Vec3};
 
