@@ -8,13 +8,15 @@
 //!   time, which this caught: `SurfaceHit::spawn_ray_to_surface`.
 //! * A quad light (two triangles), off-centre: Lambert's formula for a polygonal luminaire,
 //!   E = (L/2) Σ θᵢ (n · γᵢ) over its edges, for both triangle-light sampling strategies.
+//! * A point light of intensity I at height h, off to the side: E = I cos θ / d² (the path
+//!   tracer only: no path can hit a point).
 
 mod common;
 
 use common::{object_with, scene};
 use glint_core::camera::Camera;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
-use glint_core::lights::{AreaLights, TriangleSampling};
+use glint_core::lights::{AreaLights, Falloff, Light, PointLight, TriangleSampling};
 use glint_core::materials::{Material, Phong};
 use glint_core::render::{render_with, RenderSettings};
 use glint_core::scene::Scene;
@@ -70,6 +72,23 @@ fn a_floor_under_a_quad_light_matches_lamberts_formula() {
         check_image_mean(&s, IntegratorKind::Path, 64, expected, &format!("quad light, path, {strategy:?}"));
     }
     check_image_mean(&s, IntegratorKind::PathNaive, 1024, expected, "quad light, path-naive");
+}
+
+#[test]
+fn a_floor_under_a_point_light_gets_inverse_square_irradiance() {
+    let (intensity, albedo, light) = (2.0f32, 0.5f32, Vec3::new(0.6, 1.5, 0.3));
+    let mut s = scene(vec![object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0)]);
+    s.materials = vec![material(albedo, 0.0)];
+    s.lights = vec![Light::Point(PointLight {
+        position: light,
+        intensity: Rgb::splat(intensity),
+        falloff: Falloff::InverseSquare,
+    })];
+    s.camera = Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
+    let d2 = light.length_squared() as f64;
+    let cos = light.y as f64 / d2.sqrt();
+    let expected = albedo as f64 / std::f64::consts::PI * intensity as f64 * cos / d2;
+    check_image_mean(&s, IntegratorKind::Path, 16, expected, "point light, path");
 }
 
 fn material(diffuse: f32, emission: f32) -> Material {
