@@ -8,8 +8,8 @@
 //!   time, which this caught: `SurfaceHit::spawn_ray_to_surface`.
 //! * A quad light (two triangles), off-centre: Lambert's formula for a polygonal luminaire,
 //!   E = (L/2) Σ θᵢ (n · γᵢ) over its edges, for both triangle-light sampling strategies.
-//! * A point light of intensity I at height h, off to the side: E = I cos θ / d² (the path
-//!   tracer only: no path can hit a point).
+//! * Point, spot and directional lights, off to the side: E = I cos θ / d², and E⊥ cos θ for
+//!   the directional one (the path tracer only: no path can hit them).
 //! * The floor beside a sphere light, for the particle integrators, which start at the light:
 //!   a sphere fully above a plane lights it as a point would, E = π L r² cos θ / D², D the
 //!   distance to its centre.
@@ -19,7 +19,7 @@ mod common;
 use common::{object_with, scene};
 use glint_core::camera::Camera;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
-use glint_core::lights::{AreaLights, Falloff, Light, PointLight, TriangleSampling};
+use glint_core::lights::{AreaLights, DirectionalLight, Falloff, Light, PointLight, SpotLight, TriangleSampling};
 use glint_core::materials::{Material, Phong};
 use glint_core::render::{render_with, RenderSettings};
 use glint_core::scene::Scene;
@@ -78,20 +78,35 @@ fn a_floor_under_a_quad_light_matches_lamberts_formula() {
 }
 
 #[test]
-fn a_floor_under_a_point_light_gets_inverse_square_irradiance() {
-    let (intensity, albedo, light) = (2.0f32, 0.5f32, Vec3::new(0.6, 1.5, 0.3));
-    let mut s = scene(vec![object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0)]);
-    s.materials = vec![material(albedo, 0.0)];
-    s.lights = vec![Light::Point(PointLight {
-        position: light,
-        intensity: Rgb::splat(intensity),
-        falloff: Falloff::InverseSquare,
-    })];
-    s.camera = Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
-    let d2 = light.length_squared() as f64;
-    let cos = light.y as f64 / d2.sqrt();
-    let expected = albedo as f64 / std::f64::consts::PI * intensity as f64 * cos / d2;
-    check_image_mean(&s, IntegratorKind::Path, 16, expected, "point light, path");
+fn a_floor_under_delta_lights_gets_their_analytic_irradiance() {
+    let (intensity, albedo, at) = (2.0f32, 0.5f32, Vec3::new(0.6, 1.5, 0.3));
+    let d2 = at.length_squared() as f64;
+    let cos = at.y as f64 / d2.sqrt();
+    let point = PointLight { position: at, intensity: Rgb::splat(intensity), falloff: Falloff::InverseSquare };
+    let lights = [
+        // I cos θ / d².
+        ("point", Light::Point(point.clone()), intensity as f64 * cos / d2),
+        // The same inside its cone: the origin lies on the axis, 25° from the soft edge.
+        (
+            "spot",
+            Light::Spot(SpotLight::new(at, -at, point.intensity, Falloff::InverseSquare, 30.0, 5.0)),
+            intensity as f64 * cos / d2,
+        ),
+        // `intensity` is the irradiance across the beam: E = E⊥ cos θ.
+        (
+            "directional",
+            Light::Directional(DirectionalLight { direction: -at.normalize(), intensity: point.intensity }),
+            intensity as f64 * cos,
+        ),
+    ];
+    for (name, light, irradiance) in lights {
+        let mut s = scene(vec![object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0)]);
+        s.materials = vec![material(albedo, 0.0)];
+        s.lights = vec![light];
+        s.camera = Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
+        let expected = albedo as f64 / std::f64::consts::PI * irradiance;
+        check_image_mean(&s, IntegratorKind::Path, 16, expected, &format!("{name} light, path"));
+    }
 }
 
 #[test]
