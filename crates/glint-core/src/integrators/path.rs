@@ -22,6 +22,18 @@ pub struct PathTracer {
     pub rr_depth: u32,
 }
 
+/// A scattering event that sampled the ray now traced.
+#[derive(Clone, Copy)]
+struct Scatter {
+    point: Vec3,
+    /// What light sampling from `point` was given as the receiver's normal.
+    shading_normal: Vec3,
+    /// The BSDF's solid-angle density for the sampled direction.
+    pdf: f32,
+    /// A mirror or refraction: light sampling could not have made it.
+    delta: bool,
+}
+
 /// The power heuristic (β = 2) for the strategy with density `a` against one with `b`.
 pub fn power_heuristic(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
@@ -38,7 +50,7 @@ impl Integrator for PathTracer {
         let mut eta_scale = 1.0f32;
         let mut ray = *camera_ray;
         // Where the last bounce was sampled, and how: for the MIS weight of emission hit next.
-        let mut previous: Option<(Vec3, f32, bool)> = None;
+        let mut previous: Option<Scatter> = None;
         let mut depth = 0u32;
         loop {
             if previous.is_none() {
@@ -49,8 +61,8 @@ impl Integrator for PathTracer {
             let Some(hit) = scene.intersect(&ray) else {
                 // The environment is light-sampled too: weigh this BSDF sample against that.
                 let weight = match previous {
-                    Some((_, bsdf_pdf, false)) if scene.environment.emits() => {
-                        power_heuristic(bsdf_pdf, scene.environment.pdf(ray.direction))
+                    Some(from) if !from.delta && scene.environment.emits() => {
+                        power_heuristic(from.pdf, scene.environment.pdf(ray.direction))
                     }
                     _ => 1.0,
                 };
@@ -63,12 +75,18 @@ impl Integrator for PathTracer {
             let emitted = material.emitted(wo, geometric);
             if emitted != Rgb::ZERO {
                 let weight = match previous {
-                    None | Some((_, _, true)) => 1.0,
-                    Some((from, bsdf_pdf, false)) => {
-                        let light_pdf =
-                            scene.area_lights.pdf(from, hit.object, hit.prim, hit.geometry.point, geometric);
-                        power_heuristic(bsdf_pdf, light_pdf)
+                    Some(from) if !from.delta => {
+                        let light_pdf = scene.area_lights.pdf(
+                            from.point,
+                            Some(from.shading_normal),
+                            hit.object,
+                            hit.prim,
+                            hit.geometry.point,
+                            geometric,
+                        );
+                        power_heuristic(from.pdf, light_pdf)
                     }
+                    _ => 1.0,
                 };
                 radiance += throughput * emitted * weight;
             }
@@ -84,7 +102,12 @@ impl Integrator for PathTracer {
             let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break };
             throughput *= sample.weight;
             eta_scale *= sample.eta_squared;
-            previous = Some((hit.geometry.point, sample.pdf, sample.delta));
+            previous = Some(Scatter {
+                point: hit.geometry.point,
+                shading_normal: hit.geometry.shading_normal,
+                pdf: sample.pdf,
+                delta: sample.delta,
+            });
             depth += 1;
             if depth >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context) {
                 break;
@@ -136,7 +159,8 @@ pub(super) fn sample_lights(
     let p = hit.geometry.point;
     let u_select = context.sampler.next_f32();
     let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
-    if let Some(light) = scene.area_lights.sample(p, u_select, u) {
+    let receiver = Some(hit.geometry.shading_normal);
+    if let Some(light) = scene.area_lights.sample(p, receiver, u_select, u) {
         let wi = (light.point - p).normalize();
         let f = bsdf.eval(wo, wi);
         if light.radiance != Rgb::ZERO && f != Rgb::ZERO && light.pdf > 0.0 {

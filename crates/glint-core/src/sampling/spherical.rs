@@ -76,6 +76,15 @@ impl SphericalTriangle {
         (z * b + (1.0 - z * z).max(0.0).sqrt() * perpendicular(c_hat, b)).as_vec3()
     }
 
+    /// |cos θ| against `normal` at the directions `sample` gives the corners of the unit square,
+    /// [u(0,0), u(1,0), u(0,1), u(1,1)] → [b, b, a, c], each at least 0.01 so that the warp
+    /// built from them still reaches every direction.
+    pub fn corner_cosines(&self, normal: Vec3) -> [f32; 4] {
+        let n = normal.as_dvec3();
+        let cos = |v: DVec3| (n.dot(v).abs() as f32).max(0.01);
+        [cos(self.b), cos(self.b), cos(self.a), cos(self.c)]
+    }
+
     /// The `u` that `sample` maps to the direction `w` inside the triangle: the inverse warp.
     pub fn invert(&self, w: Vec3) -> Vec2 {
         let Self { a, b, c, .. } = *self;
