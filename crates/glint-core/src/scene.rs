@@ -100,7 +100,7 @@ impl SurfaceHit {
     /// 10⁻⁴ of the way short, pbrt-v4's and Mitsuba 3's shadow epsilon. That surface's own
     /// intersection routine may place it a few ulps of the distance before the sampled point:
     /// a sphere's quadratic did so for 2 % of the shadow rays toward a sphere light of radius
-    /// 0.5 two units away, darkening the floor below by 0.5 % (tests/sphere_light.rs).
+    /// 0.5 two units away, darkening the floor below by 0.5 % (tests/analytic_lights.rs).
     pub fn spawn_ray_to_surface(&self, target: Vec3) -> Ray {
         let mut ray = self.spawn_ray_to(target);
         ray.t_max = 1.0 - SHADOW_EPSILON;

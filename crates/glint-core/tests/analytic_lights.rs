@@ -40,9 +40,10 @@ fn a_floor_under_a_spherical_light_has_the_analytic_radiance() {
     s.camera = Camera::new(Vec3::new(0.0, 1.0, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
     let expected = (albedo * radiance * radius * radius / (height * height)) as f64;
 
-    for (kind, spp) in [(IntegratorKind::Path, 64), (IntegratorKind::PathNaive, 1024)] {
-        check_image_mean(&s, kind, spp, expected, &format!("sphere light, {kind:?}"));
-    }
+    // The path tracer to 0.2 %, not to its own standard error: blocked shadow rays would
+    // widen that as they darken the image.
+    check_image_mean(&s, IntegratorKind::Path, 64, expected, Some(0.002), "sphere light, path");
+    check_image_mean(&s, IntegratorKind::PathNaive, 1024, expected, None, "sphere light, path-naive");
 }
 
 #[test]
@@ -72,9 +73,9 @@ fn a_floor_under_a_quad_light_matches_lamberts_formula() {
     let expected = albedo as f64 / std::f64::consts::PI * irradiance;
     for strategy in [TriangleSampling::Area, TriangleSampling::SolidAngle] {
         s.area_lights.triangle_sampling = strategy;
-        check_image_mean(&s, IntegratorKind::Path, 64, expected, &format!("quad light, path, {strategy:?}"));
+        check_image_mean(&s, IntegratorKind::Path, 64, expected, None, &format!("quad light, path, {strategy:?}"));
     }
-    check_image_mean(&s, IntegratorKind::PathNaive, 1024, expected, "quad light, path-naive");
+    check_image_mean(&s, IntegratorKind::PathNaive, 1024, expected, None, "quad light, path-naive");
 }
 
 #[test]
@@ -105,7 +106,7 @@ fn a_floor_under_delta_lights_gets_their_analytic_irradiance() {
         s.lights = vec![light];
         s.camera = Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
         let expected = albedo as f64 / std::f64::consts::PI * irradiance;
-        check_image_mean(&s, IntegratorKind::Path, 16, expected, &format!("{name} light, path"));
+        check_image_mean(&s, IntegratorKind::Path, 16, expected, None, &format!("{name} light, path"));
     }
 }
 
@@ -157,9 +158,10 @@ fn material(diffuse: f32, emission: f32) -> Material {
     })
 }
 
-/// Renders direct light only and checks the image mean against `expected`: 4 standard errors
-/// of the pixel mean, plus 10⁻³ for the pixels' floor points, at most 0.01 from the origin.
-fn check_image_mean(s: &Scene, kind: IntegratorKind, spp: u32, expected: f64, name: &str) {
+/// Renders direct light only and checks the image mean against `expected`: within
+/// `relative` of it if given, else within 4 standard errors of the pixel mean plus 10⁻³ for
+/// the pixels' floor points, at most 0.01 from the origin.
+fn check_image_mean(s: &Scene, kind: IntegratorKind, spp: u32, expected: f64, relative: Option<f64>, name: &str) {
     let settings = IntegratorSettings { max_depth: 1, rr_depth: 5, ..Default::default() };
     let mut renderer = kind.renderer(&settings, s, 1).expect("a camera integrator");
     let image =
@@ -168,6 +170,6 @@ fn check_image_mean(s: &Scene, kind: IntegratorKind, spp: u32, expected: f64, na
     let n = values.len() as f64;
     let mean = values.iter().sum::<f64>() / n;
     let standard_error = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
-    let tolerance = 4.0 * standard_error + 1e-3 * expected;
+    let tolerance = relative.map_or(4.0 * standard_error + 1e-3 * expected, |r| r * expected);
     assert!((mean - expected).abs() < tolerance, "{name}: {mean} vs {expected} (± {standard_error})");
 }

@@ -87,6 +87,9 @@ fn square_to_linear(u: f32, a: f32, b: f32) -> f32 {
     if a + b == 0.0 {
         return u;
     }
+    if u == 0.0 {
+        return 0.0; // with a = 0 the formula below is 0 / 0
+    }
     let x = u * (a + b) / (a + ((1.0 - u) * a * a + u * b * b).sqrt());
     x.min(ONE_BELOW)
 }
@@ -157,6 +160,8 @@ mod tests {
             }
             // 99 degrees of freedom: P(χ² > 148) ≈ 0.001.
             assert!(chi2 < 148.0, "{w:?}: χ² = {chi2}");
+            // The square's corner maps to the corner, zero weights or not.
+            assert_eq!(square_to_bilinear(Vec2::ZERO, w), Vec2::ZERO, "{w:?}");
         }
     }
 
