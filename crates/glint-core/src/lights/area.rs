@@ -23,8 +23,7 @@ use crate::geometry::{gamma, orthonormal_basis};
 use crate::materials::Material;
 use crate::sampling::spherical::{SphericalCap, SphericalTriangle};
 use crate::sampling::warp::{
-    bilinear_pdf, cosine_hemisphere_pdf, square_to_bilinear, square_to_cosine_hemisphere, square_to_triangle,
-    square_to_uniform_sphere,
+    cosine_hemisphere_pdf, square_to_cosine_hemisphere, square_to_triangle, square_to_uniform_sphere,
 };
 use crate::scene::Object;
 use crate::shapes::Shape;
@@ -279,28 +278,17 @@ impl AreaLights {
 
     /// A point on some light for the shading point `from`: spheres sampled by the solid angle
     /// they subtend, triangles by area or, with `TriangleSampling::SolidAngle`, by solid angle
-    /// where that is accurate.
-    ///
-    /// With the receiver's normal, solid-angle sampling of a triangle also follows the
-    /// receiver's |cos θ|, approximately: the square is warped by the bilinear interpolation
-    /// of the cosines toward the triangle's corners (pbrt-v4's product sampling), which takes
-    /// most of that factor out of the estimate near large lights.
+    /// where that is accurate, then also following the receiver's |cos θ| when its normal is
+    /// given (`SphericalTriangle::sample_toward`).
     pub fn sample(&self, from: Vec3, receiver_normal: Option<Vec3>, u_select: f32, u: Vec2) -> Option<LightSample> {
         let (i, emitter) = self.choose(u_select)?;
         let selection = self.selection_probability(i);
         let PointSample { point, normal, error, pdf } = match emitter.shape {
             EmitterShape::Triangle { a, b, c, normal, .. } => match self.spherical_triangle(from, [a, b, c]) {
                 Some(spherical) => {
-                    let (u, warp_pdf) = match receiver_normal {
-                        Some(n) => {
-                            let w = spherical.corner_cosines(n);
-                            let warped = square_to_bilinear(u, w);
-                            (warped, bilinear_pdf(warped, w))
-                        }
-                        None => (u, 1.0),
-                    };
-                    let (point, error) = point_along(from, spherical.sample(u), [a, b, c])?;
-                    PointSample { point, normal, error, pdf: selection * warp_pdf / spherical.solid_angle() }
+                    let (direction, pdf) = spherical.sample_toward(u, receiver_normal);
+                    let (point, error) = point_along(from, direction, [a, b, c])?;
+                    PointSample { point, normal, error, pdf: selection * pdf }
                 }
                 None => self.sample_by_area(emitter, selection, from, u)?,
             },
@@ -366,13 +354,7 @@ impl AreaLights {
         let selection = self.selection_probability(i);
         let area = match self.emitters[i].shape {
             EmitterShape::Triangle { a, b, c, area, .. } => match self.spherical_triangle(from, [a, b, c]) {
-                Some(spherical) => {
-                    let warp_pdf = receiver_normal.map_or(1.0, |n| {
-                        let w = spherical.corner_cosines(n);
-                        bilinear_pdf(spherical.invert((point - from).normalize()), w)
-                    });
-                    return selection * warp_pdf / spherical.solid_angle();
-                }
+                Some(spherical) => return selection * spherical.pdf((point - from).normalize(), receiver_normal),
                 None => area,
             },
             EmitterShape::Sphere { center, radius } => match SphericalCap::new(from, center, radius) {

@@ -1,11 +1,13 @@
 //! Directions uniform in the solid angle a light subtends: a spherical triangle (Arvo 1995,
 //! "Stratified Sampling of Spherical Triangles") and a spherical cap (the cone of directions
 //! toward a sphere). Sampling a nearby light by solid angle rather than by area takes the
-//! 1/d² and cos θ_light variation across it out of the estimate.
+//! 1/d² and cos θ_light variation across it out of the estimate; a triangle's samples can also
+//! follow the receiver's cos θ (`SphericalTriangle::sample_toward`).
 
 use glam::{DVec3, Vec2, Vec3};
 
 use crate::geometry::{gamma, orthonormal_basis};
+use crate::sampling::warp::{bilinear_pdf, square_to_bilinear};
 
 /// `v` made perpendicular to the unit vector `axis`, normalised (Gram–Schmidt).
 fn perpendicular(v: DVec3, axis: DVec3) -> DVec3 {
@@ -76,10 +78,31 @@ impl SphericalTriangle {
         (z * b + (1.0 - z * z).max(0.0).sqrt() * perpendicular(c_hat, b)).as_vec3()
     }
 
+    /// A direction and its solid-angle density: uniform, or with `receiver` (a normal) also
+    /// following |cos θ| against it, approximately: the square is first warped by the bilinear
+    /// interpolation of the cosines toward the corners (pbrt-v4's product sampling).
+    pub fn sample_toward(&self, u: Vec2, receiver: Option<Vec3>) -> (Vec3, f32) {
+        let (u, warp_pdf) = match receiver {
+            Some(n) => {
+                let w = self.corner_cosines(n);
+                let warped = square_to_bilinear(u, w);
+                (warped, bilinear_pdf(warped, w))
+            }
+            None => (u, 1.0),
+        };
+        (self.sample(u), warp_pdf / self.solid_angle())
+    }
+
+    /// The solid-angle density with which `sample_toward` gives the direction `w`.
+    pub fn pdf(&self, w: Vec3, receiver: Option<Vec3>) -> f32 {
+        let warp_pdf = receiver.map_or(1.0, |n| bilinear_pdf(self.invert(w), self.corner_cosines(n)));
+        warp_pdf / self.solid_angle()
+    }
+
     /// |cos θ| against `normal` at the directions `sample` gives the corners of the unit square,
     /// [u(0,0), u(1,0), u(0,1), u(1,1)] → [b, b, a, c], each at least 0.01 so that the warp
     /// built from them still reaches every direction.
-    pub fn corner_cosines(&self, normal: Vec3) -> [f32; 4] {
+    fn corner_cosines(&self, normal: Vec3) -> [f32; 4] {
         let n = normal.as_dvec3();
         let cos = |v: DVec3| (n.dot(v).abs() as f32).max(0.01);
         [cos(self.b), cos(self.b), cos(self.a), cos(self.c)]
