@@ -96,13 +96,16 @@ impl SurfaceHit {
         Ray::with_range(origin, target - origin, 0.0, 1.0)
     }
 
-    /// A shadow ray toward `target`, a point sampled on another surface (a light): it stops
-    /// 10⁻⁴ of the way short, pbrt-v4's and Mitsuba 3's shadow epsilon. That surface's own
-    /// intersection routine may place it a few ulps of the distance before the sampled point:
-    /// a sphere's quadratic did so for 2 % of the shadow rays toward a sphere light of radius
-    /// 0.5 two units away, darkening the floor below by 0.5 % (tests/analytic_lights.rs).
-    pub fn spawn_ray_to_surface(&self, target: Vec3) -> Ray {
-        let mut ray = self.spawn_ray_to(target);
+    /// A shadow ray toward `target`, a point sampled on another surface (a light) with that
+    /// surface's error bound and normal. The far end is offset off that surface as an origin
+    /// would be, and the ray stops 10⁻⁴ of the way short of it besides, pbrt-v4's and
+    /// Mitsuba 3's shadow epsilon: the surface's own intersection routine may still place it a
+    /// few ulps of the distance early. A sphere's quadratic did so for 2 % of the shadow rays
+    /// toward a sphere light of radius 0.5 two units away, darkening the floor below by 0.5 %
+    /// (tests/analytic_lights.rs).
+    pub fn spawn_ray_to_surface(&self, target: Vec3, target_error: Vec3, target_normal: Vec3) -> Ray {
+        let end = offset_ray_origin(target, target_error, target_normal, self.geometry.point - target);
+        let mut ray = self.spawn_ray_to(end);
         ray.t_max = 1.0 - SHADOW_EPSILON;
         ray
     }

@@ -12,7 +12,7 @@
 use glam::{Vec2, Vec3};
 
 use super::{Integrator, SampleContext};
-use crate::geometry::{offset_ray_origin, Ray};
+use crate::geometry::Ray;
 use crate::materials::Bsdf;
 use crate::scene::Scene;
 use crate::Rgb;
@@ -164,10 +164,8 @@ pub(super) fn sample_lights(
         let wi = (light.point - p).normalize();
         let f = bsdf.eval(wo, wi);
         if light.radiance != Rgb::ZERO && f != Rgb::ZERO && light.pdf > 0.0 {
-            // Offset the far end too, so the shadow ray stops short of the light's own surface.
-            let target = offset_ray_origin(light.point, light.error, light.normal, p - light.point);
             context.rays.shadow += 1;
-            if !scene.occluded(&hit.spawn_ray_to_surface(target)) {
+            if !scene.occluded(&hit.spawn_ray_to_surface(light.point, light.error, light.normal)) {
                 let weight = match weighting {
                     Weighting::Mis => power_heuristic(light.pdf, bsdf.pdf(wo, wi)),
                     Weighting::LightOnly => 1.0,
