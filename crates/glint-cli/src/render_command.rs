@@ -76,8 +76,9 @@ pub struct RenderArgs {
     polygon_test: Option<PolygonArg>,
     #[arg(long, value_enum)]
     box_method: Option<BoxArg>,
-    /// How next-event estimation samples triangle lights: uniformly on their area, or
-    /// uniformly in the solid angle they subtend (less noise near a light, slower). Default:
+    /// How next-event estimation samples triangle lights: uniformly on their area, or in the
+    /// solid angle they subtend, weighted by the receiver's cosine (less noise near a light,
+    /// slower). Default:
     /// the scene's `light_sampling`, else area.
     #[arg(long, value_enum)]
     light_sampling: Option<LightSamplingArg>,

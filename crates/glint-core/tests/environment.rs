@@ -95,10 +95,9 @@ fn particle_integrators_are_lit_by_the_sky() {
     }
 }
 
-/// Light tracing against the analytic ρ·L at the sphere's centre, and the sky seen directly, with enough particles to see
-/// a bias of 1 %: the central 4 × 4 pixels after 32,768 passes have a noise of about 0.3 %.
-/// (A bias of 1.2 % was once suspected here; measured since at 65,536 passes it is 0.07 %
-/// under a constant sky and 0.14 % under a map, within the noise.)
+/// Light tracing against the analytic ρ·L at the sphere's centre, and the sky seen directly,
+/// with enough particles to see a bias of 1 %: the central 4 × 4 pixels after 32,768 passes
+/// have a noise of about 0.3 %.
 #[test]
 fn light_tracing_under_a_uniform_sky_is_unbiased() {
     use glint_core::render::render_with;

@@ -1,6 +1,7 @@
 //! Bounding volume hierarchy: binned SAH build (Wald 2007, "On fast construction of SAH-based
 //! bounding volume hierarchies") into a flat array of 32-byte nodes, traversed near child first.
-//! The SAH prices leaves in blocks of four primitives, the width of the leaf test.
+//! The SAH prices leaves in blocks of four triangles, the width of the leaf test, and each
+//! primitive tested alone (a sphere, a box, an instance) as a block of its own.
 //!
 //! The build reorders nothing the caller owns: it returns `primitive_order`, the permutation
 //! the leaves index into, and the caller lays its primitives out in that order.
@@ -12,7 +13,8 @@ use crate::geometry::{Aabb, Ray};
 const BINS: usize = 16;
 const MAX_LEAF_SIZE: usize = 8;
 /// Primitives a leaf test handles at once (the SIMD width of `Triangle4`): the SAH prices a
-/// leaf by its number of blocks, so leaves fill their blocks.
+/// leaf by its number of blocks (a primitive tested alone takes one), so leaves fill their
+/// blocks.
 const LEAF_BLOCK: usize = 4;
 /// Cost of one traversal step (one wide node's box tests) relative to one leaf-block test
 /// (four triangle tests), for the SAH. On the dragon, 0.5 to 2 trace within noise of each

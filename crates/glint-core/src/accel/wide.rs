@@ -29,9 +29,9 @@ const LEAF_BIT: u32 = 1 << 31;
 const COUNT_SHIFT: u32 = 27;
 const FIRST_MASK: u32 = (1 << COUNT_SHIFT) - 1;
 
+/// 224 bytes, 16-byte aligned for the SIMD loads (aligning the former 4-wide nodes to cache
+/// lines gained nothing measurable).
 #[derive(Clone, Copy, Debug)]
-/// 224 bytes, 16-byte aligned for the SIMD loads (aligning the former 4-wide nodes to cache lines gained
-/// nothing measurable).
 #[repr(C, align(16))]
 struct Node8 {
     /// `bounds[h][axis][0]` = the minima on that axis of children 4h to 4h + 3, `[1]` the maxima.
@@ -310,10 +310,11 @@ impl Query {
 
     /// Entry distances of the children (four per half) and the mask of those entered within
     /// (t_min, t_max].
-    #[inline(always)]
+    ///
     /// With `SKIP_EMPTY_HALF`, a node of at most four children skips its second half (slots
     /// fill in order): measured, this pays for any-hit traversal (+7 %) and costs closest-hit
     /// traversal (−5 %), whose entry distances the branch delays.
+    #[inline(always)]
     fn test<const SKIP_EMPTY_HALF: bool>(&self, node: &Node8, t_min: f32, t_max: f32) -> ([f32; WIDTH], u32) {
         // An array, not `Vec4`s: indexing a `Vec4` by a variable lane compiles to a jump table.
         let mut entries = [0.0; WIDTH];

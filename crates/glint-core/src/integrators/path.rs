@@ -1,8 +1,9 @@
 //! Path tracing with next-event estimation and multiple importance sampling
 //! (`--integrator path`; Veach 1997, pbrt-v4's `PathIntegrator`).
 //!
-//! At every hit: light sampling (an area light chosen by power, sampled by area; every point,
-//! spot and directional light) and BSDF sampling, combined by the power heuristic, so both
+//! At every hit: light sampling (an area light chosen by power: a sphere by the cone it
+//! subtends, a triangle by area or by solid angle as `light_sampling` says; every point, spot
+//! and directional light) and BSDF sampling, combined by the power heuristic, so both
 //! small bright lights and glossy reflections converge well. Emission seen directly or through
 //! delta (mirror, glass) bounces counts in full. Russian roulette from `rr_depth` bounces on,
 //! with survival min(max throughput · η², 0.95) as Mitsuba does. `max_depth` counts scattering

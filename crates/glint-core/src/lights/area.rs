@@ -70,7 +70,8 @@ pub enum TriangleSampling {
     /// A point uniform on its area.
     #[default]
     Area,
-    /// A direction uniform in its solid angle (where that is accurate, else by area).
+    /// A direction in its solid angle (where that is accurate, else by area): uniform, or,
+    /// given the receiver's normal, warped toward its cos θ.
     SolidAngle,
 }
 
