@@ -78,7 +78,7 @@ pub fn run(args: BenchRaysArgs) -> Result<(), String> {
     // The work behind those figures, outside the timed loop: what the heat map shows per pixel.
     let work = pool.install(|| {
         rays.par_iter()
-            .map(|ray| geometry.intersect_counted(ray).1)
+            .map(|ray| geometry.traversal_counts(ray))
             .map(|c| (u64::from(c.nodes), u64::from(c.primitives)))
             .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
     });

@@ -237,7 +237,7 @@ impl Geometry {
             _ => None,
         };
         let alone: Vec<bool> = bounded.iter().map(|&id| vertices(id).is_none()).collect();
-        let (binary, order) = Bvh::build_mixed(&bounds, |i| alone[i]);
+        let (binary, mut order) = Bvh::build_mixed(&bounds, |i| alone[i]);
         drop(bounds);
         let mut stats = binary.stats();
         let mut blocks = Vec::with_capacity(order.len() / 3 + 1);
@@ -246,7 +246,7 @@ impl Geometry {
             let block_first = blocks.len() as u32;
             // Triangles first: a block with any triangle has one in lane 0, and a block of
             // other primitives only skips the SIMD test.
-            let mut leaf = order[first as usize..(first + count) as usize].to_vec();
+            let leaf = &mut order[first as usize..(first + count) as usize];
             leaf.sort_by_key(|&i| alone[i as usize]);
             for chunk in leaf.chunks(LANES) {
                 let mut block = Triangle4::empty();
@@ -341,8 +341,7 @@ impl Geometry {
                 return best;
             }
         }
-        // Empty lanes come last.
-        for (lane, &id) in block.ids.iter().enumerate().take_while(|(_, &id)| id != EMPTY) {
+        for (lane, id) in block.lanes() {
             if let Some(hit) = self.intersect_lane(block, lane, id, &ray) {
                 ray.t_max = hit.t;
                 best = Some((id, hit));
@@ -363,12 +362,7 @@ impl Geometry {
                 return false;
             }
         }
-        block
-            .ids
-            .iter()
-            .enumerate()
-            .take_while(|(_, &id)| id != EMPTY)
-            .any(|(lane, &id)| self.intersect_lane(block, lane, id, ray).is_some())
+        block.lanes().any(|(lane, id)| self.intersect_lane(block, lane, id, ray).is_some())
     }
 
     /// One lane by the scalar path: generic primitives always, triangles only when the chosen
@@ -378,11 +372,16 @@ impl Geometry {
             let (o, p) = self.generic[(id & !GENERIC) as usize];
             return self.objects[o as usize].intersect(p, ray, &self.methods);
         }
-        let [a, b, c] = block.triangle(lane);
         match self.methods.triangle {
             TriangleMethod::Watertight => None,
-            TriangleMethod::MollerTrumbore => moller_trumbore_edges(a, b - a, c - a, ray),
-            TriangleMethod::Cramer => intersect_cramer(a, b, c, ray),
+            TriangleMethod::MollerTrumbore => {
+                let [a, b, c] = block.triangle(lane);
+                moller_trumbore_edges(a, b - a, c - a, ray)
+            }
+            TriangleMethod::Cramer => {
+                let [a, b, c] = block.triangle(lane);
+                intersect_cramer(a, b, c, ray)
+            }
         }
     }
 
@@ -393,13 +392,12 @@ impl Geometry {
         self.closest_primitive_counted(ray, &mut NoCounter)
     }
 
-    /// The closest hit and the traversal work it took (for the BVH heat map).
-    pub fn intersect_counted(&self, ray: &Ray) -> (Option<SurfaceHit>, TraversalCounts) {
+    /// The traversal work of a closest-hit query (for the BVH heat map and `bench-rays`).
+    pub fn traversal_counts(&self, ray: &Ray) -> TraversalCounts {
         let mut counts = TraversalCounts::default();
         let mut ray = *ray;
-        let hit =
-            self.closest_primitive_counted(&mut ray, &mut counts).map(|(id, hit)| self.surface_hit(id, &ray, &hit));
-        (hit, counts)
+        self.closest_primitive_counted(&mut ray, &mut counts);
+        counts
     }
 
     #[inline]
@@ -423,7 +421,7 @@ impl Geometry {
             ray,
             |b, ray| {
                 if C::ACTIVE {
-                    tested += self.blocks[b as usize].ids.iter().filter(|&&id| id != EMPTY).count() as u32;
+                    tested += self.blocks[b as usize].lanes().count() as u32;
                 }
                 let (id, h) = self.closest_in_block(b, ray, &prepared)?;
                 best_lane = Some((id, h));

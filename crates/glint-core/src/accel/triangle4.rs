@@ -67,6 +67,12 @@ impl Triangle4 {
         (self.ids[0] | self.ids[1] | self.ids[2] | self.ids[3]) & GENERIC != 0
     }
 
+    /// The filled lanes and their ids (empty lanes come last).
+    #[inline(always)]
+    pub fn lanes(&self) -> impl Iterator<Item = (usize, u32)> + '_ {
+        self.ids.iter().copied().enumerate().take_while(|&(_, id)| id != EMPTY)
+    }
+
     /// The vertices of the triangle in `lane`.
     pub fn triangle(&self, lane: usize) -> [Vec3; 3] {
         let v = &self.vertices;

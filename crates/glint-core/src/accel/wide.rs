@@ -112,13 +112,8 @@ impl Bvh8 {
     }
 
     /// Closest hit, as `Bvh::closest`: `hit(i, ray)` returns the distance of a hit within the
-    /// ray's range, which then shrinks `ray.t_max`.
-    #[inline]
-    pub fn closest(&self, ray: &mut Ray, hit: impl FnMut(u32, &Ray) -> Option<f32>) {
-        self.closest_counted(ray, hit, &mut NoCounter)
-    }
-
-    /// `closest`, reporting every node visited to `counter`.
+    /// ray's range, which then shrinks `ray.t_max`. Every node visited is reported to
+    /// `counter` (`NoCounter` for none).
     #[inline]
     pub fn closest_counted<C: TraversalCounter>(
         &self,
