@@ -19,20 +19,29 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::geometry::{gamma, orthonormal_basis};
+use crate::geometry::orthonormal_basis;
 use crate::materials::Material;
 use crate::sampling::spherical::{SphericalCap, SphericalTriangle};
 use crate::sampling::warp::{
     cosine_hemisphere_pdf, square_to_cosine_hemisphere, square_to_triangle, square_to_uniform_sphere,
 };
 use crate::scene::Object;
-use crate::shapes::Shape;
+use crate::shapes::{barycentric_point, sphere_point, Shape};
 use crate::Rgb;
 
 #[derive(Clone, Debug, PartialEq)]
 enum EmitterShape {
     Triangle { a: Vec3, b: Vec3, c: Vec3, normal: Vec3, area: f32 },
     Sphere { center: Vec3, radius: f32 },
+}
+
+impl EmitterShape {
+    fn area(&self) -> f32 {
+        match *self {
+            EmitterShape::Triangle { area, .. } => area,
+            EmitterShape::Sphere { radius, .. } => 4.0 * std::f32::consts::PI * radius * radius,
+        }
+    }
 }
 
 /// A point sampled on an emitter, before its radiance toward the shading point is known.
@@ -162,12 +171,8 @@ impl AreaLights {
         let powers: Vec<f32> = emitters
             .iter()
             .map(|e| {
-                let area = match e.shape {
-                    EmitterShape::Triangle { area, .. } => area,
-                    EmitterShape::Sphere { radius, .. } => 4.0 * std::f32::consts::PI * radius * radius,
-                };
                 let sides = if e.two_sided { 2.0 } else { 1.0 };
-                e.radiance.dot(Rgb::splat(1.0 / 3.0)) * area * sides
+                e.radiance.dot(Rgb::splat(1.0 / 3.0)) * e.shape.area() * sides
             })
             .collect();
         let total: f32 = powers.iter().sum();
@@ -247,15 +252,13 @@ impl AreaLights {
         match emitter.shape {
             EmitterShape::Triangle { a, b, c, normal, area } => {
                 let bary = square_to_triangle(u);
-                let w = 1.0 - bary.x - bary.y;
-                let point = w * a + bary.x * b + bary.y * c;
-                let error = gamma(7) * ((w * a).abs() + (bary.x * b).abs() + (bary.y * c).abs());
+                let (point, error) = barycentric_point([a, b, c], bary.x, bary.y);
                 (point, normal, area, error)
             }
             EmitterShape::Sphere { center, radius } => {
                 let n = square_to_uniform_sphere(u);
-                let point = center + radius * n;
-                (point, n, 4.0 * std::f32::consts::PI * radius * radius, gamma(6) * (center.abs() + (radius * n).abs()))
+                let (point, error) = sphere_point(center, radius, n);
+                (point, n, emitter.shape.area(), error)
             }
         }
     }
@@ -296,8 +299,8 @@ impl AreaLights {
             EmitterShape::Sphere { center, radius } => match SphericalCap::new(from, center, radius) {
                 Some(cap) => {
                     let normal = cap.sample_normal(u);
-                    let error = gamma(6) * (center.abs() + (radius * normal).abs());
-                    PointSample { point: center + radius * normal, normal, error, pdf: selection / cap.solid_angle() }
+                    let (point, error) = sphere_point(center, radius, normal);
+                    PointSample { point, normal, error, pdf: selection / cap.solid_angle() }
                 }
                 None => self.sample_by_area(emitter, selection, from, u)?,
             },
@@ -325,13 +328,11 @@ impl AreaLights {
     /// (pdf_ω = pdf_A · d² / |cos θ_light|).
     fn sample_by_area(&self, emitter: &Emitter, selection: f32, from: Vec3, u: Vec2) -> Option<PointSample> {
         let (point, normal, area, error) = self.point_on(emitter, u);
-        let to_light = point - from;
-        let distance_squared = to_light.length_squared();
-        let cos_light = normal.dot(to_light).abs() / distance_squared.sqrt();
-        if cos_light <= 0.0 || area <= 0.0 {
+        if area <= 0.0 {
             return None;
         }
-        Some(PointSample { point, normal, error, pdf: selection * distance_squared / (cos_light * area) })
+        let pdf = area_to_solid_angle(selection, area, from, point, normal)?;
+        Some(PointSample { point, normal, error, pdf })
     }
 
     /// The solid-angle density with which `sample` from `from` would have produced the point
@@ -353,24 +354,31 @@ impl AreaLights {
         }
         let i = (base + prim) as usize;
         let selection = self.selection_probability(i);
-        let area = match self.emitters[i].shape {
-            EmitterShape::Triangle { a, b, c, area, .. } => match self.spherical_triangle(from, [a, b, c]) {
-                Some(spherical) => return selection * spherical.pdf((point - from).normalize(), receiver_normal),
-                None => area,
-            },
-            EmitterShape::Sphere { center, radius } => match SphericalCap::new(from, center, radius) {
-                Some(cap) => return selection / cap.solid_angle(),
-                None => 4.0 * std::f32::consts::PI * radius * radius,
-            },
-        };
-        let to_light = point - from;
-        let distance_squared = to_light.length_squared();
-        let cos_light = normal.dot(to_light).abs() / distance_squared.sqrt();
-        if cos_light <= 0.0 {
-            return 0.0;
+        let shape = &self.emitters[i].shape;
+        match *shape {
+            EmitterShape::Triangle { a, b, c, .. } => {
+                if let Some(spherical) = self.spherical_triangle(from, [a, b, c]) {
+                    return selection * spherical.pdf((point - from).normalize(), receiver_normal);
+                }
+            }
+            EmitterShape::Sphere { center, radius } => {
+                if let Some(cap) = SphericalCap::new(from, center, radius) {
+                    return selection / cap.solid_angle();
+                }
+            }
         }
-        selection * distance_squared / (cos_light * area)
+        area_to_solid_angle(selection, shape.area(), from, point, normal).unwrap_or(0.0)
     }
+}
+
+/// The density `selection / area` of a point uniform on an emitter's area, at `point` (normal
+/// `normal`), as a solid-angle density seen from `from`: pdf_ω = pdf_A · d² / |cos θ_light|;
+/// `None` when the light is seen edge on.
+fn area_to_solid_angle(selection: f32, area: f32, from: Vec3, point: Vec3, normal: Vec3) -> Option<f32> {
+    let to_light = point - from;
+    let distance_squared = to_light.length_squared();
+    let cos_light = normal.dot(to_light).abs() / distance_squared.sqrt();
+    (cos_light > 0.0).then(|| selection * distance_squared / (cos_light * area))
 }
 
 /// Where the ray from `from` along `w` meets the triangle `[a, b, c]`, as barycentric
@@ -387,10 +395,7 @@ fn point_along(from: Vec3, w: Vec3, [a, b, c]: [Vec3; 3]) -> Option<(Vec3, Vec3)
     let b1 = (s.dot(s1) / divisor).max(0.0);
     let b2 = (w.dot(s.cross(e1)) / divisor).max(0.0);
     let (b1, b2) = if b1 + b2 > 1.0 { (b1 / (b1 + b2), b2 / (b1 + b2)) } else { (b1, b2) };
-    let b0 = 1.0 - b1 - b2;
-    let point = b0 * a + b1 * b + b2 * c;
-    let error = gamma(7) * ((b0 * a).abs() + (b1 * b).abs() + (b2 * c).abs());
-    Some((point, error))
+    Some(barycentric_point([a, b, c], b1, b2))
 }
 
 #[cfg(test)]

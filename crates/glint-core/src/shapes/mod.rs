@@ -24,7 +24,9 @@ pub use instance::Instance;
 pub use mesh::Mesh;
 pub use plane::Plane;
 pub use polygon::{inverse_bilinear, Polygon, PolygonTest};
+pub(crate) use sphere::sphere_point;
 pub use sphere::{Sphere, SphereMethod};
+pub(crate) use triangle::barycentric_point;
 pub use triangle::{intersect_cramer, moller_trumbore_edges, Triangle, TriangleMethod, WatertightRay};
 
 use glam::{Vec2, Vec3};

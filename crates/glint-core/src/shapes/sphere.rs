@@ -87,7 +87,7 @@ impl Sphere {
     pub fn surface(&self, point: Vec3) -> SurfaceGeometry {
         let mut normal = (point - self.center) / self.radius;
         normal = normal.normalize_or(Vec3::Y);
-        let point = self.center + normal * self.radius;
+        let (point, error) = sphere_point(self.center, self.radius, normal);
         let phi = normal.z.atan2(normal.x).rem_euclid(2.0 * PI);
         let theta = normal.y.clamp(-1.0, 1.0).acos();
         SurfaceGeometry {
@@ -95,10 +95,15 @@ impl Sphere {
             geometric_normal: normal,
             shading_normal: normal,
             uv: Vec2::new(phi / (2.0 * PI), 1.0 - theta / PI),
-            // Reprojection leaves a few roundings of the centre and the radius.
-            error: gamma(6) * (self.center.abs() + (normal * self.radius).abs()),
+            error,
         }
     }
+}
+
+/// The point of a sphere with outward normal `normal`, and its error bound: computing it
+/// from the normal leaves a few roundings of the centre and the radius.
+pub(crate) fn sphere_point(center: Vec3, radius: f32, normal: Vec3) -> (Vec3, Vec3) {
+    (center + normal * radius, gamma(6) * (center.abs() + (normal * radius).abs()))
 }
 
 #[cfg(test)]

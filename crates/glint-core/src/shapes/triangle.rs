@@ -208,7 +208,7 @@ pub(crate) fn triangle_surface(
     hit: &PrimHit,
 ) -> SurfaceGeometry {
     let w = 1.0 - hit.u - hit.v;
-    let point = w * a + hit.u * b + hit.v * c;
+    let (point, error) = barycentric_point([a, b, c], hit.u, hit.v);
     let geometric_normal = (b - a).cross(c - a).normalize_or(Vec3::Z);
     let shading_normal = match normals {
         Some([na, nb, nc]) => {
@@ -226,9 +226,15 @@ pub(crate) fn triangle_surface(
         Some([ta, tb, tc]) => w * ta + hit.u * tb + hit.v * tc,
         None => Vec2::new(hit.u, hit.v),
     };
-    // Barycentric interpolation (pbrt-v4 eq. 6.17).
-    let error = gamma(7) * ((w * a).abs() + (hit.u * b).abs() + (hit.v * c).abs());
     SurfaceGeometry { point, geometric_normal, shading_normal, uv, error }
+}
+
+/// The point with barycentric weights (1 − b1 − b2, b1, b2) of the corners, and the bound on
+/// its error from interpolating (pbrt-v4 eq. 6.17).
+pub(crate) fn barycentric_point([a, b, c]: [Vec3; 3], b1: f32, b2: f32) -> (Vec3, Vec3) {
+    let b0 = 1.0 - b1 - b2;
+    let point = b0 * a + b1 * b + b2 * c;
+    (point, gamma(7) * ((b0 * a).abs() + (b1 * b).abs() + (b2 * c).abs()))
 }
 
 #[cfg(test)]
