@@ -66,14 +66,7 @@ pub(crate) fn with_suggestion(message: &str) -> String {
     let Some((unknown, expected)) = unknown_and_expected(message) else {
         return message.to_string();
     };
-    let best = expected
-        .iter()
-        .map(|candidate| (strsim::damerau_levenshtein(&unknown, candidate), candidate))
-        .min_by_key(|(d, _)| *d);
-    match best {
-        Some((d, candidate)) if d <= 2.max(unknown.len() / 3) => format!("{message}; did you mean `{candidate}`?"),
-        _ => message.to_string(),
-    }
+    format!("{message}{}", did_you_mean(&unknown, expected.iter().map(String::as_str)))
 }
 
 /// The unknown name and the valid ones from a serde message, if it is of that kind.
@@ -82,6 +75,11 @@ pub(crate) fn unknown_and_expected(message: &str) -> Option<(String, Vec<String>
     let (unknown, rest) = rest.split_once('`')?;
     let expected = rest.split('`').skip(1).step_by(2).map(str::to_string).collect();
     Some((unknown.to_string(), expected))
+}
+
+/// "; did you mean `x`?" for the closest of `names` to `name`, or nothing if none is close.
+pub(crate) fn did_you_mean<'a>(name: &str, names: impl IntoIterator<Item = &'a str>) -> String {
+    closest_name(name, names).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default()
 }
 
 /// The closest of `names` to `name`, if any is close enough to be a likely typo.

@@ -837,9 +837,7 @@ impl<'a> Translator<'a> {
         let id = reference.attribute("id").ok_or_else(|| self.error(&reference.position, "<ref> needs an `id`"))?;
         self.ids.get(id).copied().ok_or_else(|| {
             let known: Vec<&String> = self.ids.keys().collect();
-            let hint = crate::error::closest_name(id, known.iter().map(|s| s.as_str()))
-                .map(|n| format!("; did you mean `{n}`?"))
-                .unwrap_or_default();
+            let hint = crate::error::did_you_mean(id, known.iter().map(|s| s.as_str()));
             self.error(&reference.position, format!("no object with id `{id}`{hint}"))
         })
     }

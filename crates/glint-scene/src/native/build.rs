@@ -24,7 +24,7 @@ use glint_core::Rgb;
 
 use super::schema::*;
 use super::{find_key, LoadedScene, RenderOptions};
-use crate::error::{closest_name, Location, SceneError};
+use crate::error::{did_you_mean, Location, SceneError};
 use crate::located::Located;
 use crate::source::Source;
 
@@ -97,8 +97,7 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
             MaterialDesc::Metal { metal, eta, k, tint, roughness } => {
                 let (eta, k) = match (metal, eta, k) {
                     (Some(m), None, None) => named_metal(m).ok_or_else(|| {
-                        let hint =
-                            closest_name(m, METAL_NAMES).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
+                        let hint = did_you_mean(m, METAL_NAMES);
                         at("metal", format!("unknown metal `{m}`, expected one of {}{hint}", quoted(&METAL_NAMES)))
                     })?,
                     (None, Some(eta), Some(k)) => (
@@ -262,14 +261,14 @@ fn build_camera(cx: &Context, camera: &Located<CameraDesc>) -> Result<Camera, Sc
 }
 
 fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneError> {
-    let integrator = IntegratorKind::from_name(&r.integrator).ok_or_else(|| {
-        let names = IntegratorKind::ALL.map(IntegratorKind::name);
-        let hint = closest_name(&r.integrator, names).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
-        cx.error_at_key(
-            "integrator",
-            format!("unknown integrator `{}`, expected one of {}{hint}", r.integrator, quoted(&names)),
-        )
-    })?;
+    let integrator = by_name(
+        cx,
+        "integrator",
+        "integrator",
+        &r.integrator,
+        IntegratorKind::ALL.map(IntegratorKind::name),
+        IntegratorKind::from_name,
+    )?;
     if r.spp == 0 {
         return Err(cx.error_at_key("spp", "`spp` (samples per pixel) must be at least 1".into()));
     }
@@ -307,23 +306,17 @@ fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneErro
         sppm_radius: r.sppm_radius,
         photons_per_pass: r.photons_per_pass,
     };
-    let filter = Filter::from_name(&r.filter).ok_or_else(|| {
-        let names = Filter::ALL.map(Filter::name);
-        let hint = closest_name(&r.filter, names).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
-        cx.error_at_key("filter", format!("unknown filter `{}`, expected one of {}{hint}", r.filter, quoted(&names)))
-    })?;
-    let sampler = SamplerKind::from_name(&r.sampler).ok_or_else(|| {
-        let names = SamplerKind::ALL.map(SamplerKind::name);
-        let hint = closest_name(&r.sampler, names).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
-        cx.error_at_key("sampler", format!("unknown sampler `{}`, expected one of {}{hint}", r.sampler, quoted(&names)))
-    })?;
-    let light_sampling = TriangleSampling::from_name(&r.light_sampling).ok_or_else(|| {
-        let names = TriangleSampling::ALL.map(TriangleSampling::name);
-        let hint = closest_name(&r.light_sampling, names).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
-        let message =
-            format!("unknown light sampling `{}`, expected one of {}{hint}", r.light_sampling, quoted(&names));
-        cx.error_at_key("light_sampling", message)
-    })?;
+    let filter = by_name(cx, "filter", "filter", &r.filter, Filter::ALL.map(Filter::name), Filter::from_name)?;
+    let sampler =
+        by_name(cx, "sampler", "sampler", &r.sampler, SamplerKind::ALL.map(SamplerKind::name), SamplerKind::from_name)?;
+    let light_sampling = by_name(
+        cx,
+        "light_sampling",
+        "light sampling",
+        &r.light_sampling,
+        TriangleSampling::ALL.map(TriangleSampling::name),
+        TriangleSampling::from_name,
+    )?;
     Ok(RenderOptions { spp: r.spp, integrator, seed: r.seed, integrator_settings, filter, sampler, light_sampling })
 }
 
@@ -402,9 +395,7 @@ impl MeshLibrary<'_> {
             return Ok(g.clone());
         }
         let Some(entry) = self.descs.get(name) else {
-            let hint = closest_name(name, self.descs.keys().map(String::as_str))
-                .map(|n| format!("; did you mean `{n}`?"))
-                .unwrap_or_default();
+            let hint = did_you_mean(name, self.descs.keys().map(String::as_str));
             return Err(unknown(format!("unknown mesh `{name}` (instances name a mesh defined in [meshes]){hint}")));
         };
         let desc = &entry.value;
@@ -447,9 +438,7 @@ fn build_object(
     let at = |key: &str, m: String| cx.error(&entry.span, Some(key), format!("{label}: {m}"));
 
     let material = materials.iter().position(|(n, _)| n == material_name).ok_or_else(|| {
-        let hint = closest_name(material_name, materials.iter().map(|(n, _)| n.as_str()))
-            .map(|n| format!("; did you mean `{n}`?"))
-            .unwrap_or_default();
+        let hint = did_you_mean(material_name, materials.iter().map(|(n, _)| n.as_str()));
         let known = if materials.is_empty() {
             "no materials are defined".to_string()
         } else {
@@ -693,9 +682,7 @@ fn resolve_colour(c: &ColorDesc, textures: &[(String, Texture)]) -> Result<Textu
     match c {
         ColorDesc::Rgb(v) => Ok(Texture::Constant(non_negative(*v)?)),
         ColorDesc::Texture(name) => textures.iter().find(|(n, _)| n == name).map(|(_, t)| t.clone()).ok_or_else(|| {
-            let hint = closest_name(name, textures.iter().map(|(n, _)| n.as_str()))
-                .map(|n| format!("; did you mean `{n}`?"))
-                .unwrap_or_default();
+            let hint = did_you_mean(name, textures.iter().map(|(n, _)| n.as_str()));
             format!("unknown texture `{name}` (a colour is [r, g, b] or the name of a texture in [textures]){hint}")
         }),
     }
@@ -736,6 +723,23 @@ fn positive(x: f32) -> Result<(), String> {
 
 fn colour(cx: &Context, key: &str, v: Vector) -> Result<Vec3, SceneError> {
     non_negative(v).map_err(|m| cx.error_at_key(key, format!("environment `{key}`: {m}")))
+}
+
+/// The setting `key` names by `value` (one of `names`), or an error at `key` that lists them
+/// and suggests the closest.
+fn by_name<T>(
+    cx: &Context,
+    key: &str,
+    what: &str,
+    value: &str,
+    names: impl AsRef<[&'static str]>,
+    from_name: impl Fn(&str) -> Option<T>,
+) -> Result<T, SceneError> {
+    from_name(value).ok_or_else(|| {
+        let names = names.as_ref();
+        let hint = did_you_mean(value, names.iter().copied());
+        cx.error_at_key(key, format!("unknown {what} `{value}`, expected one of {}{hint}", quoted(names)))
+    })
 }
 
 fn quoted(names: &[&str]) -> String {
