@@ -20,6 +20,13 @@ fn sphere_under(map: EnvironmentMap) -> glint_core::scene::Scene {
     s
 }
 
+/// The sphere under a constant background `sky` (no map).
+fn sphere_under_constant(sky: Rgb) -> glint_core::scene::Scene {
+    let mut s = scene(vec![object(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)))]);
+    s.environment.background = sky;
+    s
+}
+
 fn image(s: &glint_core::scene::Scene, kind: IntegratorKind, spp: u32, seed: u64) -> Vec<Rgb> {
     let settings = IntegratorSettings { max_depth: u32::MAX, ..Default::default() };
     let integrator = kind.create(&settings).expect("a camera integrator");
@@ -66,9 +73,7 @@ fn particle_integrators_are_lit_by_the_sky() {
     use glint_core::render::render_with;
     let sky = Rgb::new(0.5, 1.0, 2.0);
     let with_map = sphere_under(EnvironmentMap::new(8, 4, vec![sky; 32], 1.0, Mat3::IDENTITY));
-    let mut constant = sphere_under(EnvironmentMap::new(1, 1, vec![Rgb::ZERO], 1.0, Mat3::IDENTITY));
-    constant.environment.map = None;
-    constant.environment.background = sky;
+    let constant = sphere_under_constant(sky);
     for (name, s) in [("map", &with_map), ("constant", &constant)] {
         for kind in [IntegratorKind::Path, IntegratorKind::Light, IntegratorKind::Photon, IntegratorKind::Sppm] {
             let mut settings = IntegratorSettings { max_depth: u32::MAX, ..Default::default() };
@@ -102,9 +107,7 @@ fn particle_integrators_are_lit_by_the_sky() {
 fn light_tracing_under_a_uniform_sky_is_unbiased() {
     use glint_core::render::render_with;
     let sky = Rgb::new(0.5, 1.0, 2.0);
-    let mut s = sphere_under(EnvironmentMap::new(1, 1, vec![Rgb::ZERO], 1.0, Mat3::IDENTITY));
-    s.environment.map = None;
-    s.environment.background = sky;
+    let s = sphere_under_constant(sky);
     let settings = IntegratorSettings { max_depth: u32::MAX, ..Default::default() };
     let mut renderer = IntegratorKind::Light.renderer(&settings, &s, 11).expect("the sky is a light");
     let img =

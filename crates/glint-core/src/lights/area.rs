@@ -466,11 +466,7 @@ mod tests {
         lights.triangle_sampling = TriangleSampling::SolidAngle;
         let from = Vec3::new(1.1, 0.35, 2.05);
         let spherical = SphericalTriangle::new(from, tri).unwrap();
-        let [a, b, c] = tri.map(|v| (v - from).as_dvec3().normalize());
-        let angle = |x: glam::DVec3, y: glam::DVec3, z: glam::DVec3| {
-            x.cross(y).normalize().dot(x.cross(z).normalize()).clamp(-1.0, 1.0).acos()
-        };
-        let omega = angle(a, b, c) + angle(b, c, a) + angle(c, a, b) - std::f64::consts::PI;
+        let omega = crate::sampling::spherical::girard_solid_angle(from, tri);
         let p_triangle = lights.selection_probability(0) as f64;
         for i in 0..100 {
             let u = Vec2::new((i % 10) as f32 / 10.0 + 0.05, (i / 10) as f32 / 10.0 + 0.05);

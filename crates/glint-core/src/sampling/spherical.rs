@@ -197,6 +197,17 @@ impl SphericalCap {
     }
 }
 
+/// The solid angle of a triangle seen from `from` by Girard's theorem, in f64: its interior
+/// angles' excess over π. An independent route for tests.
+#[cfg(test)]
+pub(crate) fn girard_solid_angle(from: Vec3, corners: [Vec3; 3]) -> f64 {
+    let [a, b, c] = corners.map(|x| (x - from).as_dvec3().normalize());
+    let angle = |x: glam::DVec3, y: glam::DVec3, z: glam::DVec3| {
+        x.cross(y).normalize().dot(x.cross(z).normalize()).clamp(-1.0, 1.0).acos()
+    };
+    angle(a, b, c) + angle(b, c, a) + angle(c, a, b) - std::f64::consts::PI
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -229,11 +240,8 @@ mod tests {
             let mut v = || Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 - 1.0;
             let (p, corners) = (v(), [v(), v(), v()]);
             let Some(t) = SphericalTriangle::new(p, corners) else { continue };
+            let expected = girard_solid_angle(p, corners);
             let [a, b, c] = corners.map(|x| (x - p).as_dvec3().normalize());
-            let angle = |x: glam::DVec3, y: glam::DVec3, z: glam::DVec3| {
-                x.cross(y).normalize().dot(x.cross(z).normalize()).clamp(-1.0, 1.0).acos()
-            };
-            let expected = angle(a, b, c) + angle(b, c, a) + angle(c, a, b) - std::f64::consts::PI;
             assert!((t.solid_angle() as f64 - expected).abs() < 1e-6 * (1.0 + expected), "{t:?} vs {expected}");
             let cos_alpha = a.cross(b).normalize().dot(a.cross(c).normalize());
             assert!(
