@@ -48,13 +48,14 @@ pub fn run(args: BenchRaysArgs) -> Result<(), String> {
     let build_s = geometry.build_time().as_secs_f64();
     let stats = geometry.bvh_stats();
     println!(
-        "mesh {}: {triangles} triangles; BVH built in {build_s:.3} s: binary {} nodes, {} leaves, depth {}, SAH cost {:.1}; 8-wide {} nodes; {:.1} bytes/triangle (wide nodes + leaf records)",
+        "mesh {}: {triangles} triangles; BVH built in {build_s:.3} s: binary {} nodes, {} leaves, depth {}, SAH cost {:.1}; 8-wide {} nodes, {} leaf blocks; {:.1} bytes/triangle (wide nodes + leaf records)",
         args.mesh.display(),
         stats.nodes,
         stats.leaves,
         stats.depth,
         stats.sah_cost,
         stats.wide_nodes,
+        stats.leaf_blocks,
         stats.bytes as f64 / triangles as f64
     );
     println!("rays {}: {} rays, {} thread(s), best of {}", args.rays.display(), rays.len(), args.threads, args.repeat);

@@ -397,7 +397,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         let s = g.bvh_stats();
         let r = &result.rays;
         eprintln!(
-            "BVH: {} primitives, built in {:.3} s; binary tree {} nodes, {} leaves, depth {}, SAH cost {:.2}; 8-wide tree {} nodes; {:.1} bytes per primitive",
+            "BVH: {} primitives, built in {:.3} s; binary tree {} nodes, {} leaves, depth {}, SAH cost {:.2}; 8-wide tree {} nodes, {} leaf blocks; {:.1} bytes per primitive",
             g.primitive_count(),
             g.build_time().as_secs_f64(),
             s.nodes,
@@ -405,6 +405,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
             s.depth,
             s.sah_cost,
             s.wide_nodes,
+            s.leaf_blocks,
             s.bytes as f64 / g.primitive_count().max(1) as f64
         );
         eprintln!(
