@@ -5,6 +5,7 @@ pub mod chi2;
 pub mod distribution;
 mod rng;
 mod sampler;
+mod sobol;
 pub mod spherical;
 pub mod warp;
 

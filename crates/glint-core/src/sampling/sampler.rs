@@ -6,16 +6,17 @@
 //!   stratum used once over the pixel's samples in an order shuffled per dimension (padded
 //!   1D stratification, a Latin hypercube per dimension) and jittered within it. It needs the
 //!   sample count up front; with a time limit and no `--spp` it falls back to independent.
-//! * `sobol`: the Owen-scrambled Sobol sequence (Burley 2020, the `sobol_burley` crate), one
-//!   scramble seed per pixel: well stratified in every dimension and every 2ᵏ prefix, so it is
-//!   progressive (each pass adds the next point) and resumable. Beyond 256 dimensions and
+//! * `sobol`: the Owen-scrambled Sobol sequence (Burley 2020: the `sobol_burley` crate's
+//!   numbers, computed faster by `sobol.rs`), one scramble seed per pixel: well stratified
+//!   in every dimension and every 2ᵏ prefix, so it is progressive (each pass adds the next
+//!   point) and resumable. Beyond 256 dimensions and
 //!   65,536 samples the scramble seed changes, as the crate advises.
 //!
 //! All three are deterministic in (seed, pixel, sample index), so images do not depend on
 //! the thread count.
 
 use super::rng::mix;
-use super::Rng;
+use super::{sobol, Rng};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SamplerKind {
@@ -57,26 +58,41 @@ pub struct Sampler {
     dimension: u32,
     /// Sobol: the four dimensions of the current set, computed together (SIMD).
     sobol: [f32; 4],
+    /// Sobol: this sample's shuffled index under the pixel's first scramble seed.
+    shuffled: u32,
 }
 
 impl Sampler {
     /// Sample `index` of pixel `pixel` (of `count` in all; `u32::MAX` if unknown).
     pub fn new(kind: SamplerKind, seed: u64, pixel: u64, index: u32, count: u32) -> Self {
         let kind = if kind == SamplerKind::Stratified && count == u32::MAX { SamplerKind::Independent } else { kind };
+        let pixel_seed = mix(seed ^ mix(pixel ^ 0x5A4D_504C_4552));
+        let shuffled =
+            if kind == SamplerKind::Sobol { sobol::shuffled_index(index & 0xFFFF, pixel_seed as u32) } else { 0 };
         Self {
             kind,
             rng: Rng::for_sample(seed, pixel, index as u64),
-            pixel_seed: mix(seed ^ mix(pixel ^ 0x5A4D_504C_4552)),
+            pixel_seed,
             index,
             count: count.max(1),
             dimension: 0,
             sobol: [0.0; 4],
+            shuffled,
         }
     }
 
     /// An independent sampler over a generator (for code that draws its own streams).
     pub fn independent(rng: Rng) -> Self {
-        Self { kind: SamplerKind::Independent, rng, pixel_seed: 0, index: 0, count: 1, dimension: 0, sobol: [0.0; 4] }
+        Self {
+            kind: SamplerKind::Independent,
+            rng,
+            pixel_seed: 0,
+            index: 0,
+            count: 1,
+            dimension: 0,
+            sobol: [0.0; 4],
+            shuffled: 0,
+        }
     }
 
     /// The next dimension, uniform in [0, 1).
@@ -94,8 +110,13 @@ impl Sampler {
                 if d.is_multiple_of(4) {
                     // 256 dimensions and 2¹⁶ samples per scramble seed; past them, a new seed.
                     let block = (d / 256) as u64 | ((self.index >> 16) as u64) << 32;
-                    let seed = if block == 0 { self.pixel_seed as u32 } else { mix(self.pixel_seed ^ block) as u32 };
-                    self.sobol = sobol_burley::sample_4d(self.index & 0xFFFF, (d % 256) / 4, seed);
+                    let (seed, shuffled) = if block == 0 {
+                        (self.pixel_seed as u32, self.shuffled)
+                    } else {
+                        let seed = mix(self.pixel_seed ^ block) as u32;
+                        (seed, sobol::shuffled_index(self.index & 0xFFFF, seed))
+                    };
+                    self.sobol = sobol::sample_4d(shuffled, (d % 256) / 4, seed);
                 }
                 self.sobol[(d % 4) as usize].min(ONE_BELOW)
             }
