@@ -24,7 +24,7 @@ use super::RayCounts;
 use crate::film::Film;
 use crate::geometry::{offset_ray_origin, Ray};
 use crate::lights::{AreaEmission, ParticleSource};
-use crate::render::{tiles, Pass, PassRenderer};
+use crate::render::{par_tiles, Pass, PassRenderer};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use crate::Rgb;
@@ -127,8 +127,7 @@ impl PassRenderer for LightTracer {
     fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
         let (width, height) = (scene.camera.width, scene.camera.height);
         // One particle per pixel of each tile, so the work is cut as the camera passes cut it.
-        let per_tile: Vec<(Vec<Splat>, RayCounts)> = tiles(width, height)
-            .into_par_iter()
+        let per_tile: Vec<(Vec<Splat>, RayCounts)> = par_tiles(width, height)
             .map(|(x0, y0, x1, y1)| {
                 let mut splats = Vec::new();
                 let mut rays = RayCounts::default();

@@ -31,7 +31,7 @@ use crate::film::Film;
 use crate::lights::ParticleSource;
 use crate::materials::Bsdf;
 use crate::photons::PhotonMap;
-use crate::render::{tiles, Pass, PassRenderer};
+use crate::render::{par_tiles, Pass, PassRenderer};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use crate::Rgb;
@@ -148,9 +148,7 @@ impl Sppm {
 impl PassRenderer for Sppm {
     fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
         let (width, height) = (scene.camera.width, scene.camera.height);
-        let tile_list = tiles(width, height);
-        let per_tile: Vec<(Vec<CameraSample>, RayCounts)> = tile_list
-            .into_par_iter()
+        let per_tile: Vec<(Vec<CameraSample>, RayCounts)> = par_tiles(width, height)
             .map(|(x0, y0, x1, y1)| {
                 let mut rays = RayCounts::default();
                 let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
