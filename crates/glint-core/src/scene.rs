@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use crate::accel::{
-    Bvh, Bvh8, BvhStats, NoCounter, TraversalCounter, TraversalCounts, Triangle4, WatertightRay4, EMPTY, GENERIC, LANES,
+    Bvh, Bvh8, BvhStats, NoCounter, TraversalCounter, TraversalCounts, Triangle8, WatertightRay8, EMPTY, GENERIC, LANES,
 };
 use crate::camera::Camera;
 use crate::geometry::{offset_ray_origin, transform_point_with_error, Aabb, Ray, Transform};
@@ -182,9 +182,9 @@ impl Environment {
 /// Objects and the acceleration structure over them: the closest-hit and any-hit queries.
 ///
 /// Built once: a binned-SAH binary BVH, converted to an 8-wide BVH for traversal whose leaves
-/// are blocks of four primitives (`Triangle4`). Triangles without a transform (mesh triangles,
+/// are blocks of eight primitives (`Triangle8`). Triangles without a transform (mesh triangles,
 /// plain triangles) are copied into the blocks as their vertices, lane by lane, so a leaf test
-/// reads contiguous records and tests four triangles at once instead of chasing object → mesh
+/// reads contiguous records and tests eight triangles at once instead of chasing object → mesh
 /// → index → vertex. (Vertices, not edges: the watertight test needs the exact vertices that
 /// neighbouring triangles share.) Other primitives sit in the blocks as `GENERIC` lanes and
 /// are tested one by one through their object.
@@ -192,7 +192,7 @@ pub struct Geometry {
     pub objects: Vec<Object>,
     pub methods: IntersectMethods,
     /// The BVH's leaf blocks, in the order the wide tree references them.
-    blocks: Vec<Triangle4>,
+    blocks: Vec<Triangle8>,
     /// (object, primitive) of the `GENERIC` lanes, by the index in their lane id.
     generic: Vec<(u32, u32)>,
     /// The id of each object's first primitive: triangle lane ids number the primitives of all
@@ -230,7 +230,7 @@ impl Geometry {
             }
         }
         let world_bounds = bounds.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
-        // The vertices of a plain triangle (no transform), which the blocks test four at a time.
+        // The vertices of a plain triangle (no transform), which the blocks test eight at a time.
         let vertices = |(o, p): (u32, u32)| match (&objects[o as usize].shape, &objects[o as usize].transform) {
             (Shape::Mesh(m), None) => Some(m.triangle_vertices(p as usize)),
             (Shape::Triangle(t), None) => Some(t.vertices),
@@ -249,7 +249,7 @@ impl Geometry {
             let leaf = &mut order[first as usize..(first + count) as usize];
             leaf.sort_by_key(|&i| alone[i as usize]);
             for chunk in leaf.chunks(LANES) {
-                let mut block = Triangle4::empty();
+                let mut block = Triangle8::empty();
                 for (lane, &i) in chunk.iter().enumerate() {
                     let (o, p) = bounded[i as usize];
                     match vertices((o, p)) {
@@ -268,7 +268,7 @@ impl Geometry {
         stats.wide_nodes = bvh.node_count();
         stats.leaf_blocks = blocks.len();
         stats.bytes = bvh.bytes()
-            + blocks.len() * std::mem::size_of::<Triangle4>()
+            + blocks.len() * std::mem::size_of::<Triangle8>()
             + generic.len() * std::mem::size_of::<(u32, u32)>()
             + object_first.len() * std::mem::size_of::<u32>();
         Self {
@@ -328,7 +328,7 @@ impl Geometry {
 
     /// The nearest hit among the lanes of leaf block `b`: its lane id and hit.
     #[inline(always)]
-    fn closest_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay4) -> Option<(u32, PrimHit)> {
+    fn closest_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay8) -> Option<(u32, PrimHit)> {
         let block = &self.blocks[b as usize];
         let mut best = None;
         let mut ray = *ray;
@@ -352,7 +352,7 @@ impl Geometry {
 
     /// Whether some lane of leaf block `b` is hit.
     #[inline(always)]
-    fn any_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay4) -> bool {
+    fn any_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay8) -> bool {
         let block = &self.blocks[b as usize];
         if self.methods.triangle == TriangleMethod::Watertight && block.has_triangles() {
             if prepared.intersect(block, ray.t_min, ray.t_max).mask != 0 {
@@ -367,7 +367,7 @@ impl Geometry {
 
     /// One lane by the scalar path: generic primitives always, triangles only when the chosen
     /// triangle method is not the watertight test (which the SIMD path has already run).
-    fn intersect_lane(&self, block: &Triangle4, lane: usize, id: u32, ray: &Ray) -> Option<PrimHit> {
+    fn intersect_lane(&self, block: &Triangle8, lane: usize, id: u32, ray: &Ray) -> Option<PrimHit> {
         if id & GENERIC != 0 {
             let (o, p) = self.generic[(id & !GENERIC) as usize];
             return self.objects[o as usize].intersect(p, ray, &self.methods);
@@ -416,7 +416,7 @@ impl Geometry {
         }
         let mut best_lane = None;
         let mut tested = 0;
-        let prepared = WatertightRay4::new(ray, &WatertightRay::new(ray));
+        let prepared = WatertightRay8::new(ray, &WatertightRay::new(ray));
         self.bvh.closest_counted(
             ray,
             |b, ray| {
@@ -439,7 +439,7 @@ impl Geometry {
     /// Whether anything lies along the ray within `(t_min, t_max)`; stops at the first hit.
     pub fn occluded(&self, ray: &Ray) -> bool {
         self.unbounded.iter().any(|&(o, p)| self.objects[o as usize].intersect(p, ray, &self.methods).is_some()) || {
-            let prepared = WatertightRay4::new(ray, &WatertightRay::new(ray));
+            let prepared = WatertightRay8::new(ray, &WatertightRay::new(ray));
             self.bvh.any(ray, |b, ray| self.any_in_block(b, ray, &prepared))
         }
     }

@@ -1,6 +1,6 @@
 //! Bounding volume hierarchy: binned SAH build (Wald 2007, "On fast construction of SAH-based
 //! bounding volume hierarchies") into a flat array of 32-byte nodes, traversed near child first.
-//! The SAH prices leaves in blocks of four triangles, the width of the leaf test, and each
+//! The SAH prices leaves in blocks of eight triangles, the width of the leaf test, and each
 //! primitive tested alone (a sphere, a box, an instance) as a block of its own.
 //!
 //! The build reorders nothing the caller owns: it returns `primitive_order`, the permutation
@@ -12,12 +12,12 @@ use crate::geometry::{Aabb, Ray};
 
 const BINS: usize = 16;
 const MAX_LEAF_SIZE: usize = 8;
-/// Primitives a leaf test handles at once (the SIMD width of `Triangle4`): the SAH prices a
+/// Primitives a leaf test handles at once (the SIMD width of `Triangle8`): the SAH prices a
 /// leaf by its number of blocks (a primitive tested alone takes one), so leaves fill their
 /// blocks.
-const LEAF_BLOCK: usize = 4;
+const LEAF_BLOCK: usize = super::LANES;
 /// Cost of one traversal step (one wide node's box tests) relative to one leaf-block test
-/// (four triangle tests), for the SAH. On the dragon, 0.5 to 2 trace within noise of each
+/// (eight triangle tests), for the SAH. On the dragon, 0.5 to 2 trace within noise of each
 /// other; 1 keeps the traversal data smallest among the fast ones (56 bytes per triangle).
 /// Measurements in docs/performance.md.
 const TRAVERSAL_COST: f32 = 1.0;
@@ -52,13 +52,13 @@ pub struct BvhStats {
     pub depth: usize,
     /// SAH cost of the tree (traversal steps + primitive tests, expected per random ray), with
     /// a traversal step counted as one primitive test and every primitive counted (the build
-    /// itself prices leaves per block of four), so that trees of any build compare.
+    /// itself prices leaves per block of eight), so that trees of any build compare.
     pub sah_cost: f32,
     /// Memory of the traversal structures in bytes.
     pub bytes: usize,
     /// Nodes of the 8-wide traversal BVH (0 when only the binary tree is built).
     pub wide_nodes: usize,
-    /// Leaf blocks of up to four primitives (0 when only the binary tree is built).
+    /// Leaf blocks of up to eight primitives (0 when only the binary tree is built).
     pub leaf_blocks: usize,
 }
 
@@ -66,19 +66,19 @@ struct BuildPrim {
     bounds: Aabb,
     centroid: Vec3,
     index: u32,
-    /// Tested on its own, not four at a time with others (see `leaf_cost`).
+    /// Tested on its own, not eight at a time with others (see `leaf_cost`).
     alone: bool,
 }
 
 impl Bvh {
-    /// Builds over the given primitive bounds, all of them tested four at a time. Returns the
+    /// Builds over the given primitive bounds, all of them tested eight at a time. Returns the
     /// tree and the order in which the leaves reference the primitives.
     pub fn build(bounds: &[Aabb]) -> (Self, Vec<u32>) {
         Self::build_mixed(bounds, |_| false)
     }
 
     /// `build`, where `alone(i)` tells the primitives a leaf tests one by one (spheres, boxes,
-    /// instances, …) rather than four at a time (plain triangles): the SAH prices each such
+    /// instances, …) rather than eight at a time (plain triangles): the SAH prices each such
     /// primitive as a block.
     pub fn build_mixed(bounds: &[Aabb], alone: impl Fn(usize) -> bool) -> (Self, Vec<u32>) {
         let mut prims: Vec<BuildPrim> = bounds
@@ -317,7 +317,7 @@ fn find_split(prims: &[BuildPrim], bounds: &Aabb, centroid_bounds: &Aabb) -> Opt
 }
 
 /// The cost of testing a leaf of `n` primitives, `alone` of which are tested one by one, in
-/// block tests: the others go four to a block.
+/// block tests: the others go eight to a block.
 #[inline(always)]
 fn leaf_cost(n: usize, alone: usize) -> f32 {
     ((n - alone).div_ceil(LEAF_BLOCK) + alone) as f32

@@ -1,16 +1,22 @@
-//! BVH leaf blocks: four primitives per block, their triangles stored lane by lane (SoA) so that
-//! one watertight test (Woop, Benthin, Wald 2013) runs on all four at once in 128-bit SIMD.
+//! BVH leaf blocks: eight primitives per block, their triangles stored lane by lane (SoA) so
+//! that one watertight test (Woop, Benthin, Wald 2013) runs on all eight at once in 256-bit
+//! SIMD (AVX; `wide`'s `f32x8`, two SSE halves where AVX is not compiled in).
 //!
 //! Lane by lane the arithmetic is the scalar test's (`shapes::WatertightRay::intersect`),
 //! operation for operation and in the same order, so both give bit-identical hits; only exact
 //! zeros of the edge functions leave the SIMD path, for the same f64 recomputation.
 
-use glam::{BVec4A, Vec3, Vec4};
+use wide::{f32x8, CmpEq, CmpGt, CmpLt, CmpNe};
+
+use glam::Vec3;
 
 use crate::geometry::{gamma, Ray};
 use crate::shapes::{PrimHit, WatertightRay};
 
-pub const LANES: usize = 4;
+pub const LANES: usize = 8;
+
+/// Eight lanes of f32.
+type Lanes = f32x8;
 
 /// Lane id of a primitive that is not a plain triangle (sphere, box, polygon, instance, a
 /// transformed triangle): the low bits index the caller's table of such primitives, and the
@@ -20,19 +26,19 @@ pub const GENERIC: u32 = 1 << 31;
 /// ids tells at once whether any lane needs the scalar path.
 pub const EMPTY: u32 = GENERIC - 1;
 
-/// 160 bytes: four triangles' vertices by vertex, axis and lane, and the four lane ids.
+/// 320 bytes: eight triangles' vertices by vertex, axis and lane, and the eight lane ids.
 #[derive(Clone, Copy, Debug)]
-#[repr(C, align(16))]
-pub struct Triangle4 {
-    /// `vertices[k][axis]`: vertex `k` of the four triangles on that axis.
-    pub vertices: [[Vec4; 3]; 3],
+#[repr(C, align(32))]
+pub struct Triangle8 {
+    /// `vertices[k][axis]`: vertex `k` of the eight triangles on that axis.
+    pub vertices: [[Lanes; 3]; 3],
     /// Per lane: a triangle's id (below `EMPTY`), `GENERIC | index`, or `EMPTY`.
     pub ids: [u32; LANES],
 }
 
-impl Triangle4 {
+impl Triangle8 {
     pub fn empty() -> Self {
-        Self { vertices: [[Vec4::NAN; 3]; 3], ids: [EMPTY; LANES] }
+        Self { vertices: [[Lanes::splat(f32::NAN); 3]; 3], ids: [EMPTY; LANES] }
     }
 
     /// Puts a triangle into `lane`. Triangles take the first lanes of a block (see
@@ -42,7 +48,9 @@ impl Triangle4 {
         debug_assert!(self.ids[..lane].iter().all(|&id| id < EMPTY), "triangles come first in a block");
         for (k, v) in [a, b, c].into_iter().enumerate() {
             for axis in 0..3 {
-                self.vertices[k][axis][lane] = v[axis];
+                let mut lanes = self.vertices[k][axis].to_array();
+                lanes[lane] = v[axis];
+                self.vertices[k][axis] = Lanes::new(lanes);
             }
         }
         self.ids[lane] = id;
@@ -64,7 +72,7 @@ impl Triangle4 {
     /// Whether some lane holds a generic primitive.
     #[inline(always)]
     pub fn has_generic(&self) -> bool {
-        (self.ids[0] | self.ids[1] | self.ids[2] | self.ids[3]) & GENERIC != 0
+        self.ids.iter().fold(0, |all, id| all | id) & GENERIC != 0
     }
 
     /// The filled lanes and their ids (empty lanes come last).
@@ -76,21 +84,23 @@ impl Triangle4 {
     /// The vertices of the triangle in `lane`.
     pub fn triangle(&self, lane: usize) -> [Vec3; 3] {
         let v = &self.vertices;
-        [0, 1, 2].map(|k| Vec3::new(v[k][0][lane], v[k][1][lane], v[k][2][lane]))
+        [0, 1, 2].map(|k| {
+            Vec3::new(v[k][0].as_array_ref()[lane], v[k][1].as_array_ref()[lane], v[k][2].as_array_ref()[lane])
+        })
     }
 }
 
 /// The results of one block test: lanes hit (bit k for lane k), and per lane the distance and
 /// the barycentric weights of the second and third vertex.
 #[derive(Clone, Copy, Debug)]
-pub struct Hits4 {
+pub struct Hits8 {
     pub mask: u32,
-    pub t: Vec4,
-    pub u: Vec4,
-    pub v: Vec4,
+    pub t: [f32; LANES],
+    pub u: Lanes,
+    pub v: Lanes,
 }
 
-impl Hits4 {
+impl Hits8 {
     /// The nearest hit lane; of equal distances the first lane, as a sequential test keeps the
     /// first of equal hits.
     #[inline(always)]
@@ -98,8 +108,7 @@ impl Hits4 {
         if self.mask == 0 {
             return None;
         }
-        // Arrays, not `Vec4`s: indexing a `Vec4` by a variable lane compiles to a jump table.
-        let t = self.t.to_array();
+        let t = &self.t;
         let mut best = self.mask.trailing_zeros() as usize;
         let mut rest = self.mask & (self.mask - 1);
         while rest != 0 {
@@ -109,33 +118,33 @@ impl Hits4 {
             }
             rest &= rest - 1;
         }
-        Some((best, PrimHit { t: t[best], u: self.u.to_array()[best], v: self.v.to_array()[best], inner: 0 }))
+        Some((best, PrimHit { t: t[best], u: self.u.as_array_ref()[best], v: self.v.as_array_ref()[best], inner: 0 }))
     }
 }
 
-/// A ray prepared for the four-lane watertight test.
-pub struct WatertightRay4 {
+/// A ray prepared for the eight-lane watertight test.
+pub struct WatertightRay8 {
     axes: [usize; 3],
     /// The ray origin on the permuted axes (kx, ky, kz).
-    origin: [Vec4; 3],
+    origin: [Lanes; 3],
     /// The shear (dx/dz, dy/dz, 1/dz).
-    shear: [Vec4; 3],
+    shear: [Lanes; 3],
 }
 
-impl WatertightRay4 {
+impl WatertightRay8 {
     pub fn new(ray: &Ray, scalar: &WatertightRay) -> Self {
         let axes = scalar.axes;
         let origin = ray.origin.to_array();
         Self {
             axes,
-            origin: axes.map(|a| Vec4::splat(origin[a])),
-            shear: [0, 1, 2].map(|i| Vec4::splat(scalar.shear[i])),
+            origin: axes.map(|a| Lanes::splat(origin[a])),
+            shear: [0, 1, 2].map(|i| Lanes::splat(scalar.shear[i])),
         }
     }
 
-    /// Tests the four lanes of `block` within the open interval (t_min, t_max).
+    /// Tests the eight lanes of `block` within the open interval (t_min, t_max).
     #[inline(always)]
-    pub fn intersect(&self, block: &Triangle4, t_min: f32, t_max: f32) -> Hits4 {
+    pub fn intersect(&self, block: &Triangle8, t_min: f32, t_max: f32) -> Hits8 {
         let [kx, ky, kz] = self.axes;
         let [ox, oy, oz] = self.origin;
         let [sx, sy, sz] = self.shear;
@@ -151,60 +160,61 @@ impl WatertightRay4 {
         let mut u = cx * by - cy * bx;
         let mut v_ = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
-        let zero = Vec4::ZERO;
-        let exact_zero = u.cmpeq(zero) | v_.cmpeq(zero) | w.cmpeq(zero);
+        let zero = Lanes::ZERO;
+        let exact_zero = u.cmp_eq(zero) | v_.cmp_eq(zero) | w.cmp_eq(zero);
         if exact_zero.any() {
-            (u, v_, w) = recompute_in_f64(exact_zero, [ax, ay, bx, by, cx, cy], (u, v_, w));
+            (u, v_, w) = recompute_in_f64(exact_zero.move_mask() as u32, [ax, ay, bx, by, cx, cy], (u, v_, w));
         }
-        let negative = u.cmplt(zero) | v_.cmplt(zero) | w.cmplt(zero);
-        let positive = u.cmpgt(zero) | v_.cmpgt(zero) | w.cmpgt(zero);
+        let negative = u.cmp_lt(zero) | v_.cmp_lt(zero) | w.cmp_lt(zero);
+        let positive = u.cmp_gt(zero) | v_.cmp_gt(zero) | w.cmp_gt(zero);
         let det = u + v_ + w;
-        // `det == det` drops the NaN lanes (empty and generic ones), which `cmpne` would keep.
-        let inside = !(negative & positive) & det.cmpne(zero) & det.cmpeq(det);
-        if !inside.any() {
+        // `det == det` drops the NaN lanes (empty and generic ones), which `cmp_ne` would keep.
+        let inside = !(negative & positive) & det.cmp_ne(zero) & det.cmp_eq(det);
+        if inside.none() {
             // Most blocks a ray reaches it misses: skip the distance and its error bound.
-            return Hits4 { mask: 0, t: Vec4::ZERO, u: Vec4::ZERO, v: Vec4::ZERO };
+            return Hits8 { mask: 0, t: [0.0; LANES], u: zero, v: zero };
         }
         let (az, bz, cz) = (sz * a_z, sz * b_z, sz * c_z);
         let t_scaled = u * az + v_ * bz + w * cz;
-        let inv_det = Vec4::ONE / det;
+        let inv_det = Lanes::ONE / det;
         let t = t_scaled * inv_det;
         // The scalar test's bound on the error of t (pbrt-v4 §6.8.4), lane-wise.
-        let max_z = az.abs().max(bz.abs()).max(cz.abs());
-        let max_x = ax.abs().max(bx.abs()).max(cx.abs());
-        let max_y = ay.abs().max(by.abs()).max(cy.abs());
-        let delta_z = Vec4::splat(gamma(3)) * max_z;
-        let delta_x = Vec4::splat(gamma(5)) * (max_x + max_z);
-        let delta_y = Vec4::splat(gamma(5)) * (max_y + max_z);
-        let delta_e = Vec4::splat(2.0) * (Vec4::splat(gamma(2)) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-        let max_e = u.abs().max(v_.abs()).max(w.abs());
-        let delta_t = Vec4::splat(3.0)
-            * (Vec4::splat(gamma(3)) * max_e * max_z + delta_e * max_z + delta_z * max_e)
+        let max_z = az.abs().fast_max(bz.abs()).fast_max(cz.abs());
+        let max_x = ax.abs().fast_max(bx.abs()).fast_max(cx.abs());
+        let max_y = ay.abs().fast_max(by.abs()).fast_max(cy.abs());
+        let delta_z = Lanes::splat(gamma(3)) * max_z;
+        let delta_x = Lanes::splat(gamma(5)) * (max_x + max_z);
+        let delta_y = Lanes::splat(gamma(5)) * (max_y + max_z);
+        let delta_e = Lanes::splat(2.0) * (Lanes::splat(gamma(2)) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+        let max_e = u.abs().fast_max(v_.abs()).fast_max(w.abs());
+        let delta_t = Lanes::splat(3.0)
+            * (Lanes::splat(gamma(3)) * max_e * max_z + delta_e * max_z + delta_z * max_e)
             * inv_det.abs();
-        let hit = inside & t.cmpgt(delta_t) & t.cmpgt(Vec4::splat(t_min)) & t.cmplt(Vec4::splat(t_max));
-        Hits4 { mask: hit.bitmask(), t, u: v_ * inv_det, v: w * inv_det }
+        let hit = inside & t.cmp_gt(delta_t) & t.cmp_gt(Lanes::splat(t_min)) & t.cmp_lt(Lanes::splat(t_max));
+        Hits8 { mask: hit.move_mask() as u32, t: t.to_array(), u: v_ * inv_det, v: w * inv_det }
     }
 }
 
-/// The edge functions of the lanes in `lanes` recomputed in f64, as the scalar test does when
-/// one of them is exactly zero (the ray through an edge or a vertex).
+/// The edge functions of the lanes in `lanes` (a bit mask) recomputed in f64, as the scalar
+/// test does when one of them is exactly zero (the ray through an edge or a vertex).
 #[cold]
 #[inline(never)]
 fn recompute_in_f64(
-    lanes: BVec4A,
-    [ax, ay, bx, by, cx, cy]: [Vec4; 6],
-    (u, v, w): (Vec4, Vec4, Vec4),
-) -> (Vec4, Vec4, Vec4) {
+    lanes: u32,
+    [ax, ay, bx, by, cx, cy]: [Lanes; 6],
+    (u, v, w): (Lanes, Lanes, Lanes),
+) -> (Lanes, Lanes, Lanes) {
     let f = |p: f32, q: f32, r: f32, s: f32| (p as f64 * q as f64 - r as f64 * s as f64) as f32;
-    let (mut u, mut v, mut w) = (u, v, w);
+    let [ax, ay, bx, by, cx, cy] = [ax, ay, bx, by, cx, cy].map(Lanes::to_array);
+    let (mut u, mut v, mut w) = (u.to_array(), v.to_array(), w.to_array());
     for k in 0..LANES {
-        if lanes.test(k) {
+        if lanes & (1 << k) != 0 {
             u[k] = f(cx[k], by[k], cy[k], bx[k]);
             v[k] = f(ax[k], cy[k], ay[k], cx[k]);
             w[k] = f(bx[k], ay[k], by[k], ax[k]);
         }
     }
-    (u, v, w)
+    (Lanes::new(u), Lanes::new(v), Lanes::new(w))
 }
 
 #[cfg(test)]
@@ -223,7 +233,7 @@ mod tests {
         let mut rng = Rng::new(7, 0);
         let (mut hits, mut edge_hits) = (0, 0);
         for case in 0..20_000 {
-            let mut block = Triangle4::empty();
+            let mut block = Triangle8::empty();
             let mut triangles = [None; LANES];
             for (lane, slot) in triangles.iter_mut().enumerate() {
                 if (case + lane) % 7 == 3 {
@@ -243,13 +253,13 @@ mod tests {
             let target = if case % 3 == 0 { random_vec(&mut rng, 8.0).round() } else { random_vec(&mut rng, 1.0) };
             let ray = Ray::new(origin, (target - origin).normalize_or(Vec3::X));
             let scalar = WatertightRay::new(&ray);
-            let result = WatertightRay4::new(&ray, &scalar).intersect(&block, ray.t_min, ray.t_max);
+            let result = WatertightRay8::new(&ray, &scalar).intersect(&block, ray.t_min, ray.t_max);
             for (lane, tri) in triangles.iter().enumerate() {
                 let expected = tri.and_then(|[a, b, c]| scalar.intersect(a, b, c, &ray));
                 let got = (result.mask & (1 << lane) != 0).then(|| PrimHit {
                     t: result.t[lane],
-                    u: result.u[lane],
-                    v: result.v[lane],
+                    u: result.u.as_array_ref()[lane],
+                    v: result.v.as_array_ref()[lane],
                     inner: 0,
                 });
                 assert_eq!(
@@ -267,16 +277,20 @@ mod tests {
 
     #[test]
     fn nearest_lane_and_ties() {
-        let hits =
-            Hits4 { mask: 0b1110, t: Vec4::new(0.5, 3.0, 2.0, 2.0), u: Vec4::new(0.0, 0.1, 0.2, 0.3), v: Vec4::ZERO };
+        let hits = Hits8 {
+            mask: 0b0100_1110,
+            t: [0.5, 3.0, 2.0, 2.0, 9.0, 9.0, 2.0, 9.0],
+            u: Lanes::new([0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7]),
+            v: Lanes::ZERO,
+        };
         let (lane, hit) = hits.nearest().unwrap();
         assert_eq!((lane, hit.t, hit.u), (2, 2.0, 0.2));
-        assert!(Hits4 { mask: 0, ..hits }.nearest().is_none());
+        assert!(Hits8 { mask: 0, ..hits }.nearest().is_none());
     }
 
     #[test]
     fn generic_and_empty_lanes() {
-        let mut block = Triangle4::empty();
+        let mut block = Triangle8::empty();
         assert!(!block.has_generic() && !block.has_triangles());
         block.set_triangle(0, 5, [Vec3::ZERO, Vec3::X, Vec3::Y]);
         assert!(!block.has_generic());
@@ -285,9 +299,9 @@ mod tests {
         assert_eq!(block.triangle(0), [Vec3::ZERO, Vec3::X, Vec3::Y]);
         // A ray straight through every lane's position hits only the triangle.
         let ray = Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z);
-        let hits = WatertightRay4::new(&ray, &WatertightRay::new(&ray)).intersect(&block, ray.t_min, ray.t_max);
+        let hits = WatertightRay8::new(&ray, &WatertightRay::new(&ray)).intersect(&block, ray.t_min, ray.t_max);
         assert_eq!(hits.mask, 1);
         assert_eq!(hits.t[0], 1.0);
-        assert_eq!(std::mem::size_of::<Triangle4>(), 160);
+        assert_eq!(std::mem::size_of::<Triangle8>(), 320);
     }
 }
