@@ -1,8 +1,8 @@
 //! An 8-wide BVH for traversal, converted from the binary SAH build (tinybvh's "build apart from
-//! traversal"): each node holds the boxes of up to eight children in SIMD-friendly order, tested
-//! four at a time (glam's `Vec4` is a 128-bit SSE register on x86-64). Eight beat four on the
-//! bunny by 4 % (primary rays) to 20 % (random rays): half the levels, so fewer dependent
-//! loads per ray (docs/performance.md).
+//! traversal"): each node holds the boxes of up to eight children in SIMD-friendly order, all
+//! eight tested at once (`wide`'s `f32x8`: one AVX register, two SSE halves without AVX).
+//! Eight beat four on the bunny by 4 % (primary rays) to 20 % (random rays): half the levels,
+//! so fewer dependent loads per ray (docs/performance.md).
 //!
 //! The box test chooses each axis's near and far plane by the sign of the ray direction (the
 //! ray's octant), so it needs no min/max per axis, an empty slot (min = +∞, max = −∞) can never
@@ -11,14 +11,14 @@
 
 use std::mem::MaybeUninit;
 
-use glam::{Vec3, Vec4};
+use glam::Vec3;
+use wide::{f32x8, CmpLe};
 
 use super::bvh::{Bvh, Node};
 use crate::geometry::Ray;
 
-/// Groups of four children a node holds: its width is `4 * HALVES`, tested four at a time.
-const HALVES: usize = 2;
-const WIDTH: usize = 4 * HALVES;
+/// Children a node holds, all eight boxes tested at once (AVX lanes).
+const WIDTH: usize = 8;
 /// Each wide level pushes at most WIDTH - 1 entries; the binary build bounds the depth (see
 /// bvh.rs).
 const STACK_SIZE: usize = (WIDTH - 1) * 128;
@@ -29,13 +29,13 @@ const LEAF_BIT: u32 = 1 << 31;
 const COUNT_SHIFT: u32 = 27;
 const FIRST_MASK: u32 = (1 << COUNT_SHIFT) - 1;
 
-/// 224 bytes, 16-byte aligned for the SIMD loads (aligning the former 4-wide nodes to cache
+/// 224 bytes, 32-byte aligned for the SIMD loads (aligning the former 4-wide nodes to cache
 /// lines gained nothing measurable).
 #[derive(Clone, Copy, Debug)]
-#[repr(C, align(16))]
+#[repr(C, align(32))]
 struct Node8 {
     /// `bounds[h][axis][0]` = the minima on that axis of children 4h to 4h + 3, `[1]` the maxima.
-    bounds: [[[Vec4; 2]; 3]; HALVES],
+    bounds: [[f32x8; 2]; 3],
     children: [u32; WIDTH],
 }
 
@@ -87,8 +87,8 @@ impl Bvh8 {
             for (k, &c) in children.iter().enumerate() {
                 let n = &nodes[c];
                 for axis in 0..3 {
-                    node.bounds[k / 4][axis][0][k % 4] = n.min[axis];
-                    node.bounds[k / 4][axis][1][k % 4] = n.max[axis];
+                    node.bounds[axis][0].as_array_mut()[k] = n.min[axis];
+                    node.bounds[axis][1].as_array_mut()[k] = n.max[axis];
                 }
                 node.children[k] = if n.count > 0 {
                     leaf_reference(n)
@@ -144,7 +144,7 @@ impl Bvh8 {
             } else {
                 counter.node();
                 let node = &self.nodes[current as usize];
-                let (t_near, mask) = query.test::<false>(node, ray.t_min, ray.t_max);
+                let (t_near, mask) = query.test(node, ray.t_min, ray.t_max);
                 if mask != 0 {
                     // Push the entered children far to near, then continue with the nearest:
                     // leaves and subtrees alike are visited in order of entry distance.
@@ -197,7 +197,7 @@ impl Bvh8 {
         stack.push(0);
         while let Some(index) = stack.pop() {
             let node = &self.nodes[index as usize];
-            let (_, mask) = query.test::<true>(node, ray.t_min, ray.t_max);
+            let (_, mask) = query.test(node, ray.t_min, ray.t_max);
             for k in 0..WIDTH {
                 if mask & (1 << k) != 0 {
                     let child = node.children[k];
@@ -286,8 +286,8 @@ impl TraversalCounter for TraversalCounts {
 
 /// A ray prepared for box tests: origin and reciprocal direction splatted, planes by octant.
 struct Query {
-    origin: [Vec4; 3],
-    inv_dir: [Vec4; 3],
+    origin: [f32x8; 3],
+    inv_dir: [f32x8; 3],
     /// For each axis, which of `bounds[axis]` is the near plane (0 = min for a positive direction).
     near: [usize; 3],
 }
@@ -297,47 +297,35 @@ impl Query {
         let inv = ray.direction.recip();
         let near = [0, 1, 2].map(|a| usize::from(ray.direction[a] < 0.0 || ray.direction[a].is_sign_negative()));
         Self {
-            origin: [0, 1, 2].map(|a| Vec4::splat(ray.origin[a])),
-            inv_dir: [0, 1, 2].map(|a| Vec4::splat(inv[a])),
+            origin: [0, 1, 2].map(|a| f32x8::splat(ray.origin[a])),
+            inv_dir: [0, 1, 2].map(|a| f32x8::splat(inv[a])),
             near,
         }
     }
 
-    /// Entry distances of the children (four per half) and the mask of those entered within
-    /// (t_min, t_max].
-    ///
-    /// With `SKIP_EMPTY_HALF`, a node of at most four children skips its second half (slots
-    /// fill in order): measured, this pays for any-hit traversal (+7 %) and costs closest-hit
-    /// traversal (−5 %), whose entry distances the branch delays.
+    /// Entry distances of the children and the mask of those entered within (t_min, t_max].
     #[inline(always)]
-    fn test<const SKIP_EMPTY_HALF: bool>(&self, node: &Node8, t_min: f32, t_max: f32) -> ([f32; WIDTH], u32) {
-        // An array, not `Vec4`s: indexing a `Vec4` by a variable lane compiles to a jump table.
-        let mut entries = [0.0; WIDTH];
-        let mut mask = 0;
-        for (h, bounds) in node.bounds.iter().enumerate() {
-            if SKIP_EMPTY_HALF && h > 0 && node.children[4 * h] == EMPTY {
-                break;
-            }
-            let mut t_near = Vec4::splat(t_min);
-            let mut t_far = Vec4::splat(t_max);
-            for axis in 0..3 {
-                let near = (bounds[axis][self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
-                let far = (bounds[axis][1 - self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
-                // `x.max(acc)` returns `acc` when x is NaN (SSE maxps and f32::max alike).
-                t_near = near.max(t_near);
-                t_far = far.min(t_far);
-            }
-            t_near.write_to_slice(&mut entries[4 * h..4 * h + 4]);
-            mask |= t_near.cmple(t_far).bitmask() << (4 * h);
+    fn test(&self, node: &Node8, t_min: f32, t_max: f32) -> ([f32; WIDTH], u32) {
+        let mut t_near = f32x8::splat(t_min);
+        let mut t_far = f32x8::splat(t_max);
+        for axis in 0..3 {
+            let bounds = &node.bounds[axis];
+            let near = (bounds[self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
+            let far = (bounds[1 - self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
+            // `x.fast_max(acc)` is maxps, which returns `acc` when x is NaN (0 · ∞, a ray in a
+            // slab's plane), as f32::max does; likewise minps.
+            t_near = near.fast_max(t_near);
+            t_far = far.fast_min(t_far);
         }
-        (entries, mask)
+        // An array, not a vector: indexing lanes by a variable compiles to a jump table.
+        (t_near.to_array(), t_near.cmp_le(t_far).move_mask() as u32)
     }
 }
 
 fn empty_node() -> Node8 {
-    let min = Vec4::splat(f32::INFINITY);
-    let max = Vec4::splat(f32::NEG_INFINITY);
-    Node8 { bounds: [[[min, max]; 3]; HALVES], children: [EMPTY; WIDTH] }
+    let min = f32x8::splat(f32::INFINITY);
+    let max = f32x8::splat(f32::NEG_INFINITY);
+    Node8 { bounds: [[min, max]; 3], children: [EMPTY; WIDTH] }
 }
 
 #[inline(always)]
