@@ -63,14 +63,12 @@ fn step_toward(x: f32, sign: f32) -> f32 {
     let from = if x == 0.0 { f32::from_bits(if up { 0 } else { 0x8000_0000 }) } else { x };
     // Stepping away from zero makes the magnitude's bits grow, toward zero shrink.
     let away = from.is_sign_positive() == up;
-    let bits = from.to_bits();
-    let stepped = f32::from_bits(if away { bits.wrapping_add(1) } else { bits.wrapping_sub(1) });
-    // ±∞ stay where they are going outward, and a zero offset leaves `x` alone.
-    if sign == 0.0 || sign.is_nan() || (from.is_infinite() && away) {
-        x
-    } else {
-        stepped
-    }
+    let stepped = from.to_bits().wrapping_add((2 * i32::from(away) - 1) as u32);
+    // ±∞ stay where they are going outward, and a zero offset leaves `x` alone. Masks, not an
+    // `if`, which the compiler turns back into a branch.
+    let keep = (sign == 0.0) | sign.is_nan() | (from.is_infinite() & away);
+    let keep = 0u32.wrapping_sub(u32::from(keep));
+    f32::from_bits((x.to_bits() & keep) | (stepped & !keep))
 }
 
 /// Transforms a point and its error bound (pbrt-v4 §6.8.6, eq. 6.30).
