@@ -178,6 +178,12 @@ impl WatertightRay8 {
         let t_scaled = u * az + v_ * bz + w * cz;
         let inv_det = Lanes::ONE / det;
         let t = t_scaled * inv_det;
+        let in_range = inside & t.cmp_gt(Lanes::splat(t_min)) & t.cmp_lt(Lanes::splat(t_max));
+        if in_range.none() {
+            // The ray's line meets a triangle behind the origin or past t_max (a wall behind a
+            // ray in a room, say): skip the error bound.
+            return Hits8 { mask: 0, t: [0.0; LANES], u: zero, v: zero };
+        }
         // The scalar test's bound on the error of t (pbrt-v4 §6.8.4), lane-wise.
         let max_z = az.abs().fast_max(bz.abs()).fast_max(cz.abs());
         let max_x = ax.abs().fast_max(bx.abs()).fast_max(cx.abs());
@@ -190,7 +196,7 @@ impl WatertightRay8 {
         let delta_t = Lanes::splat(3.0)
             * (Lanes::splat(gamma(3)) * max_e * max_z + delta_e * max_z + delta_z * max_e)
             * inv_det.abs();
-        let hit = inside & t.cmp_gt(delta_t) & t.cmp_gt(Lanes::splat(t_min)) & t.cmp_lt(Lanes::splat(t_max));
+        let hit = in_range & t.cmp_gt(delta_t);
         Hits8 { mask: hit.move_mask() as u32, t: t.to_array(), u: v_ * inv_det, v: w * inv_det }
     }
 }
