@@ -56,7 +56,7 @@ pub struct Sampler {
     index: u32,
     count: u32,
     dimension: u32,
-    /// Sobol: the four dimensions of the current set, computed together (SIMD).
+    /// Sobol: the four dimensions of the current set, computed together (SIMD), each below 1.
     sobol: [f32; 4],
     /// Sobol: this sample's shuffled index under the pixel's first scramble seed.
     shuffled: u32,
@@ -96,10 +96,21 @@ impl Sampler {
     }
 
     /// The next dimension, uniform in [0, 1).
-    #[inline]
+    #[inline(always)]
     pub fn next_f32(&mut self) -> f32 {
         let d = self.dimension;
         self.dimension += 1;
+        // Three Sobol draws in four read the set already computed: that much is inlined into
+        // every caller, the rest is a call.
+        if self.kind == SamplerKind::Sobol && !d.is_multiple_of(4) {
+            return self.sobol[(d % 4) as usize];
+        }
+        self.draw(d)
+    }
+
+    /// Dimension `d` of every kind, except the Sobol dimensions `next_f32` reads itself.
+    #[inline(never)]
+    fn draw(&mut self, d: u32) -> f32 {
         match self.kind {
             SamplerKind::Independent => self.rng.next_f32(),
             SamplerKind::Stratified => {
@@ -107,18 +118,16 @@ impl Sampler {
                 ((stratum as f32 + self.rng.next_f32()) / self.count as f32).min(ONE_BELOW)
             }
             SamplerKind::Sobol => {
-                if d.is_multiple_of(4) {
-                    // 256 dimensions and 2¹⁶ samples per scramble seed; past them, a new seed.
-                    let block = (d / 256) as u64 | ((self.index >> 16) as u64) << 32;
-                    let (seed, shuffled) = if block == 0 {
-                        (self.pixel_seed as u32, self.shuffled)
-                    } else {
-                        let seed = mix(self.pixel_seed ^ block) as u32;
-                        (seed, sobol::shuffled_index(self.index & 0xFFFF, seed))
-                    };
-                    self.sobol = sobol::sample_4d(shuffled, (d % 256) / 4, seed);
-                }
-                self.sobol[(d % 4) as usize].min(ONE_BELOW)
+                // 256 dimensions and 2¹⁶ samples per scramble seed; past them, a new seed.
+                let block = (d / 256) as u64 | ((self.index >> 16) as u64) << 32;
+                let (seed, shuffled) = if block == 0 {
+                    (self.pixel_seed as u32, self.shuffled)
+                } else {
+                    let seed = mix(self.pixel_seed ^ block) as u32;
+                    (seed, sobol::shuffled_index(self.index & 0xFFFF, seed))
+                };
+                self.sobol = sobol::sample_4d(shuffled, (d % 256) / 4, seed).map(|x| x.min(ONE_BELOW));
+                self.sobol[(d % 4) as usize]
             }
         }
     }
