@@ -77,7 +77,7 @@ fn bvh_equals_brute_force_on_random_scenes() {
     }
 }
 
-/// The leaf blocks test triangles four at a time with the watertight test; the other triangle
+/// The leaf blocks test triangles eight at a time with the watertight test; the other triangle
 /// methods take the scalar path through the same blocks.
 #[test]
 fn every_triangle_method_agrees_with_brute_force() {
