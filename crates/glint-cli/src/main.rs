@@ -30,6 +30,10 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    if let Some(message) = missing_cpu_features() {
+        eprintln!("glint: {message}");
+        return ExitCode::FAILURE;
+    }
     // A panic is a bug in glint, never the user's fault: say so in one line, without a backtrace.
     std::panic::set_hook(Box::new(|info| {
         // Output piped into a program that stopped reading (`| head`): end quietly, as Unix
@@ -54,4 +58,27 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// The CPU features this build was compiled for (`.cargo/config.toml`) that the CPU lacks,
+/// as a message: such a binary would die of an illegal instruction somewhere in the render.
+fn missing_cpu_features() -> Option<String> {
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    {
+        let missing: Vec<&str> = [
+            ("avx2", std::arch::is_x86_feature_detected!("avx2")),
+            ("fma", std::arch::is_x86_feature_detected!("fma")),
+        ]
+        .into_iter()
+        .filter_map(|(name, present)| (!present).then_some(name))
+        .collect();
+        if !missing.is_empty() {
+            return Some(format!(
+                "this build of glint needs a CPU with {}, which this one lacks; rebuild it with \
+                 RUSTFLAGS=\"-C target-cpu=native\" (see README.md)",
+                missing.join(" and ")
+            ));
+        }
+    }
+    None
 }

@@ -6,9 +6,8 @@
 //! operation for operation and in the same order, so both give bit-identical hits; only exact
 //! zeros of the edge functions leave the SIMD path, for the same f64 recomputation.
 
-use wide::{f32x8, CmpEq, CmpGt, CmpLt, CmpNe};
-
 use glam::Vec3;
+use wide::{f32x8, CmpEq, CmpGt, CmpLt, CmpNe};
 
 use crate::geometry::{gamma, Ray};
 use crate::shapes::{PrimHit, WatertightRay};
@@ -48,9 +47,7 @@ impl Triangle8 {
         debug_assert!(self.ids[..lane].iter().all(|&id| id < EMPTY), "triangles come first in a block");
         for (k, v) in [a, b, c].into_iter().enumerate() {
             for axis in 0..3 {
-                let mut lanes = self.vertices[k][axis].to_array();
-                lanes[lane] = v[axis];
-                self.vertices[k][axis] = Lanes::new(lanes);
+                self.vertices[k][axis].as_array_mut()[lane] = v[axis];
             }
         }
         self.ids[lane] = id;
@@ -101,6 +98,9 @@ pub struct Hits8 {
 }
 
 impl Hits8 {
+    /// No lane hit.
+    const NONE: Hits8 = Hits8 { mask: 0, t: [0.0; LANES], u: Lanes::ZERO, v: Lanes::ZERO };
+
     /// The nearest hit lane; of equal distances the first lane, as a sequential test keeps the
     /// first of equal hits.
     #[inline(always)]
@@ -168,11 +168,12 @@ impl WatertightRay8 {
         let negative = u.cmp_lt(zero) | v_.cmp_lt(zero) | w.cmp_lt(zero);
         let positive = u.cmp_gt(zero) | v_.cmp_gt(zero) | w.cmp_gt(zero);
         let det = u + v_ + w;
-        // `det == det` drops the NaN lanes (empty and generic ones), which `cmp_ne` would keep.
+        // `det == det` drops the NaN lanes (empty and generic ones), which `cmp_ne` keeps on
+        // SSE (unordered compare) though not on AVX.
         let inside = !(negative & positive) & det.cmp_ne(zero) & det.cmp_eq(det);
         if inside.none() {
             // Most blocks a ray reaches it misses: skip the distance and its error bound.
-            return Hits8 { mask: 0, t: [0.0; LANES], u: zero, v: zero };
+            return Hits8::NONE;
         }
         let (az, bz, cz) = (sz * a_z, sz * b_z, sz * c_z);
         let t_scaled = u * az + v_ * bz + w * cz;
@@ -182,7 +183,7 @@ impl WatertightRay8 {
         if in_range.none() {
             // The ray's line meets a triangle behind the origin or past t_max (a wall behind a
             // ray in a room, say): skip the error bound.
-            return Hits8 { mask: 0, t: [0.0; LANES], u: zero, v: zero };
+            return Hits8::NONE;
         }
         // The scalar test's bound on the error of t (pbrt-v4 §6.8.4), lane-wise.
         let max_z = az.abs().fast_max(bz.abs()).fast_max(cz.abs());

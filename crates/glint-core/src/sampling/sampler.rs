@@ -9,8 +9,8 @@
 //! * `sobol`: the Owen-scrambled Sobol sequence (Burley 2020: the `sobol_burley` crate's
 //!   numbers, computed faster by `sobol.rs`), one scramble seed per pixel: well stratified
 //!   in every dimension and every 2ᵏ prefix, so it is progressive (each pass adds the next
-//!   point) and resumable. Beyond 256 dimensions and
-//!   65,536 samples the scramble seed changes, as the crate advises.
+//!   point) and resumable. Beyond 256 dimensions and 65,536 samples the scramble seed
+//!   changes, as the crate advises.
 //!
 //! All three are deterministic in (seed, pixel, sample index), so images do not depend on
 //! the thread count.
@@ -58,7 +58,7 @@ pub struct Sampler {
     dimension: u32,
     /// Sobol: the four dimensions of the current set, computed together (SIMD), each below 1.
     sobol: [f32; 4],
-    /// Sobol: this sample's shuffled index under the pixel's first scramble seed.
+    /// Sobol: this sample's shuffled index under the scramble seed of its first 256 dimensions.
     shuffled: u32,
 }
 
@@ -67,8 +67,11 @@ impl Sampler {
     pub fn new(kind: SamplerKind, seed: u64, pixel: u64, index: u32, count: u32) -> Self {
         let kind = if kind == SamplerKind::Stratified && count == u32::MAX { SamplerKind::Independent } else { kind };
         let pixel_seed = mix(seed ^ mix(pixel ^ 0x5A4D_504C_4552));
-        let shuffled =
-            if kind == SamplerKind::Sobol { sobol::shuffled_index(index & 0xFFFF, pixel_seed as u32) } else { 0 };
+        let shuffled = if kind == SamplerKind::Sobol {
+            sobol::shuffled_index(index & 0xFFFF, sobol_seed(pixel_seed, index, 0))
+        } else {
+            0
+        };
         Self {
             kind,
             rng: Rng::for_sample(seed, pixel, index as u64),
@@ -118,14 +121,9 @@ impl Sampler {
                 ((stratum as f32 + self.rng.next_f32()) / self.count as f32).min(ONE_BELOW)
             }
             SamplerKind::Sobol => {
-                // 256 dimensions and 2¹⁶ samples per scramble seed; past them, a new seed.
-                let block = (d / 256) as u64 | ((self.index >> 16) as u64) << 32;
-                let (seed, shuffled) = if block == 0 {
-                    (self.pixel_seed as u32, self.shuffled)
-                } else {
-                    let seed = mix(self.pixel_seed ^ block) as u32;
-                    (seed, sobol::shuffled_index(self.index & 0xFFFF, seed))
-                };
+                let seed = sobol_seed(self.pixel_seed, self.index, d);
+                // `new` shuffled under the seed of the first 256 dimensions; later ones anew.
+                let shuffled = if d < 256 { self.shuffled } else { sobol::shuffled_index(self.index & 0xFFFF, seed) };
                 self.sobol = sobol::sample_4d(shuffled, (d % 256) / 4, seed).map(|x| x.min(ONE_BELOW));
                 self.sobol[(d % 4) as usize]
             }
@@ -134,6 +132,17 @@ impl Sampler {
 }
 
 const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// The Sobol scramble seed of dimension `d` of sample `index`: the pixel's own for the first
+/// 256 dimensions of its first 2¹⁶ samples (the crate's limits), a new one past them.
+fn sobol_seed(pixel_seed: u64, index: u32, d: u32) -> u32 {
+    let block = (d / 256) as u64 | ((index >> 16) as u64) << 32;
+    if block == 0 {
+        pixel_seed as u32
+    } else {
+        mix(pixel_seed ^ block) as u32
+    }
+}
 
 /// Kensler's hashed permutation (Correlated Multi-Jittered Sampling, 2013): the position of
 /// `i` in a pseudo-random permutation of 0..l chosen by `p`, without storing it.
@@ -205,6 +214,24 @@ mod tests {
             let mut strata: Vec<u32> = samples.iter().map(|s| (s[d] * n as f32) as u32).collect();
             strata.sort_unstable();
             assert_eq!(strata, (0..n).collect::<Vec<_>>(), "dimension {d}");
+        }
+    }
+
+    /// Sobol draws are the crate's `sample_4d` under the documented seeds, past the first
+    /// seed's 256 dimensions and 2¹⁶ samples too (where the shuffle is computed anew).
+    #[test]
+    fn sobol_draws_are_the_crates_points() {
+        let (seed, pixel) = (11u64, 42u64);
+        let pixel_seed = mix(seed ^ mix(pixel ^ 0x5A4D_504C_4552));
+        for index in [0u32, 3, 65_535, 65_536, 70_001] {
+            let mut sampler = Sampler::new(SamplerKind::Sobol, seed, pixel, index, u32::MAX);
+            for d in 0..600u32 {
+                let block = (d / 256) as u64 | ((index >> 16) as u64) << 32;
+                let scramble = if block == 0 { pixel_seed as u32 } else { mix(pixel_seed ^ block) as u32 };
+                let expected = sobol_burley::sample_4d(index & 0xFFFF, (d % 256) / 4, scramble)[(d % 4) as usize];
+                let got = sampler.next_f32();
+                assert_eq!(got.to_bits(), expected.min(ONE_BELOW).to_bits(), "index {index}, dimension {d}");
+            }
         }
     }
 
