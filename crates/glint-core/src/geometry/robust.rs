@@ -54,9 +54,9 @@ pub fn offset_ray_origin(point: Vec3, error: Vec3, normal: Vec3, direction: Vec3
 
 /// `next_float_up(x)` where `sign > 0`, `next_float_down(x)` where `sign < 0`, `x` where it is
 /// 0, bit for bit for every x but NaN (a NaN stays a NaN, its payload aside), computed with
-/// selects: the branches of the two functions depend on the
-/// signs of the coordinates and of the offset, which change at random from ray to ray, and
-/// their mispredictions made `offset_ray_origin` 5 % of a path tracer's time.
+/// selects: the branches of the two functions depend on the signs of the coordinates and of
+/// the offset, which change at random from ray to ray, and their mispredictions made
+/// `offset_ray_origin` 5 % of a path tracer's time.
 #[inline(always)]
 fn step_toward(x: f32, sign: f32) -> f32 {
     let up = sign > 0.0;

@@ -103,15 +103,17 @@ impl Sampler {
     pub fn next_f32(&mut self) -> f32 {
         let d = self.dimension;
         self.dimension += 1;
-        // Three Sobol draws in four read the set already computed: that much is inlined into
-        // every caller, the rest is a call.
-        if self.kind == SamplerKind::Sobol && !d.is_multiple_of(4) {
-            return self.sobol[(d % 4) as usize];
+        // An independent draw, and three Sobol draws in four (which read the set already
+        // computed), are inlined into every caller; the rest is a call.
+        match self.kind {
+            SamplerKind::Independent => self.rng.next_f32(),
+            SamplerKind::Sobol if !d.is_multiple_of(4) => self.sobol[(d % 4) as usize],
+            _ => self.draw(d),
         }
-        self.draw(d)
     }
 
-    /// Dimension `d` of every kind, except the Sobol dimensions `next_f32` reads itself.
+    /// Dimension `d` of any kind: what `next_f32` does not inline, a stratified draw or the
+    /// first of a Sobol set (which computes the set).
     #[inline(never)]
     fn draw(&mut self, d: u32) -> f32 {
         match self.kind {
