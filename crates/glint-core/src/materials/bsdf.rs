@@ -74,16 +74,25 @@ impl Bsdf {
         }
         let (tangent, bitangent) = orthonormal_basis(normal);
         let eta = if outside { 1.0 / material.ior } else { material.ior };
-        let (mut reflection, mut transmission) = material.ray_weights(wo.dot(normal).max(0.0), eta);
-        let refracted = if transmission != Rgb::ZERO { refract(-wo, normal, eta) } else { None };
-        if refracted.is_none() {
-            reflection += transmission; // total internal reflection
-            transmission = Rgb::ZERO;
-        }
         let diffuse = material.diffuse;
-        let (ld, lr, lt) = (luminance(diffuse), luminance(reflection), luminance(transmission));
-        let total = ld + lr + lt;
-        let (p_diffuse, p_reflection) = if total > 0.0 { (ld / total, lr / total) } else { (0.0, 0.0) };
+        let (reflection, transmission, refracted, p_diffuse, p_reflection) =
+            if material.reflection == Rgb::ZERO && material.transmission == Rgb::ZERO {
+                // Diffuse alone, the common case: every Fresnel split of zero weights is zero,
+                // and p_d = l_d / l_d = 1 exactly, so skip the arithmetic that would say so.
+                let p_diffuse = if luminance(diffuse) > 0.0 { 1.0 } else { 0.0 };
+                (Rgb::ZERO, Rgb::ZERO, None, p_diffuse, 0.0)
+            } else {
+                let (mut reflection, mut transmission) = material.ray_weights(wo.dot(normal).max(0.0), eta);
+                let refracted = if transmission != Rgb::ZERO { refract(-wo, normal, eta) } else { None };
+                if refracted.is_none() {
+                    reflection += transmission; // total internal reflection
+                    transmission = Rgb::ZERO;
+                }
+                let (ld, lr, lt) = (luminance(diffuse), luminance(reflection), luminance(transmission));
+                let total = ld + lr + lt;
+                let (p_diffuse, p_reflection) = if total > 0.0 { (ld / total, lr / total) } else { (0.0, 0.0) };
+                (reflection, transmission, refracted, p_diffuse, p_reflection)
+            };
         let glossy =
             (material.roughness > 0.0).then(|| Ggx { alpha: (material.roughness * material.roughness).max(1e-4) });
         let rough_transmission = glossy.is_some() && transmission != Rgb::ZERO;
