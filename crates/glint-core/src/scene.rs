@@ -200,6 +200,9 @@ pub struct Geometry {
     object_first: Vec<u32>,
     /// Primitives without bounds (planes), tested on every ray.
     unbounded: Vec<(u32, u32)>,
+    /// Every lane of every block is a triangle (or empty) and the watertight test is the
+    /// method: a block is the SIMD test alone, with no lane for the scalar path to look at.
+    simd_only: bool,
     bvh: Bvh8,
     bounds: Aabb,
     stats: BvhStats,
@@ -271,9 +274,11 @@ impl Geometry {
             + blocks.len() * std::mem::size_of::<Triangle8>()
             + generic.len() * std::mem::size_of::<(u32, u32)>()
             + object_first.len() * std::mem::size_of::<u32>();
+        let simd_only = methods.triangle == TriangleMethod::Watertight && generic.is_empty();
         Self {
             objects,
             methods,
+            simd_only,
             blocks,
             generic,
             object_first,
@@ -330,6 +335,10 @@ impl Geometry {
     #[inline(always)]
     fn closest_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay8) -> Option<(u32, PrimHit)> {
         let block = &self.blocks[b as usize];
+        if self.simd_only {
+            let (lane, hit) = prepared.intersect(block, ray.t_min, ray.t_max).nearest()?;
+            return Some((block.ids[lane], hit));
+        }
         let mut best = None;
         let mut ray = *ray;
         if self.methods.triangle == TriangleMethod::Watertight && block.has_triangles() {
@@ -354,6 +363,9 @@ impl Geometry {
     #[inline(always)]
     fn any_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay8) -> bool {
         let block = &self.blocks[b as usize];
+        if self.simd_only {
+            return prepared.intersect(block, ray.t_min, ray.t_max).mask != 0;
+        }
         if self.methods.triangle == TriangleMethod::Watertight && block.has_triangles() {
             if prepared.intersect(block, ray.t_min, ray.t_max).mask != 0 {
                 return true;
