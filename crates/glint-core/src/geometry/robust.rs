@@ -47,9 +47,57 @@ pub fn offset_ray_origin(point: Vec3, error: Vec3, normal: Vec3, direction: Vec3
     if direction.dot(normal) < 0.0 {
         offset = -offset;
     }
-    // Arrays, not `Vec3` indexing, which compiles to a branch per lane.
-    let (origin, offset) = ((point + offset).to_array(), offset.to_array());
-    Vec3::from_array(std::array::from_fn(|axis| step_toward(origin[axis], offset[axis])))
+    step_toward3(point + offset, offset)
+}
+
+/// `step_toward` on each axis. On x86-64 the three axes go through SSE2 lanes at once (a
+/// third of the scalar instructions; bit for bit the same, tested).
+#[inline(always)]
+fn step_toward3(x: Vec3, sign: Vec3) -> Vec3 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        step_toward_sse2(x, sign)
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        // Arrays, not `Vec3` indexing, which compiles to a branch per lane.
+        let (x, sign) = (x.to_array(), sign.to_array());
+        Vec3::from_array(std::array::from_fn(|axis| step_toward(x[axis], sign[axis])))
+    }
+}
+
+/// `step_toward` in four SSE2 lanes, operation for operation (SSE2 is part of every x86-64).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn step_toward_sse2(x: Vec3, sign: Vec3) -> Vec3 {
+    use std::arch::x86_64::*;
+    // SAFETY: SSE2 is in the x86-64 baseline; the intrinsics only compute on registers.
+    unsafe {
+        let x = _mm_set_ps(0.0, x.z, x.y, x.x);
+        let sign = _mm_set_ps(0.0, sign.z, sign.y, sign.x);
+        let zero = _mm_setzero_ps();
+        let sign_bit = _mm_castsi128_ps(_mm_set1_epi32(i32::MIN));
+        let up = _mm_cmpgt_ps(sign, zero);
+        // A zero steps from the zero of the side it leaves: +0 going up, −0 going down.
+        let x_zero = _mm_cmpeq_ps(x, zero);
+        let from = _mm_or_ps(_mm_and_ps(x_zero, _mm_andnot_ps(up, sign_bit)), _mm_andnot_ps(x_zero, x));
+        let from = _mm_castps_si128(from);
+        // Away from zero when `from` is positive going up or negative going down: all ones
+        // where its sign mask (all ones for negative) differs from `up`.
+        let negative = _mm_srai_epi32(from, 31);
+        let away = _mm_xor_si128(negative, _mm_castps_si128(up));
+        // +1 away from zero, −1 toward it: −1 − 2·away.
+        let stepped = _mm_add_epi32(from, _mm_sub_epi32(_mm_set1_epi32(-1), _mm_add_epi32(away, away)));
+        let infinite = _mm_cmpeq_epi32(_mm_and_si128(from, _mm_set1_epi32(i32::MAX)), _mm_set1_epi32(0x7F80_0000));
+        let keep = _mm_or_si128(
+            _mm_castps_si128(_mm_or_ps(_mm_cmpeq_ps(sign, zero), _mm_cmpunord_ps(sign, sign))),
+            _mm_and_si128(infinite, away),
+        );
+        let result = _mm_or_si128(_mm_and_si128(keep, _mm_castps_si128(x)), _mm_andnot_si128(keep, stepped));
+        let mut lanes = [0f32; 4];
+        _mm_storeu_ps(lanes.as_mut_ptr(), _mm_castsi128_ps(result));
+        Vec3::new(lanes[0], lanes[1], lanes[2])
+    }
 }
 
 /// `next_float_up(x)` where `sign > 0`, `next_float_down(x)` where `sign < 0`, `x` where it is
@@ -57,6 +105,7 @@ pub fn offset_ray_origin(point: Vec3, error: Vec3, normal: Vec3, direction: Vec3
 /// selects: the branches of the two functions depend on the signs of the coordinates and of
 /// the offset, which change at random from ray to ray, and their mispredictions made
 /// `offset_ray_origin` 5 % of a path tracer's time.
+#[cfg_attr(target_arch = "x86_64", allow(dead_code))] // the tests' reference there
 #[inline(always)]
 fn step_toward(x: f32, sign: f32) -> f32 {
     let up = sign > 0.0;
@@ -106,6 +155,29 @@ mod tests {
             assert_eq!(step_toward(x, -2.5).to_bits(), next_float_down(x).to_bits(), "down from {x:e}");
             assert_eq!(step_toward(x, 0.0).to_bits(), x.to_bits(), "stay at {x:e}");
             assert_eq!(step_toward(x, -0.0).to_bits(), x.to_bits(), "stay at {x:e}");
+        }
+    }
+
+    /// The three-lane step equals the scalar one lane by lane, whatever the other lanes hold.
+    #[test]
+    fn step_toward3_equals_the_scalar_step() {
+        let mut values =
+            vec![0.0, -0.0, f32::MIN_POSITIVE, -1e-45, f32::MAX, f32::MIN, f32::INFINITY, f32::NEG_INFINITY];
+        values.extend([f32::NAN, 1.0, -1.0, 3.5e-3]);
+        let signs = [1.0, -2.5, 0.0, -0.0, f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e-40, -1e-40];
+        let mut bits = 0x2545_F491u32;
+        for _ in 0..20_000 {
+            bits = bits.wrapping_mul(0x0019_660D).wrapping_add(0x3C6E_F35F);
+            values.push(f32::from_bits(bits));
+        }
+        for (i, &x) in values.iter().enumerate() {
+            let xs = Vec3::new(x, values[(i * 7 + 1) % values.len()], values[(i * 13 + 5) % values.len()]);
+            let sign = Vec3::new(signs[i % signs.len()], signs[(i / 3) % signs.len()], signs[(i / 7) % signs.len()]);
+            let stepped = step_toward3(xs, sign).to_array();
+            for axis in 0..3 {
+                let expected = step_toward(xs[axis], sign[axis]);
+                assert_eq!(stepped[axis].to_bits(), expected.to_bits(), "{:e} toward {:e}", xs[axis], sign[axis]);
+            }
         }
     }
 
