@@ -286,6 +286,15 @@ impl AreaLights {
     /// given (`SphericalTriangle::sample_toward`).
     pub fn sample(&self, from: Vec3, receiver_normal: Option<Vec3>, u_select: f32, u: Vec2) -> Option<LightSample> {
         let (i, emitter) = self.choose(u_select)?;
+        if let EmitterShape::Triangle { a, b, c, normal, .. } = emitter.shape {
+            // A one-sided triangle sends nothing to a point on or behind its plane (the
+            // ceiling above the Cornell box's lamp): no point to sample. Every corner is asked,
+            // so rounding near the plane never hides a point that would have had radiance.
+            let behind = |corner: Vec3| normal.dot(corner - from) > 0.0;
+            if !emitter.two_sided && behind(a) && behind(b) && behind(c) {
+                return None;
+            }
+        }
         let selection = self.selection_probability(i);
         let PointSample { point, normal, error, pdf } = match emitter.shape {
             EmitterShape::Triangle { a, b, c, normal, .. } => match self.spherical_triangle(from, [a, b, c]) {
