@@ -9,18 +9,16 @@ use glam::{Vec2, Vec3};
 /// Shirley–Chiu concentric map of [0,1)² onto the unit disk (area-preserving, low distortion).
 pub fn square_to_disk(u: Vec2) -> Vec2 {
     let p = 2.0 * u - Vec2::ONE;
-    if p == Vec2::ZERO {
-        return Vec2::ZERO;
-    }
     // θ = φ in the left and right quadrants, π/2 − φ in the others, with |φ| ≤ π/4; there
-    // cos θ = sin φ and sin θ = cos φ.
-    if p.x.abs() > p.y.abs() {
-        let (sin, cos) = sin_cos_quarter(FRAC_PI_4 * (p.y / p.x));
-        p.x * Vec2::new(cos, sin)
-    } else {
-        let (sin, cos) = sin_cos_quarter(FRAC_PI_4 * (p.x / p.y));
-        p.y * Vec2::new(sin, cos)
+    // cos θ = sin φ and sin θ = cos φ. Selects, not branches: which quadrant is random.
+    let sideways = p.x.abs() > p.y.abs();
+    let (r, q) = if sideways { (p.x, p.y) } else { (p.y, p.x) };
+    if r == 0.0 {
+        return Vec2::ZERO; // r = max(|x|, |y|): the centre
     }
+    let (sin, cos) = sin_cos_quarter(FRAC_PI_4 * (q / r));
+    let (x, y) = if sideways { (cos, sin) } else { (sin, cos) };
+    r * Vec2::new(x, y)
 }
 
 /// (sin x, cos x) for |x| ≤ π/4 by their Taylor polynomials to x⁹ and x¹⁰, whose remainders
