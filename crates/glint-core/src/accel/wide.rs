@@ -298,7 +298,8 @@ struct Query {
 
 impl Query {
     fn new(ray: &Ray) -> Self {
-        let inv = ray.direction.recip();
+        // One vector division (glam's Vec3 divides lane by lane), rounded the same.
+        let inv = Vec3::from(glam::Vec3A::from(ray.direction).recip());
         // The sign bit alone: −0 counts as negative, as a negative direction's does.
         let near = [0, 1, 2].map(|a| usize::from(ray.direction[a].is_sign_negative()));
         Self {
@@ -390,7 +391,8 @@ mod tests {
         for k in 0..200 {
             let origin = Vec3::new(-3.0, k as f32 * 0.07, (k % 13) as f32 * 0.9);
             let ray = Ray::new(origin, Vec3::new(1.0, 0.11, 0.05 * (k % 5) as f32).normalize());
-            let inv = ray.direction.recip();
+            // One vector division (glam's Vec3 divides lane by lane), rounded the same.
+            let inv = Vec3::from(glam::Vec3A::from(ray.direction).recip());
             let entered =
                 |i: u32| boxes[order[i as usize] as usize].hit_distance(ray.origin, inv, 0.0, f32::INFINITY).is_some();
             let (mut a, mut b) = (Vec::new(), Vec::new());

@@ -229,6 +229,7 @@ impl Bsdf {
     }
 
     /// Chooses a lobe with `u_lobe`, then a direction with `u` (diffuse only).
+    #[inline(always)]
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
         if u_lobe < self.p_diffuse {
             let local = square_to_cosine_hemisphere(u);

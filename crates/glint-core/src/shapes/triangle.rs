@@ -14,7 +14,7 @@
 //! β + γ ≤ 1: a ray through an edge or a vertex hits. A ray parallel to the triangle's
 //! plane (determinant 0) misses.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec3A};
 
 use super::{PrimHit, SurfaceGeometry};
 use crate::geometry::{gamma, Aabb, Ray};
@@ -146,13 +146,19 @@ impl WatertightRay {
         // An array, not a `Vec3`: indexing a `Vec3` by a variable compiles to a branch per
         // lane.
         let d = ray.direction.to_array();
-        let kz = ray.direction.abs().max_position();
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
-        if d[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky); // keep the winding
-        }
-        Self { axes: [kx, ky, kz], shear: Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]) }
+        // Selects rather than branches throughout: the axis and its sign vary at random from
+        // ray to ray. kz is the largest |d|, the first of equals (glam's `max_position`).
+        let a = ray.direction.abs();
+        let y_over_x = a.y > a.x;
+        let xy_max = if y_over_x { a.y } else { a.x };
+        let kz = if a.z > xy_max { 2 } else { usize::from(y_over_x) };
+        const NEXT: [usize; 3] = [1, 2, 0];
+        let (kx, ky) = (NEXT[kz], NEXT[NEXT[kz]]);
+        // Keep the winding.
+        let (kx, ky) = if d[kz] < 0.0 { (ky, kx) } else { (kx, ky) };
+        // One vector division for the three quotients, each rounded as the scalar one.
+        let shear = Vec3A::new(d[kx], d[ky], 1.0) / Vec3A::splat(d[kz]);
+        Self { axes: [kx, ky, kz], shear: shear.into() }
     }
 
     #[inline(always)]
