@@ -12,7 +12,7 @@
 use std::mem::MaybeUninit;
 
 use glam::Vec3;
-use wide::{f32x8, CmpEq, CmpGt, CmpLe, CmpLt};
+use wide::{f32x8, CmpGt, CmpLe, CmpLt};
 
 use super::bvh::{Bvh, Node};
 use crate::geometry::Ray;
@@ -148,22 +148,18 @@ impl Bvh8 {
                 if mask != 0 {
                     // Push the entered children far to near, then continue with the nearest:
                     // leaves and subtrees alike are visited in order of entry distance.
-                    // Each entered child's place, far to near, counted with two vector
-                    // compares instead of sorted by data-dependent branches: the children
-                    // entered farther, and those as far in an earlier slot (ties go nearest
-                    // last, as a stable insertion would leave them).
                     let mut hits = [(0f32, 0u32); WIDTH];
-                    let n = mask.count_ones() as usize;
-                    let distances = f32x8::from(t_near);
-                    let mut rest = mask;
-                    while rest != 0 {
-                        let k = rest.trailing_zeros() as usize;
-                        rest &= rest - 1;
-                        let t = f32x8::splat(t_near[k]);
-                        let farther = distances.cmp_gt(t).move_mask() as u32;
-                        let tied_before = distances.cmp_eq(t).move_mask() as u32 & ((1 << k) - 1);
-                        let place = ((farther | tied_before) & mask).count_ones() as usize;
-                        hits[place] = (t_near[k], node.children[k]);
+                    let mut n = 0;
+                    for (k, entry) in t_near.into_iter().zip(node.children).enumerate() {
+                        if mask & (1 << k) != 0 {
+                            let mut j = n;
+                            while j > 0 && hits[j - 1].0 < entry.0 {
+                                hits[j] = hits[j - 1];
+                                j -= 1;
+                            }
+                            hits[j] = entry;
+                            n += 1;
+                        }
                     }
                     for &(t, child) in &hits[..n - 1] {
                         stack.push((child, t));
