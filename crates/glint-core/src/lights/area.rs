@@ -248,6 +248,7 @@ impl AreaLights {
     }
 
     /// A point uniform on an emitter: (point, normal, area, error bound).
+    #[inline]
     fn point_on(&self, emitter: &Emitter, u: Vec2) -> (Vec3, Vec3, f32, Vec3) {
         match emitter.shape {
             EmitterShape::Triangle { a, b, c, normal, area } => {
@@ -386,8 +387,9 @@ impl AreaLights {
 fn area_to_solid_angle(selection: f32, area: f32, from: Vec3, point: Vec3, normal: Vec3) -> Option<f32> {
     let to_light = point - from;
     let distance_squared = to_light.length_squared();
-    let cos_light = normal.dot(to_light).abs() / distance_squared.sqrt();
-    (cos_light > 0.0).then(|| selection * distance_squared / (cos_light * area))
+    // d² / |cos θ| = d³ / |n · (point − from)|: one division on the path, not two.
+    let projected = normal.dot(to_light).abs();
+    (projected > 0.0).then(|| selection * distance_squared * distance_squared.sqrt() / (projected * area))
 }
 
 /// Where the ray from `from` along `w` meets the triangle `[a, b, c]`, as barycentric
