@@ -105,7 +105,9 @@ impl SurfaceHit {
     /// (tests/analytic_lights.rs).
     pub fn spawn_ray_to_surface(&self, target: Vec3, target_error: Vec3, target_normal: Vec3) -> Ray {
         let g = &self.geometry;
-        // Each end offset toward the other's true point, so neither waits on the other.
+        // Each end offset toward the other's true point (as pbrt-v4 does), so neither waits on
+        // the other's offset; against the far end's offset point the origin's side could differ
+        // only for a light point within that offset of the receiver's plane.
         let end = offset_ray_origin(target, target_error, target_normal, g.point - target);
         let origin = offset_ray_origin(g.point, g.error, g.geometric_normal, target - g.point);
         Ray::with_range(origin, end - origin, 0.0, 1.0 - SHADOW_EPSILON)
@@ -205,9 +207,9 @@ pub struct Geometry {
     object_of: Vec<u32>,
     /// Primitives without bounds (planes), tested on every ray.
     unbounded: Vec<(u32, u32)>,
-    /// Every lane of every block is a triangle (or empty) and the watertight test is the
-    /// method: a block is the SIMD test alone, with no lane for the scalar path to look at.
-    simd_only: bool,
+    /// Every lane of every block is a triangle (or empty): with the watertight method a block
+    /// is the SIMD test alone, with no lane for the scalar path to look at.
+    triangles_only: bool,
     bvh: Bvh8,
     bounds: Aabb,
     stats: BvhStats,
@@ -288,11 +290,11 @@ impl Geometry {
             + blocks.len() * std::mem::size_of::<Triangle8>()
             + generic.len() * std::mem::size_of::<(u32, u32)>()
             + (object_first.len() + object_of.len()) * std::mem::size_of::<u32>();
-        let simd_only = methods.triangle == TriangleMethod::Watertight && generic.is_empty();
+        let triangles_only = generic.is_empty();
         Self {
             objects,
             methods,
-            simd_only,
+            triangles_only,
             blocks,
             generic,
             object_first,
@@ -336,6 +338,13 @@ impl Geometry {
         self.closest_primitive(&mut ray).map(|(id, hit)| self.surface_hit(id, &ray, &hit))
     }
 
+    /// Whether a block is the SIMD test alone. Asked per query, not fixed at build: the
+    /// triangle method can be changed after (`--triangle-method`).
+    #[inline(always)]
+    fn simd_only(&self) -> bool {
+        self.triangles_only && self.methods.triangle == TriangleMethod::Watertight
+    }
+
     /// (object, primitive) of a lane id.
     #[inline]
     fn locate(&self, id: u32) -> (u32, u32) {
@@ -350,7 +359,7 @@ impl Geometry {
     #[inline(always)]
     fn closest_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay8) -> Option<(u32, PrimHit)> {
         let block = &self.blocks[b as usize];
-        if self.simd_only {
+        if self.simd_only() {
             let (lane, hit) = prepared.intersect(block, ray.t_min, ray.t_max).nearest()?;
             return Some((block.ids[lane], hit));
         }
@@ -378,7 +387,7 @@ impl Geometry {
     #[inline(always)]
     fn any_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay8) -> bool {
         let block = &self.blocks[b as usize];
-        if self.simd_only {
+        if self.simd_only() {
             return prepared.intersect(block, ray.t_min, ray.t_max).mask != 0;
         }
         if self.methods.triangle == TriangleMethod::Watertight && block.has_triangles() {
