@@ -288,9 +288,10 @@ impl AreaLights {
     pub fn sample(&self, from: Vec3, receiver_normal: Option<Vec3>, u_select: f32, u: Vec2) -> Option<LightSample> {
         let (i, emitter) = self.choose(u_select)?;
         if let EmitterShape::Triangle { a, b, c, normal, .. } = emitter.shape {
-            // A one-sided triangle sends nothing to a point on or behind its plane (the
-            // ceiling above the Cornell box's lamp): no point to sample. Every corner is asked,
-            // so rounding near the plane never hides a point that would have had radiance.
+            // A one-sided triangle sends nothing to a point behind its plane (the ceiling above
+            // the Cornell box's lamp): no point to sample. Every corner is asked, so only a
+            // point within rounding of the plane, whose light would arrive edge on, can be
+            // dropped that the sample below would have kept.
             let behind = |corner: Vec3| normal.dot(corner - from) > 0.0;
             if !emitter.two_sided && behind(a) && behind(b) && behind(c) {
                 return None;
@@ -466,6 +467,35 @@ mod tests {
             };
             let r = chi2_test_with_resolution(sample, pdf, 500_000, 21, 41, 5, 64);
             assert!(r.p_value > 0.01, "{strategy:?}, {receiver:?}: p = {}", r.p_value);
+        }
+    }
+
+    /// A one-sided triangle light is not sampled from behind its plane, whatever the strategy,
+    /// while a two-sided one is; from in front both give a point with radiance.
+    #[test]
+    fn one_sided_triangles_are_not_sampled_from_behind() {
+        let tri = [Vec3::ZERO, Vec3::X, Vec3::Y]; // normal +z
+        for two_sided in [false, true] {
+            let material =
+                Material::Phong(Phong { emission: Rgb::ONE, two_sided_emission: two_sided, ..Phong::default() });
+            let object = Object {
+                name: "t".into(),
+                shape: Shape::Triangle(Triangle::new(tri[0], tri[1], tri[2])),
+                transform: None,
+                material: 0,
+            };
+            let mut lights = AreaLights::new(&[object], &[material]);
+            for strategy in TriangleSampling::ALL {
+                lights.triangle_sampling = strategy;
+                let u = Vec2::new(0.3, 0.6);
+                let front = lights.sample(Vec3::new(0.2, 0.2, 1.0), None, 0.5, u).unwrap();
+                assert!(front.radiance == Rgb::ONE && front.pdf > 0.0, "{strategy:?}");
+                let back = lights.sample(Vec3::new(0.2, 0.2, -1.0), None, 0.5, u);
+                match two_sided {
+                    false => assert_eq!(back, None, "{strategy:?}"),
+                    true => assert!(back.is_some_and(|s| s.radiance == Rgb::ONE), "{strategy:?}"),
+                }
+            }
         }
     }
 
