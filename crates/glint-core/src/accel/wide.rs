@@ -387,7 +387,7 @@ mod tests {
         for k in 0..200 {
             let origin = Vec3::new(-3.0, k as f32 * 0.07, (k % 13) as f32 * 0.9);
             let ray = Ray::new(origin, Vec3::new(1.0, 0.11, 0.05 * (k % 5) as f32).normalize());
-            // One vector division (glam's Vec3 divides lane by lane), rounded the same.
+            // The reciprocals as `Query::new` computes them.
             let inv = Vec3::from(glam::Vec3A::from(ray.direction).recip());
             let entered =
                 |i: u32| boxes[order[i as usize] as usize].hit_distance(ray.origin, inv, 0.0, f32::INFINITY).is_some();

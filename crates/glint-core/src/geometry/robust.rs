@@ -71,7 +71,8 @@ fn step_toward3(x: Vec3, sign: Vec3) -> Vec3 {
 #[inline(always)]
 fn step_toward_sse2(x: Vec3, sign: Vec3) -> Vec3 {
     use std::arch::x86_64::*;
-    // SAFETY: SSE2 is in the x86-64 baseline; the intrinsics only compute on registers.
+    // SAFETY: SSE2 is in the x86-64 baseline; the one store writes four floats into `lanes`,
+    // a local array of four.
     unsafe {
         let x = _mm_set_ps(0.0, x.z, x.y, x.x);
         let sign = _mm_set_ps(0.0, sign.z, sign.y, sign.x);
@@ -101,7 +102,8 @@ fn step_toward_sse2(x: Vec3, sign: Vec3) -> Vec3 {
 }
 
 /// `next_float_up(x)` where `sign > 0`, `next_float_down(x)` where `sign < 0`, `x` where it is
-/// 0, bit for bit for every x but NaN (a NaN stays a NaN, its payload aside), computed with
+/// 0, bit for bit for every x but NaN (whose bits step like any other's, so a NaN of the
+/// smallest or largest payload can become +∞ or −0), computed with
 /// selects: the branches of the two functions depend on the signs of the coordinates and of
 /// the offset, which change at random from ray to ray, and their mispredictions made
 /// `offset_ray_origin` 5 % of a path tracer's time.
