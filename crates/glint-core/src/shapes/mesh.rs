@@ -61,6 +61,7 @@ impl Mesh {
         }
     }
 
+    #[inline]
     pub fn surface(&self, i: usize, hit: &PrimHit) -> SurfaceGeometry {
         let idx = self.indices[i];
         let normals = self.normals.as_ref().map(|n| idx.map(|k| n[k as usize]));

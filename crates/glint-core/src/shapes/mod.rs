@@ -124,6 +124,7 @@ impl Shape {
         }
     }
 
+    #[inline]
     pub fn surface(&self, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry {
         match self {
             Shape::Plane(p) => p.surface(ray.at(hit.t)),
