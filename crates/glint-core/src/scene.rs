@@ -104,13 +104,14 @@ impl SurfaceHit {
     /// toward a sphere light of radius 0.5 two units away, darkening the floor below by 0.5 %
     /// (tests/analytic_lights.rs).
     pub fn spawn_ray_to_surface(&self, target: Vec3, target_error: Vec3, target_normal: Vec3) -> Ray {
-        let g = &self.geometry;
         // Each end offset toward the other's true point (as pbrt-v4 does), so neither waits on
         // the other's offset; against the far end's offset point the origin's side could differ
         // only for a light point within that offset of the receiver's plane.
-        let end = offset_ray_origin(target, target_error, target_normal, g.point - target);
-        let origin = offset_ray_origin(g.point, g.error, g.geometric_normal, target - g.point);
-        Ray::with_range(origin, end - origin, 0.0, 1.0 - SHADOW_EPSILON)
+        let end = offset_ray_origin(target, target_error, target_normal, self.geometry.point - target);
+        let mut ray = self.spawn_ray_to(target);
+        ray.direction = end - ray.origin;
+        ray.t_max = 1.0 - SHADOW_EPSILON;
+        ray
     }
 
     /// The shading normal turned to the side the ray came from (two-sided shading).
