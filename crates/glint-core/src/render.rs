@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 use crate::film::Film;
 use crate::filter::Filter;
+use crate::geometry::Ray;
 use crate::integrators::{Integrator, RayCounts, SampleContext};
 use crate::sampling::{Sampler, SamplerKind};
 use crate::scene::Scene;
@@ -220,15 +221,30 @@ fn camera_pass(
     let (width, height) = (scene.camera.width, scene.camera.height);
     let tiles: Vec<(u32, u32, Vec<FilmSample>, RayCounts)> = par_tiles(width, height)
         .map(|(x0, y0, x1, y1)| {
-            let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-            let mut rays = RayCounts::default();
+            let count = ((x1 - x0) * (y1 - y0)) as usize;
+            let (mut positions, mut rays, mut contexts) =
+                (Vec::with_capacity(count), Vec::with_capacity(count), Vec::with_capacity(count));
             for y in y0..y1 {
                 for x in x0..x1 {
-                    pixels.push(render_sample(scene, integrator, pass, x, y, &mut rays));
+                    let (position, ray, context) = camera_sample(scene, pass, x, y);
+                    positions.push(position);
+                    rays.push(ray);
+                    contexts.push(context);
                 }
             }
+            let mut radiance = vec![Rgb::ZERO; count];
+            integrator.radiance_tile(scene, &rays, &mut contexts, &mut radiance);
+            let mut counts = RayCounts::default();
+            for context in &contexts {
+                counts.add(&context.rays);
+            }
+            let pixels = positions
+                .into_iter()
+                .zip(radiance)
+                .map(|((fx, fy), radiance)| (fx, fy, if radiance.is_finite() { radiance } else { Rgb::ZERO }))
+                .collect();
             on_tile();
-            (x0, y0, pixels, rays)
+            (x0, y0, pixels, counts)
         })
         .collect();
     let mut rays = RayCounts::default();
@@ -263,16 +279,9 @@ pub fn splat(film: &mut Film, filter: Filter, fx: f32, fy: f32, radiance: Rgb) {
     }
 }
 
-/// One camera sample of pixel (x, y): its film position and radiance; the rays it traced are
-/// added to `rays`.
-fn render_sample(
-    scene: &Scene,
-    integrator: &dyn Integrator,
-    pass: &Pass,
-    x: u32,
-    y: u32,
-    rays: &mut RayCounts,
-) -> FilmSample {
+/// Camera sample `pass.index` of pixel (x, y): its film position, its ray, and the context
+/// it draws the rest of its numbers from.
+fn camera_sample(scene: &Scene, pass: &Pass, x: u32, y: u32) -> ((f32, f32), Ray, SampleContext) {
     let pixel_index = y as u64 * scene.camera.width as u64 + x as u64;
     let mut context =
         SampleContext::with_sampler(Sampler::new(pass.sampler, pass.seed, pixel_index, pass.index, pass.samples));
@@ -281,7 +290,5 @@ fn render_sample(
     let (dx, dy) = if pass.centre { (0.5, 0.5) } else { (context.sampler.next_f32(), context.sampler.next_f32()) };
     let (fx, fy) = (x as f32 + dx, y as f32 + dy);
     let ray = scene.camera.sample_ray(fx, fy, || context.sampler.next_f32());
-    let radiance = integrator.radiance(scene, &ray, &mut context);
-    rays.add(&context.rays);
-    (fx, fy, if radiance.is_finite() { radiance } else { Rgb::ZERO })
+    ((fx, fy), ray, context)
 }

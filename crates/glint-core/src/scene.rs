@@ -61,8 +61,19 @@ impl Object {
     }
 }
 
+/// The corners of primitive `prim` of `object` if it is a triangle in world space (a mesh's or
+/// a triangle's, without a transform).
+#[inline]
+fn world_triangle(object: &Object, prim: u32) -> Option<[Vec3; 3]> {
+    match (&object.shape, &object.transform) {
+        (Shape::Mesh(m), None) => Some(m.triangle_vertices(prim as usize)),
+        (Shape::Triangle(t), None) => Some(t.vertices),
+        _ => None,
+    }
+}
+
 /// How far short of a target surface a shadow ray stops, as a fraction of its length.
-const SHADOW_EPSILON: f32 = 1e-4;
+pub(crate) const SHADOW_EPSILON: f32 = 1e-4;
 
 /// One intersected surface point, everything an integrator needs to shade it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -251,11 +262,7 @@ impl Geometry {
         };
         let world_bounds = bounds.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
         // The vertices of a plain triangle (no transform), which the blocks test eight at a time.
-        let vertices = |(o, p): (u32, u32)| match (&objects[o as usize].shape, &objects[o as usize].transform) {
-            (Shape::Mesh(m), None) => Some(m.triangle_vertices(p as usize)),
-            (Shape::Triangle(t), None) => Some(t.vertices),
-            _ => None,
-        };
+        let vertices = |(o, p): (u32, u32)| world_triangle(&objects[o as usize], p);
         let alone: Vec<bool> = bounded.iter().map(|&id| vertices(id).is_none()).collect();
         let (binary, mut order) = Bvh::build_mixed(&bounds, |i| alone[i]);
         drop(bounds);
@@ -337,6 +344,18 @@ impl Geometry {
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceHit> {
         let mut ray = *ray;
         self.closest_primitive(&mut ray).map(|(id, hit)| self.surface_hit(id, &ray, &hit))
+    }
+
+    /// Whether every primitive is a triangle in world space (mesh triangles and triangle
+    /// shapes without a transform): then `triangle` gives the corners of any hit.
+    pub fn all_triangles(&self) -> bool {
+        self.triangles_only && self.unbounded.is_empty()
+    }
+
+    /// The corners of primitive `prim` of `object`, if it is a triangle in world space.
+    #[inline]
+    pub fn triangle(&self, object: u32, prim: u32) -> Option<[Vec3; 3]> {
+        world_triangle(&self.objects[object as usize], prim)
     }
 
     /// Whether a block is the SIMD test alone. Asked per query, not fixed at build: the

@@ -12,6 +12,7 @@ mod transform;
 
 pub use aabb::Aabb;
 pub use ray::Ray;
+pub(crate) use robust::step_toward8;
 pub use robust::{gamma, next_float_down, next_float_up, offset_ray_origin, transform_point_with_error};
 pub use transform::Transform;
 

@@ -10,6 +10,7 @@ mod photon_mapping;
 mod raycast;
 pub mod recorder;
 mod sppm;
+mod wavefront;
 mod whitted;
 
 pub use bvh_heat::{heat_colour, BvhHeat};
@@ -30,6 +31,7 @@ use crate::Rgb;
 
 /// Per-sample state an integrator may use: the sample's random numbers and counts of the rays
 /// it traced.
+#[derive(Clone, Debug)]
 pub struct SampleContext {
     pub sampler: Sampler,
     pub rays: RayCounts,
@@ -74,6 +76,26 @@ impl RayCounts {
 /// An integrator that estimates the radiance arriving along one camera ray.
 pub trait Integrator: Send + Sync {
     fn radiance(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Rgb;
+
+    /// The radiance along many camera rays (an image tile's): `out[i]` for `rays[i]`, drawing
+    /// from `contexts[i]`. The same as `radiance` for each; an integrator may run them
+    /// together (the path tracer's wavefront).
+    fn radiance_tile(&self, scene: &Scene, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
+        radiance_each(self, scene, rays, contexts, out);
+    }
+}
+
+/// `radiance_tile` one ray at a time.
+pub fn radiance_each<I: Integrator + ?Sized>(
+    integrator: &I,
+    scene: &Scene,
+    rays: &[Ray],
+    contexts: &mut [SampleContext],
+    out: &mut [Rgb],
+) {
+    for ((ray, context), out) in rays.iter().zip(contexts.iter_mut()).zip(out.iter_mut()) {
+        *out = integrator.radiance(scene, ray, context);
+    }
 }
 
 /// The integrators selectable by name (`--integrator`, `render.integrator`).

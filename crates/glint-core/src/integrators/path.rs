@@ -12,7 +12,8 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{Integrator, SampleContext};
+use super::wavefront::Wavefront;
+use super::{radiance_each, Integrator, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
 use crate::scene::Scene;
@@ -21,6 +22,13 @@ use crate::Rgb;
 pub struct PathTracer {
     pub max_depth: u32,
     pub rr_depth: u32,
+}
+
+impl PathTracer {
+    /// Whether a render of `scene` runs as a wavefront in SIMD lanes (see `wavefront`).
+    pub fn runs_as_wavefront(&self, scene: &Scene) -> bool {
+        Wavefront::new(self, scene).is_some()
+    }
 }
 
 /// A scattering event that sampled the ray now traced.
@@ -45,6 +53,15 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
 }
 
 impl Integrator for PathTracer {
+    /// A tile's paths as a wavefront in SIMD lanes where the scene allows (`wavefront`), with
+    /// the same result as one by one.
+    fn radiance_tile(&self, scene: &Scene, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
+        match Wavefront::new(self, scene) {
+            Some(wavefront) => wavefront.radiance_tile(rays, contexts, out),
+            None => radiance_each(self, scene, rays, contexts, out),
+        }
+    }
+
     fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
         let mut radiance = Rgb::ZERO;
         let mut throughput = Rgb::ONE;

@@ -109,6 +109,20 @@ pub struct AreaLights {
     object_base: Vec<u32>,
     /// Emitted power (flux, mean over RGB): Σ L_e · π · area · sides.
     total_power: f32,
+    /// No emitter is a sphere.
+    triangles_only: bool,
+}
+
+/// A triangle emitter as the path tracer's SIMD lanes read it (`AreaLights::triangle_emitter`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct TriangleEmitter {
+    pub corners: [Vec3; 3],
+    pub normal: Vec3,
+    pub area: f32,
+    pub radiance: Rgb,
+    pub two_sided: bool,
+    /// The probability of choosing this emitter.
+    pub selection: f32,
 }
 
 /// A particle leaving an area light (for light tracing and photon mapping).
@@ -189,16 +203,17 @@ impl AreaLights {
             return Self::default_for(objects.len());
         }
         Self {
-            emitters,
             cdf,
             object_base,
             total_power: total * std::f32::consts::PI,
             triangle_sampling: TriangleSampling::default(),
+            triangles_only: emitters.iter().all(|e| matches!(e.shape, EmitterShape::Triangle { .. })),
+            emitters,
         }
     }
 
     fn default_for(object_count: usize) -> Self {
-        Self { object_base: vec![NONE; object_count], ..Self::default() }
+        Self { object_base: vec![NONE; object_count], triangles_only: true, ..Self::default() }
     }
 
     /// Total emitted flux (mean over RGB), for choosing between area and other lights.
@@ -279,6 +294,42 @@ impl AreaLights {
 
     fn selection_probability(&self, i: usize) -> f32 {
         self.cdf[i] - if i == 0 { 0.0 } else { self.cdf[i - 1] }
+    }
+
+    /// Whether every emitter is a triangle (the path tracer's SIMD lanes sample no others).
+    pub(crate) fn triangles_only(&self) -> bool {
+        self.triangles_only
+    }
+
+    /// The index of the emitter `u_select` picks (by power), as `sample` picks it.
+    #[inline]
+    pub(crate) fn choose_index(&self, u_select: f32) -> Option<usize> {
+        self.choose(u_select).map(|(i, _)| i)
+    }
+
+    /// Emitter `i` if it is a triangle: its corners, normal, area, radiance, sidedness and the
+    /// probability that `choose_index` picks it.
+    #[inline]
+    pub(crate) fn triangle_emitter(&self, i: usize) -> Option<TriangleEmitter> {
+        let emitter = &self.emitters[i];
+        match emitter.shape {
+            EmitterShape::Triangle { a, b, c, normal, area } => Some(TriangleEmitter {
+                corners: [a, b, c],
+                normal,
+                area,
+                radiance: emitter.radiance,
+                two_sided: emitter.two_sided,
+                selection: self.selection_probability(i),
+            }),
+            EmitterShape::Sphere { .. } => None,
+        }
+    }
+
+    /// The emitter that primitive `prim` of `object` is, if it is one (as `pdf` finds it).
+    #[inline]
+    pub(crate) fn emitter_index(&self, object: u32, prim: u32) -> Option<usize> {
+        let base = self.object_base.get(object as usize).copied().unwrap_or(NONE);
+        (base != NONE).then_some((base + prim) as usize)
     }
 
     /// A point on some light for the shading point `from`: spheres sampled by the solid angle

@@ -10,6 +10,7 @@ mod environment;
 mod point;
 mod spot;
 
+pub(crate) use area::TriangleEmitter;
 pub use area::{AreaEmission, AreaLights, LightSample, TriangleSampling};
 pub use directional::DirectionalLight;
 pub use emission::{Particle, ParticleSource};

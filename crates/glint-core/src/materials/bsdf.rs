@@ -58,7 +58,8 @@ pub struct Bsdf {
     refracted: Option<Vec3>,
 }
 
-fn luminance(c: Rgb) -> f32 {
+/// The weight of a lobe's colour in choosing it (never 0 for a colour that is not black).
+pub(crate) fn luminance(c: Rgb) -> f32 {
     c.dot(Rgb::new(0.2126, 0.7152, 0.0722)).max(c.max_element() * 1e-3)
 }
 

@@ -10,6 +10,7 @@ mod conductor;
 mod ggx;
 mod phong;
 
+pub(crate) use bsdf::luminance;
 pub use bsdf::{Bsdf, BsdfSample};
 pub use conductor::{fresnel_conductor, named_metal, METAL_NAMES};
 pub use ggx::Ggx;

@@ -1,0 +1,339 @@
+//! The path tracer as a wavefront: a tile's paths advance together, one bounce at a time, and
+//! every stage but the ray queries runs eight paths at once in SIMD lanes (`lanes.rs`).
+//!
+//! It serves the scenes whose every part the lanes handle: flat triangles (meshes and triangle
+//! shapes without a transform) of diffuse materials with constant colours, lit by triangle
+//! area lights sampled by area, with no environment and no point, spot or directional light.
+//! The Cornell box is one. Other scenes go path by path through `PathTracer::radiance`.
+//!
+//! It is that same estimator, operation for operation: each lane computes the bits the scalar
+//! code computes and draws the same numbers in the same order, so the image is bit-identical
+//! (tests/wavefront.rs) and every test of the path tracer holds for both. The closest-hit and
+//! shadow queries stay one path at a time (the BVH's own SIMD runs across a node's children).
+
+mod lanes;
+
+use std::f32::consts::FRAC_1_PI;
+
+use glam::Vec3;
+use wide::{f32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
+
+use self::lanes::{
+    barycentric_point, offset_ray_origin, orthonormal_basis, square_to_cosine_hemisphere, Vec3x8, LANES,
+};
+use super::path::PathTracer;
+use super::SampleContext;
+use crate::geometry::Ray;
+use crate::lights::{TriangleEmitter, TriangleSampling};
+use crate::materials::{luminance, Material};
+use crate::scene::{Scene, SHADOW_EPSILON};
+use crate::textures::Texture;
+use crate::Rgb;
+
+/// A material as the lanes read it.
+#[derive(Clone, Copy, Debug)]
+struct LaneMaterial {
+    diffuse: Rgb,
+    /// The BSDF has a lobe (p_diffuse = 1); a black one ends the path.
+    reflects: bool,
+    emission: Rgb,
+    two_sided: bool,
+}
+
+impl LaneMaterial {
+    /// Diffuse with a constant colour and nothing else, or `None`.
+    fn of(material: &Material) -> Option<Self> {
+        let Material::Phong(m) = material;
+        let (Texture::Constant(diffuse), Texture::Constant(reflection), Texture::Constant(transmission)) =
+            (&m.diffuse, &m.reflection, &m.transmission)
+        else {
+            return None;
+        };
+        if *reflection != Rgb::ZERO || *transmission != Rgb::ZERO || m.roughness > 0.0 {
+            return None;
+        }
+        Some(Self {
+            diffuse: *diffuse,
+            reflects: luminance(*diffuse) > 0.0,
+            emission: m.emission,
+            two_sided: m.two_sided_emission,
+        })
+    }
+}
+
+/// The path tracer's wavefront over one scene.
+pub(super) struct Wavefront<'a> {
+    scene: &'a Scene,
+    materials: Vec<LaneMaterial>,
+    max_depth: u32,
+    rr_depth: u32,
+}
+
+/// One path between bounces.
+#[derive(Clone, Copy, Debug)]
+struct Path {
+    /// The ray to trace next.
+    ray: Ray,
+    throughput: Rgb,
+    radiance: Rgb,
+    /// Bounces so far.
+    depth: u32,
+    /// The last scattering point and the BSDF's density of the direction sampled there (for the
+    /// MIS weight of emission found next), when `depth` > 0.
+    from_point: Vec3,
+    from_pdf: f32,
+    /// The closest hit of `ray`: object, primitive, and the barycentric weights of the second
+    /// and third corner.
+    object: u32,
+    prim: u32,
+    b1: f32,
+    b2: f32,
+}
+
+impl<'a> Wavefront<'a> {
+    /// The wavefront for `scene`, if the lanes handle all of it.
+    pub fn new(tracer: &PathTracer, scene: &'a Scene) -> Option<Self> {
+        let lights = &scene.area_lights;
+        let served = scene.geometry.all_triangles()
+            && scene.lights.is_empty()
+            && !scene.environment.emits()
+            && lights.triangles_only()
+            && lights.triangle_sampling == TriangleSampling::Area;
+        if !served {
+            return None;
+        }
+        let materials = scene.materials.iter().map(LaneMaterial::of).collect::<Option<Vec<_>>>()?;
+        Some(Self { scene, materials, max_depth: tracer.max_depth, rr_depth: tracer.rr_depth })
+    }
+
+    /// The radiance along each camera ray, `out[i]` for `rays[i]` drawing from `contexts[i]`.
+    pub fn radiance_tile(&self, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
+        let mut paths: Vec<Path> = rays
+            .iter()
+            .map(|&ray| Path {
+                ray,
+                throughput: Rgb::ONE,
+                radiance: Rgb::ZERO,
+                depth: 0,
+                from_point: Vec3::ZERO,
+                from_pdf: 0.0,
+                object: 0,
+                prim: 0,
+                b1: 0.0,
+                b2: 0.0,
+            })
+            .collect();
+        let mut active: Vec<u32> = (0..paths.len() as u32).collect();
+        let mut hits = Vec::with_capacity(paths.len());
+        while !active.is_empty() {
+            hits.clear();
+            for &i in &active {
+                let path = &mut paths[i as usize];
+                let counts = &mut contexts[i as usize].rays;
+                if path.depth == 0 {
+                    counts.camera += 1;
+                } else {
+                    counts.reflection += 1;
+                }
+                let mut ray = path.ray;
+                match self.scene.geometry.closest_primitive(&mut ray) {
+                    Some(((object, prim), hit)) => {
+                        (path.object, path.prim, path.b1, path.b2) = (object, prim, hit.u, hit.v);
+                        hits.push(i);
+                    }
+                    // Weight 1: the environment emits nothing, so it is not light-sampled.
+                    None => path.radiance += path.throughput * self.scene.environment.radiance(path.ray.direction),
+                }
+            }
+            active.clear();
+            for chunk in hits.chunks(LANES) {
+                self.bounce(chunk, &mut paths, contexts, &mut active);
+            }
+        }
+        for (out, path) in out.iter_mut().zip(&paths) {
+            *out = path.radiance;
+        }
+    }
+
+    /// One bounce of the (up to eight) paths `chunk`, which hit something: emission found,
+    /// next-event estimation, the BSDF sample and Russian roulette. The paths that go on are
+    /// added to `active`.
+    fn bounce(&self, chunk: &[u32], paths: &mut [Path], contexts: &mut [SampleContext], active: &mut Vec<u32>) {
+        let scene = self.scene;
+        let n = chunk.len();
+        // Lanes past the chunk's end repeat its first path; nothing of theirs is kept.
+        let index: [usize; LANES] = std::array::from_fn(|k| chunk[if k < n { k } else { 0 }] as usize);
+        let p: [Path; LANES] = index.map(|i| paths[i]);
+        let corners =
+            p.map(|p| scene.geometry.triangle(p.object, p.prim).expect("the wavefront serves triangle scenes"));
+        let material = p.map(|p| self.materials[scene.geometry.objects[p.object as usize].material as usize]);
+        let zero = f32x8::ZERO;
+
+        // The surface: triangle_surface's point, error bound and geometric normal.
+        let wo = -Vec3x8::from_fn(|k| p[k].ray.direction).normalize();
+        let [a, b, c] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| corners[k][j]));
+        let (point, error) = barycentric_point([a, b, c], lanes(|k| p[k].b1), lanes(|k| p[k].b2));
+        let geometric = (b - a).cross(c - a).normalize_or(Vec3::Z);
+        let mut throughput = Vec3x8::from_fn(|k| p[k].throughput);
+        let mut radiance = Vec3x8::from_fn(|k| p[k].radiance);
+
+        // Emission found, weighed against light sampling from the last bounce (not at the first).
+        let wo_dot_n = wo.dot(geometric);
+        let emits_toward = mask(|k| material[k].two_sided) | wo_dot_n.cmp_gt(zero);
+        let emitted = Vec3x8::select(emits_toward, Vec3x8::from_fn(|k| material[k].emission), Vec3x8::ZERO);
+        let found = emitted.nonzero();
+        if found.any() {
+            let emitter: [Option<TriangleEmitter>; LANES] = std::array::from_fn(|k| {
+                let i = scene.area_lights.emitter_index(p[k].object, p[k].prim)?;
+                scene.area_lights.triangle_emitter(i)
+            });
+            let to_light = point - Vec3x8::from_fn(|k| p[k].from_point);
+            let (light_pdf, seen) = area_to_solid_angle(
+                lanes(|k| emitter[k].map_or(0.0, |e| e.selection)),
+                lanes(|k| emitter[k].map_or(1.0, |e| e.area)),
+                to_light,
+                geometric,
+            );
+            let light_pdf = (mask(|k| emitter[k].is_some()) & seen).blend(light_pdf, zero);
+            let weight =
+                mask(|k| p[k].depth == 0).blend(f32x8::ONE, power_heuristic(lanes(|k| p[k].from_pdf), light_pdf));
+            radiance = Vec3x8::select(found, radiance + throughput.mul_lanes(emitted) * weight, radiance);
+        }
+
+        // Paths at the maximum depth, and on black surfaces, end here.
+        let goes_on: [bool; LANES] =
+            std::array::from_fn(|k| k < n && p[k].depth < self.max_depth && material[k].reflects);
+        let mut draws = [[0f32; 7]; LANES];
+        for k in (0..n).filter(|&k| goes_on[k]) {
+            let sampler = &mut contexts[index[k]].sampler;
+            // Light (selection, point), lobe, direction, and roulette if it comes.
+            let count = if p[k].depth + 1 >= self.rr_depth { 7 } else { 6 };
+            for draw in &mut draws[k][..count] {
+                *draw = sampler.next_f32();
+            }
+        }
+        let draw = |j: usize| lanes(|k| draws[k][j]);
+        let on = mask(|k| goes_on[k]);
+
+        // The BSDF's frame: the normal turned to wo's side (flat triangles: the shading normal
+        // is the geometric one).
+        let normal = Vec3x8::select(wo_dot_n.cmp_ge(zero), geometric, -geometric);
+        let diffuse = Vec3x8::from_fn(|k| material[k].diffuse);
+
+        // Next-event estimation: one point uniform on a light chosen by power.
+        let light: [Option<TriangleEmitter>; LANES] = std::array::from_fn(|k| {
+            let lights = &scene.area_lights;
+            goes_on[k].then(|| lights.choose_index(draws[k][0]).and_then(|i| lights.triangle_emitter(i))).flatten()
+        });
+        let mut direct = Vec3x8::ZERO;
+        if light.iter().any(Option::is_some) {
+            let [la, lb, lc] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| light[k].map_or(Vec3::ZERO, |l| l.corners[j])));
+            let light_normal = Vec3x8::from_fn(|k| light[k].map_or(Vec3::Z, |l| l.normal));
+            let area = lanes(|k| light[k].map_or(1.0, |l| l.area));
+            let two_sided = mask(|k| light[k].is_some_and(|l| l.two_sided));
+            // A one-sided light with every corner behind its plane sends nothing here.
+            let behind = |corner: Vec3x8| light_normal.dot(corner - point).cmp_gt(zero);
+            let hidden = !two_sided & behind(la) & behind(lb) & behind(lc);
+            let s = draw(1).sqrt();
+            let (light_point, light_error) = barycentric_point([la, lb, lc], f32x8::ONE - s, draw(2) * s);
+            let to_light = light_point - point;
+            let (pdf, seen) =
+                area_to_solid_angle(lanes(|k| light[k].map_or(0.0, |l| l.selection)), area, to_light, light_normal);
+            let cos_light = lanes::negate(light_normal.dot(to_light));
+            let sampled = mask(|k| light[k].is_some())
+                & !hidden
+                & !area.cmp_le(zero)
+                & seen
+                & pdf.cmp_gt(zero)
+                & pdf.is_finite()
+                & !cos_light.cmp_eq(zero);
+            let light_radiance = Vec3x8::select(
+                two_sided | cos_light.cmp_gt(zero),
+                Vec3x8::from_fn(|k| light[k].map_or(Vec3::ZERO, |l| l.radiance)),
+                Vec3x8::ZERO,
+            );
+            let wi = to_light.normalize();
+            let cos = wi.dot(normal);
+            let f = Vec3x8::select(cos.cmp_le(zero), Vec3x8::ZERO, diffuse * (cos * f32x8::splat(FRAC_1_PI)));
+            let traced = sampled & light_radiance.nonzero() & f.nonzero() & pdf.cmp_gt(zero);
+            // The shadow ray, each end offset off its surface toward the other.
+            let origin = offset_ray_origin(point, error, geometric, to_light);
+            let end = offset_ray_origin(light_point, light_error, light_normal, point - light_point);
+            let toward = end - origin;
+            let traced = traced.move_mask();
+            let unoccluded = mask(|k| {
+                if traced & (1 << k) == 0 {
+                    return false;
+                }
+                contexts[index[k]].rays.shadow += 1;
+                !scene.occluded(&Ray::with_range(origin.lane(k), toward.lane(k), 0.0, 1.0 - SHADOW_EPSILON))
+            });
+            let bsdf_pdf = cos.cmp_gt(zero).blend(cos * f32x8::splat(FRAC_1_PI), zero);
+            let weight = power_heuristic(pdf, bsdf_pdf);
+            let contribution = Vec3x8::ZERO + f.mul_lanes(light_radiance) * (weight / pdf);
+            direct = Vec3x8::select(unoccluded, contribution, Vec3x8::ZERO);
+        }
+        radiance = Vec3x8::select(on, radiance + throughput.mul_lanes(direct), radiance);
+
+        // The BSDF sample: cosine-weighted, weight k_d.
+        let local = square_to_cosine_hemisphere(draw(4), draw(5));
+        let (tangent, bitangent) = orthonormal_basis(normal);
+        let wi = tangent * local.x + bitangent * local.y + normal * local.z;
+        let scattered = !(local.z.cmp_le(zero) | wi.dot(normal).cmp_le(zero));
+        let pdf = local.z.cmp_gt(zero).blend(local.z * f32x8::splat(FRAC_1_PI), zero);
+        throughput = throughput.mul_lanes(diffuse);
+        // Russian roulette (Mitsuba's rule), from rr_depth bounces on.
+        let roulette = mask(|k| p[k].depth + 1 >= self.rr_depth);
+        let max = throughput.max_element();
+        let survival = max.cmp_lt(f32x8::splat(0.95)).blend(max, f32x8::splat(0.95));
+        let killed = roulette & (survival.cmp_le(zero) | draw(6).cmp_ge(survival));
+        let survivor = Vec3x8 { x: throughput.x / survival, y: throughput.y / survival, z: throughput.z / survival };
+        throughput = Vec3x8::select(roulette, survivor, throughput);
+        let continues = (on & scattered & !killed & throughput.nonzero()).move_mask();
+        let origin = offset_ray_origin(point, error, geometric, wi);
+
+        for (k, &i) in index.iter().enumerate().take(n) {
+            let path = &mut paths[i];
+            path.radiance = radiance.lane(k);
+            if continues & (1 << k) != 0 {
+                path.throughput = throughput.lane(k);
+                path.ray = Ray::new(origin.lane(k), wi.lane(k));
+                path.from_point = point.lane(k);
+                path.from_pdf = pdf.as_array_ref()[k];
+                path.depth += 1;
+                active.push(i as u32);
+            }
+        }
+    }
+}
+
+/// Lane k is `f(k)`.
+#[inline(always)]
+fn lanes(f: impl Fn(usize) -> f32) -> f32x8 {
+    f32x8::from(std::array::from_fn::<f32, LANES, _>(f))
+}
+
+/// A lane mask, set where `f(k)`.
+#[inline(always)]
+fn mask(mut f: impl FnMut(usize) -> bool) -> f32x8 {
+    let all = f32::from_bits(u32::MAX);
+    f32x8::from(std::array::from_fn::<f32, LANES, _>(|k| if f(k) { all } else { 0.0 }))
+}
+
+/// `area_to_solid_angle` in lanes: the density `selection / area` on the light as a density
+/// in solid angle seen across `to_light`, and the mask of lanes where the light is not seen
+/// edge on.
+#[inline(always)]
+fn area_to_solid_angle(selection: f32x8, area: f32x8, to_light: Vec3x8, normal: Vec3x8) -> (f32x8, f32x8) {
+    let distance_squared = to_light.dot(to_light);
+    let projected = normal.dot(to_light).abs();
+    (selection * distance_squared * distance_squared.sqrt() / (projected * area), projected.cmp_gt(f32x8::ZERO))
+}
+
+/// `power_heuristic` in lanes.
+#[inline(always)]
+fn power_heuristic(a: f32x8, b: f32x8) -> f32x8 {
+    let (a2, b2) = (a * a, b * b);
+    let special = (a2 + b2).cmp_eq(f32x8::ZERO) | !a2.is_finite();
+    special.blend(a2.is_inf().blend(f32x8::ONE, f32x8::ZERO), a2 / (a2 + b2))
+}
