@@ -109,8 +109,9 @@ pub struct AreaLights {
     object_base: Vec<u32>,
     /// Emitted power (flux, mean over RGB): Σ L_e · π · area · sides.
     total_power: f32,
-    /// No emitter is a sphere.
-    triangles_only: bool,
+    /// Every emitter as a triangle, in order, then a black one no `choose_index` picks (for
+    /// lanes without a light); `None` if some emitter is a sphere. For the path tracer's lanes.
+    triangle_table: Option<Vec<TriangleEmitter>>,
 }
 
 /// A triangle emitter as the path tracer's SIMD lanes read it (`AreaLights::triangle_emitter`).
@@ -203,17 +204,17 @@ impl AreaLights {
             return Self::default_for(objects.len());
         }
         Self {
+            triangle_table: triangle_table(&emitters, &cdf),
             cdf,
             object_base,
             total_power: total * std::f32::consts::PI,
             triangle_sampling: TriangleSampling::default(),
-            triangles_only: emitters.iter().all(|e| matches!(e.shape, EmitterShape::Triangle { .. })),
             emitters,
         }
     }
 
     fn default_for(object_count: usize) -> Self {
-        Self { object_base: vec![NONE; object_count], triangles_only: true, ..Self::default() }
+        Self { object_base: vec![NONE; object_count], triangle_table: triangle_table(&[], &[]), ..Self::default() }
     }
 
     /// Total emitted flux (mean over RGB), for choosing between area and other lights.
@@ -293,36 +294,19 @@ impl AreaLights {
     }
 
     fn selection_probability(&self, i: usize) -> f32 {
-        self.cdf[i] - if i == 0 { 0.0 } else { self.cdf[i - 1] }
+        probability_of(&self.cdf, i)
     }
 
-    /// Whether every emitter is a triangle (the path tracer's SIMD lanes sample no others).
-    pub(crate) fn triangles_only(&self) -> bool {
-        self.triangles_only
+    /// Every emitter as a triangle, then a black one that is never chosen (its index is the
+    /// number of emitters); `None` if some emitter is a sphere.
+    pub(crate) fn triangle_table(&self) -> Option<&[TriangleEmitter]> {
+        self.triangle_table.as_deref()
     }
 
     /// The index of the emitter `u_select` picks (by power), as `sample` picks it.
     #[inline]
     pub(crate) fn choose_index(&self, u_select: f32) -> Option<usize> {
         self.choose(u_select).map(|(i, _)| i)
-    }
-
-    /// Emitter `i` if it is a triangle: its corners, normal, area, radiance, sidedness and the
-    /// probability that `choose_index` picks it.
-    #[inline]
-    pub(crate) fn triangle_emitter(&self, i: usize) -> Option<TriangleEmitter> {
-        let emitter = &self.emitters[i];
-        match emitter.shape {
-            EmitterShape::Triangle { a, b, c, normal, area } => Some(TriangleEmitter {
-                corners: [a, b, c],
-                normal,
-                area,
-                radiance: emitter.radiance,
-                two_sided: emitter.two_sided,
-                selection: self.selection_probability(i),
-            }),
-            EmitterShape::Sphere { .. } => None,
-        }
     }
 
     /// The emitter that primitive `prim` of `object` is, if it is one (as `pdf` finds it).
@@ -431,6 +415,40 @@ impl AreaLights {
         }
         area_to_solid_angle(selection, shape.area(), from, point, normal).unwrap_or(0.0)
     }
+}
+
+/// The probability of entry `i` of a discrete distribution from its cumulative `cdf`.
+fn probability_of(cdf: &[f32], i: usize) -> f32 {
+    cdf[i] - if i == 0 { 0.0 } else { cdf[i - 1] }
+}
+
+/// `AreaLights::triangle_table` of `emitters` with cumulative selection probabilities `cdf`.
+fn triangle_table(emitters: &[Emitter], cdf: &[f32]) -> Option<Vec<TriangleEmitter>> {
+    let mut table: Vec<TriangleEmitter> = emitters
+        .iter()
+        .enumerate()
+        .map(|(i, e)| match e.shape {
+            EmitterShape::Triangle { a, b, c, normal, area } => Some(TriangleEmitter {
+                corners: [a, b, c],
+                normal,
+                area,
+                radiance: e.radiance,
+                two_sided: e.two_sided,
+                selection: probability_of(cdf, i),
+            }),
+            EmitterShape::Sphere { .. } => None,
+        })
+        .collect::<Option<_>>()?;
+    let none = TriangleEmitter {
+        corners: [Vec3::ZERO; 3],
+        normal: Vec3::Z,
+        area: 1.0,
+        radiance: Rgb::ZERO,
+        two_sided: false,
+        selection: 0.0,
+    };
+    table.push(none);
+    Some(table)
 }
 
 /// The density `selection / area` of a point uniform on an emitter's area, at `point` (normal

@@ -65,6 +65,8 @@ impl LaneMaterial {
 pub(super) struct Wavefront<'a> {
     scene: &'a Scene,
     materials: Vec<LaneMaterial>,
+    /// The area lights as triangles, then a black one for lanes without a light.
+    emitters: &'a [TriangleEmitter],
     max_depth: u32,
     rr_depth: u32,
 }
@@ -97,13 +99,13 @@ impl<'a> Wavefront<'a> {
         let served = scene.geometry.all_triangles()
             && scene.lights.is_empty()
             && !scene.environment.emits()
-            && lights.triangles_only()
             && lights.triangle_sampling == TriangleSampling::Area;
         if !served {
             return None;
         }
+        let emitters = lights.triangle_table()?;
         let materials = scene.materials.iter().map(LaneMaterial::of).collect::<Option<Vec<_>>>()?;
-        Some(Self { scene, materials, max_depth: tracer.max_depth, rr_depth: tracer.rr_depth })
+        Some(Self { scene, materials, emitters, max_depth: tracer.max_depth, rr_depth: tracer.rr_depth })
     }
 
     /// The radiance along each camera ray, `out[i]` for `rays[i]` drawing from `contexts[i]`.
@@ -163,19 +165,23 @@ impl<'a> Wavefront<'a> {
         let n = chunk.len();
         // Lanes past the chunk's end repeat its first path; nothing of theirs is kept.
         let index: [usize; LANES] = std::array::from_fn(|k| chunk[if k < n { k } else { 0 }] as usize);
-        let p: [Path; LANES] = index.map(|i| paths[i]);
-        let corners =
-            p.map(|p| scene.geometry.triangle(p.object, p.prim).expect("the wavefront serves triangle scenes"));
-        let material = p.map(|p| self.materials[scene.geometry.objects[p.object as usize].material as usize]);
+        // Read in place: a copy of the eight paths cost more than the reads.
+        let p = |k: usize| &paths[index[k]];
+        let corners: [[Vec3; 3]; LANES] = std::array::from_fn(|k| {
+            scene.geometry.triangle(p(k).object, p(k).prim).expect("the wavefront serves triangle scenes")
+        });
+        let material: [LaneMaterial; LANES] =
+            std::array::from_fn(|k| self.materials[scene.geometry.objects[p(k).object as usize].material as usize]);
+        let depth: [u32; LANES] = std::array::from_fn(|k| p(k).depth);
         let zero = f32x8::ZERO;
 
         // The surface: triangle_surface's point, error bound and geometric normal.
-        let wo = -Vec3x8::from_fn(|k| p[k].ray.direction).normalize();
+        let wo = -Vec3x8::from_fn(|k| p(k).ray.direction).normalize();
         let [a, b, c] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| corners[k][j]));
-        let (point, error) = barycentric_point([a, b, c], lanes(|k| p[k].b1), lanes(|k| p[k].b2));
+        let (point, error) = barycentric_point([a, b, c], lanes(|k| p(k).b1), lanes(|k| p(k).b2));
         let geometric = (b - a).cross(c - a).normalize_or(Vec3::Z);
-        let mut throughput = Vec3x8::from_fn(|k| p[k].throughput);
-        let mut radiance = Vec3x8::from_fn(|k| p[k].radiance);
+        let mut throughput = Vec3x8::from_fn(|k| p(k).throughput);
+        let mut radiance = Vec3x8::from_fn(|k| p(k).radiance);
 
         // Emission found, weighed against light sampling from the last bounce (not at the first).
         let wo_dot_n = wo.dot(geometric);
@@ -183,31 +189,27 @@ impl<'a> Wavefront<'a> {
         let emitted = Vec3x8::select(emits_toward, Vec3x8::from_fn(|k| material[k].emission), Vec3x8::ZERO);
         let found = emitted.nonzero();
         if found.any() {
-            let emitter: [Option<TriangleEmitter>; LANES] = std::array::from_fn(|k| {
-                let i = scene.area_lights.emitter_index(p[k].object, p[k].prim)?;
-                scene.area_lights.triangle_emitter(i)
+            let none = self.emitters.len() - 1;
+            let emitter: [&TriangleEmitter; LANES] = std::array::from_fn(|k| {
+                &self.emitters[scene.area_lights.emitter_index(p(k).object, p(k).prim).unwrap_or(none)]
             });
-            let to_light = point - Vec3x8::from_fn(|k| p[k].from_point);
-            let (light_pdf, seen) = area_to_solid_angle(
-                lanes(|k| emitter[k].map_or(0.0, |e| e.selection)),
-                lanes(|k| emitter[k].map_or(1.0, |e| e.area)),
-                to_light,
-                geometric,
-            );
-            let light_pdf = (mask(|k| emitter[k].is_some()) & seen).blend(light_pdf, zero);
+            let to_light = point - Vec3x8::from_fn(|k| p(k).from_point);
+            let (light_pdf, seen) =
+                area_to_solid_angle(lanes(|k| emitter[k].selection), lanes(|k| emitter[k].area), to_light, geometric);
+            let light_pdf = (mask(|k| !std::ptr::eq(emitter[k], &self.emitters[none])) & seen).blend(light_pdf, zero);
             let weight =
-                mask(|k| p[k].depth == 0).blend(f32x8::ONE, power_heuristic(lanes(|k| p[k].from_pdf), light_pdf));
+                mask(|k| depth[k] == 0).blend(f32x8::ONE, power_heuristic(lanes(|k| p(k).from_pdf), light_pdf));
             radiance = Vec3x8::select(found, radiance + throughput.mul_lanes(emitted) * weight, radiance);
         }
 
         // Paths at the maximum depth, and on black surfaces, end here.
         let goes_on: [bool; LANES] =
-            std::array::from_fn(|k| k < n && p[k].depth < self.max_depth && material[k].reflects);
+            std::array::from_fn(|k| k < n && depth[k] < self.max_depth && material[k].reflects);
         let mut draws = [[0f32; 7]; LANES];
         for k in (0..n).filter(|&k| goes_on[k]) {
             let sampler = &mut contexts[index[k]].sampler;
             // Light (selection, point), lobe, direction, and roulette if it comes.
-            let count = if p[k].depth + 1 >= self.rr_depth { 7 } else { 6 };
+            let count = if depth[k] + 1 >= self.rr_depth { 7 } else { 6 };
             for draw in &mut draws[k][..count] {
                 *draw = sampler.next_f32();
             }
@@ -221,26 +223,27 @@ impl<'a> Wavefront<'a> {
         let diffuse = Vec3x8::from_fn(|k| material[k].diffuse);
 
         // Next-event estimation: one point uniform on a light chosen by power.
-        let light: [Option<TriangleEmitter>; LANES] = std::array::from_fn(|k| {
-            let lights = &scene.area_lights;
-            goes_on[k].then(|| lights.choose_index(draws[k][0]).and_then(|i| lights.triangle_emitter(i))).flatten()
+        let none = self.emitters.len() - 1;
+        let chosen: [usize; LANES] = std::array::from_fn(|k| match goes_on[k] {
+            true => scene.area_lights.choose_index(draws[k][0]).unwrap_or(none),
+            false => none,
         });
         let mut direct = Vec3x8::ZERO;
-        if light.iter().any(Option::is_some) {
-            let [la, lb, lc] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| light[k].map_or(Vec3::ZERO, |l| l.corners[j])));
-            let light_normal = Vec3x8::from_fn(|k| light[k].map_or(Vec3::Z, |l| l.normal));
-            let area = lanes(|k| light[k].map_or(1.0, |l| l.area));
-            let two_sided = mask(|k| light[k].is_some_and(|l| l.two_sided));
+        if chosen.iter().any(|&i| i != none) {
+            let light = chosen.map(|i| &self.emitters[i]);
+            let [la, lb, lc] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| light[k].corners[j]));
+            let light_normal = Vec3x8::from_fn(|k| light[k].normal);
+            let area = lanes(|k| light[k].area);
+            let two_sided = mask(|k| light[k].two_sided);
             // A one-sided light with every corner behind its plane sends nothing here.
             let behind = |corner: Vec3x8| light_normal.dot(corner - point).cmp_gt(zero);
             let hidden = !two_sided & behind(la) & behind(lb) & behind(lc);
             let s = draw(1).sqrt();
             let (light_point, light_error) = barycentric_point([la, lb, lc], f32x8::ONE - s, draw(2) * s);
             let to_light = light_point - point;
-            let (pdf, seen) =
-                area_to_solid_angle(lanes(|k| light[k].map_or(0.0, |l| l.selection)), area, to_light, light_normal);
+            let (pdf, seen) = area_to_solid_angle(lanes(|k| light[k].selection), area, to_light, light_normal);
             let cos_light = lanes::negate(light_normal.dot(to_light));
-            let sampled = mask(|k| light[k].is_some())
+            let sampled = mask(|k| chosen[k] != none)
                 & !hidden
                 & !area.cmp_le(zero)
                 & seen
@@ -249,7 +252,7 @@ impl<'a> Wavefront<'a> {
                 & !cos_light.cmp_eq(zero);
             let light_radiance = Vec3x8::select(
                 two_sided | cos_light.cmp_gt(zero),
-                Vec3x8::from_fn(|k| light[k].map_or(Vec3::ZERO, |l| l.radiance)),
+                Vec3x8::from_fn(|k| light[k].radiance),
                 Vec3x8::ZERO,
             );
             let wi = to_light.normalize();
@@ -283,7 +286,7 @@ impl<'a> Wavefront<'a> {
         let pdf = local.z.cmp_gt(zero).blend(local.z * f32x8::splat(FRAC_1_PI), zero);
         throughput = throughput.mul_lanes(diffuse);
         // Russian roulette (Mitsuba's rule), from rr_depth bounces on.
-        let roulette = mask(|k| p[k].depth + 1 >= self.rr_depth);
+        let roulette = mask(|k| depth[k] + 1 >= self.rr_depth);
         let max = throughput.max_element();
         let survival = max.cmp_lt(f32x8::splat(0.95)).blend(max, f32x8::splat(0.95));
         let killed = roulette & (survival.cmp_le(zero) | draw(6).cmp_ge(survival));
