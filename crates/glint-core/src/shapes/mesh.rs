@@ -36,7 +36,9 @@ impl Mesh {
 
     #[inline]
     pub fn triangle_vertices(&self, i: usize) -> [Vec3; 3] {
-        self.indices[i].map(|k| self.positions[k as usize])
+        // Spelled out: `array::map` compiled to a loop with its counter kept in memory.
+        let [a, b, c] = self.indices[i];
+        [self.positions[a as usize], self.positions[b as usize], self.positions[c as usize]]
     }
 
     pub fn triangle_bounds(&self, i: usize) -> Aabb {

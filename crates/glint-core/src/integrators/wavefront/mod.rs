@@ -137,8 +137,10 @@ impl<'a> Wavefront<'a> {
                 } else {
                     counts.reflection += 1;
                 }
-                let mut ray = path.ray;
-                match self.scene.geometry.closest_primitive(&mut ray) {
+                // The query narrows the path's own ray, which is then not needed again: a
+                // fresh copy's fields would still be in the store buffer when the query loads
+                // them as a vector, a stall (store forwarding fails) of every closest hit.
+                match self.scene.geometry.closest_primitive(&mut path.ray) {
                     Some(((object, prim), hit)) => {
                         (path.object, path.prim, path.b1, path.b2) = (object, prim, hit.u, hit.v);
                         hits.push(i);
@@ -264,16 +266,21 @@ impl<'a> Wavefront<'a> {
             let end = offset_ray_origin(light_point, light_error, light_normal, point - light_point);
             let toward = end - origin;
             let traced = traced.move_mask();
+            // All eight written before the first is traced: a query that loads a ray as vectors
+            // while its fields' stores are still on their way to the cache stalls until they
+            // arrive (store forwarding fails).
+            let shadow_rays: [Ray; LANES] =
+                std::array::from_fn(|k| Ray::with_range(origin.lane(k), toward.lane(k), 0.0, 1.0 - SHADOW_EPSILON));
+            let bsdf_pdf = cos.cmp_gt(zero).blend(cos * f32x8::splat(FRAC_1_PI), zero);
+            let weight = power_heuristic(pdf, bsdf_pdf);
+            let contribution = Vec3x8::ZERO + f.mul_lanes(light_radiance) * (weight / pdf);
             let unoccluded = mask(|k| {
                 if traced & (1 << k) == 0 {
                     return false;
                 }
                 contexts[index[k]].rays.shadow += 1;
-                !scene.occluded(&Ray::with_range(origin.lane(k), toward.lane(k), 0.0, 1.0 - SHADOW_EPSILON))
+                !scene.occluded(&shadow_rays[k])
             });
-            let bsdf_pdf = cos.cmp_gt(zero).blend(cos * f32x8::splat(FRAC_1_PI), zero);
-            let weight = power_heuristic(pdf, bsdf_pdf);
-            let contribution = Vec3x8::ZERO + f.mul_lanes(light_radiance) * (weight / pdf);
             direct = Vec3x8::select(unoccluded, contribution, Vec3x8::ZERO);
         }
         radiance = Vec3x8::select(on, radiance + throughput.mul_lanes(direct), radiance);
