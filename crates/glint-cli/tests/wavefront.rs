@@ -71,6 +71,34 @@ fn the_wavefront_renders_the_cornell_box_bit_for_bit_as_the_path_tracer() {
     }
 }
 
+/// A smooth mesh (vertex normals) in the box: the lanes' shading normals, the BSDF frame
+/// turned to the viewer and the fallback to the geometric normal.
+#[test]
+fn the_wavefront_shades_smooth_meshes_as_the_path_tracer() {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let mut text = std::fs::read_to_string(scenes.join("cornell-box.toml")).expect("the Cornell box reads");
+    text.push_str(&format!(
+        "\n[[shapes]]\ntype = \"mesh\"\nname = \"torus\"\nfile = {:?}\nmaterial = \"white\"\n\
+         transform = [{{ rotate = {{ axis = [1, 0, 0], angle = 60 }} }}, {{ scale = 110 }}, \
+         {{ translate = [278, 330, 200] }}]\n",
+        scenes.join("meshes/torus.obj").display().to_string()
+    ));
+    let dir = std::env::temp_dir().join(format!("glint-wavefront-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let path = dir.join("smooth.toml");
+    std::fs::write(&path, text).expect("the scene writes");
+    let loaded = glint_scene::load_scene(&path).expect("the scene loads");
+    std::fs::remove_dir_all(&dir).ok();
+    let mut scene = loaded.scene;
+    scene.camera = scene.camera.with_resolution(48, 48);
+    let settings = loaded.render.integrator_settings;
+    let tracer = PathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth };
+    assert!(tracer.runs_as_wavefront(&scene), "a diffuse smooth mesh is a wavefront scene");
+    for (seed, index) in [(0, 0), (5, 2), (9, 17)] {
+        assert_same(&scene, &tracer, SamplerKind::Sobol, seed, index);
+    }
+}
+
 /// Depth limits and roulette from the first bounce: paths that end at every stage.
 #[test]
 fn the_wavefront_ends_paths_as_the_path_tracer_does() {

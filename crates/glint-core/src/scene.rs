@@ -358,6 +358,20 @@ impl Geometry {
         world_triangle(&self.objects[object as usize], prim)
     }
 
+    /// The vertex normals of primitive `prim` of `object`, if it is a triangle with them.
+    #[inline]
+    pub fn triangle_normals(&self, object: u32, prim: u32) -> Option<[Vec3; 3]> {
+        let object = &self.objects[object as usize];
+        match (&object.shape, &object.transform) {
+            (Shape::Mesh(m), None) => {
+                let [a, b, c] = m.indices[prim as usize];
+                m.normals.as_ref().map(|n| [n[a as usize], n[b as usize], n[c as usize]])
+            }
+            (Shape::Triangle(t), None) => t.normals,
+            _ => None,
+        }
+    }
+
     /// Whether a block is the SIMD test alone. Asked per query, not fixed at build: the
     /// triangle method can be changed after (`--triangle-method`).
     #[inline(always)]

@@ -57,10 +57,10 @@ impl Vec3x8 {
 
     /// glam's `normalize_or`: `fallback` where the reciprocal length is not finite and positive.
     #[inline(always)]
-    pub fn normalize_or(self, fallback: Vec3) -> Self {
+    pub fn normalize_or(self, fallback: Self) -> Self {
         let rcp = f32x8::ONE / self.dot(self).sqrt();
         let ok = rcp.is_finite() & rcp.cmp_gt(f32x8::ZERO);
-        Self::select(ok, self * rcp, Self::splat(fallback))
+        Self::select(ok, self * rcp, fallback)
     }
 
     #[inline(always)]
@@ -227,7 +227,7 @@ mod tests {
             let (la, lb, le) = (Vec3x8::from_fn(|k| a[k]), Vec3x8::from_fn(|k| b[k]), Vec3x8::from_fn(|k| e[k]));
             assert_lanes_equal(la.cross(lb), std::array::from_fn(|k| a[k].cross(b[k])), "cross");
             assert_lanes_equal(la.normalize(), a.map(Vec3::normalize), "normalize");
-            assert_lanes_equal(la.normalize_or(Vec3::Z), a.map(|v| v.normalize_or(Vec3::Z)), "normalize_or");
+            assert_lanes_equal(la.normalize_or(lb), std::array::from_fn(|k| a[k].normalize_or(b[k])), "normalize_or");
             let n = b.map(Vec3::normalize);
             let ln = Vec3x8::from_fn(|k| n[k]);
             let scalar: [Vec3; LANES] =

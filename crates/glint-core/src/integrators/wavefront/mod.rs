@@ -27,6 +27,7 @@ use crate::geometry::Ray;
 use crate::lights::{TriangleEmitter, TriangleSampling};
 use crate::materials::{luminance, Material};
 use crate::scene::{Scene, SHADOW_EPSILON};
+use crate::shapes::Shape;
 use crate::textures::Texture;
 use crate::Rgb;
 
@@ -67,6 +68,8 @@ pub(super) struct Wavefront<'a> {
     materials: Vec<LaneMaterial>,
     /// The area lights as triangles, then a black one for lanes without a light.
     emitters: &'a [TriangleEmitter],
+    /// Some triangle has vertex normals (else the shading normal is the geometric one).
+    smooth: bool,
     max_depth: u32,
     rr_depth: u32,
 }
@@ -105,7 +108,12 @@ impl<'a> Wavefront<'a> {
         }
         let emitters = lights.triangle_table()?;
         let materials = scene.materials.iter().map(LaneMaterial::of).collect::<Option<Vec<_>>>()?;
-        Some(Self { scene, materials, emitters, max_depth: tracer.max_depth, rr_depth: tracer.rr_depth })
+        let smooth = scene.geometry.objects.iter().any(|o| match &o.shape {
+            Shape::Mesh(m) => m.normals.is_some(),
+            Shape::Triangle(t) => t.normals.is_some(),
+            _ => false,
+        });
+        Some(Self { scene, materials, emitters, smooth, max_depth: tracer.max_depth, rr_depth: tracer.rr_depth })
     }
 
     /// The radiance along each camera ray, `out[i]` for `rays[i]` drawing from `contexts[i]`.
@@ -180,8 +188,9 @@ impl<'a> Wavefront<'a> {
         // The surface: triangle_surface's point, error bound and geometric normal.
         let wo = -Vec3x8::from_fn(|k| p(k).ray.direction).normalize();
         let [a, b, c] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| corners[k][j]));
-        let (point, error) = barycentric_point([a, b, c], lanes(|k| p(k).b1), lanes(|k| p(k).b2));
-        let geometric = (b - a).cross(c - a).normalize_or(Vec3::Z);
+        let (b1, b2) = (lanes(|k| p(k).b1), lanes(|k| p(k).b2));
+        let (point, error) = barycentric_point([a, b, c], b1, b2);
+        let geometric = (b - a).cross(c - a).normalize_or(Vec3x8::splat(Vec3::Z));
         let mut throughput = Vec3x8::from_fn(|k| p(k).throughput);
         let mut radiance = Vec3x8::from_fn(|k| p(k).radiance);
 
@@ -219,9 +228,25 @@ impl<'a> Wavefront<'a> {
         let draw = |j: usize| lanes(|k| draws[k][j]);
         let on = mask(|k| goes_on[k]);
 
-        // The BSDF's frame: the normal turned to wo's side (flat triangles: the shading normal
-        // is the geometric one).
-        let normal = Vec3x8::select(wo_dot_n.cmp_ge(zero), geometric, -geometric);
+        // The shading normal: the vertex normals interpolated where the mesh has them
+        // (triangle_surface), kept on the geometric normal's side.
+        let vertex_normals: [Option<[Vec3; 3]>; LANES] = std::array::from_fn(|k| match self.smooth {
+            true => scene.geometry.triangle_normals(p(k).object, p(k).prim),
+            false => None,
+        });
+        let smooth = mask(|k| vertex_normals[k].is_some());
+        let shading = if smooth.any() {
+            let [na, nb, nc] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| vertex_normals[k].map_or(Vec3::ZERO, |n| n[j])));
+            let n = (na * (f32x8::ONE - b1 - b2) + nb * b1 + nc * b2).normalize_or(geometric);
+            Vec3x8::select(smooth, Vec3x8::select(n.dot(geometric).cmp_lt(zero), -n, n), geometric)
+        } else {
+            geometric
+        };
+        // The BSDF's frame (Bsdf::new): both normals turned to wo's side, and the geometric one
+        // where the shading normal would face away from the viewer.
+        let facing = Vec3x8::select(wo_dot_n.cmp_ge(zero), geometric, -geometric);
+        let normal = Vec3x8::select(shading.dot(facing).cmp_ge(zero), shading, -shading);
+        let normal = Vec3x8::select(normal.dot(wo).cmp_le(zero), facing, normal);
         let diffuse = Vec3x8::from_fn(|k| material[k].diffuse);
 
         // Next-event estimation: one point uniform on a light chosen by power.
@@ -258,8 +283,12 @@ impl<'a> Wavefront<'a> {
                 Vec3x8::ZERO,
             );
             let wi = to_light.normalize();
-            let cos = wi.dot(normal);
-            let f = Vec3x8::select(cos.cmp_le(zero), Vec3x8::ZERO, diffuse * (cos * f32x8::splat(FRAC_1_PI)));
+            let (cos, above) = (wi.dot(normal), wi.dot(facing));
+            let f = Vec3x8::select(
+                cos.cmp_le(zero) | above.cmp_le(zero),
+                Vec3x8::ZERO,
+                diffuse * (cos * f32x8::splat(FRAC_1_PI)),
+            );
             let traced = sampled & light_radiance.nonzero() & f.nonzero() & pdf.cmp_gt(zero);
             // The shadow ray, each end offset off its surface toward the other.
             let origin = offset_ray_origin(point, error, geometric, to_light);
@@ -271,7 +300,7 @@ impl<'a> Wavefront<'a> {
             // arrive (store forwarding fails).
             let shadow_rays: [Ray; LANES] =
                 std::array::from_fn(|k| Ray::with_range(origin.lane(k), toward.lane(k), 0.0, 1.0 - SHADOW_EPSILON));
-            let bsdf_pdf = cos.cmp_gt(zero).blend(cos * f32x8::splat(FRAC_1_PI), zero);
+            let bsdf_pdf = (above.cmp_gt(zero) & cos.cmp_gt(zero)).blend(cos * f32x8::splat(FRAC_1_PI), zero);
             let weight = power_heuristic(pdf, bsdf_pdf);
             let contribution = Vec3x8::ZERO + f.mul_lanes(light_radiance) * (weight / pdf);
             let unoccluded = mask(|k| {
@@ -289,7 +318,7 @@ impl<'a> Wavefront<'a> {
         let local = square_to_cosine_hemisphere(draw(4), draw(5));
         let (tangent, bitangent) = orthonormal_basis(normal);
         let wi = tangent * local.x + bitangent * local.y + normal * local.z;
-        let scattered = !(local.z.cmp_le(zero) | wi.dot(normal).cmp_le(zero));
+        let scattered = !(local.z.cmp_le(zero) | wi.dot(facing).cmp_le(zero));
         let pdf = local.z.cmp_gt(zero).blend(local.z * f32x8::splat(FRAC_1_PI), zero);
         throughput = throughput.mul_lanes(diffuse);
         // Russian roulette (Mitsuba's rule), from rr_depth bounces on.
