@@ -1,0 +1,155 @@
+//! The path tracer's wavefront (eight paths at a time in SIMD lanes) against the path tracer
+//! one path at a time: the same radiance bit for bit and the same rays traced, for every
+//! pixel, sampler, seed and depth setting tried. The scalar path tracer is what the ground
+//! truth tests check against Mitsuba (glint-cli's cornell_box.rs) and the furnace; this
+//! carries their verdict over to the wavefront. Runs in CI for AVX2 and for plain SSE2.
+
+mod common;
+
+use common::{object_with, scene};
+use glint_core::camera::Camera;
+use glint_core::geometry::Ray;
+use glint_core::integrators::{Integrator, PathTracer, SampleContext};
+use glint_core::lights::{AreaLights, TriangleSampling};
+use glint_core::materials::{Material, Phong};
+use glint_core::sampling::{Sampler, SamplerKind};
+use glint_core::scene::{Object, Scene};
+use glint_core::shapes::{Shape, Triangle};
+use glint_core::textures::Texture;
+use glint_core::{Rgb, Vec3};
+
+const SIZE: u32 = 40;
+
+fn diffuse(reflectance: Rgb, emission: Rgb, two_sided: bool) -> Material {
+    Material::Phong(Phong {
+        diffuse: Texture::Constant(reflectance),
+        emission,
+        two_sided_emission: two_sided,
+        ..Phong::default()
+    })
+}
+
+/// Both triangles of the quad a, b, c, d.
+fn quad(corners: [Vec3; 4], material: u32) -> [Object; 2] {
+    let [a, b, c, d] = corners;
+    [
+        object_with(Shape::Triangle(Triangle::new(a, b, c)), material),
+        object_with(Shape::Triangle(Triangle::new(a, c, d)), material),
+    ]
+}
+
+/// A closed room of coloured walls with a one-sided lamp under its ceiling, a small two-sided
+/// emitter, a black triangle, and a tilted quad with vertex normals (smooth shading), seen
+/// from inside: every kind of hit the lanes handle.
+fn room() -> Scene {
+    let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    let mut objects = Vec::new();
+    objects.extend(quad([v(-1., -1., -1.), v(1., -1., -1.), v(1., -1., 1.), v(-1., -1., 1.)], 0)); // floor
+    objects.extend(quad([v(-1., 1., -1.), v(-1., 1., 1.), v(1., 1., 1.), v(1., 1., -1.)], 0)); // ceiling
+    objects.extend(quad([v(-1., -1., 1.), v(1., -1., 1.), v(1., 1., 1.), v(-1., 1., 1.)], 0)); // back
+    objects.extend(quad([v(-1., -1., -1.), v(-1., -1., 1.), v(-1., 1., 1.), v(-1., 1., -1.)], 1)); // left
+    objects.extend(quad([v(1., -1., -1.), v(1., 1., -1.), v(1., 1., 1.), v(1., -1., 1.)], 2)); // right
+    objects.extend(quad([v(-1., -1., -1.), v(-1., 1., -1.), v(1., 1., -1.), v(1., -1., -1.)], 0)); // front
+                                                                                                   // The lamp faces down: (b − a) × (c − a) along −y.
+    objects.extend(quad([v(-0.3, 0.98, -0.2), v(0.3, 0.98, -0.2), v(0.3, 0.98, 0.4), v(-0.3, 0.98, 0.4)], 3));
+    objects
+        .push(object_with(Shape::Triangle(Triangle::new(v(0.6, -0.2, 0.5), v(0.9, -0.2, 0.8), v(0.7, 0.3, 0.7))), 4));
+    objects
+        .push(object_with(Shape::Triangle(Triangle::new(v(-0.8, -1., 0.2), v(-0.4, -1., 0.6), v(-0.6, -0.4, 0.4))), 5));
+    let [mut a, mut b] = quad([v(-0.5, -0.6, 0.3), v(0.3, -0.8, 0.1), v(0.4, -0.1, 0.6), v(-0.4, 0.1, 0.7)], 0);
+    for object in [&mut a, &mut b] {
+        if let Shape::Triangle(t) = &mut object.shape {
+            // Normals that bend away from the flat face, one past the horizon of grazing views.
+            t.normals = Some(t.vertices.map(|p| (Vec3::new(0.0, 0.2, -1.0) + 0.9 * p).normalize()));
+        }
+    }
+    objects.extend([a, b]);
+    let mut s = scene(objects);
+    s.materials = vec![
+        diffuse(Rgb::new(0.8, 0.75, 0.7), Rgb::ZERO, false),
+        diffuse(Rgb::new(0.6, 0.05, 0.05), Rgb::ZERO, false),
+        diffuse(Rgb::new(0.1, 0.5, 0.1), Rgb::ZERO, false),
+        diffuse(Rgb::splat(0.7), Rgb::new(12.0, 10.0, 7.0), false),
+        diffuse(Rgb::splat(0.5), Rgb::new(2.0, 3.0, 4.0), true),
+        diffuse(Rgb::ZERO, Rgb::ZERO, false),
+    ];
+    s.area_lights = AreaLights::new(s.objects(), &s.materials);
+    s.camera = Camera::new(Vec3::new(0.0, 0.0, -0.95), Vec3::new(0.0, -0.1, 0.0), Vec3::Y, 70.0, SIZE, SIZE).unwrap();
+    s
+}
+
+/// Every pixel's camera sample `index`: rays and contexts as the render loop makes them.
+fn camera_samples(scene: &Scene, sampler: SamplerKind, seed: u64, index: u32) -> (Vec<Ray>, Vec<SampleContext>) {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    (0..w * h)
+        .map(|i| {
+            let mut context = SampleContext::with_sampler(Sampler::new(sampler, seed, i as u64, index, 64));
+            let (fx, fy) = ((i % w) as f32 + context.sampler.next_f32(), (i / w) as f32 + context.sampler.next_f32());
+            (scene.camera.generate_ray(fx, fy), context)
+        })
+        .unzip()
+}
+
+/// Sample `index` of every pixel both ways, asserted equal; returns how many pixels saw light.
+fn assert_same(scene: &Scene, tracer: &PathTracer, sampler: SamplerKind, seed: u64, index: u32) -> usize {
+    let (rays, contexts) = camera_samples(scene, sampler, seed, index);
+    let mut one_by_one = contexts.clone();
+    let expected: Vec<Rgb> =
+        rays.iter().zip(one_by_one.iter_mut()).map(|(ray, context)| tracer.radiance(scene, ray, context)).collect();
+    let mut together = contexts;
+    let mut got = vec![Rgb::ZERO; rays.len()];
+    // In tile-sized batches, as the render loop hands them over (the last one short).
+    for ((rays, contexts), out) in rays.chunks(256).zip(together.chunks_mut(256)).zip(got.chunks_mut(256)) {
+        tracer.radiance_tile(scene, rays, contexts, out);
+    }
+    for i in 0..rays.len() {
+        let (g, e) = (got[i], expected[i]);
+        assert_eq!(
+            g.to_array().map(f32::to_bits),
+            e.to_array().map(f32::to_bits),
+            "pixel {i}, sample {index}, seed {seed}: {g} against {e}"
+        );
+        assert_eq!(together[i].rays, one_by_one[i].rays, "rays traced for pixel {i}");
+    }
+    expected.iter().filter(|r| r.max_element() > 0.0).count()
+}
+
+#[test]
+fn the_wavefront_renders_a_room_bit_for_bit_as_the_path_tracer() {
+    let scene = room();
+    let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5 };
+    assert!(tracer.runs_as_wavefront(&scene), "a room of diffuse triangles is a wavefront scene");
+    for sampler in SamplerKind::ALL {
+        for (seed, index) in [(0, 0), (7, 3), (123, 41)] {
+            let lit = assert_same(&scene, &tracer, sampler, seed, index);
+            assert!(lit > (SIZE * SIZE / 2) as usize, "{lit} pixels lit");
+        }
+    }
+}
+
+/// Depth limits and roulette from the first bounce: paths that end at every stage.
+#[test]
+fn the_wavefront_ends_paths_as_the_path_tracer_does() {
+    let scene = room();
+    for (max_depth, rr_depth) in [(0, 5), (1, 5), (2, 1), (u32::MAX, 1), (6, 3)] {
+        let tracer = PathTracer { max_depth, rr_depth };
+        for seed in 0..3 {
+            assert_same(&scene, &tracer, SamplerKind::Sobol, seed, seed as u32);
+        }
+    }
+}
+
+/// Scenes the lanes do not serve go path by path, with the same result as ever.
+#[test]
+fn other_scenes_fall_back_to_one_path_at_a_time() {
+    let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5 };
+    let mut solid_angle = room();
+    solid_angle.area_lights.triangle_sampling = TriangleSampling::SolidAngle;
+    let mut mirror = room();
+    let Material::Phong(p) = &mut mirror.materials[1];
+    p.reflection = Texture::Constant(Rgb::splat(0.5));
+    for (scene, what) in [(solid_angle, "solid-angle light sampling"), (mirror, "a mirror")] {
+        assert!(!tracer.runs_as_wavefront(&scene), "{what} is not in the lanes");
+        assert_same(&scene, &tracer, SamplerKind::Sobol, 1, 0);
+    }
+}
