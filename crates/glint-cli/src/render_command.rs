@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use glint_core::filter::Filter;
-use glint_core::integrators::{IntegratorKind, IntegratorSettings};
+use glint_core::integrators::{IntegratorKind, IntegratorSettings, PathTracer};
 use glint_core::render::{render_progressive, PassRenderer, Progressive, RenderSettings, StopReason};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -82,6 +82,11 @@ pub struct RenderArgs {
     /// the scene's `light_sampling`, else area.
     #[arg(long, value_enum)]
     light_sampling: Option<LightSamplingArg>,
+    /// Path tracing: trace one path at a time instead of a tile's paths eight at a time in
+    /// SIMD lanes (which diffuse triangle scenes such as the Cornell box get). The image is
+    /// the same bit for bit; for comparing the speed of the two.
+    #[arg(long)]
+    no_wavefront: bool,
     /// No progress bar and no summary line.
     #[arg(short, long)]
     quiet: bool,
@@ -336,6 +341,10 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     );
     let started = Instant::now();
     let mut renderer = pool.install(|| integrator_kind.renderer(&integrator_settings, &scene, settings.seed))?;
+    let s = &integrator_settings;
+    let wavefront = integrator_kind == IntegratorKind::Path
+        && PathTracer { max_depth: s.max_depth, rr_depth: s.rr_depth, wavefront: s.wavefront }
+            .runs_as_wavefront(&scene);
     if integrator_kind == IntegratorKind::Photon && !args.quiet {
         eprintln!("photon maps built in {:.2} s", started.elapsed().as_secs_f64());
     }
@@ -421,7 +430,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     if !args.quiet {
         let seconds = result.elapsed.as_secs_f64().max(1e-9);
         eprintln!(
-            "rendered {width}x{height} at {} spp{} with {} in {:.2} s: {:.2} M samples/s, {:.2} M rays/s -> {}",
+            "rendered {width}x{height} at {} spp{} with {}{} in {:.2} s: {:.2} M samples/s, {:.2} M rays/s -> {}",
             result.spp_done,
             match result.stopped_early {
                 Some(StopReason::Interrupted) => " (interrupted)",
@@ -429,6 +438,7 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
                 None => "",
             },
             integrator_kind.name(),
+            if wavefront { " (wavefront, 8 lanes)" } else { "" },
             seconds,
             result.samples as f64 / seconds / 1e6,
             result.rays.total() as f64 / seconds / 1e6,
@@ -469,6 +479,7 @@ impl RenderArgs {
             s.min_contribution = c;
         }
         s.transparent_shadows |= self.transparent_shadows;
+        s.wavefront &= !self.no_wavefront;
         for (flag, value) in [("--photon-radius", self.photon_radius), ("--sppm-radius", self.sppm_radius)] {
             if value.is_some_and(|v| !(v.is_finite() && v >= 0.0)) {
                 return Err(format!("{flag} must be a length ≥ 0 (0: automatic), got {}", value.unwrap_or_default()));

@@ -172,6 +172,26 @@ fn solid_angle_light_sampling_changes_the_samples_not_the_image() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// The path tracer's wavefront (eight paths at a time in SIMD lanes) and `--no-wavefront` (one
+/// at a time) write the same image, and the summary says which ran.
+#[test]
+fn the_wavefront_and_one_path_at_a_time_write_the_same_image() {
+    let dir = temp_dir("wavefront");
+    let cornell = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/cornell-box.toml");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let args = ["render", cornell, "--width", "48", "--spp", "6", "--seed", "3", "-o", out.to_str().unwrap()];
+        let o = glint(&[&args[..], extra].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+        (std::fs::read(&out).unwrap(), stderr(&o))
+    };
+    let ((lanes, said), (one, said_one)) = (render("w.pfm", &[]), render("o.pfm", &["--no-wavefront"]));
+    assert!(said.contains("with path (wavefront, 8 lanes)"), "{said}");
+    assert!(said_one.contains("with path in"), "{said_one}");
+    assert_eq!(lanes, one, "the two image files differ");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 #[test]
 fn bad_scene_names_file_and_line() {
     let dir = temp_dir("bad");

@@ -117,7 +117,7 @@ fn assert_same(scene: &Scene, tracer: &PathTracer, sampler: SamplerKind, seed: u
 #[test]
 fn the_wavefront_renders_a_room_bit_for_bit_as_the_path_tracer() {
     let scene = room();
-    let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5 };
+    let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
     assert!(tracer.runs_as_wavefront(&scene), "a room of diffuse triangles is a wavefront scene");
     for sampler in SamplerKind::ALL {
         for (seed, index) in [(0, 0), (7, 3), (123, 41)] {
@@ -132,7 +132,7 @@ fn the_wavefront_renders_a_room_bit_for_bit_as_the_path_tracer() {
 fn the_wavefront_ends_paths_as_the_path_tracer_does() {
     let scene = room();
     for (max_depth, rr_depth) in [(0, 5), (1, 5), (2, 1), (u32::MAX, 1), (6, 3)] {
-        let tracer = PathTracer { max_depth, rr_depth };
+        let tracer = PathTracer { max_depth, rr_depth, wavefront: true };
         for seed in 0..3 {
             assert_same(&scene, &tracer, SamplerKind::Sobol, seed, seed as u32);
         }
@@ -142,7 +142,7 @@ fn the_wavefront_ends_paths_as_the_path_tracer_does() {
 /// Scenes the lanes do not serve go path by path, with the same result as ever.
 #[test]
 fn other_scenes_fall_back_to_one_path_at_a_time() {
-    let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5 };
+    let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
     let mut solid_angle = room();
     solid_angle.area_lights.triangle_sampling = TriangleSampling::SolidAngle;
     let mut mirror = room();

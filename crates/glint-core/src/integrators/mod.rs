@@ -129,6 +129,9 @@ pub struct IntegratorSettings {
     pub sppm_radius: f32,
     /// SPPM: photons per pass (0: as many as the image has pixels).
     pub photons_per_pass: u32,
+    /// Path tracing: run a tile's paths together, eight at a time in SIMD lanes, where the
+    /// scene allows (the same image, faster); false: one path at a time.
+    pub wavefront: bool,
 }
 
 impl Default for IntegratorSettings {
@@ -141,6 +144,7 @@ impl Default for IntegratorSettings {
             photon: PhotonSettings::default(),
             sppm_radius: 0.0,
             photons_per_pass: 0,
+            wavefront: true,
         }
     }
 }
@@ -185,7 +189,11 @@ impl IntegratorKind {
         Some(match self {
             IntegratorKind::Raycast => Box::new(Raycast),
             IntegratorKind::BvhHeat => Box::new(BvhHeat),
-            IntegratorKind::Path => Box::new(PathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth }),
+            IntegratorKind::Path => Box::new(PathTracer {
+                max_depth: settings.max_depth,
+                rr_depth: settings.rr_depth,
+                wavefront: settings.wavefront,
+            }),
             IntegratorKind::PathNaive => {
                 Box::new(NaivePathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth })
             }

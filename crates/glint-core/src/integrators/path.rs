@@ -22,12 +22,15 @@ use crate::Rgb;
 pub struct PathTracer {
     pub max_depth: u32,
     pub rr_depth: u32,
+    /// Run a tile's paths as a wavefront where the scene allows (`wavefront`); false: one
+    /// path at a time. The image is the same.
+    pub wavefront: bool,
 }
 
 impl PathTracer {
     /// Whether a render of `scene` runs as a wavefront in SIMD lanes (see `wavefront`).
     pub fn runs_as_wavefront(&self, scene: &Scene) -> bool {
-        Wavefront::new(self, scene).is_some()
+        self.wavefront && Wavefront::new(self, scene).is_some()
     }
 }
 
@@ -56,7 +59,7 @@ impl Integrator for PathTracer {
     /// A tile's paths as a wavefront in SIMD lanes where the scene allows (`wavefront`), with
     /// the same result as one by one.
     fn radiance_tile(&self, scene: &Scene, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
-        match Wavefront::new(self, scene) {
+        match self.wavefront.then(|| Wavefront::new(self, scene)).flatten() {
             Some(wavefront) => wavefront.radiance_tile(rays, contexts, out),
             None => radiance_each(self, scene, rays, contexts, out),
         }

@@ -305,6 +305,7 @@ fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneErro
         },
         sppm_radius: r.sppm_radius,
         photons_per_pass: r.photons_per_pass,
+        wavefront: true,
     };
     let filter = by_name(cx, "filter", "filter", &r.filter, Filter::ALL.map(Filter::name), Filter::from_name)?;
     let sampler =
