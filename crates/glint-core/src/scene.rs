@@ -532,7 +532,7 @@ impl Geometry {
         best.map(|(id, hit)| self.surface_hit(id, &ray, &hit))
     }
 
-    fn surface_hit(&self, (o, p): (u32, u32), ray: &Ray, hit: &PrimHit) -> SurfaceHit {
+    pub(crate) fn surface_hit(&self, (o, p): (u32, u32), ray: &Ray, hit: &PrimHit) -> SurfaceHit {
         let object = &self.objects[o as usize];
         let geometry = object.surface(p, ray, hit);
         let object_point = match (&object.transform, &object.shape) {

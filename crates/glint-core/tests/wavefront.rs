@@ -10,13 +10,13 @@ use common::{object_with, scene};
 use glint_core::camera::Camera;
 use glint_core::geometry::Ray;
 use glint_core::integrators::{Integrator, PathTracer, SampleContext};
-use glint_core::lights::{AreaLights, TriangleSampling};
+use glint_core::lights::{AreaLights, Falloff, Light, PointLight, TriangleSampling};
 use glint_core::materials::{Material, Phong};
 use glint_core::sampling::{Sampler, SamplerKind};
 use glint_core::scene::{Object, Scene};
-use glint_core::shapes::{Shape, Triangle};
-use glint_core::textures::Texture;
-use glint_core::{Rgb, Vec3};
+use glint_core::shapes::{Shape, Sphere, Triangle};
+use glint_core::textures::{Checker, Texture};
+use glint_core::{Rgb, Vec2, Vec3};
 
 const SIZE: u32 = 40;
 
@@ -139,17 +139,57 @@ fn the_wavefront_ends_paths_as_the_path_tracer_does() {
     }
 }
 
+/// What the lanes leave to the scalar code lane by lane: a sphere's surface, a textured wall,
+/// a sphere light (sampled by the cone it subtends) and triangle lights by solid angle.
+#[test]
+fn the_wavefront_serves_spheres_textures_and_solid_angle_light_sampling() {
+    let mut s = room();
+    let checker = Checker { even: Rgb::new(0.8, 0.7, 0.2), odd: Rgb::new(0.2, 0.3, 0.7), scale: Vec2::splat(4.0) };
+    let Material::Phong(back) = &mut s.materials[2];
+    back.diffuse = Texture::Checker(checker);
+    s.materials.push(diffuse(Rgb::splat(0.3), Rgb::new(6.0, 5.0, 3.0), false));
+    let mut objects = s.objects().to_vec();
+    objects.push(object_with(Shape::Sphere(Sphere::new(Vec3::new(0.45, -0.7, 0.3), 0.3)), 0));
+    objects.push(object_with(Shape::Sphere(Sphere::new(Vec3::new(-0.6, 0.6, 0.6), 0.12)), 6));
+    let materials = std::mem::take(&mut s.materials);
+    let camera = s.camera;
+    let mut s = scene(objects);
+    (s.materials, s.camera) = (materials, camera);
+    s.area_lights = AreaLights::new(s.objects(), &s.materials);
+    let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
+    for sampling in [TriangleSampling::Area, TriangleSampling::SolidAngle] {
+        s.area_lights.triangle_sampling = sampling;
+        assert!(tracer.runs_as_wavefront(&s), "spheres and textures are wavefront scenes");
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in [(2, 0), (11, 9)] {
+                let lit = assert_same(&s, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{lit} pixels lit");
+            }
+        }
+    }
+}
+
 /// Scenes the lanes do not serve go path by path, with the same result as ever.
 #[test]
 fn other_scenes_fall_back_to_one_path_at_a_time() {
     let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
-    let mut solid_angle = room();
-    solid_angle.area_lights.triangle_sampling = TriangleSampling::SolidAngle;
     let mut mirror = room();
     let Material::Phong(p) = &mut mirror.materials[1];
     p.reflection = Texture::Constant(Rgb::splat(0.5));
-    for (scene, what) in [(solid_angle, "solid-angle light sampling"), (mirror, "a mirror")] {
+    let mut lamp = room();
+    lamp.lights.push(Light::Point(PointLight {
+        position: Vec3::new(0.2, 0.5, 0.1),
+        intensity: Rgb::splat(0.5),
+        falloff: Falloff::InverseSquare,
+    }));
+    let mut sky = room();
+    sky.environment.background = Rgb::splat(0.2);
+    for (scene, what) in [(mirror, "a mirror"), (lamp, "a point light"), (sky, "an environment light")] {
         assert!(!tracer.runs_as_wavefront(&scene), "{what} is not in the lanes");
         assert_same(&scene, &tracer, SamplerKind::Sobol, 1, 0);
     }
+    let mut off = PathTracer { wavefront: false, ..tracer };
+    assert!(!off.runs_as_wavefront(&room()), "the wavefront turned off");
+    off.wavefront = true;
+    assert!(off.runs_as_wavefront(&room()));
 }

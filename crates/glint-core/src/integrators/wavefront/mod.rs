@@ -1,10 +1,13 @@
 //! The path tracer as a wavefront: a tile's paths advance together, one bounce at a time, and
-//! every stage but the ray queries runs eight paths at once in SIMD lanes (`lanes.rs`).
+//! the stages between the ray queries run eight paths at once in SIMD lanes (`lanes.rs`).
 //!
-//! It serves the scenes whose every part the lanes handle: flat triangles (meshes and triangle
-//! shapes without a transform) of diffuse materials with constant colours, lit by triangle
-//! area lights sampled by area, with no environment and no point, spot or directional light.
-//! The Cornell box is one. Other scenes go path by path through `PathTracer::radiance`.
+//! It serves the scenes of diffuse materials (any diffuse colour or texture, any emission)
+//! with area lights and no environment light or point, spot or directional light: any
+//! geometry. Where the scene allows, the lanes do everything: the surface of flat or smooth
+//! triangles with constant colours, and triangle lights sampled by area (the Cornell box).
+//! Otherwise each lane asks the scalar code for what differs (the surface of a sphere or a
+//! textured mesh, a point on a sphere light or by solid angle) and the rest stays in lanes.
+//! Other scenes go path by path through `PathTracer::radiance`.
 //!
 //! It is that same estimator, operation for operation: each lane computes the bits the scalar
 //! code computes and draws the same numbers in the same order, so the image is bit-identical
@@ -15,7 +18,7 @@ mod lanes;
 
 use std::f32::consts::FRAC_1_PI;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use wide::{f32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
 use self::lanes::{
@@ -25,9 +28,9 @@ use super::path::PathTracer;
 use super::SampleContext;
 use crate::geometry::Ray;
 use crate::lights::{TriangleEmitter, TriangleSampling};
-use crate::materials::{luminance, Material};
+use crate::materials::{luminance, Material, PhongPoint};
 use crate::scene::{Scene, SHADOW_EPSILON};
-use crate::shapes::Shape;
+use crate::shapes::{PrimHit, Shape};
 use crate::textures::Texture;
 use crate::Rgb;
 
@@ -42,32 +45,50 @@ struct LaneMaterial {
 }
 
 impl LaneMaterial {
-    /// Diffuse with a constant colour and nothing else, or `None`.
-    fn of(material: &Material) -> Option<Self> {
-        let Material::Phong(m) = material;
-        let (Texture::Constant(diffuse), Texture::Constant(reflection), Texture::Constant(transmission)) =
-            (&m.diffuse, &m.reflection, &m.transmission)
-        else {
-            return None;
-        };
-        if *reflection != Rgb::ZERO || *transmission != Rgb::ZERO || m.roughness > 0.0 {
-            return None;
+    /// What lanes without a hit read.
+    const BLACK: Self = Self { diffuse: Rgb::ZERO, reflects: false, emission: Rgb::ZERO, two_sided: false };
+
+    /// An evaluated material.
+    fn at(point: &PhongPoint) -> Self {
+        Self {
+            diffuse: point.diffuse,
+            reflects: luminance(point.diffuse) > 0.0,
+            emission: point.emission,
+            two_sided: point.two_sided_emission,
         }
+    }
+
+    /// A material with constant colours, evaluated once.
+    fn constant(material: &Material) -> Option<Self> {
+        let Material::Phong(m) = material;
+        let Texture::Constant(diffuse) = m.diffuse else { return None };
         Some(Self {
-            diffuse: *diffuse,
-            reflects: luminance(*diffuse) > 0.0,
+            diffuse,
+            reflects: luminance(diffuse) > 0.0,
             emission: m.emission,
             two_sided: m.two_sided_emission,
         })
     }
 }
 
+/// Whether a material is diffuse and nothing else wherever it is evaluated (its BSDF is
+/// Lambert's alone, Bsdf::new's fast case).
+fn diffuse_only(material: &Material) -> bool {
+    let Material::Phong(m) = material;
+    m.reflection == Texture::Constant(Rgb::ZERO)
+        && m.transmission == Texture::Constant(Rgb::ZERO)
+        && !(m.roughness > 0.0)
+}
+
 /// The path tracer's wavefront over one scene.
 pub(super) struct Wavefront<'a> {
     scene: &'a Scene,
-    materials: Vec<LaneMaterial>,
-    /// The area lights as triangles, then a black one for lanes without a light.
-    emitters: &'a [TriangleEmitter],
+    /// Every material, when all are constant and every primitive is a triangle in world space:
+    /// then the lanes compute the surfaces themselves.
+    flat: Option<Vec<LaneMaterial>>,
+    /// The area lights as triangles, then a black one for lanes without a light, when all are
+    /// triangles sampled by area: then the lanes sample them themselves.
+    emitters: Option<&'a [TriangleEmitter]>,
     /// Some triangle has vertex normals (else the shading normal is the geometric one).
     smooth: bool,
     max_depth: u32,
@@ -83,37 +104,56 @@ struct Path {
     radiance: Rgb,
     /// Bounces so far.
     depth: u32,
-    /// The last scattering point and the BSDF's density of the direction sampled there (for the
-    /// MIS weight of emission found next), when `depth` > 0.
+    /// The last scattering point, its shading normal, and the BSDF's density of the direction
+    /// sampled there (for the MIS weight of emission found next), when `depth` > 0.
     from_point: Vec3,
+    from_normal: Vec3,
     from_pdf: f32,
-    /// The closest hit of `ray`: object, primitive, and the barycentric weights of the second
-    /// and third corner.
+    /// The closest hit of `ray`: object, primitive, and where on it.
     object: u32,
     prim: u32,
-    b1: f32,
-    b2: f32,
+    hit: PrimHit,
+}
+
+/// The surfaces the lanes hit, as `SurfaceGeometry` has them, and the materials there.
+struct Surfaces {
+    point: Vec3x8,
+    error: Vec3x8,
+    geometric: Vec3x8,
+    shading: Vec3x8,
+    material: [LaneMaterial; LANES],
+}
+
+/// Points the lanes sampled on lights, as `LightSample` has them.
+struct LightPoints {
+    /// Lanes with a point (`AreaLights::sample` gave one).
+    sampled: f32x8,
+    point: Vec3x8,
+    normal: Vec3x8,
+    error: Vec3x8,
+    radiance: Vec3x8,
+    pdf: f32x8,
 }
 
 impl<'a> Wavefront<'a> {
     /// The wavefront for `scene`, if the lanes handle all of it.
     pub fn new(tracer: &PathTracer, scene: &'a Scene) -> Option<Self> {
-        let lights = &scene.area_lights;
-        let served = scene.geometry.all_triangles()
-            && scene.lights.is_empty()
-            && !scene.environment.emits()
-            && lights.triangle_sampling == TriangleSampling::Area;
+        let served = scene.lights.is_empty() && !scene.environment.emits() && scene.materials.iter().all(diffuse_only);
         if !served {
             return None;
         }
-        let emitters = lights.triangle_table()?;
-        let materials = scene.materials.iter().map(LaneMaterial::of).collect::<Option<Vec<_>>>()?;
+        let flat = match scene.geometry.all_triangles() {
+            true => scene.materials.iter().map(LaneMaterial::constant).collect::<Option<Vec<_>>>(),
+            false => None,
+        };
+        let lights = &scene.area_lights;
+        let emitters = lights.triangle_table().filter(|_| lights.triangle_sampling == TriangleSampling::Area);
         let smooth = scene.geometry.objects.iter().any(|o| match &o.shape {
             Shape::Mesh(m) => m.normals.is_some(),
             Shape::Triangle(t) => t.normals.is_some(),
             _ => false,
         });
-        Some(Self { scene, materials, emitters, smooth, max_depth: tracer.max_depth, rr_depth: tracer.rr_depth })
+        Some(Self { scene, flat, emitters, smooth, max_depth: tracer.max_depth, rr_depth: tracer.rr_depth })
     }
 
     /// The radiance along each camera ray, `out[i]` for `rays[i]` drawing from `contexts[i]`.
@@ -126,11 +166,11 @@ impl<'a> Wavefront<'a> {
                 radiance: Rgb::ZERO,
                 depth: 0,
                 from_point: Vec3::ZERO,
+                from_normal: Vec3::ZERO,
                 from_pdf: 0.0,
                 object: 0,
                 prim: 0,
-                b1: 0.0,
-                b2: 0.0,
+                hit: PrimHit { t: 0.0, u: 0.0, v: 0.0, inner: 0 },
             })
             .collect();
         let mut active: Vec<u32> = (0..paths.len() as u32).collect();
@@ -150,7 +190,7 @@ impl<'a> Wavefront<'a> {
                 // them as a vector, a stall (store forwarding fails) of every closest hit.
                 match self.scene.geometry.closest_primitive(&mut path.ray) {
                     Some(((object, prim), hit)) => {
-                        (path.object, path.prim, path.b1, path.b2) = (object, prim, hit.u, hit.v);
+                        (path.object, path.prim, path.hit) = (object, prim, hit);
                         hits.push(i);
                     }
                     // Weight 1: the environment emits nothing, so it is not light-sampled.
@@ -177,20 +217,14 @@ impl<'a> Wavefront<'a> {
         let index: [usize; LANES] = std::array::from_fn(|k| chunk[if k < n { k } else { 0 }] as usize);
         // Read in place: a copy of the eight paths cost more than the reads.
         let p = |k: usize| &paths[index[k]];
-        let corners: [[Vec3; 3]; LANES] = std::array::from_fn(|k| {
-            scene.geometry.triangle(p(k).object, p(k).prim).expect("the wavefront serves triangle scenes")
-        });
-        let material: [LaneMaterial; LANES] =
-            std::array::from_fn(|k| self.materials[scene.geometry.objects[p(k).object as usize].material as usize]);
         let depth: [u32; LANES] = std::array::from_fn(|k| p(k).depth);
         let zero = f32x8::ZERO;
 
-        // The surface: triangle_surface's point, error bound and geometric normal.
         let wo = -Vec3x8::from_fn(|k| p(k).ray.direction).normalize();
-        let [a, b, c] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| corners[k][j]));
-        let (b1, b2) = (lanes(|k| p(k).b1), lanes(|k| p(k).b2));
-        let (point, error) = barycentric_point([a, b, c], b1, b2);
-        let geometric = (b - a).cross(c - a).normalize_or(Vec3x8::splat(Vec3::Z));
+        let Surfaces { point, error, geometric, shading, material } = match &self.flat {
+            Some(materials) => self.flat_surfaces(&p, materials),
+            None => self.surfaces(&p, n),
+        };
         let mut throughput = Vec3x8::from_fn(|k| p(k).throughput);
         let mut radiance = Vec3x8::from_fn(|k| p(k).radiance);
 
@@ -200,14 +234,28 @@ impl<'a> Wavefront<'a> {
         let emitted = Vec3x8::select(emits_toward, Vec3x8::from_fn(|k| material[k].emission), Vec3x8::ZERO);
         let found = emitted.nonzero();
         if found.any() {
-            let none = self.emitters.len() - 1;
-            let emitter: [&TriangleEmitter; LANES] = std::array::from_fn(|k| {
-                &self.emitters[scene.area_lights.emitter_index(p(k).object, p(k).prim).unwrap_or(none)]
-            });
-            let to_light = point - Vec3x8::from_fn(|k| p(k).from_point);
-            let (light_pdf, seen) =
-                area_to_solid_angle(lanes(|k| emitter[k].selection), lanes(|k| emitter[k].area), to_light, geometric);
-            let light_pdf = (mask(|k| !std::ptr::eq(emitter[k], &self.emitters[none])) & seen).blend(light_pdf, zero);
+            let light_pdf = match self.emitters {
+                Some(emitters) => {
+                    let none = emitters.len() - 1;
+                    let emitter: [&TriangleEmitter; LANES] = std::array::from_fn(|k| {
+                        &emitters[scene.area_lights.emitter_index(p(k).object, p(k).prim).unwrap_or(none)]
+                    });
+                    let to_light = point - Vec3x8::from_fn(|k| p(k).from_point);
+                    let (pdf, seen) = area_to_solid_angle(
+                        lanes(|k| emitter[k].selection),
+                        lanes(|k| emitter[k].area),
+                        to_light,
+                        geometric,
+                    );
+                    (mask(|k| !std::ptr::eq(emitter[k], &emitters[none])) & seen).blend(pdf, zero)
+                }
+                None => lanes(|k| {
+                    let path = p(k);
+                    let (hit_point, hit_normal) = (point.lane(k), geometric.lane(k));
+                    let receiver = Some(path.from_normal);
+                    scene.area_lights.pdf(path.from_point, receiver, path.object, path.prim, hit_point, hit_normal)
+                }),
+            };
             let weight =
                 mask(|k| depth[k] == 0).blend(f32x8::ONE, power_heuristic(lanes(|k| p(k).from_pdf), light_pdf));
             radiance = Vec3x8::select(found, radiance + throughput.mul_lanes(emitted) * weight, radiance);
@@ -228,20 +276,6 @@ impl<'a> Wavefront<'a> {
         let draw = |j: usize| lanes(|k| draws[k][j]);
         let on = mask(|k| goes_on[k]);
 
-        // The shading normal: the vertex normals interpolated where the mesh has them
-        // (triangle_surface), kept on the geometric normal's side.
-        let vertex_normals: [Option<[Vec3; 3]>; LANES] = std::array::from_fn(|k| match self.smooth {
-            true => scene.geometry.triangle_normals(p(k).object, p(k).prim),
-            false => None,
-        });
-        let smooth = mask(|k| vertex_normals[k].is_some());
-        let shading = if smooth.any() {
-            let [na, nb, nc] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| vertex_normals[k].map_or(Vec3::ZERO, |n| n[j])));
-            let n = (na * (f32x8::ONE - b1 - b2) + nb * b1 + nc * b2).normalize_or(geometric);
-            Vec3x8::select(smooth, Vec3x8::select(n.dot(geometric).cmp_lt(zero), -n, n), geometric)
-        } else {
-            geometric
-        };
         // The BSDF's frame (Bsdf::new): both normals turned to wo's side, and the geometric one
         // where the shading normal would face away from the viewer.
         let facing = Vec3x8::select(wo_dot_n.cmp_ge(zero), geometric, -geometric);
@@ -249,39 +283,22 @@ impl<'a> Wavefront<'a> {
         let normal = Vec3x8::select(normal.dot(wo).cmp_le(zero), facing, normal);
         let diffuse = Vec3x8::from_fn(|k| material[k].diffuse);
 
-        // Next-event estimation: one point uniform on a light chosen by power.
-        let none = self.emitters.len() - 1;
-        let chosen: [usize; LANES] = std::array::from_fn(|k| match goes_on[k] {
-            true => scene.area_lights.choose_index(draws[k][0]).unwrap_or(none),
-            false => none,
-        });
+        // Next-event estimation: one point on a light chosen by power.
+        let light = match self.emitters {
+            Some(emitters) => self.triangle_light_points(emitters, &goes_on, &draws, point),
+            None => self.light_points(&goes_on, &draws, point, shading),
+        };
         let mut direct = Vec3x8::ZERO;
-        if chosen.iter().any(|&i| i != none) {
-            let light = chosen.map(|i| &self.emitters[i]);
-            let [la, lb, lc] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| light[k].corners[j]));
-            let light_normal = Vec3x8::from_fn(|k| light[k].normal);
-            let area = lanes(|k| light[k].area);
-            let two_sided = mask(|k| light[k].two_sided);
-            // A one-sided light with every corner behind its plane sends nothing here.
-            let behind = |corner: Vec3x8| light_normal.dot(corner - point).cmp_gt(zero);
-            let hidden = !two_sided & behind(la) & behind(lb) & behind(lc);
-            let s = draw(1).sqrt();
-            let (light_point, light_error) = barycentric_point([la, lb, lc], f32x8::ONE - s, draw(2) * s);
+        if let Some(LightPoints {
+            sampled,
+            point: light_point,
+            normal: light_normal,
+            error: light_error,
+            radiance: light_radiance,
+            pdf,
+        }) = light
+        {
             let to_light = light_point - point;
-            let (pdf, seen) = area_to_solid_angle(lanes(|k| light[k].selection), area, to_light, light_normal);
-            let cos_light = lanes::negate(light_normal.dot(to_light));
-            let sampled = mask(|k| chosen[k] != none)
-                & !hidden
-                & !area.cmp_le(zero)
-                & seen
-                & pdf.cmp_gt(zero)
-                & pdf.is_finite()
-                & !cos_light.cmp_eq(zero);
-            let light_radiance = Vec3x8::select(
-                two_sided | cos_light.cmp_gt(zero),
-                Vec3x8::from_fn(|k| light[k].radiance),
-                Vec3x8::ZERO,
-            );
             let wi = to_light.normalize();
             let (cos, above) = (wi.dot(normal), wi.dot(facing));
             let f = Vec3x8::select(
@@ -338,11 +355,134 @@ impl<'a> Wavefront<'a> {
                 path.throughput = throughput.lane(k);
                 path.ray = Ray::new(origin.lane(k), wi.lane(k));
                 path.from_point = point.lane(k);
+                path.from_normal = shading.lane(k);
                 path.from_pdf = pdf.as_array_ref()[k];
                 path.depth += 1;
                 active.push(i as u32);
             }
         }
+    }
+
+    /// The surfaces of triangles in world space with constant materials, computed in the lanes
+    /// (triangle_surface): point, error bound, geometric normal, and the shading normal from
+    /// the vertex normals where the mesh has them.
+    #[inline(always)]
+    fn flat_surfaces<'p>(&self, p: &impl Fn(usize) -> &'p Path, materials: &[LaneMaterial]) -> Surfaces {
+        let geometry = &self.scene.geometry;
+        let corners: [[Vec3; 3]; LANES] =
+            std::array::from_fn(|k| geometry.triangle(p(k).object, p(k).prim).expect("flat surfaces are triangles"));
+        let [a, b, c] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| corners[k][j]));
+        let (b1, b2) = (lanes(|k| p(k).hit.u), lanes(|k| p(k).hit.v));
+        let (point, error) = barycentric_point([a, b, c], b1, b2);
+        let geometric = (b - a).cross(c - a).normalize_or(Vec3x8::splat(Vec3::Z));
+        let vertex_normals: [Option<[Vec3; 3]>; LANES] = std::array::from_fn(|k| match self.smooth {
+            true => geometry.triangle_normals(p(k).object, p(k).prim),
+            false => None,
+        });
+        let smooth = mask(|k| vertex_normals[k].is_some());
+        let shading = if smooth.any() {
+            let [na, nb, nc] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| vertex_normals[k].map_or(Vec3::ZERO, |n| n[j])));
+            let n = (na * (f32x8::ONE - b1 - b2) + nb * b1 + nc * b2).normalize_or(geometric);
+            let turned = Vec3x8::select(n.dot(geometric).cmp_lt(f32x8::ZERO), -n, n);
+            Vec3x8::select(smooth, turned, geometric)
+        } else {
+            geometric
+        };
+        let material = std::array::from_fn(|k| materials[geometry.objects[p(k).object as usize].material as usize]);
+        Surfaces { point, error, geometric, shading, material }
+    }
+
+    /// The surfaces of any shapes and materials, from the scalar code lane by lane (the lanes
+    /// past `n` read black).
+    fn surfaces<'p>(&self, p: &impl Fn(usize) -> &'p Path, n: usize) -> Surfaces {
+        let scene = self.scene;
+        let hits: [Option<crate::scene::SurfaceHit>; LANES] = std::array::from_fn(|k| {
+            let path = p(k);
+            (k < n).then(|| scene.geometry.surface_hit((path.object, path.prim), &path.ray, &path.hit))
+        });
+        let geometry = |k: usize| hits[k].map(|h| h.geometry);
+        Surfaces {
+            point: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::ZERO, |g| g.point)),
+            error: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::ZERO, |g| g.error)),
+            geometric: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.geometric_normal)),
+            shading: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.shading_normal)),
+            material: std::array::from_fn(|k| match &hits[k] {
+                Some(h) => LaneMaterial::at(&scene.materials[h.material as usize].evaluate(&h.texture_query())),
+                None => LaneMaterial::BLACK,
+            }),
+        }
+    }
+
+    /// Points uniform on triangle lights chosen by power, sampled in the lanes
+    /// (AreaLights::sample by area); `None` if no lane chose one.
+    #[inline(always)]
+    fn triangle_light_points(
+        &self,
+        emitters: &[TriangleEmitter],
+        goes_on: &[bool; LANES],
+        draws: &[[f32; 7]; LANES],
+        from: Vec3x8,
+    ) -> Option<LightPoints> {
+        let zero = f32x8::ZERO;
+        let none = emitters.len() - 1;
+        let chosen: [usize; LANES] = std::array::from_fn(|k| match goes_on[k] {
+            true => self.scene.area_lights.choose_index(draws[k][0]).unwrap_or(none),
+            false => none,
+        });
+        if chosen.iter().all(|&i| i == none) {
+            return None;
+        }
+        let light = chosen.map(|i| &emitters[i]);
+        let [la, lb, lc] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| light[k].corners[j]));
+        let normal = Vec3x8::from_fn(|k| light[k].normal);
+        let area = lanes(|k| light[k].area);
+        let two_sided = mask(|k| light[k].two_sided);
+        // A one-sided light with every corner behind its plane sends nothing here.
+        let behind = |corner: Vec3x8| normal.dot(corner - from).cmp_gt(zero);
+        let hidden = !two_sided & behind(la) & behind(lb) & behind(lc);
+        let s = lanes(|k| draws[k][1]).sqrt();
+        let (point, error) = barycentric_point([la, lb, lc], f32x8::ONE - s, lanes(|k| draws[k][2]) * s);
+        let to_light = point - from;
+        let (pdf, seen) = area_to_solid_angle(lanes(|k| light[k].selection), area, to_light, normal);
+        let cos_light = lanes::negate(normal.dot(to_light));
+        let sampled = mask(|k| chosen[k] != none)
+            & !hidden
+            & !area.cmp_le(zero)
+            & seen
+            & pdf.cmp_gt(zero)
+            & pdf.is_finite()
+            & !cos_light.cmp_eq(zero);
+        let radiance =
+            Vec3x8::select(two_sided | cos_light.cmp_gt(zero), Vec3x8::from_fn(|k| light[k].radiance), Vec3x8::ZERO);
+        Some(LightPoints { sampled, point, normal, error, radiance, pdf })
+    }
+
+    /// Points on any area lights, from `AreaLights::sample` lane by lane; `None` if no lane
+    /// got one.
+    fn light_points(
+        &self,
+        goes_on: &[bool; LANES],
+        draws: &[[f32; 7]; LANES],
+        from: Vec3x8,
+        shading: Vec3x8,
+    ) -> Option<LightPoints> {
+        let samples: [Option<crate::lights::LightSample>; LANES] = std::array::from_fn(|k| {
+            let u = Vec2::new(draws[k][1], draws[k][2]);
+            goes_on[k].then(|| self.scene.area_lights.sample(from.lane(k), Some(shading.lane(k)), draws[k][0], u))?
+        });
+        if samples.iter().all(Option::is_none) {
+            return None;
+        }
+        let field =
+            |f: fn(&crate::lights::LightSample) -> Vec3| Vec3x8::from_fn(|k| samples[k].as_ref().map_or(Vec3::Z, f));
+        Some(LightPoints {
+            sampled: mask(|k| samples[k].is_some()),
+            point: field(|s| s.point),
+            normal: field(|s| s.normal),
+            error: field(|s| s.error),
+            radiance: Vec3x8::from_fn(|k| samples[k].map_or(Rgb::ZERO, |s| s.radiance)),
+            pdf: lanes(|k| samples[k].map_or(0.0, |s| s.pdf)),
+        })
     }
 }
 
