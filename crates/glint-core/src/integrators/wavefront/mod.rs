@@ -75,9 +75,9 @@ impl LaneMaterial {
 /// Lambert's alone, Bsdf::new's fast case).
 fn diffuse_only(material: &Material) -> bool {
     let Material::Phong(m) = material;
-    m.reflection == Texture::Constant(Rgb::ZERO)
-        && m.transmission == Texture::Constant(Rgb::ZERO)
-        && !(m.roughness > 0.0)
+    // Bsdf::new's own test for a glossy lobe (a NaN roughness has none).
+    let glossy = m.roughness > 0.0;
+    m.reflection == Texture::Constant(Rgb::ZERO) && m.transmission == Texture::Constant(Rgb::ZERO) && !glossy
 }
 
 /// The path tracer's wavefront over one scene.
