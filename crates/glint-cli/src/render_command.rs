@@ -341,10 +341,8 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     );
     let started = Instant::now();
     let mut renderer = pool.install(|| integrator_kind.renderer(&integrator_settings, &scene, settings.seed))?;
-    let s = &integrator_settings;
-    let wavefront = integrator_kind == IntegratorKind::Path
-        && PathTracer { max_depth: s.max_depth, rr_depth: s.rr_depth, wavefront: s.wavefront }
-            .runs_as_wavefront(&scene);
+    let wavefront =
+        integrator_kind == IntegratorKind::Path && PathTracer::new(&integrator_settings).runs_as_wavefront(&scene);
     if integrator_kind == IntegratorKind::Photon && !args.quiet {
         eprintln!("photon maps built in {:.2} s", started.elapsed().as_secs_f64());
     }

@@ -9,8 +9,7 @@ use glint_core::integrators::PathTracer;
 fn runs_as_wavefront(name: &str) -> bool {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name);
     let loaded = glint_scene::load_scene(&path).expect("the scene loads");
-    let s = loaded.render.integrator_settings;
-    PathTracer { max_depth: s.max_depth, rr_depth: s.rr_depth, wavefront: s.wavefront }.runs_as_wavefront(&loaded.scene)
+    PathTracer::new(&loaded.render.integrator_settings).runs_as_wavefront(&loaded.scene)
 }
 
 #[test]

@@ -222,6 +222,8 @@ pub struct Geometry {
     /// Every lane of every block is a triangle (or empty): with the watertight method a block
     /// is the SIMD test alone, with no lane for the scalar path to look at.
     triangles_only: bool,
+    /// Some triangle in world space has vertex normals (`triangle_normals` can be `Some`).
+    vertex_normals: bool,
     bvh: Bvh8,
     bounds: Aabb,
     stats: BvhStats,
@@ -299,10 +301,16 @@ impl Geometry {
             + generic.len() * std::mem::size_of::<(u32, u32)>()
             + (object_first.len() + object_of.len()) * std::mem::size_of::<u32>();
         let triangles_only = generic.is_empty();
+        let vertex_normals = objects.iter().any(|o| match (&o.shape, &o.transform) {
+            (Shape::Mesh(m), None) => m.normals.is_some(),
+            (Shape::Triangle(t), None) => t.normals.is_some(),
+            _ => false,
+        });
         Self {
             objects,
             methods,
             triangles_only,
+            vertex_normals,
             blocks,
             generic,
             object_first,
@@ -358,7 +366,14 @@ impl Geometry {
         world_triangle(&self.objects[object as usize], prim)
     }
 
-    /// The vertex normals of primitive `prim` of `object`, if it is a triangle with them.
+    /// Whether some triangle in world space has vertex normals (else `triangle_normals` is
+    /// always `None`).
+    pub fn has_vertex_normals(&self) -> bool {
+        self.vertex_normals
+    }
+
+    /// The vertex normals of primitive `prim` of `object`, if it is a triangle in world space
+    /// with them.
     #[inline]
     pub fn triangle_normals(&self, object: u32, prim: u32) -> Option<[Vec3; 3]> {
         let object = &self.objects[object as usize];

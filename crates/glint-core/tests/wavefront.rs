@@ -14,7 +14,7 @@ use glint_core::lights::{AreaLights, Falloff, Light, PointLight, TriangleSamplin
 use glint_core::materials::{Material, Phong};
 use glint_core::sampling::{Sampler, SamplerKind};
 use glint_core::scene::{Object, Scene};
-use glint_core::shapes::{Shape, Sphere, Triangle};
+use glint_core::shapes::{Mesh, Polygon, Shape, Sphere, Triangle};
 use glint_core::textures::{Checker, Texture};
 use glint_core::{Rgb, Vec2, Vec3};
 
@@ -44,26 +44,35 @@ fn quad(corners: [Vec3; 4], material: u32) -> [Object; 2] {
 fn room() -> Scene {
     let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
     let mut objects = Vec::new();
-    objects.extend(quad([v(-1., -1., -1.), v(1., -1., -1.), v(1., -1., 1.), v(-1., -1., 1.)], 0)); // floor
-    objects.extend(quad([v(-1., 1., -1.), v(-1., 1., 1.), v(1., 1., 1.), v(1., 1., -1.)], 0)); // ceiling
-    objects.extend(quad([v(-1., -1., 1.), v(1., -1., 1.), v(1., 1., 1.), v(-1., 1., 1.)], 0)); // back
-    objects.extend(quad([v(-1., -1., -1.), v(-1., -1., 1.), v(-1., 1., 1.), v(-1., 1., -1.)], 1)); // left
-    objects.extend(quad([v(1., -1., -1.), v(1., 1., -1.), v(1., 1., 1.), v(1., -1., 1.)], 2)); // right
-    objects.extend(quad([v(-1., -1., -1.), v(-1., 1., -1.), v(1., 1., -1.), v(1., -1., -1.)], 0)); // front
-                                                                                                   // The lamp faces down: (b − a) × (c − a) along −y.
+    // Floor, ceiling, back, left, right and front walls.
+    objects.extend(quad([v(-1., -1., -1.), v(1., -1., -1.), v(1., -1., 1.), v(-1., -1., 1.)], 0));
+    objects.extend(quad([v(-1., 1., -1.), v(-1., 1., 1.), v(1., 1., 1.), v(1., 1., -1.)], 0));
+    objects.extend(quad([v(-1., -1., 1.), v(1., -1., 1.), v(1., 1., 1.), v(-1., 1., 1.)], 0));
+    objects.extend(quad([v(-1., -1., -1.), v(-1., -1., 1.), v(-1., 1., 1.), v(-1., 1., -1.)], 1));
+    objects.extend(quad([v(1., -1., -1.), v(1., 1., -1.), v(1., 1., 1.), v(1., -1., 1.)], 2));
+    objects.extend(quad([v(-1., -1., -1.), v(-1., 1., -1.), v(1., 1., -1.), v(1., -1., -1.)], 0));
+    // The lamp faces down: (b − a) × (c − a) along −y. Then a two-sided emitter and a black
+    // triangle.
     objects.extend(quad([v(-0.3, 0.98, -0.2), v(0.3, 0.98, -0.2), v(0.3, 0.98, 0.4), v(-0.3, 0.98, 0.4)], 3));
     objects
         .push(object_with(Shape::Triangle(Triangle::new(v(0.6, -0.2, 0.5), v(0.9, -0.2, 0.8), v(0.7, 0.3, 0.7))), 4));
     objects
         .push(object_with(Shape::Triangle(Triangle::new(v(-0.8, -1., 0.2), v(-0.4, -1., 0.6), v(-0.6, -0.4, 0.4))), 5));
-    let [mut a, mut b] = quad([v(-0.5, -0.6, 0.3), v(0.3, -0.8, 0.1), v(0.4, -0.1, 0.6), v(-0.4, 0.1, 0.7)], 0);
-    for object in [&mut a, &mut b] {
-        if let Shape::Triangle(t) = &mut object.shape {
-            // Normals that bend away from the flat face, one past the horizon of grazing views.
-            t.normals = Some(t.vertices.map(|p| (Vec3::new(0.0, 0.2, -1.0) + 0.9 * p).normalize()));
-        }
-    }
-    objects.extend([a, b]);
+    // A smooth quad: normals that bend away from the flat face, one past the horizon of
+    // grazing views; one triangle a triangle shape, the other a mesh.
+    let smooth = [v(-0.5, -0.6, 0.3), v(0.3, -0.8, 0.1), v(0.4, -0.1, 0.6), v(-0.4, 0.1, 0.7)];
+    let bent = |p: Vec3| (Vec3::new(0.0, 0.2, -1.0) + 0.9 * p).normalize();
+    let mut triangle = Triangle::new(smooth[0], smooth[1], smooth[2]);
+    triangle.normals = Some(triangle.vertices.map(bent));
+    objects.push(object_with(Shape::Triangle(triangle), 0));
+    let mesh = Mesh {
+        positions: smooth.to_vec(),
+        normals: Some(smooth.map(bent).to_vec()),
+        uvs: None,
+        indices: vec![[0, 2, 3]],
+        baked_transform: None,
+    };
+    objects.push(object_with(Shape::Mesh(mesh), 0));
     let mut s = scene(objects);
     s.materials = vec![
         diffuse(Rgb::new(0.8, 0.75, 0.7), Rgb::ZERO, false),
@@ -131,7 +140,7 @@ fn the_wavefront_renders_a_room_bit_for_bit_as_the_path_tracer() {
 #[test]
 fn the_wavefront_ends_paths_as_the_path_tracer_does() {
     let scene = room();
-    for (max_depth, rr_depth) in [(0, 5), (1, 5), (2, 1), (u32::MAX, 1), (6, 3)] {
+    for (max_depth, rr_depth) in [(0, 5), (1, 5), (2, 1), (u32::MAX, 1), (6, 3), (u32::MAX, 0)] {
         let tracer = PathTracer { max_depth, rr_depth, wavefront: true };
         for seed in 0..3 {
             assert_same(&scene, &tracer, SamplerKind::Sobol, seed, seed as u32);
@@ -139,31 +148,61 @@ fn the_wavefront_ends_paths_as_the_path_tracer_does() {
     }
 }
 
-/// What the lanes leave to the scalar code lane by lane: a sphere's surface, a textured wall,
-/// a sphere light (sampled by the cone it subtends) and triangle lights by solid angle.
-#[test]
-fn the_wavefront_serves_spheres_textures_and_solid_angle_light_sampling() {
-    let mut s = room();
-    let checker = Checker { even: Rgb::new(0.8, 0.7, 0.2), odd: Rgb::new(0.2, 0.3, 0.7), scale: Vec2::splat(4.0) };
-    let Material::Phong(back) = &mut s.materials[2];
-    back.diffuse = Texture::Checker(checker);
-    s.materials.push(diffuse(Rgb::splat(0.3), Rgb::new(6.0, 5.0, 3.0), false));
-    let mut objects = s.objects().to_vec();
-    objects.push(object_with(Shape::Sphere(Sphere::new(Vec3::new(0.45, -0.7, 0.3), 0.3)), 0));
-    objects.push(object_with(Shape::Sphere(Sphere::new(Vec3::new(-0.6, 0.6, 0.6), 0.12)), 6));
-    let materials = std::mem::take(&mut s.materials);
-    let camera = s.camera;
+/// The room with one change, for the lanes' other paths.
+fn room_where(change: impl FnOnce(&mut Vec<Object>, &mut Vec<Material>)) -> Scene {
+    let room = room();
+    let (mut objects, mut materials) = (room.objects().to_vec(), room.materials.clone());
+    change(&mut objects, &mut materials);
     let mut s = scene(objects);
-    (s.materials, s.camera) = (materials, camera);
+    (s.materials, s.camera) = (materials, room.camera);
     s.area_lights = AreaLights::new(s.objects(), &s.materials);
+    s
+}
+
+/// What the lanes leave to the scalar code lane by lane, alone and together: triangle lights
+/// by solid angle (surfaces in lanes, light points from the scalar code); a textured wall
+/// (surfaces from the scalar code, light points in lanes); spheres, a sphere light and an
+/// emissive polygon that light sampling does not know (both from the scalar code); and the
+/// room without its back wall, where paths leave the scene.
+#[test]
+fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampling() {
     let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
-    for sampling in [TriangleSampling::Area, TriangleSampling::SolidAngle] {
-        s.area_lights.triangle_sampling = sampling;
-        assert!(tracer.runs_as_wavefront(&s), "spheres and textures are wavefront scenes");
+    let checker = Checker { even: Rgb::new(0.8, 0.7, 0.2), odd: Rgb::new(0.2, 0.3, 0.7), scale: Vec2::splat(4.0) };
+    let solid_angle = |mut s: Scene| {
+        s.area_lights.triangle_sampling = TriangleSampling::SolidAngle;
+        s
+    };
+    let textured = room_where(|_, materials| {
+        let Material::Phong(back) = &mut materials[2];
+        back.diffuse = Texture::Checker(checker);
+    });
+    let spheres = || {
+        room_where(|objects, materials| {
+            materials.push(diffuse(Rgb::splat(0.3), Rgb::new(6.0, 5.0, 3.0), false));
+            objects.push(object_with(Shape::Sphere(Sphere::new(Vec3::new(0.45, -0.7, 0.3), 0.3)), 0));
+            objects.push(object_with(Shape::Sphere(Sphere::new(Vec3::new(-0.6, 0.6, 0.6), 0.12)), 6));
+            let corners = vec![Vec3::new(-0.9, -0.5, 0.99), Vec3::new(-0.5, -0.5, 0.99), Vec3::new(-0.7, -0.2, 0.99)];
+            objects.push(object_with(Shape::Polygon(Polygon::new(corners).unwrap()), 4));
+        })
+    };
+    let open = room_where(|objects, _| {
+        objects.drain(4..6); // the back wall
+    });
+    let scenes = [
+        (solid_angle(room()), "solid-angle sampling", true),
+        (textured, "a textured wall", true),
+        (solid_angle(spheres()), "spheres, solid angle", true),
+        (spheres(), "spheres", true),
+        (open, "an open room", false),
+    ];
+    for (scene, what, closed) in scenes {
+        assert!(tracer.runs_as_wavefront(&scene), "{what}: a wavefront scene");
         for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
             for (seed, index) in [(2, 0), (11, 9)] {
-                let lit = assert_same(&s, &tracer, sampler, seed, index);
-                assert!(lit > (SIZE * SIZE / 2) as usize, "{lit} pixels lit");
+                let lit = assert_same(&scene, &tracer, sampler, seed, index);
+                if closed {
+                    assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+                }
             }
         }
     }

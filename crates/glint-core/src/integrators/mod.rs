@@ -1,5 +1,7 @@
-//! Integrators: algorithms that turn a camera ray into radiance. Each is one file; they are
-//! called once per render and reach the scene only through its query interface.
+//! Integrators: algorithms that turn a camera ray into radiance. Each is one file (the path
+//! tracer's wavefront, a directory); they are created once per render and reach geometry
+//! through the scene's query interface (closest hit, any hit, and, for the wavefront, the
+//! surface and corners of a hit primitive).
 
 mod bvh_heat;
 mod light;
@@ -189,11 +191,7 @@ impl IntegratorKind {
         Some(match self {
             IntegratorKind::Raycast => Box::new(Raycast),
             IntegratorKind::BvhHeat => Box::new(BvhHeat),
-            IntegratorKind::Path => Box::new(PathTracer {
-                max_depth: settings.max_depth,
-                rr_depth: settings.rr_depth,
-                wavefront: settings.wavefront,
-            }),
+            IntegratorKind::Path => Box::new(PathTracer::new(settings)),
             IntegratorKind::PathNaive => {
                 Box::new(NaivePathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth })
             }

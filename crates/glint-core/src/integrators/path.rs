@@ -13,7 +13,7 @@
 use glam::{Vec2, Vec3};
 
 use super::wavefront::Wavefront;
-use super::{radiance_each, Integrator, SampleContext};
+use super::{radiance_each, Integrator, IntegratorSettings, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
 use crate::scene::Scene;
@@ -28,6 +28,10 @@ pub struct PathTracer {
 }
 
 impl PathTracer {
+    pub fn new(settings: &IntegratorSettings) -> Self {
+        Self { max_depth: settings.max_depth, rr_depth: settings.rr_depth, wavefront: settings.wavefront }
+    }
+
     /// Whether a render of `scene` runs as a wavefront in SIMD lanes (see `wavefront`).
     pub fn runs_as_wavefront(&self, scene: &Scene) -> bool {
         self.wavefront && Wavefront::new(self, scene).is_some()

@@ -114,7 +114,7 @@ pub struct AreaLights {
     triangle_table: Option<Vec<TriangleEmitter>>,
 }
 
-/// A triangle emitter as the path tracer's SIMD lanes read it (`AreaLights::triangle_emitter`).
+/// A triangle emitter as the path tracer's SIMD lanes read it (`AreaLights::triangle_table`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct TriangleEmitter {
     pub corners: [Vec3; 3],
@@ -454,7 +454,7 @@ fn triangle_table(emitters: &[Emitter], cdf: &[f32]) -> Option<Vec<TriangleEmitt
 /// The density `selection / area` of a point uniform on an emitter's area, at `point` (normal
 /// `normal`), as a solid-angle density seen from `from`: pdf_ω = pdf_A · d² / |cos θ_light|;
 /// `None` when the light is seen edge on.
-fn area_to_solid_angle(selection: f32, area: f32, from: Vec3, point: Vec3, normal: Vec3) -> Option<f32> {
+pub(crate) fn area_to_solid_angle(selection: f32, area: f32, from: Vec3, point: Vec3, normal: Vec3) -> Option<f32> {
     let to_light = point - from;
     let distance_squared = to_light.length_squared();
     // d² / |cos θ| = d³ / |n · (point − from)|: one division on the path, not two.

@@ -10,6 +10,8 @@ mod environment;
 mod point;
 mod spot;
 
+#[cfg(test)]
+pub(crate) use area::area_to_solid_angle;
 pub(crate) use area::TriangleEmitter;
 pub use area::{AreaEmission, AreaLights, LightSample, TriangleSampling};
 pub use directional::DirectionalLight;

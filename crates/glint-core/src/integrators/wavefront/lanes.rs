@@ -86,10 +86,12 @@ impl Vec3x8 {
         !(self.x.cmp_eq(f32x8::ZERO) & self.y.cmp_eq(f32x8::ZERO) & self.z.cmp_eq(f32x8::ZERO))
     }
 
-    /// glam's `max_element` for values that are not NaN.
+    /// glam's `max_element`: max(x, max(y, z)) with max(a, b) = a > b ? a : b, NaN and ±0
+    /// included (on every target, which `fast_max` is not).
     #[inline(always)]
     pub fn max_element(self) -> f32x8 {
-        self.x.fast_max(self.y.fast_max(self.z))
+        let max = |a: f32x8, b: f32x8| a.cmp_gt(b).blend(a, b);
+        max(self.x, max(self.y, self.z))
     }
 }
 
@@ -183,6 +185,24 @@ pub fn square_to_cosine_hemisphere(u: f32x8, v: f32x8) -> Vec3x8 {
     Vec3x8 { x: dx, y: dy, z }
 }
 
+/// `area_to_solid_angle` (lights/area.rs) in lanes: the density `selection / area` of a point
+/// on a light as a density in solid angle, seen across `to_light` (the point minus the
+/// receiver), and the mask of lanes where the light is not seen edge on.
+#[inline(always)]
+pub fn area_to_solid_angle(selection: f32x8, area: f32x8, to_light: Vec3x8, normal: Vec3x8) -> (f32x8, f32x8) {
+    let distance_squared = to_light.dot(to_light);
+    let projected = normal.dot(to_light).abs();
+    (selection * distance_squared * distance_squared.sqrt() / (projected * area), projected.cmp_gt(f32x8::ZERO))
+}
+
+/// `power_heuristic` (integrators/path.rs) in lanes.
+#[inline(always)]
+pub fn power_heuristic(a: f32x8, b: f32x8) -> f32x8 {
+    let (a2, b2) = (a * a, b * b);
+    let special = (a2 + b2).cmp_eq(f32x8::ZERO) | !a2.is_finite();
+    special.blend(a2.is_inf().blend(f32x8::ONE, f32x8::ZERO), a2 / (a2 + b2))
+}
+
 /// `sin_cos_quarter` in lanes: the same Taylor polynomials for |x| ≤ π/4.
 #[inline(always)]
 fn sin_cos_quarter(x: f32x8) -> (f32x8, f32x8) {
@@ -255,6 +275,13 @@ mod tests {
                 "cosine hemisphere",
             );
         }
+        // normalize_or's fallback: zero, tiny and infinite vectors.
+        let odd = [Vec3::ZERO, Vec3::splat(1e-30), Vec3::new(f32::INFINITY, 0.0, 0.0), Vec3::new(-0.0, 0.0, 0.0)];
+        let a: [Vec3; LANES] = std::array::from_fn(|k| if k < 4 { odd[k] } else { Vec3::new(k as f32, 1.0, -2.0) });
+        let fallback: [Vec3; LANES] = std::array::from_fn(|k| Vec3::new(0.0, k as f32, 1.0).normalize());
+        let lanes_a = Vec3x8::from_fn(|k| a[k]);
+        let scalar: [Vec3; LANES] = std::array::from_fn(|k| a[k].normalize_or(fallback[k]));
+        assert_lanes_equal(lanes_a.normalize_or(Vec3x8::from_fn(|k| fallback[k])), scalar, "normalize_or fallback");
         // The disk's centre, and the diagonals where the quadrant choice flips.
         let (u, v) = ([0.5, 0.5, 0.0, 1.0, 0.25, 0.75, 0.5, 0.0], [0.5, 0.0, 0.0, 1.0, 0.25, 0.25, 1.0, 1.0]);
         let scalar: [Vec3; LANES] =
@@ -264,5 +291,52 @@ mod tests {
             scalar,
             "disk's centre and diagonals",
         );
+    }
+
+    /// `max_element`, the power heuristic and the area-to-solid-angle density against the
+    /// scalar routines, special values included (NaN, ±0, infinities, a light seen edge on).
+    #[test]
+    fn lane_weights_equal_the_scalar_ones() {
+        let specials = [0.0, -0.0, 1.0, 0.5, f32::INFINITY, f32::NAN, 1e-30, 3.0e30, 2.0, -1.0];
+        for (i, &x) in specials.iter().enumerate() {
+            for &y in &specials {
+                let lanes: [f32; LANES] = std::array::from_fn(|k| specials[(i + k) % specials.len()]);
+                let v = Vec3x8 { x: f32x8::from(lanes), y: f32x8::splat(y), z: f32x8::splat(x) };
+                let max = v.max_element().to_array();
+                let heuristic = power_heuristic(f32x8::from(lanes), f32x8::splat(y)).to_array();
+                for k in 0..LANES {
+                    let expected = Vec3::new(lanes[k], y, x).max_element();
+                    assert_eq!(max[k].to_bits(), expected.to_bits(), "max of {}, {y}, {x}", lanes[k]);
+                    let expected = crate::integrators::power_heuristic(lanes[k], y);
+                    assert_eq!(heuristic[k].to_bits(), expected.to_bits(), "heuristic of {}, {y}", lanes[k]);
+                }
+            }
+        }
+        let mut rng = Rng::new(3, 9);
+        for _ in 0..500 {
+            let from = random_vectors(&mut rng, 10.0);
+            let point = random_vectors(&mut rng, 10.0);
+            // Half the normals lie in the plane of the receiver's view: the light seen edge on.
+            let normal: [Vec3; LANES] = std::array::from_fn(|k| match k % 2 {
+                0 => (point[k] - from[k]).cross(Vec3::new(0.3, 1.0, -0.2)).normalize(),
+                _ => Vec3::new(0.2, -1.0, 0.4).normalize(),
+            });
+            let (selection, area) = (rng.next_f32(), rng.next_f32() * 4.0);
+            let to_light = Vec3x8::from_fn(|k| point[k] - from[k]);
+            let (pdf, seen) = area_to_solid_angle(
+                f32x8::splat(selection),
+                f32x8::splat(area),
+                to_light,
+                Vec3x8::from_fn(|k| normal[k]),
+            );
+            let (pdf, seen) = (pdf.to_array(), seen.move_mask());
+            for k in 0..LANES {
+                let expected = crate::lights::area_to_solid_angle(selection, area, from[k], point[k], normal[k]);
+                assert_eq!(seen & (1 << k) != 0, expected.is_some(), "seen, lane {k}");
+                if let Some(expected) = expected {
+                    assert_eq!(pdf[k].to_bits(), expected.to_bits(), "pdf, lane {k}");
+                }
+            }
+        }
     }
 }

@@ -10,7 +10,9 @@
 //! Other scenes go path by path through `PathTracer::radiance`.
 //!
 //! It is that same estimator, operation for operation: each lane computes the bits the scalar
-//! code computes and draws the same numbers in the same order, so the image is bit-identical
+//! code computes and, while its path goes on, draws the same numbers in the same order (a path
+//! that ends may leave a number undrawn that the scalar code draws, or the reverse, which
+//! nothing reads: every pixel sample has its own sampler). So the image is bit-identical
 //! (tests/wavefront.rs) and every test of the path tracer holds for both. The closest-hit and
 //! shadow queries stay one path at a time (the BVH's own SIMD runs across a node's children).
 
@@ -22,7 +24,8 @@ use glam::{Vec2, Vec3};
 use wide::{f32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
 use self::lanes::{
-    barycentric_point, offset_ray_origin, orthonormal_basis, square_to_cosine_hemisphere, Vec3x8, LANES,
+    area_to_solid_angle, barycentric_point, negate, offset_ray_origin, orthonormal_basis, power_heuristic,
+    square_to_cosine_hemisphere, Vec3x8, LANES,
 };
 use super::path::PathTracer;
 use super::SampleContext;
@@ -30,9 +33,19 @@ use crate::geometry::Ray;
 use crate::lights::{TriangleEmitter, TriangleSampling};
 use crate::materials::{luminance, Material, PhongPoint};
 use crate::scene::{Scene, SHADOW_EPSILON};
-use crate::shapes::{PrimHit, Shape};
+use crate::shapes::PrimHit;
 use crate::textures::Texture;
 use crate::Rgb;
+
+/// A bounce's numbers, in the scalar path tracer's order: the light's selection and the point
+/// on it (next-event estimation), the BSDF lobe and direction, and the roulette number from
+/// `rr_depth` bounces on.
+const LIGHT: usize = 0;
+const LIGHT_POINT: usize = 1;
+const LOBE: usize = 3;
+const DIRECTION: usize = 4;
+const ROULETTE: usize = 6;
+const DRAWS: usize = 7;
 
 /// A material as the lanes read it.
 #[derive(Clone, Copy, Debug)]
@@ -89,8 +102,6 @@ pub(super) struct Wavefront<'a> {
     /// The area lights as triangles, then a black one for lanes without a light, when all are
     /// triangles sampled by area: then the lanes sample them themselves.
     emitters: Option<&'a [TriangleEmitter]>,
-    /// Some triangle has vertex normals (else the shading normal is the geometric one).
-    smooth: bool,
     max_depth: u32,
     rr_depth: u32,
 }
@@ -136,7 +147,8 @@ struct LightPoints {
 }
 
 impl<'a> Wavefront<'a> {
-    /// The wavefront for `scene`, if the lanes handle all of it.
+    /// The wavefront for `scene`, if it serves it: diffuse materials only, lit by area lights
+    /// only. It runs once per tile, so it looks at the materials but not at every object.
     pub fn new(tracer: &PathTracer, scene: &'a Scene) -> Option<Self> {
         let served = scene.lights.is_empty() && !scene.environment.emits() && scene.materials.iter().all(diffuse_only);
         if !served {
@@ -148,12 +160,7 @@ impl<'a> Wavefront<'a> {
         };
         let lights = &scene.area_lights;
         let emitters = lights.triangle_table().filter(|_| lights.triangle_sampling == TriangleSampling::Area);
-        let smooth = scene.geometry.objects.iter().any(|o| match &o.shape {
-            Shape::Mesh(m) => m.normals.is_some(),
-            Shape::Triangle(t) => t.normals.is_some(),
-            _ => false,
-        });
-        Some(Self { scene, flat, emitters, smooth, max_depth: tracer.max_depth, rr_depth: tracer.rr_depth })
+        Some(Self { scene, flat, emitters, max_depth: tracer.max_depth, rr_depth: tracer.rr_depth })
     }
 
     /// The radiance along each camera ray, `out[i]` for `rays[i]` drawing from `contexts[i]`.
@@ -216,17 +223,17 @@ impl<'a> Wavefront<'a> {
         // Lanes past the chunk's end repeat its first path; nothing of theirs is kept.
         let index: [usize; LANES] = std::array::from_fn(|k| chunk[if k < n { k } else { 0 }] as usize);
         // Read in place: a copy of the eight paths cost more than the reads.
-        let p = |k: usize| &paths[index[k]];
-        let depth: [u32; LANES] = std::array::from_fn(|k| p(k).depth);
+        let path = |k: usize| &paths[index[k]];
+        let depth: [u32; LANES] = std::array::from_fn(|k| path(k).depth);
         let zero = f32x8::ZERO;
 
-        let wo = -Vec3x8::from_fn(|k| p(k).ray.direction).normalize();
+        let wo = -Vec3x8::from_fn(|k| path(k).ray.direction).normalize();
         let Surfaces { point, error, geometric, shading, material } = match &self.flat {
-            Some(materials) => self.flat_surfaces(&p, materials),
-            None => self.surfaces(&p, n),
+            Some(materials) => self.flat_surfaces(&path, materials),
+            None => self.surfaces(&path, n),
         };
-        let mut throughput = Vec3x8::from_fn(|k| p(k).throughput);
-        let mut radiance = Vec3x8::from_fn(|k| p(k).radiance);
+        let mut throughput = Vec3x8::from_fn(|k| path(k).throughput);
+        let mut radiance = Vec3x8::from_fn(|k| path(k).radiance);
 
         // Emission found, weighed against light sampling from the last bounce (not at the first).
         let wo_dot_n = wo.dot(geometric);
@@ -238,42 +245,42 @@ impl<'a> Wavefront<'a> {
                 Some(emitters) => {
                     let none = emitters.len() - 1;
                     let emitter: [&TriangleEmitter; LANES] = std::array::from_fn(|k| {
-                        &emitters[scene.area_lights.emitter_index(p(k).object, p(k).prim).unwrap_or(none)]
+                        &emitters[scene.area_lights.emitter_index(path(k).object, path(k).prim).unwrap_or(none)]
                     });
-                    let to_light = point - Vec3x8::from_fn(|k| p(k).from_point);
+                    let to_light = point - Vec3x8::from_fn(|k| path(k).from_point);
                     let (pdf, seen) = area_to_solid_angle(
-                        lanes(|k| emitter[k].selection),
-                        lanes(|k| emitter[k].area),
+                        per_lane(|k| emitter[k].selection),
+                        per_lane(|k| emitter[k].area),
                         to_light,
                         geometric,
                     );
                     (mask(|k| !std::ptr::eq(emitter[k], &emitters[none])) & seen).blend(pdf, zero)
                 }
-                None => lanes(|k| {
-                    let path = p(k);
+                None => per_lane(|k| {
+                    let from = path(k);
                     let (hit_point, hit_normal) = (point.lane(k), geometric.lane(k));
-                    let receiver = Some(path.from_normal);
-                    scene.area_lights.pdf(path.from_point, receiver, path.object, path.prim, hit_point, hit_normal)
+                    let receiver = Some(from.from_normal);
+                    scene.area_lights.pdf(from.from_point, receiver, from.object, from.prim, hit_point, hit_normal)
                 }),
             };
             let weight =
-                mask(|k| depth[k] == 0).blend(f32x8::ONE, power_heuristic(lanes(|k| p(k).from_pdf), light_pdf));
+                mask(|k| depth[k] == 0).blend(f32x8::ONE, power_heuristic(per_lane(|k| path(k).from_pdf), light_pdf));
             radiance = Vec3x8::select(found, radiance + throughput.mul_lanes(emitted) * weight, radiance);
         }
 
         // Paths at the maximum depth, and on black surfaces, end here.
         let goes_on: [bool; LANES] =
             std::array::from_fn(|k| k < n && depth[k] < self.max_depth && material[k].reflects);
-        let mut draws = [[0f32; 7]; LANES];
+        let mut draws = [[0f32; DRAWS]; LANES];
         for k in (0..n).filter(|&k| goes_on[k]) {
             let sampler = &mut contexts[index[k]].sampler;
-            // Light (selection, point), lobe, direction, and roulette if it comes.
-            let count = if depth[k] + 1 >= self.rr_depth { 7 } else { 6 };
+            let count = if depth[k] + 1 >= self.rr_depth { DRAWS } else { ROULETTE };
             for draw in &mut draws[k][..count] {
                 *draw = sampler.next_f32();
             }
+            debug_assert!(draws[k][LOBE] < 1.0, "the scalar code picks the diffuse lobe below 1");
         }
-        let draw = |j: usize| lanes(|k| draws[k][j]);
+        let draw = |j: usize| per_lane(|k| draws[k][j]);
         let on = mask(|k| goes_on[k]);
 
         // The BSDF's frame (Bsdf::new): both normals turned to wo's side, and the geometric one
@@ -332,7 +339,9 @@ impl<'a> Wavefront<'a> {
         radiance = Vec3x8::select(on, radiance + throughput.mul_lanes(direct), radiance);
 
         // The BSDF sample: cosine-weighted, weight k_d.
-        let local = square_to_cosine_hemisphere(draw(4), draw(5));
+        // The lobe (`LOBE`) is not read: the diffuse lobe's probability is 1 and every sampler's
+        // numbers are below 1, so the scalar code always picks it.
+        let local = square_to_cosine_hemisphere(draw(DIRECTION), draw(DIRECTION + 1));
         let (tangent, bitangent) = orthonormal_basis(normal);
         let wi = tangent * local.x + bitangent * local.y + normal * local.z;
         let scattered = !(local.z.cmp_le(zero) | wi.dot(facing).cmp_le(zero));
@@ -342,7 +351,7 @@ impl<'a> Wavefront<'a> {
         let roulette = mask(|k| depth[k] + 1 >= self.rr_depth);
         let max = throughput.max_element();
         let survival = max.cmp_lt(f32x8::splat(0.95)).blend(max, f32x8::splat(0.95));
-        let killed = roulette & (survival.cmp_le(zero) | draw(6).cmp_ge(survival));
+        let killed = roulette & (survival.cmp_le(zero) | draw(ROULETTE).cmp_ge(survival));
         let survivor = Vec3x8 { x: throughput.x / survival, y: throughput.y / survival, z: throughput.z / survival };
         throughput = Vec3x8::select(roulette, survivor, throughput);
         let continues = (on & scattered & !killed & throughput.nonzero()).move_mask();
@@ -367,16 +376,17 @@ impl<'a> Wavefront<'a> {
     /// (triangle_surface): point, error bound, geometric normal, and the shading normal from
     /// the vertex normals where the mesh has them.
     #[inline(always)]
-    fn flat_surfaces<'p>(&self, p: &impl Fn(usize) -> &'p Path, materials: &[LaneMaterial]) -> Surfaces {
+    fn flat_surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, materials: &[LaneMaterial]) -> Surfaces {
         let geometry = &self.scene.geometry;
-        let corners: [[Vec3; 3]; LANES] =
-            std::array::from_fn(|k| geometry.triangle(p(k).object, p(k).prim).expect("flat surfaces are triangles"));
+        let corners: [[Vec3; 3]; LANES] = std::array::from_fn(|k| {
+            geometry.triangle(path(k).object, path(k).prim).expect("flat surfaces are triangles")
+        });
         let [a, b, c] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| corners[k][j]));
-        let (b1, b2) = (lanes(|k| p(k).hit.u), lanes(|k| p(k).hit.v));
+        let (b1, b2) = (per_lane(|k| path(k).hit.u), per_lane(|k| path(k).hit.v));
         let (point, error) = barycentric_point([a, b, c], b1, b2);
         let geometric = (b - a).cross(c - a).normalize_or(Vec3x8::splat(Vec3::Z));
-        let vertex_normals: [Option<[Vec3; 3]>; LANES] = std::array::from_fn(|k| match self.smooth {
-            true => geometry.triangle_normals(p(k).object, p(k).prim),
+        let vertex_normals: [Option<[Vec3; 3]>; LANES] = std::array::from_fn(|k| match geometry.has_vertex_normals() {
+            true => geometry.triangle_normals(path(k).object, path(k).prim),
             false => None,
         });
         let smooth = mask(|k| vertex_normals[k].is_some());
@@ -388,17 +398,17 @@ impl<'a> Wavefront<'a> {
         } else {
             geometric
         };
-        let material = std::array::from_fn(|k| materials[geometry.objects[p(k).object as usize].material as usize]);
+        let material = std::array::from_fn(|k| materials[geometry.objects[path(k).object as usize].material as usize]);
         Surfaces { point, error, geometric, shading, material }
     }
 
     /// The surfaces of any shapes and materials, from the scalar code lane by lane (the lanes
     /// past `n` read black).
-    fn surfaces<'p>(&self, p: &impl Fn(usize) -> &'p Path, n: usize) -> Surfaces {
+    fn surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, n: usize) -> Surfaces {
         let scene = self.scene;
         let hits: [Option<crate::scene::SurfaceHit>; LANES] = std::array::from_fn(|k| {
-            let path = p(k);
-            (k < n).then(|| scene.geometry.surface_hit((path.object, path.prim), &path.ray, &path.hit))
+            let hit = path(k);
+            (k < n).then(|| scene.geometry.surface_hit((hit.object, hit.prim), &hit.ray, &hit.hit))
         });
         let geometry = |k: usize| hits[k].map(|h| h.geometry);
         Surfaces {
@@ -420,13 +430,13 @@ impl<'a> Wavefront<'a> {
         &self,
         emitters: &[TriangleEmitter],
         goes_on: &[bool; LANES],
-        draws: &[[f32; 7]; LANES],
+        draws: &[[f32; DRAWS]; LANES],
         from: Vec3x8,
     ) -> Option<LightPoints> {
         let zero = f32x8::ZERO;
         let none = emitters.len() - 1;
         let chosen: [usize; LANES] = std::array::from_fn(|k| match goes_on[k] {
-            true => self.scene.area_lights.choose_index(draws[k][0]).unwrap_or(none),
+            true => self.scene.area_lights.choose_index(draws[k][LIGHT]).unwrap_or(none),
             false => none,
         });
         if chosen.iter().all(|&i| i == none) {
@@ -435,16 +445,17 @@ impl<'a> Wavefront<'a> {
         let light = chosen.map(|i| &emitters[i]);
         let [la, lb, lc] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| light[k].corners[j]));
         let normal = Vec3x8::from_fn(|k| light[k].normal);
-        let area = lanes(|k| light[k].area);
+        let area = per_lane(|k| light[k].area);
         let two_sided = mask(|k| light[k].two_sided);
         // A one-sided light with every corner behind its plane sends nothing here.
         let behind = |corner: Vec3x8| normal.dot(corner - from).cmp_gt(zero);
         let hidden = !two_sided & behind(la) & behind(lb) & behind(lc);
-        let s = lanes(|k| draws[k][1]).sqrt();
-        let (point, error) = barycentric_point([la, lb, lc], f32x8::ONE - s, lanes(|k| draws[k][2]) * s);
+        let s = per_lane(|k| draws[k][LIGHT_POINT]).sqrt();
+        let (point, error) =
+            barycentric_point([la, lb, lc], f32x8::ONE - s, per_lane(|k| draws[k][LIGHT_POINT + 1]) * s);
         let to_light = point - from;
-        let (pdf, seen) = area_to_solid_angle(lanes(|k| light[k].selection), area, to_light, normal);
-        let cos_light = lanes::negate(normal.dot(to_light));
+        let (pdf, seen) = area_to_solid_angle(per_lane(|k| light[k].selection), area, to_light, normal);
+        let cos_light = negate(normal.dot(to_light));
         let sampled = mask(|k| chosen[k] != none)
             & !hidden
             & !area.cmp_le(zero)
@@ -462,13 +473,14 @@ impl<'a> Wavefront<'a> {
     fn light_points(
         &self,
         goes_on: &[bool; LANES],
-        draws: &[[f32; 7]; LANES],
+        draws: &[[f32; DRAWS]; LANES],
         from: Vec3x8,
         shading: Vec3x8,
     ) -> Option<LightPoints> {
         let samples: [Option<crate::lights::LightSample>; LANES] = std::array::from_fn(|k| {
-            let u = Vec2::new(draws[k][1], draws[k][2]);
-            goes_on[k].then(|| self.scene.area_lights.sample(from.lane(k), Some(shading.lane(k)), draws[k][0], u))?
+            let u = Vec2::new(draws[k][LIGHT_POINT], draws[k][LIGHT_POINT + 1]);
+            goes_on[k]
+                .then(|| self.scene.area_lights.sample(from.lane(k), Some(shading.lane(k)), draws[k][LIGHT], u))?
         });
         if samples.iter().all(Option::is_none) {
             return None;
@@ -481,14 +493,14 @@ impl<'a> Wavefront<'a> {
             normal: field(|s| s.normal),
             error: field(|s| s.error),
             radiance: Vec3x8::from_fn(|k| samples[k].map_or(Rgb::ZERO, |s| s.radiance)),
-            pdf: lanes(|k| samples[k].map_or(0.0, |s| s.pdf)),
+            pdf: per_lane(|k| samples[k].map_or(0.0, |s| s.pdf)),
         })
     }
 }
 
 /// Lane k is `f(k)`.
 #[inline(always)]
-fn lanes(f: impl Fn(usize) -> f32) -> f32x8 {
+fn per_lane(f: impl Fn(usize) -> f32) -> f32x8 {
     f32x8::from(std::array::from_fn::<f32, LANES, _>(f))
 }
 
@@ -497,22 +509,4 @@ fn lanes(f: impl Fn(usize) -> f32) -> f32x8 {
 fn mask(mut f: impl FnMut(usize) -> bool) -> f32x8 {
     let all = f32::from_bits(u32::MAX);
     f32x8::from(std::array::from_fn::<f32, LANES, _>(|k| if f(k) { all } else { 0.0 }))
-}
-
-/// `area_to_solid_angle` in lanes: the density `selection / area` on the light as a density
-/// in solid angle seen across `to_light`, and the mask of lanes where the light is not seen
-/// edge on.
-#[inline(always)]
-fn area_to_solid_angle(selection: f32x8, area: f32x8, to_light: Vec3x8, normal: Vec3x8) -> (f32x8, f32x8) {
-    let distance_squared = to_light.dot(to_light);
-    let projected = normal.dot(to_light).abs();
-    (selection * distance_squared * distance_squared.sqrt() / (projected * area), projected.cmp_gt(f32x8::ZERO))
-}
-
-/// `power_heuristic` in lanes.
-#[inline(always)]
-fn power_heuristic(a: f32x8, b: f32x8) -> f32x8 {
-    let (a2, b2) = (a * a, b * b);
-    let special = (a2 + b2).cmp_eq(f32x8::ZERO) | !a2.is_finite();
-    special.blend(a2.is_inf().blend(f32x8::ONE, f32x8::ZERO), a2 / (a2 + b2))
 }
