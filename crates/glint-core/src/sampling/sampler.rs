@@ -133,6 +133,42 @@ impl Sampler {
     }
 }
 
+impl Sampler {
+    /// The next `N` dimensions of eight samplers at once: `out[k][j]` is what the `j`-th
+    /// `next_f32` of `samplers[k]` would give. Sobol samplers standing at the same dimension
+    /// (the path tracer's wavefront keeps its paths in step) compute each set of four
+    /// dimensions for all eight together (`sobol::sample_4d_lanes`); others draw one by one.
+    pub fn next_f32_lanes<const N: usize>(mut samplers: [&mut Sampler; 8]) -> [[f32; N]; 8] {
+        let first = samplers[0].dimension;
+        // Past 256 dimensions or 2¹⁶ samples the seed and the shuffle change (`sobol_seed`).
+        let in_step = first as usize + N <= 256
+            && samplers.iter().all(|s| s.kind == SamplerKind::Sobol && s.dimension == first && s.index < 1 << 16);
+        if !in_step {
+            return samplers.map(|s| std::array::from_fn(|_| s.next_f32()));
+        }
+        let mut out = [[0f32; N]; 8];
+        let mut d = first;
+        for j in 0..N {
+            if d.is_multiple_of(4) {
+                let shuffled = std::array::from_fn(|k| samplers[k].shuffled);
+                let seed = std::array::from_fn(|k| sobol_seed(samplers[k].pixel_seed, samplers[k].index, d));
+                let sets = sobol::sample_4d_lanes(shuffled, d / 4, seed);
+                for (sampler, set) in samplers.iter_mut().zip(sets) {
+                    sampler.sobol = set.map(|x| x.min(ONE_BELOW));
+                }
+            }
+            for (drawn, sampler) in out.iter_mut().zip(&samplers) {
+                drawn[j] = sampler.sobol[(d % 4) as usize];
+            }
+            d += 1;
+        }
+        for sampler in &mut samplers {
+            sampler.dimension = d;
+        }
+        out
+    }
+}
+
 const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// The Sobol scramble seed of dimension `d` of sample `index`: the pixel's own for the first
@@ -272,6 +308,32 @@ mod tests {
                 .collect();
             strata.sort_unstable();
             assert_eq!(strata, (0..32).collect::<Vec<_>>(), "dimension {d}");
+        }
+    }
+
+    /// Eight samplers drawn together give what each gives alone, in step or not.
+    #[test]
+    fn eight_samplers_at_once_draw_what_each_draws_alone() {
+        for kind in SamplerKind::ALL {
+            for (first, stagger) in [(0, false), (1, false), (3, false), (250, false), (2, true)] {
+                let make = |k: u64| {
+                    let mut s = Sampler::new(kind, 9, 100 + k, 5 + k as u32, 64);
+                    let skip = first + if stagger { k as u32 % 3 } else { 0 };
+                    for _ in 0..skip {
+                        s.next_f32();
+                    }
+                    s
+                };
+                let mut together: [Sampler; 8] = std::array::from_fn(|k| make(k as u64));
+                let mut alone = together.clone();
+                let drawn = Sampler::next_f32_lanes::<7>(together.each_mut());
+                let drawn_after = Sampler::next_f32_lanes::<3>(together.each_mut());
+                for k in 0..8 {
+                    let expected: [f32; 10] = std::array::from_fn(|_| alone[k].next_f32());
+                    let got: Vec<f32> = drawn[k].iter().chain(&drawn_after[k]).copied().collect();
+                    assert_eq!(got, expected, "{} sampler {k}, from dimension {first}", kind.name());
+                }
+            }
         }
     }
 }

@@ -32,6 +32,7 @@ use super::SampleContext;
 use crate::geometry::Ray;
 use crate::lights::{TriangleEmitter, TriangleSampling};
 use crate::materials::{luminance, Material, PhongPoint};
+use crate::sampling::Sampler;
 use crate::scene::{Scene, SHADOW_EPSILON};
 use crate::shapes::PrimHit;
 use crate::textures::Texture;
@@ -272,14 +273,29 @@ impl<'a> Wavefront<'a> {
         let goes_on: [bool; LANES] =
             std::array::from_fn(|k| k < n && depth[k] < self.max_depth && material[k].reflects);
         let mut draws = [[0f32; DRAWS]; LANES];
-        for k in (0..n).filter(|&k| goes_on[k]) {
-            let sampler = &mut contexts[index[k]].sampler;
-            let count = if depth[k] + 1 >= self.rr_depth { DRAWS } else { ROULETTE };
-            for draw in &mut draws[k][..count] {
-                *draw = sampler.next_f32();
+        let roulette_comes = |k: usize| depth[k] + 1 >= self.rr_depth;
+        let in_step = n == LANES && depth.iter().all(|&d| d == depth[0]);
+        if in_step && goes_on.iter().any(|&on| on) {
+            // All eight at once (the numbers of paths that end are drawn too, unread).
+            let samplers = contexts.get_disjoint_mut(index).expect("eight distinct paths").map(|c| &mut c.sampler);
+            if roulette_comes(0) {
+                draws = Sampler::next_f32_lanes::<DRAWS>(samplers);
+            } else {
+                let some = Sampler::next_f32_lanes::<ROULETTE>(samplers);
+                for (all, some) in draws.iter_mut().zip(some) {
+                    all[..ROULETTE].copy_from_slice(&some);
+                }
             }
-            debug_assert!(draws[k][LOBE] < 1.0, "the scalar code picks the diffuse lobe below 1");
+        } else {
+            for k in (0..n).filter(|&k| goes_on[k]) {
+                let sampler = &mut contexts[index[k]].sampler;
+                let count = if roulette_comes(k) { DRAWS } else { ROULETTE };
+                for draw in &mut draws[k][..count] {
+                    *draw = sampler.next_f32();
+                }
+            }
         }
+        debug_assert!(draws.iter().all(|d| d[LOBE] < 1.0), "the scalar code picks the diffuse lobe below 1");
         let draw = |j: usize| per_lane(|k| draws[k][j]);
         let on = mask(|k| goes_on[k]);
 
