@@ -173,7 +173,7 @@ fn solid_angle_light_sampling_changes_the_samples_not_the_image() {
 }
 
 /// The path tracer's wavefront (eight paths at a time in SIMD lanes) and `--no-wavefront` (one
-/// at a time) write the same image, and the summary says which ran.
+/// at a time) write the same image, at any thread count, and the summary says which ran.
 #[test]
 fn the_wavefront_and_one_path_at_a_time_write_the_same_image() {
     let dir = temp_dir("wavefront");
@@ -189,6 +189,9 @@ fn the_wavefront_and_one_path_at_a_time_write_the_same_image() {
     assert!(said.contains("with path (wavefront, 8 lanes)"), "{said}");
     assert!(said_one.contains("with path in"), "{said_one}");
     assert_eq!(lanes, one, "the two image files differ");
+    // Any thread count: each tile's paths are their own wavefront.
+    let (three, _) = render("t.pfm", &["--threads", "3"]);
+    assert_eq!(lanes, three, "the image depends on the thread count");
     std::fs::remove_dir_all(dir).unwrap();
 }
 
