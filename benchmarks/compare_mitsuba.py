@@ -2,24 +2,29 @@
 """glint's path tracer against Mitsuba 3 on the Cornell box, in one sitting (issue 5's speed
 targets): samples per second and the error reached in equal time, as ratios.
 
-Runs ../shared/anchors/mitsuba/bench.py for each Mitsuba variant, then every glint binary
-given (and each with extra arguments, say `--no-wavefront`) alternating, ROUNDS renders
-each, scores glint's image for a few seeds against the converged reference with the
-anchor's compare_exr.py, runs the first Mitsuba variant once more (the host's speed drifts),
-and prints one Markdown table. Standard library only; Mitsuba runs in its own venv.
+Runs ../shared/anchors/mitsuba/bench.py for each Mitsuba configuration (a variant, and
+optionally a sampler: `llvm_ad_rgb:multijitter`; the anchor's default is `independent`),
+then the glint runs alternating, ROUNDS renders each: every `--glint` binary as it is, and
+every `--variant` run (a binary with extra render arguments, say `--no-wavefront`). It
+scores the first glint run's image for a few seeds against the converged reference with
+the anchor's compare_exr.py, runs the first Mitsuba configuration once more (the host's
+speed drifts), and prints one Markdown table. Standard library only; Mitsuba runs in its
+own venv.
 
     python3 benchmarks/compare_mitsuba.py --mitsuba-python ~/venvs/mitsuba/bin/python \
         --glint target/release/glint [--glint /tmp/before-target/release/glint] \
-        [--variant target/release/glint:--no-wavefront] [--rounds 5] [--seeds 4]
+        [--variant "target/release/glint:--no-wavefront"] \
+        [--mitsuba llvm_ad_rgb scalar_rgb llvm_ad_rgb:multijitter] [--rounds 5] [--seeds 4]
 
-Ratios are glint's first binary against each Mitsuba variant: best to best and median to
-median (the last run of a variant that ran twice). Equal-time error = (relMSE × seconds)
-of glint over the same product of the peer: below 1, glint's image is closer to the
-reference after the same time. Build glint first: `cargo build --release`.
+Ratios are the first glint run against each Mitsuba configuration: best to best and median
+to median (the last run of one that ran twice). Equal-time error = (relMSE × seconds) of
+glint over the same product of the peer: below 1, glint's image is closer to the reference
+after the same time. Build glint first: `cargo build --release`.
 """
 import argparse
 import os
 import re
+import shlex
 import statistics
 import subprocess
 import tempfile
@@ -36,10 +41,11 @@ def key_values(text):
     return dict(re.findall(r"(\w+)=([-+0-9.e]+)", text))
 
 
-def mitsuba(python, variant, threads):
+def mitsuba(python, configuration, threads):
+    variant, _, sampler = configuration.partition(":")
     out = subprocess.run(
         [python, "bench.py", "cbox", "--res", "256", "--spp", "64", "--threads", str(threads),
-         "--repeat", "3", "--variant", variant, "--ref", "auto"],
+         "--repeat", "3", "--variant", variant, "--sampler", sampler or "independent", "--ref", "auto"],
         cwd=ANCHOR, capture_output=True, text=True, check=True).stdout
     kv = key_values(out)
     return float(kv["render_s"]), float(kv["render_s_median"]), float(kv.get("relmse", "nan"))
@@ -48,7 +54,8 @@ def mitsuba(python, variant, threads):
 def glint_seconds(binary, extra, threads, output):
     err = subprocess.run([binary, "render", SCENE, "--spp", "64", "--threads", str(threads), *extra, "-o", output],
                          capture_output=True, text=True, check=True).stderr
-    return float(re.search(r"in ([0-9.]+) s", err).group(1))
+    # The summary line: "rendered WxH at N spp with INTEGRATOR in S s: ...".
+    return float(re.search(r"^rendered .* in ([0-9.]+) s:", err, re.MULTILINE).group(1))
 
 
 def glint_relmse(python, binary, extra, threads, seed, directory):
@@ -66,17 +73,23 @@ def main():
     ap.add_argument("--mitsuba-python", required=True, help="the Python of a venv with mitsuba (anchor's setup.sh)")
     ap.add_argument("--glint", action="append", default=[], help="a glint binary (repeatable; the first is scored)")
     ap.add_argument("--variant", action="append", default=[],
-                    help="BINARY:ARGS, a binary with extra render arguments (repeatable)")
-    ap.add_argument("--mitsuba-variants", nargs="+", default=["llvm_ad_rgb", "scalar_rgb"])
+                    help="BINARY:ARGS, a binary with extra render arguments, shell-quoted (repeatable)")
+    ap.add_argument("--mitsuba", nargs="+", default=["llvm_ad_rgb", "scalar_rgb"],
+                    help="Mitsuba variants, each optionally VARIANT:SAMPLER")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--seeds", type=int, default=4)
     args = ap.parse_args()
-    runs = [(b, []) for b in args.glint] + [(v.split(":")[0], v.split(":", 1)[1].split()) for v in args.variant]
-    if not runs:
-        ap.error("give at least one --glint binary")
+    if not args.glint:
+        ap.error("give at least one --glint binary (the first is the one scored)")
+    runs = [(b, []) for b in args.glint]
+    for variant in args.variant:
+        binary, colon, extra = variant.partition(":")
+        if not colon:
+            ap.error(f"--variant {variant!r}: expected BINARY:ARGS")
+        runs.append((binary, shlex.split(extra)))
 
-    peers = {v: [mitsuba(args.mitsuba_python, v, args.threads)] for v in args.mitsuba_variants}
+    peers = {v: [mitsuba(args.mitsuba_python, v, args.threads)] for v in args.mitsuba}
     times = {i: [] for i in range(len(runs))}
     with tempfile.TemporaryDirectory() as directory:
         for _ in range(args.rounds):
@@ -85,23 +98,23 @@ def main():
         binary, extra = runs[0]
         errors = [glint_relmse(args.mitsuba_python, binary, extra, args.threads, seed, directory)
                   for seed in range(1, args.seeds + 1)]
-    first = args.mitsuba_variants[0]
+    first = args.mitsuba[0]
     peers[first].append(mitsuba(args.mitsuba_python, first, args.threads))
 
     relmse = statistics.mean(errors)
     best, median = min(times[0]), statistics.median(times[0])
-    print("| renderer | render s (best; median) | M samples/s (best) | relMSE at 64 spp | "
+    print("| renderer | render s (best; median) | M samples/s (best) | relMSE at 64 spp | relMSE × s (best) | "
           "glint / peer: samples/s | equal-time error |")
-    print("| --- | ---: | ---: | ---: | ---: | ---: |")
-    for variant, results in peers.items():
+    print("| --- | ---: | ---: | ---: | ---: | ---: | ---: |")
+    for configuration, results in peers.items():
         p_best, p_median, p_relmse = results[-1]
         shown = "; ".join(f"{b:.2f}; {m:.2f}" for b, m, _ in results)
-        print(f"| Mitsuba `{variant}` | {shown} | {SAMPLES / p_best / 1e6:.2f} | {p_relmse:.6f} | "
-              f"{p_best / best:.2f}; {p_median / median:.2f} | "
+        print(f"| Mitsuba `{configuration}` | {shown} | {SAMPLES / p_best / 1e6:.2f} | {p_relmse:.6f} | "
+              f"{p_relmse * p_best:.4f} | {p_best / best:.2f}; {p_median / median:.2f} | "
               f"{relmse * best / (p_relmse * p_best):.2f}; {relmse * median / (p_relmse * p_median):.2f} |")
     for i, (binary, extra) in enumerate(runs):
         label = " ".join([binary, *extra])
-        error = f"{relmse:.6f} (seeds 1–{args.seeds})" if i == 0 else ""
+        error = f"{relmse:.6f} (seeds 1–{args.seeds}) | {relmse * best:.4f}" if i == 0 else " | "
         print(f"| glint `{label}` | {min(times[i]):.2f}; {statistics.median(times[i]):.2f} | "
               f"{SAMPLES / min(times[i]) / 1e6:.2f} | {error} | | |")
 

@@ -131,18 +131,16 @@ impl Sampler {
             }
         }
     }
-}
 
-impl Sampler {
     /// The next `N` dimensions of eight samplers at once: `out[k][j]` is what the `j`-th
     /// `next_f32` of `samplers[k]` would give. Sobol samplers standing at the same dimension
     /// (the path tracer's wavefront keeps its paths in step) compute each set of four
     /// dimensions for all eight together (`sobol::sample_4d_lanes`); others draw one by one.
     pub fn next_f32_lanes<const N: usize>(mut samplers: [&mut Sampler; 8]) -> [[f32; N]; 8] {
         let first = samplers[0].dimension;
-        // Past 256 dimensions or 2¹⁶ samples the seed and the shuffle change (`sobol_seed`).
-        let in_step = first as usize + N <= 256
-            && samplers.iter().all(|s| s.kind == SamplerKind::Sobol && s.dimension == first && s.index < 1 << 16);
+        // Below 256 dimensions every set uses the sample's cached shuffled index (`draw`).
+        let in_step =
+            first as usize + N <= 256 && samplers.iter().all(|s| s.kind == SamplerKind::Sobol && s.dimension == first);
         if !in_step {
             return samplers.map(|s| std::array::from_fn(|_| s.next_f32()));
         }
@@ -311,27 +309,52 @@ mod tests {
         }
     }
 
-    /// Eight samplers drawn together give what each gives alone, in step or not.
+    /// Eight samplers drawn together give what each gives alone: in step from dimensions that
+    /// are and are not multiples of four, with and without a new set, ending at the 256th
+    /// dimension, for sample indices past 2¹⁶; out of step (staggered, mixed kinds, past 256).
     #[test]
     fn eight_samplers_at_once_draw_what_each_draws_alone() {
+        // (first dimension, numbers drawn, staggered dimensions, one sampler of another kind)
+        let cases = [
+            (0, 7, false, false),
+            (1, 7, false, false),
+            (3, 7, false, false),
+            (1, 2, false, false),
+            (249, 7, false, false),
+            (250, 7, false, false),
+            (2, 7, true, false),
+            (4, 7, false, true),
+        ];
         for kind in SamplerKind::ALL {
-            for (first, stagger) in [(0, false), (1, false), (3, false), (250, false), (2, true)] {
-                let make = |k: u64| {
-                    let mut s = Sampler::new(kind, 9, 100 + k, 5 + k as u32, 64);
-                    let skip = first + if stagger { k as u32 % 3 } else { 0 };
-                    for _ in 0..skip {
-                        s.next_f32();
+            for (first, count, stagger, mixed) in cases {
+                for index_base in [5u32, 70_000] {
+                    let make = |k: usize| {
+                        let kind = if mixed && k == 7 { SamplerKind::Independent } else { kind };
+                        let mut s = Sampler::new(kind, 9, 100 + k as u64, index_base + k as u32, 1 << 20);
+                        for _ in 0..first + if stagger { k as u32 % 3 } else { 0 } {
+                            s.next_f32();
+                        }
+                        s
+                    };
+                    let mut together: [Sampler; 8] = std::array::from_fn(make);
+                    let mut alone = together.clone();
+                    let drawn: Vec<[f32; 7]> = match count {
+                        7 => Sampler::next_f32_lanes::<7>(together.each_mut()).to_vec(),
+                        _ => Sampler::next_f32_lanes::<2>(together.each_mut())
+                            .map(|d| [d[0], d[1], 0.0, 0.0, 0.0, 0.0, 0.0])
+                            .to_vec(),
+                    };
+                    let after = Sampler::next_f32_lanes::<3>(together.each_mut());
+                    for k in 0..8 {
+                        let expected: Vec<f32> = (0..count + 3).map(|_| alone[k].next_f32()).collect();
+                        let got: Vec<f32> = drawn[k][..count].iter().chain(&after[k]).copied().collect();
+                        assert_eq!(
+                            got,
+                            expected,
+                            "{} sampler {k}, from dimension {first}, index {index_base}",
+                            kind.name()
+                        );
                     }
-                    s
-                };
-                let mut together: [Sampler; 8] = std::array::from_fn(|k| make(k as u64));
-                let mut alone = together.clone();
-                let drawn = Sampler::next_f32_lanes::<7>(together.each_mut());
-                let drawn_after = Sampler::next_f32_lanes::<3>(together.each_mut());
-                for k in 0..8 {
-                    let expected: [f32; 10] = std::array::from_fn(|_| alone[k].next_f32());
-                    let got: Vec<f32> = drawn[k].iter().chain(&drawn_after[k]).copied().collect();
-                    assert_eq!(got, expected, "{} sampler {k}, from dimension {first}", kind.name());
                 }
             }
         }

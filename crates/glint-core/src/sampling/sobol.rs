@@ -50,7 +50,7 @@ pub fn shuffled_index(index: u32, seed: u32) -> u32 {
 /// set, seed)`.
 #[inline]
 pub fn sample_4d(shuffled: u32, set: u32, seed: u32) -> [f32; 4] {
-    let sobol = Int4::from(sobol_rev(shuffled, set));
+    let sobol = Int4::from(sobol_set_rev(shuffled, set));
     // The crate's scramble, unchanged: a per-set, per-lane Owen scramble of the bits.
     let scramble = {
         let seed: Int4 = [seed.wrapping_mul(0x9c8f2d3b); 4].into();
@@ -63,7 +63,7 @@ pub fn sample_4d(shuffled: u32, set: u32, seed: u32) -> [f32; 4] {
 /// The Sobol point (not yet scrambled, bits reversed) of dimensions `4 set .. 4 set + 4` at
 /// the shuffled index: four table lookups, XORed.
 #[inline(always)]
-fn sobol_rev(shuffled: u32, set: u32) -> [u32; 4] {
+fn sobol_set_rev(shuffled: u32, set: u32) -> [u32; 4] {
     let pieces = &tables().products[set as usize];
     let [a, b, c, d] = [
         pieces[0][(shuffled >> 28) as usize],
@@ -75,23 +75,23 @@ fn sobol_rev(shuffled: u32, set: u32) -> [u32; 4] {
 }
 
 /// `sample_4d` for eight samples at once, the same `set` for all and each its own shuffled
-/// index and seed: the same bits, two samples' four dimensions to a 256-bit vector (the
-/// crate's scramble is a chain of dependent multiplies and shifts; two chains a vector halves
-/// its instructions). For the path tracer's wavefront, whose paths stand at the same
-/// dimension.
+/// index and seed: the same bits, with two samples' four dimensions in one 256-bit vector.
+/// The crate's scramble is a chain of dependent multiplies and shifts on four lanes; eight
+/// lanes take each step for two samples, half the instructions. For the path tracer's
+/// wavefront, whose paths stand at the same dimension.
 pub fn sample_4d_lanes(shuffled: [u32; 8], set: u32, seed: [u32; 8]) -> [[f32; 4]; 8] {
     let mut out = [[0f32; 4]; 8];
     for pair in 0..4 {
         let (a, b) = (2 * pair, 2 * pair + 1);
-        let (sobol_a, sobol_b) = (sobol_rev(shuffled[a], set), sobol_rev(shuffled[b], set));
+        let (sobol_a, sobol_b) = (sobol_set_rev(shuffled[a], set), sobol_set_rev(shuffled[b], set));
         let sobol = u32x8::from([
             sobol_a[0], sobol_a[1], sobol_a[2], sobol_a[3], sobol_b[0], sobol_b[1], sobol_b[2], sobol_b[3],
         ]);
         let seeds = u32x8::from([seed[a], seed[a], seed[a], seed[a], seed[b], seed[b], seed[b], seed[b]]);
-        let lanes = [0x912f69ba, 0x174f18ab, 0x691e72ca, 0xb40cc1b8];
-        let scramble = (seeds * u32x8::splat(0x9c8f2d3b))
-            ^ u32x8::splat(set)
-            ^ u32x8::from([lanes[0], lanes[1], lanes[2], lanes[3], lanes[0], lanes[1], lanes[2], lanes[3]]);
+        // The crate's per-dimension scramble constants, for both samples.
+        let [c0, c1, c2, c3] = [0x912f69ba, 0x174f18ab, 0x691e72ca, 0xb40cc1b8];
+        let scramble =
+            (seeds * u32x8::splat(0x9c8f2d3b)) ^ u32x8::splat(set) ^ u32x8::from([c0, c1, c2, c3, c0, c1, c2, c3]);
         let bits = reverse_bits(owen_scramble_rev8(sobol, hash8(scramble)));
         // The crate's `to_f32_norm`: the top 23 bits as the mantissa of a float in [1, 2).
         let values: f32x8 = bytemuck::cast((bits >> 9) | u32x8::splat(0x3f80_0000));

@@ -118,13 +118,13 @@ struct Path {
     depth: u32,
     /// The last scattering point, its shading normal, and the BSDF's density of the direction
     /// sampled there (for the MIS weight of emission found next), when `depth` > 0.
-    from_point: Vec3,
-    from_normal: Vec3,
-    from_pdf: f32,
+    last_point: Vec3,
+    last_normal: Vec3,
+    last_pdf: f32,
     /// The closest hit of `ray`: object, primitive, and where on it.
     object: u32,
     prim: u32,
-    hit: PrimHit,
+    at: PrimHit,
 }
 
 /// The surfaces the lanes hit, as `SurfaceGeometry` has them, and the materials there.
@@ -173,12 +173,12 @@ impl<'a> Wavefront<'a> {
                 throughput: Rgb::ONE,
                 radiance: Rgb::ZERO,
                 depth: 0,
-                from_point: Vec3::ZERO,
-                from_normal: Vec3::ZERO,
-                from_pdf: 0.0,
+                last_point: Vec3::ZERO,
+                last_normal: Vec3::ZERO,
+                last_pdf: 0.0,
                 object: 0,
                 prim: 0,
-                hit: PrimHit { t: 0.0, u: 0.0, v: 0.0, inner: 0 },
+                at: PrimHit { t: 0.0, u: 0.0, v: 0.0, inner: 0 },
             })
             .collect();
         let mut active: Vec<u32> = (0..paths.len() as u32).collect();
@@ -198,7 +198,7 @@ impl<'a> Wavefront<'a> {
                 // them as a vector, a stall (store forwarding fails) of every closest hit.
                 match self.scene.geometry.closest_primitive(&mut path.ray) {
                     Some(((object, prim), hit)) => {
-                        (path.object, path.prim, path.hit) = (object, prim, hit);
+                        (path.object, path.prim, path.at) = (object, prim, hit);
                         hits.push(i);
                     }
                     // Weight 1: the environment emits nothing, so it is not light-sampled.
@@ -248,7 +248,7 @@ impl<'a> Wavefront<'a> {
                     let emitter: [&TriangleEmitter; LANES] = std::array::from_fn(|k| {
                         &emitters[scene.area_lights.emitter_index(path(k).object, path(k).prim).unwrap_or(none)]
                     });
-                    let to_light = point - Vec3x8::from_fn(|k| path(k).from_point);
+                    let to_light = point - Vec3x8::from_fn(|k| path(k).last_point);
                     let (pdf, seen) = area_to_solid_angle(
                         per_lane(|k| emitter[k].selection),
                         per_lane(|k| emitter[k].area),
@@ -258,14 +258,13 @@ impl<'a> Wavefront<'a> {
                     (mask(|k| !std::ptr::eq(emitter[k], &emitters[none])) & seen).blend(pdf, zero)
                 }
                 None => per_lane(|k| {
-                    let from = path(k);
+                    let p = path(k);
                     let (hit_point, hit_normal) = (point.lane(k), geometric.lane(k));
-                    let receiver = Some(from.from_normal);
-                    scene.area_lights.pdf(from.from_point, receiver, from.object, from.prim, hit_point, hit_normal)
+                    scene.area_lights.pdf(p.last_point, Some(p.last_normal), p.object, p.prim, hit_point, hit_normal)
                 }),
             };
             let weight =
-                mask(|k| depth[k] == 0).blend(f32x8::ONE, power_heuristic(per_lane(|k| path(k).from_pdf), light_pdf));
+                mask(|k| depth[k] == 0).blend(f32x8::ONE, power_heuristic(per_lane(|k| path(k).last_pdf), light_pdf));
             radiance = Vec3x8::select(found, radiance + throughput.mul_lanes(emitted) * weight, radiance);
         }
 
@@ -281,21 +280,21 @@ impl<'a> Wavefront<'a> {
             if roulette_comes(0) {
                 draws = Sampler::next_f32_lanes::<DRAWS>(samplers);
             } else {
-                let some = Sampler::next_f32_lanes::<ROULETTE>(samplers);
+                let some = Sampler::next_f32_lanes::<{ DRAWS - 1 }>(samplers);
                 for (all, some) in draws.iter_mut().zip(some) {
-                    all[..ROULETTE].copy_from_slice(&some);
+                    all[..DRAWS - 1].copy_from_slice(&some);
                 }
             }
         } else {
             for k in (0..n).filter(|&k| goes_on[k]) {
                 let sampler = &mut contexts[index[k]].sampler;
-                let count = if roulette_comes(k) { DRAWS } else { ROULETTE };
+                let count = if roulette_comes(k) { DRAWS } else { DRAWS - 1 };
                 for draw in &mut draws[k][..count] {
                     *draw = sampler.next_f32();
                 }
             }
         }
-        debug_assert!(draws.iter().all(|d| d[LOBE] < 1.0), "the scalar code picks the diffuse lobe below 1");
+        debug_assert!(draws.iter().all(|d| d[LOBE] < 1.0), "u_lobe < p_diffuse = 1: the diffuse lobe");
         let draw = |j: usize| per_lane(|k| draws[k][j]);
         let on = mask(|k| goes_on[k]);
 
@@ -379,9 +378,9 @@ impl<'a> Wavefront<'a> {
             if continues & (1 << k) != 0 {
                 path.throughput = throughput.lane(k);
                 path.ray = Ray::new(origin.lane(k), wi.lane(k));
-                path.from_point = point.lane(k);
-                path.from_normal = shading.lane(k);
-                path.from_pdf = pdf.as_array_ref()[k];
+                path.last_point = point.lane(k);
+                path.last_normal = shading.lane(k);
+                path.last_pdf = pdf.as_array_ref()[k];
                 path.depth += 1;
                 active.push(i as u32);
             }
@@ -398,12 +397,15 @@ impl<'a> Wavefront<'a> {
             geometry.triangle(path(k).object, path(k).prim).expect("flat surfaces are triangles")
         });
         let [a, b, c] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| corners[k][j]));
-        let (b1, b2) = (per_lane(|k| path(k).hit.u), per_lane(|k| path(k).hit.v));
+        let (b1, b2) = (per_lane(|k| path(k).at.u), per_lane(|k| path(k).at.v));
         let (point, error) = barycentric_point([a, b, c], b1, b2);
         let geometric = (b - a).cross(c - a).normalize_or(Vec3x8::splat(Vec3::Z));
-        let vertex_normals: [Option<[Vec3; 3]>; LANES] = std::array::from_fn(|k| match geometry.has_vertex_normals() {
-            true => geometry.triangle_normals(path(k).object, path(k).prim),
-            false => None,
+        let vertex_normals: [Option<[Vec3; 3]>; LANES] = std::array::from_fn(|k| {
+            if geometry.has_vertex_normals() {
+                geometry.triangle_normals(path(k).object, path(k).prim)
+            } else {
+                None
+            }
         });
         let smooth = mask(|k| vertex_normals[k].is_some());
         let shading = if smooth.any() {
@@ -423,8 +425,8 @@ impl<'a> Wavefront<'a> {
     fn surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, n: usize) -> Surfaces {
         let scene = self.scene;
         let hits: [Option<crate::scene::SurfaceHit>; LANES] = std::array::from_fn(|k| {
-            let hit = path(k);
-            (k < n).then(|| scene.geometry.surface_hit((hit.object, hit.prim), &hit.ray, &hit.hit))
+            let p = path(k);
+            (k < n).then(|| scene.geometry.surface_hit((p.object, p.prim), &p.ray, &p.at))
         });
         let geometry = |k: usize| hits[k].map(|h| h.geometry);
         Surfaces {
