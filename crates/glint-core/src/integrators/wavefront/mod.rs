@@ -155,9 +155,10 @@ impl<'a> Wavefront<'a> {
         if !served {
             return None;
         }
-        let flat = match scene.geometry.all_triangles() {
-            true => scene.materials.iter().map(LaneMaterial::constant).collect::<Option<Vec<_>>>(),
-            false => None,
+        let flat = if scene.geometry.all_triangles() {
+            scene.materials.iter().map(LaneMaterial::constant).collect::<Option<Vec<_>>>()
+        } else {
+            None
         };
         let lights = &scene.area_lights;
         let emitters = lights.triangle_table().filter(|_| lights.triangle_sampling == TriangleSampling::Area);
@@ -193,9 +194,10 @@ impl<'a> Wavefront<'a> {
                 } else {
                     counts.reflection += 1;
                 }
-                // The query narrows the path's own ray, which is then not needed again: a
-                // fresh copy's fields would still be in the store buffer when the query loads
-                // them as a vector, a stall (store forwarding fails) of every closest hit.
+                // The query narrows the path's own ray, as the scalar code narrows the copy it
+                // then hands to the surface. A fresh copy's fields would still be in the store
+                // buffer when the query loads them as a vector: a stall (store forwarding
+                // fails) of every closest hit.
                 match self.scene.geometry.closest_primitive(&mut path.ray) {
                     Some(((object, prim), hit)) => {
                         (path.object, path.prim, path.at) = (object, prim, hit);
