@@ -72,6 +72,17 @@ fn world_triangle(object: &Object, prim: u32) -> Option<[Vec3; 3]> {
     }
 }
 
+/// The vertex normals of primitive `prim` of `object` if it is a triangle in world space that
+/// has them.
+#[inline]
+fn world_normals(object: &Object, prim: u32) -> Option<[Vec3; 3]> {
+    match (&object.shape, &object.transform) {
+        (Shape::Mesh(m), None) => m.triangle_normals(prim as usize),
+        (Shape::Triangle(t), None) => t.normals,
+        _ => None,
+    }
+}
+
 /// How far short of a target surface a shadow ray stops, as a fraction of its length.
 pub(crate) const SHADOW_EPSILON: f32 = 1e-4;
 
@@ -301,11 +312,8 @@ impl Geometry {
             + generic.len() * std::mem::size_of::<(u32, u32)>()
             + (object_first.len() + object_of.len()) * std::mem::size_of::<u32>();
         let triangles_only = generic.is_empty();
-        let vertex_normals = objects.iter().any(|o| match (&o.shape, &o.transform) {
-            (Shape::Mesh(m), None) => m.normals.is_some(),
-            (Shape::Triangle(t), None) => t.normals.is_some(),
-            _ => false,
-        });
+        // A mesh has normals at every vertex or at none: its first triangle tells.
+        let vertex_normals = objects.iter().any(|o| o.shape.primitive_count() > 0 && world_normals(o, 0).is_some());
         Self {
             objects,
             methods,
@@ -376,15 +384,7 @@ impl Geometry {
     /// with them.
     #[inline]
     pub fn triangle_normals(&self, object: u32, prim: u32) -> Option<[Vec3; 3]> {
-        let object = &self.objects[object as usize];
-        match (&object.shape, &object.transform) {
-            (Shape::Mesh(m), None) => {
-                let [a, b, c] = m.indices[prim as usize];
-                m.normals.as_ref().map(|n| [n[a as usize], n[b as usize], n[c as usize]])
-            }
-            (Shape::Triangle(t), None) => t.normals,
-            _ => None,
-        }
+        world_normals(&self.objects[object as usize], prim)
     }
 
     /// Whether a block is the SIMD test alone. Asked per query, not fixed at build: the

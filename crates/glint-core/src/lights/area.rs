@@ -394,11 +394,7 @@ impl AreaLights {
         point: Vec3,
         normal: Vec3,
     ) -> f32 {
-        let base = self.object_base.get(object as usize).copied().unwrap_or(NONE);
-        if base == NONE {
-            return 0.0;
-        }
-        let i = (base + prim) as usize;
+        let Some(i) = self.emitter_index(object, prim) else { return 0.0 };
         let selection = self.selection_probability(i);
         let shape = &self.emitters[i].shape;
         match *shape {

@@ -65,10 +65,14 @@ impl Mesh {
 
     #[inline]
     pub fn surface(&self, i: usize, hit: &PrimHit) -> SurfaceGeometry {
-        let idx = self.indices[i];
-        let normals = self.normals.as_ref().map(|n| idx.map(|k| n[k as usize]));
-        let uvs = self.uvs.as_ref().map(|t| idx.map(|k| t[k as usize]));
-        triangle_surface(self.triangle_vertices(i), normals, uvs, hit)
+        let uvs = self.uvs.as_ref().map(|t| self.indices[i].map(|k| t[k as usize]));
+        triangle_surface(self.triangle_vertices(i), self.triangle_normals(i), uvs, hit)
+    }
+
+    /// The vertex normals of triangle `i`, if the mesh has them.
+    #[inline]
+    pub fn triangle_normals(&self, i: usize) -> Option<[Vec3; 3]> {
+        self.normals.as_ref().map(|n| self.indices[i].map(|k| n[k as usize]))
     }
 
     /// Bakes a transform into the vertices (meshes are stored in world space so the

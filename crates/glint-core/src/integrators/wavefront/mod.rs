@@ -62,26 +62,20 @@ impl LaneMaterial {
     /// What lanes without a hit read.
     const BLACK: Self = Self { diffuse: Rgb::ZERO, reflects: false, emission: Rgb::ZERO, two_sided: false };
 
+    fn new(diffuse: Rgb, emission: Rgb, two_sided: bool) -> Self {
+        Self { diffuse, reflects: luminance(diffuse) > 0.0, emission, two_sided }
+    }
+
     /// An evaluated material.
     fn at(point: &PhongPoint) -> Self {
-        Self {
-            diffuse: point.diffuse,
-            reflects: luminance(point.diffuse) > 0.0,
-            emission: point.emission,
-            two_sided: point.two_sided_emission,
-        }
+        Self::new(point.diffuse, point.emission, point.two_sided_emission)
     }
 
     /// A material with constant colours, evaluated once.
     fn constant(material: &Material) -> Option<Self> {
         let Material::Phong(m) = material;
         let Texture::Constant(diffuse) = m.diffuse else { return None };
-        Some(Self {
-            diffuse,
-            reflects: luminance(diffuse) > 0.0,
-            emission: m.emission,
-            two_sided: m.two_sided_emission,
-        })
+        Some(Self::new(diffuse, m.emission, m.two_sided_emission))
     }
 }
 
