@@ -34,7 +34,16 @@ impl PathTracer {
 
     /// Whether a render of `scene` runs as a wavefront in SIMD lanes (see `wavefront`).
     pub fn runs_as_wavefront(&self, scene: &Scene) -> bool {
-        self.wavefront && Wavefront::new(self, scene).is_some()
+        self.wavefront_for(scene).is_some()
+    }
+
+    /// The wavefront over `scene`, if it is on and serves the scene.
+    fn wavefront_for<'a>(&self, scene: &'a Scene) -> Option<Wavefront<'a>> {
+        if self.wavefront {
+            Wavefront::new(self, scene)
+        } else {
+            None
+        }
     }
 }
 
@@ -63,7 +72,7 @@ impl Integrator for PathTracer {
     /// A tile's paths as a wavefront in SIMD lanes where the scene allows (`wavefront`), with
     /// the same result as one by one.
     fn radiance_tile(&self, scene: &Scene, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
-        match self.wavefront.then(|| Wavefront::new(self, scene)).flatten() {
+        match self.wavefront_for(scene) {
             Some(wavefront) => wavefront.radiance_tile(rays, contexts, out),
             None => radiance_each(self, scene, rays, contexts, out),
         }
