@@ -39,11 +39,12 @@ struct Node8 {
     children: [u32; WIDTH],
 }
 
+/// A tree whose root is a leaf (a few primitives) gets a root node with that one child, so
+/// that each traversal reaches leaves from one place in its loop (where the compiler inlines
+/// the leaf test) and rays that miss the leaf's box skip its test.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh8 {
     nodes: Vec<Node8>,
-    /// A tree whose root is a leaf (a few primitives) has no node: this is that leaf.
-    root_leaf: Option<u32>,
 }
 
 impl Bvh8 {
@@ -63,7 +64,9 @@ impl Bvh8 {
             return Self::default();
         }
         if nodes[0].count > 0 {
-            return Self { nodes: Vec::new(), root_leaf: Some(leaf_reference(&nodes[0])) };
+            let mut root = empty_node();
+            set_child(&mut root, 0, &nodes[0], leaf_reference(&nodes[0]));
+            return Self { nodes: vec![root] };
         }
         let mut wide = Vec::with_capacity(nodes.len() / 2);
         wide.push(empty_node());
@@ -86,21 +89,18 @@ impl Bvh8 {
             let mut node = empty_node();
             for (k, &c) in children.iter().enumerate() {
                 let n = &nodes[c];
-                for axis in 0..3 {
-                    node.bounds[axis][0].as_array_mut()[k] = n.min[axis];
-                    node.bounds[axis][1].as_array_mut()[k] = n.max[axis];
-                }
-                node.children[k] = if n.count > 0 {
+                let child = if n.count > 0 {
                     leaf_reference(n)
                 } else {
                     wide.push(empty_node());
                     work.push((c, wide.len() - 1));
                     (wide.len() - 1) as u32
                 };
+                set_child(&mut node, k, n, child);
             }
             wide[slot] = node;
         }
-        Self { nodes: wide, root_leaf: None }
+        Self { nodes: wide }
     }
 
     pub fn node_count(&self) -> usize {
@@ -121,17 +121,6 @@ impl Bvh8 {
         mut hit: impl FnMut(u32, &Ray) -> Option<f32>,
         counter: &mut C,
     ) {
-        let mut leaf = |reference: u32, ray: &mut Ray| {
-            let (first, count) = leaf_range(reference);
-            for i in first..first + count {
-                if let Some(t) = hit(i, ray) {
-                    ray.t_max = t;
-                }
-            }
-        };
-        if let Some(reference) = self.root_leaf {
-            return leaf(reference, ray);
-        }
         if self.nodes.is_empty() {
             return;
         }
@@ -140,7 +129,12 @@ impl Bvh8 {
         let mut current = 0u32;
         loop {
             if current & LEAF_BIT != 0 {
-                leaf(current, ray);
+                let (first, count) = leaf_range(current);
+                for i in first..first + count {
+                    if let Some(t) = hit(i, ray) {
+                        ray.t_max = t;
+                    }
+                }
             } else {
                 counter.node();
                 let node = &self.nodes[current as usize];
@@ -182,13 +176,6 @@ impl Bvh8 {
     /// Any hit: stops at the first primitive for which `hit(i, ray)` is true.
     #[inline]
     pub fn any(&self, ray: &Ray, mut hit: impl FnMut(u32, &Ray) -> bool) -> bool {
-        let mut leaf = |reference: u32| {
-            let (first, count) = leaf_range(reference);
-            (first..first + count).any(|i| hit(i, ray))
-        };
-        if let Some(reference) = self.root_leaf {
-            return leaf(reference);
-        }
         if self.nodes.is_empty() {
             return false;
         }
@@ -202,8 +189,11 @@ impl Bvh8 {
                 if mask & (1 << k) != 0 {
                     let child = node.children[k];
                     if child & LEAF_BIT != 0 {
-                        if leaf(child) {
-                            return true;
+                        let (first, count) = leaf_range(child);
+                        for i in first..first + count {
+                            if hit(i, ray) {
+                                return true;
+                            }
                         }
                     } else {
                         stack.push(child);
@@ -325,6 +315,16 @@ impl Query {
     }
 }
 
+/// Puts binary node `n` into slot `k` of `node` as `child` (a wide node's index or a leaf
+/// reference).
+fn set_child(node: &mut Node8, k: usize, n: &Node, child: u32) {
+    for axis in 0..3 {
+        node.bounds[axis][0].as_array_mut()[k] = n.min[axis];
+        node.bounds[axis][1].as_array_mut()[k] = n.max[axis];
+    }
+    node.children[k] = child;
+}
+
 fn empty_node() -> Node8 {
     let min = f32x8::splat(f32::INFINITY);
     let max = f32x8::splat(f32::NEG_INFINITY);
@@ -371,6 +371,35 @@ mod tests {
                 assert!(seen.contains(&k), "the ray along a face plane from {origin} missed box {k}");
             }
         }
+    }
+
+    #[test]
+    fn a_tree_that_is_one_leaf_gets_a_root_node() {
+        // Three boxes make one leaf: it becomes the only child of a root node, whose box test
+        // culls a ray that passes beside them.
+        let boxes: Vec<Aabb> =
+            (0..3).map(|k| Aabb::new(Vec3::new(k as f32, 0.0, 0.0), Vec3::new(k as f32 + 0.5, 1.0, 1.0))).collect();
+        let (bvh, order) = Bvh::build(&boxes);
+        assert_eq!(bvh.stats().leaves, 1);
+        let wide = Bvh8::from_binary_with_leaves(&bvh, |first, count| (first, count));
+        assert_eq!(wide.node_count(), 1);
+        let through = Ray::new(Vec3::new(-1.0, 0.5, 0.5), Vec3::X);
+        let beside = Ray::new(Vec3::new(-1.0, 2.5, 0.5), Vec3::X);
+        let mut seen = Vec::new();
+        assert!(!wide.any(&through, |i, _| {
+            seen.push(order[i as usize]);
+            false
+        }));
+        seen.sort();
+        assert_eq!(seen, [0, 1, 2]);
+        assert!(wide.any(&through, |i, _| order[i as usize] == 2));
+        let mut ray = through;
+        wide.closest_counted(&mut ray, |i, _| (order[i as usize] == 1).then_some(1.5), &mut NoCounter);
+        assert_eq!(ray.t_max, 1.5);
+        assert!(!wide.any(&beside, |_, _| true));
+        let mut ray = beside;
+        wide.closest_counted(&mut ray, |_, _| Some(1.0), &mut NoCounter);
+        assert_eq!(ray.t_max, beside.t_max);
     }
 
     #[test]
