@@ -219,8 +219,10 @@ impl<'a> Wavefront<'a> {
         let n = chunk.len();
         // Lanes past the chunk's end repeat its first path; nothing of theirs is kept.
         let index: [usize; LANES] = std::array::from_fn(|k| chunk[if k < n { k } else { 0 }] as usize);
-        // Read in place: a copy of the eight paths cost more than the reads.
-        let path = |k: usize| &paths[index[k]];
+        // Read in place: a copy of the eight paths cost more than the reads. Each lane's
+        // reference is found (and bounds-checked) once.
+        let lane_paths: [&Path; LANES] = index.map(|i| &paths[i]);
+        let path = |k: usize| lane_paths[k];
         let depth: [u32; LANES] = std::array::from_fn(|k| path(k).depth);
         let zero = f32x8::ZERO;
 
