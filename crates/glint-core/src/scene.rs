@@ -491,14 +491,8 @@ impl Geometry {
         ray: &mut Ray,
         counter: &mut C,
     ) -> Option<((u32, u32), PrimHit)> {
-        let mut best: Option<((u32, u32), PrimHit)> = None;
         counter.primitives(self.unbounded.len() as u32);
-        for &(o, p) in &self.unbounded {
-            if let Some(h) = self.objects[o as usize].intersect(p, ray, &self.methods) {
-                ray.t_max = h.t;
-                best = Some(((o, p), h));
-            }
-        }
+        let mut best = if self.unbounded.is_empty() { None } else { self.closest_unbounded(ray) };
         let mut best_lane = None;
         let mut tested = 0;
         let prepared = WatertightRay8::new(ray, &WatertightRay::new(ray));
@@ -521,9 +515,29 @@ impl Geometry {
         best
     }
 
+    /// The nearest of the unbounded primitives (planes); `ray.t_max` becomes its distance.
+    /// Out of line: inlined, its set-up ran before every query even in scenes without planes.
+    #[inline(never)]
+    fn closest_unbounded(&self, ray: &mut Ray) -> Option<((u32, u32), PrimHit)> {
+        let mut best = None;
+        for &(o, p) in &self.unbounded {
+            if let Some(h) = self.objects[o as usize].intersect(p, ray, &self.methods) {
+                ray.t_max = h.t;
+                best = Some(((o, p), h));
+            }
+        }
+        best
+    }
+
+    /// Whether some unbounded primitive lies along the ray (out of line, as `closest_unbounded`).
+    #[inline(never)]
+    fn unbounded_occludes(&self, ray: &Ray) -> bool {
+        self.unbounded.iter().any(|&(o, p)| self.objects[o as usize].intersect(p, ray, &self.methods).is_some())
+    }
+
     /// Whether anything lies along the ray within `(t_min, t_max)`; stops at the first hit.
     pub fn occluded(&self, ray: &Ray) -> bool {
-        self.unbounded.iter().any(|&(o, p)| self.objects[o as usize].intersect(p, ray, &self.methods).is_some()) || {
+        (!self.unbounded.is_empty() && self.unbounded_occludes(ray)) || {
             let prepared = WatertightRay8::new(ray, &WatertightRay::new(ray));
             self.bvh.any(ray, |b, ray| self.any_in_block(b, ray, &prepared))
         }
