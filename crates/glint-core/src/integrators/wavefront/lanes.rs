@@ -29,8 +29,14 @@ impl Vec3x8 {
     /// Lane k is `f(k)`.
     #[inline(always)]
     pub fn from_fn(f: impl Fn(usize) -> Vec3) -> Self {
-        let v: [Vec3; LANES] = std::array::from_fn(f);
-        Self { x: f32x8::from(v.map(|v| v.x)), y: f32x8::from(v.map(|v| v.y)), z: f32x8::from(v.map(|v| v.z)) }
+        // Straight into three columns: through an array of Vec3 and three maps, the compiler
+        // kept the arrays' generic machinery (1.3 % of the Cornell box's instructions).
+        let (mut x, mut y, mut z) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
+        for k in 0..LANES {
+            let v = f(k);
+            (x[k], y[k], z[k]) = (v.x, v.y, v.z);
+        }
+        Self { x: f32x8::from(x), y: f32x8::from(y), z: f32x8::from(z) }
     }
 
     #[inline(always)]

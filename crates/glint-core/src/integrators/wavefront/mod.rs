@@ -398,24 +398,35 @@ impl<'a> Wavefront<'a> {
         let (b1, b2) = (per_lane(|k| path(k).at.u), per_lane(|k| path(k).at.v));
         let (point, error) = barycentric_point([a, b, c], b1, b2);
         let geometric = (b - a).cross(c - a).normalize_or(Vec3x8::splat(Vec3::Z));
-        let vertex_normals: [Option<[Vec3; 3]>; LANES] = std::array::from_fn(|k| {
-            if geometry.has_vertex_normals() {
-                geometry.triangle_normals(path(k).object, path(k).prim)
-            } else {
-                None
-            }
-        });
+        let shading = if geometry.has_vertex_normals() {
+            self.smooth_normals(path, geometry, (b1, b2), geometric)
+        } else {
+            geometric
+        };
+        let material = std::array::from_fn(|k| materials[geometry.objects[path(k).object as usize].material as usize]);
+        Surfaces { point, error, geometric, shading, material }
+    }
+
+    /// The shading normals of lanes on triangles with vertex normals, interpolated at the
+    /// barycentric weights (b1, b2); `geometric` elsewhere.
+    fn smooth_normals<'p>(
+        &self,
+        path: &impl Fn(usize) -> &'p Path,
+        geometry: &crate::scene::Geometry,
+        (b1, b2): (f32x8, f32x8),
+        geometric: Vec3x8,
+    ) -> Vec3x8 {
+        let vertex_normals: [Option<[Vec3; 3]>; LANES] =
+            std::array::from_fn(|k| geometry.triangle_normals(path(k).object, path(k).prim));
         let smooth = mask(|k| vertex_normals[k].is_some());
-        let shading = if smooth.any() {
+        if smooth.any() {
             let [na, nb, nc] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| vertex_normals[k].map_or(Vec3::ZERO, |n| n[j])));
             let n = (na * (f32x8::ONE - b1 - b2) + nb * b1 + nc * b2).normalize_or(geometric);
             let turned = Vec3x8::select(n.dot(geometric).cmp_lt(f32x8::ZERO), -n, n);
             Vec3x8::select(smooth, turned, geometric)
         } else {
             geometric
-        };
-        let material = std::array::from_fn(|k| materials[geometry.objects[path(k).object as usize].material as usize]);
-        Surfaces { point, error, geometric, shading, material }
+        }
     }
 
     /// The surfaces of any shapes and materials, from the scalar code lane by lane (the lanes
@@ -517,7 +528,11 @@ impl<'a> Wavefront<'a> {
 /// Lane k is `f(k)`.
 #[inline(always)]
 fn per_lane(f: impl Fn(usize) -> f32) -> f32x8 {
-    f32x8::from(std::array::from_fn::<f32, LANES, _>(f))
+    let mut lanes = [0f32; LANES];
+    for (k, lane) in lanes.iter_mut().enumerate() {
+        *lane = f(k);
+    }
+    f32x8::from(lanes)
 }
 
 /// A lane mask, set where `f(k)`.
