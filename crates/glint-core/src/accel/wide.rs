@@ -126,57 +126,48 @@ impl Bvh8 {
         }
         let query = Query::new(ray);
         let mut stack = Stack::<(u32, f32)>::new();
-        // The entered children of the node tested last, far to near, and how many of them
-        // are still to visit: taken from here, not pushed and popped, unless a subtree comes
-        // first.
-        let mut children = [(0f32, 0u32); WIDTH];
         let mut current = 0u32;
         loop {
-            counter.node();
-            let node = &self.nodes[current as usize];
-            let (t_near, mask) = query.test(node, ray.t_min, ray.t_max);
-            let mut pending = 0;
-            for (k, entry) in t_near.into_iter().zip(node.children).enumerate() {
-                if mask & (1 << k) != 0 {
-                    let mut j = pending;
-                    while j > 0 && children[j - 1].0 < entry.0 {
-                        children[j] = children[j - 1];
-                        j -= 1;
-                    }
-                    children[j] = entry;
-                    pending += 1;
-                }
-            }
-            // Leaves and subtrees alike in order of entry distance: the node's nearest child
-            // always, every other one (and every pushed one) while it starts before the
-            // closest hit so far.
-            let mut nearest = pending > 0;
-            loop {
-                let (t, child) = if pending > 0 {
-                    pending -= 1;
-                    children[pending]
-                } else {
-                    match stack.pop() {
-                        Some((child, t)) => (t, child),
-                        None => return,
-                    }
-                };
-                if !(std::mem::take(&mut nearest) || t < ray.t_max) {
-                    continue;
-                }
-                if child & LEAF_BIT == 0 {
-                    // Into the subtree, its farther siblings on the stack.
-                    for &(t, sibling) in &children[..pending] {
-                        stack.push((sibling, t));
-                    }
-                    current = child;
-                    break;
-                }
-                let (first, count) = leaf_range(child);
+            if current & LEAF_BIT != 0 {
+                let (first, count) = leaf_range(current);
                 for i in first..first + count {
                     if let Some(t) = hit(i, ray) {
                         ray.t_max = t;
                     }
+                }
+            } else {
+                counter.node();
+                let node = &self.nodes[current as usize];
+                let (t_near, mask) = query.test(node, ray.t_min, ray.t_max);
+                if mask != 0 {
+                    // Push the entered children far to near, then continue with the nearest:
+                    // leaves and subtrees alike are visited in order of entry distance.
+                    let mut hits = [(0f32, 0u32); WIDTH];
+                    let mut n = 0;
+                    for (k, entry) in t_near.into_iter().zip(node.children).enumerate() {
+                        if mask & (1 << k) != 0 {
+                            let mut j = n;
+                            while j > 0 && hits[j - 1].0 < entry.0 {
+                                hits[j] = hits[j - 1];
+                                j -= 1;
+                            }
+                            hits[j] = entry;
+                            n += 1;
+                        }
+                    }
+                    for &(t, child) in &hits[..n - 1] {
+                        stack.push((child, t));
+                    }
+                    current = hits[n - 1].1;
+                    continue;
+                }
+            }
+            // Pop the nearest pending child that still starts before the closest hit so far.
+            loop {
+                let Some((child, t)) = stack.pop() else { return };
+                if t < ray.t_max {
+                    current = child;
+                    break;
                 }
             }
         }
