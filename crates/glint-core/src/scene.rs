@@ -474,19 +474,31 @@ impl Geometry {
     /// becomes the hit's distance.
     #[inline]
     pub fn closest_primitive(&self, ray: &mut Ray) -> Option<((u32, u32), PrimHit)> {
-        self.closest_primitive_counted(ray, &mut NoCounter)
+        if self.bvh.is_one_node() {
+            self.closest_primitive_counted::<true, _>(ray, &mut NoCounter)
+        } else {
+            self.closest_primitive_in_tree(ray)
+        }
+    }
+
+    /// `closest_primitive` in a tree of more than one node, its leaf tests out of line (see
+    /// `Bvh8::any`). Itself out of line, so that the one-node query keeps its registers.
+    #[inline(never)]
+    fn closest_primitive_in_tree(&self, ray: &mut Ray) -> Option<((u32, u32), PrimHit)> {
+        self.closest_primitive_counted::<false, _>(ray, &mut NoCounter)
     }
 
     /// The traversal work of a closest-hit query (for the BVH heat map and `bench-rays`).
     pub fn traversal_counts(&self, ray: &Ray) -> TraversalCounts {
         let mut counts = TraversalCounts::default();
         let mut ray = *ray;
-        self.closest_primitive_counted(&mut ray, &mut counts);
+        self.closest_primitive_counted::<false, _>(&mut ray, &mut counts);
         counts
     }
 
+    /// The nearest primitive, its traversal counted (`INLINE_LEAVES` as for `Bvh8::any`).
     #[inline]
-    fn closest_primitive_counted<C: TraversalCounter>(
+    fn closest_primitive_counted<const INLINE_LEAVES: bool, C: TraversalCounter>(
         &self,
         ray: &mut Ray,
         counter: &mut C,
@@ -496,7 +508,7 @@ impl Geometry {
         let mut best_lane = None;
         let mut tested = 0;
         let prepared = WatertightRay8::new(ray, &WatertightRay::new(ray));
-        self.bvh.closest_counted(
+        self.bvh.closest_counted::<INLINE_LEAVES, C>(
             ray,
             |b, ray| {
                 if C::ACTIVE {
@@ -538,9 +550,21 @@ impl Geometry {
     /// Whether anything lies along the ray within `(t_min, t_max)`; stops at the first hit.
     pub fn occluded(&self, ray: &Ray) -> bool {
         (!self.unbounded.is_empty() && self.unbounded_occludes(ray)) || {
-            let prepared = WatertightRay8::new(ray, &WatertightRay::new(ray));
-            self.bvh.any(ray, |b, ray| self.any_in_block(b, ray, &prepared))
+            if self.bvh.is_one_node() {
+                let prepared = WatertightRay8::new(ray, &WatertightRay::new(ray));
+                self.bvh.any::<true>(ray, |b, ray| self.any_in_block(b, ray, &prepared))
+            } else {
+                self.occluded_in_tree(ray)
+            }
         }
+    }
+
+    /// `occluded` in a tree of more than one node (out of line, so that the one-node query
+    /// keeps its registers).
+    #[inline(never)]
+    fn occluded_in_tree(&self, ray: &Ray) -> bool {
+        let prepared = WatertightRay8::new(ray, &WatertightRay::new(ray));
+        self.bvh.any::<false>(ray, |b, ray| self.any_in_block(b, ray, &prepared))
     }
 
     /// Closest hit by testing every primitive: the reference the BVH is checked against.

@@ -65,8 +65,12 @@ fn check_ray(scene: &Scene, ray: &Ray) {
 #[test]
 fn bvh_equals_brute_force_on_random_scenes() {
     let mut rng = TestRng(1);
+    // Trees of one node and deeper ones take differently compiled queries (the leaf tests
+    // inlined or called): both must be here.
+    let mut wide_nodes = Vec::new();
     for n in [1, 2, 3, 10, 100, 1000] {
         let scene = random_scene(&mut rng, n);
+        wide_nodes.push(scene.geometry.bvh_stats().wide_nodes);
         for _ in 0..20_000 {
             let origin = rng.vec3(-8.0, 8.0);
             let ray = Ray::new(origin, rng.vec3(-1.0, 1.0).normalize_or(Vec3::X));
@@ -75,6 +79,7 @@ fn bvh_equals_brute_force_on_random_scenes() {
             check_ray(&scene, &short);
         }
     }
+    assert!(wide_nodes.contains(&1) && wide_nodes.iter().any(|&n| n > 1), "{wide_nodes:?}");
 }
 
 /// The leaf blocks test triangles eight at a time with the watertight test; the other triangle
