@@ -496,9 +496,9 @@ impl Geometry {
         counts
     }
 
-    /// The nearest primitive, its traversal counted (`INLINE_LEAVES` as for `Bvh8::any`).
+    /// The nearest primitive, its traversal counted (`ONE_NODE` as for `Bvh8::any`).
     #[inline]
-    fn closest_primitive_counted<const INLINE_LEAVES: bool, C: TraversalCounter>(
+    fn closest_primitive_counted<const ONE_NODE: bool, C: TraversalCounter>(
         &self,
         ray: &mut Ray,
         counter: &mut C,
@@ -508,7 +508,7 @@ impl Geometry {
         let mut best_lane = None;
         let mut tested = 0;
         let prepared = WatertightRay8::new(ray, &WatertightRay::new(ray));
-        self.bvh.closest_counted::<INLINE_LEAVES, C>(
+        self.bvh.closest_counted::<ONE_NODE, C>(
             ray,
             |b, ray| {
                 if C::ACTIVE {
