@@ -132,35 +132,44 @@ impl Sampler {
         }
     }
 
-    /// The next `N` dimensions of eight samplers at once: `out[k][j]` is what the `j`-th
-    /// `next_f32` of `samplers[k]` would give. Sobol samplers standing at the same dimension
-    /// (the path tracer's wavefront keeps its paths in step) compute each set of four
-    /// dimensions for all eight together (`sobol::sample_4d_lanes`); others draw one by one.
-    pub fn next_f32_lanes<const N: usize>(mut samplers: [&mut Sampler; 8]) -> [[f32; N]; 8] {
+    /// The next `N` dimensions of eight samplers at once, as columns: `out[j][k]` is what the
+    /// `j`-th `next_f32` of `samplers[k]` would give (column `j` is one lane vector). Sobol
+    /// samplers standing at the same dimension (the path tracer's wavefront keeps its paths in
+    /// step) compute each set of four dimensions for all eight together
+    /// (`sobol::sample_4d_lanes`); others draw one by one.
+    pub fn next_f32_lanes<const N: usize>(mut samplers: [&mut Sampler; 8]) -> [[f32; 8]; N] {
+        let mut out = [[0f32; 8]; N];
         let first = samplers[0].dimension;
         // Below 256 dimensions every set uses the sample's cached shuffled index (`draw`).
         let in_step =
             first as usize + N <= 256 && samplers.iter().all(|s| s.kind == SamplerKind::Sobol && s.dimension == first);
         if !in_step {
-            return samplers.map(|s| std::array::from_fn(|_| s.next_f32()));
-        }
-        let mut out = [[0f32; N]; 8];
-        let mut d = first;
-        for j in 0..N {
-            if d.is_multiple_of(4) {
-                let shuffled = std::array::from_fn(|k| samplers[k].shuffled);
-                let seed = std::array::from_fn(|k| sobol_seed(samplers[k].pixel_seed, samplers[k].index, d));
-                let sets = sobol::sample_4d_lanes(shuffled, d / 4, seed);
-                for (sampler, set) in samplers.iter_mut().zip(sets) {
-                    sampler.sobol = set.map(|x| x.min(ONE_BELOW));
+            for (k, sampler) in samplers.iter_mut().enumerate() {
+                for column in &mut out {
+                    column[k] = sampler.next_f32();
                 }
             }
-            for (drawn, sampler) in out.iter_mut().zip(&samplers) {
-                drawn[j] = sampler.sobol[(d % 4) as usize];
+            return out;
+        }
+        // Below 256 dimensions the scramble seed does not depend on the dimension.
+        let shuffled = samplers.each_ref().map(|s| s.shuffled);
+        let seed = samplers.each_ref().map(|s| sobol_seed(s.pixel_seed, s.index, first));
+        let mut sets = samplers.each_ref().map(|s| s.sobol);
+        let mut d = first;
+        for column in &mut out {
+            if d.is_multiple_of(4) {
+                // No `min(ONE_BELOW)` as `draw` takes: the crate's floats have 23 bits below
+                // 1, so they are at most 1 - 2⁻²³, below ONE_BELOW already.
+                sets = sobol::sample_4d_lanes(shuffled, d / 4, seed);
+                debug_assert!(sets.iter().flatten().all(|&x| x < ONE_BELOW));
+            }
+            for (drawn, set) in column.iter_mut().zip(&sets) {
+                *drawn = set[(d % 4) as usize];
             }
             d += 1;
         }
-        for sampler in &mut samplers {
+        for (sampler, set) in samplers.iter_mut().zip(sets) {
+            sampler.sobol = set;
             sampler.dimension = d;
         }
         out
@@ -338,16 +347,14 @@ mod tests {
                     };
                     let mut together: [Sampler; 8] = std::array::from_fn(make);
                     let mut alone = together.clone();
-                    let drawn: Vec<[f32; 7]> = match count {
+                    let drawn: Vec<[f32; 8]> = match count {
                         7 => Sampler::next_f32_lanes::<7>(together.each_mut()).to_vec(),
-                        _ => Sampler::next_f32_lanes::<2>(together.each_mut())
-                            .map(|d| [d[0], d[1], 0.0, 0.0, 0.0, 0.0, 0.0])
-                            .to_vec(),
+                        _ => Sampler::next_f32_lanes::<2>(together.each_mut()).to_vec(),
                     };
                     let after = Sampler::next_f32_lanes::<3>(together.each_mut());
                     for k in 0..8 {
                         let expected: Vec<f32> = (0..count + 3).map(|_| alone[k].next_f32()).collect();
-                        let got: Vec<f32> = drawn[k][..count].iter().chain(&after[k]).copied().collect();
+                        let got: Vec<f32> = drawn.iter().chain(&after).map(|column| column[k]).collect();
                         assert_eq!(
                             got,
                             expected,

@@ -269,7 +269,8 @@ impl<'a> Wavefront<'a> {
         // Paths at the maximum depth, and on black surfaces, end here.
         let goes_on: [bool; LANES] =
             std::array::from_fn(|k| k < n && depth[k] < self.max_depth && material[k].reflects);
-        let mut draws = [[0f32; DRAWS]; LANES];
+        // draws[j][k]: draw j of lane k (a column per draw, read as one lane vector).
+        let mut draws = [[0f32; LANES]; DRAWS];
         let roulette_comes = |k: usize| depth[k] + 1 >= self.rr_depth;
         let in_step = n == LANES && depth.iter().all(|&d| d == depth[0]);
         if in_step && goes_on.iter().any(|&on| on) {
@@ -278,22 +279,19 @@ impl<'a> Wavefront<'a> {
             if roulette_comes(0) {
                 draws = Sampler::next_f32_lanes::<DRAWS>(samplers);
             } else {
-                let some = Sampler::next_f32_lanes::<{ DRAWS - 1 }>(samplers);
-                for (all, some) in draws.iter_mut().zip(some) {
-                    all[..DRAWS - 1].copy_from_slice(&some);
-                }
+                draws[..DRAWS - 1].copy_from_slice(&Sampler::next_f32_lanes::<{ DRAWS - 1 }>(samplers));
             }
         } else {
             for k in (0..n).filter(|&k| goes_on[k]) {
                 let sampler = &mut contexts[index[k]].sampler;
                 let count = if roulette_comes(k) { DRAWS } else { DRAWS - 1 };
-                for draw in &mut draws[k][..count] {
-                    *draw = sampler.next_f32();
+                for column in &mut draws[..count] {
+                    column[k] = sampler.next_f32();
                 }
             }
         }
-        debug_assert!(draws.iter().all(|d| d[LOBE] < 1.0), "u_lobe < p_diffuse = 1: the diffuse lobe");
-        let draw = |j: usize| per_lane(|k| draws[k][j]);
+        debug_assert!(draws[LOBE].iter().all(|&u| u < 1.0), "u_lobe < p_diffuse = 1: the diffuse lobe");
+        let draw = |j: usize| f32x8::from(draws[j]);
         let on = mask(|k| goes_on[k]);
 
         // The BSDF's frame (Bsdf::new): both normals turned to wo's side, and the geometric one
@@ -457,13 +455,13 @@ impl<'a> Wavefront<'a> {
         &self,
         emitters: &[TriangleEmitter],
         goes_on: &[bool; LANES],
-        draws: &[[f32; DRAWS]; LANES],
+        draws: &[[f32; LANES]; DRAWS],
         from: Vec3x8,
     ) -> Option<LightPoints> {
         let zero = f32x8::ZERO;
         let none = emitters.len() - 1;
         let chosen: [usize; LANES] = std::array::from_fn(|k| match goes_on[k] {
-            true => self.scene.area_lights.choose_index(draws[k][LIGHT]).unwrap_or(none),
+            true => self.scene.area_lights.choose_index(draws[LIGHT][k]).unwrap_or(none),
             false => none,
         });
         if chosen.iter().all(|&i| i == none) {
@@ -477,9 +475,8 @@ impl<'a> Wavefront<'a> {
         // A one-sided light with every corner behind its plane sends nothing here.
         let behind = |corner: Vec3x8| normal.dot(corner - from).cmp_gt(zero);
         let hidden = !two_sided & behind(la) & behind(lb) & behind(lc);
-        let s = per_lane(|k| draws[k][LIGHT_POINT]).sqrt();
-        let (point, error) =
-            barycentric_point([la, lb, lc], f32x8::ONE - s, per_lane(|k| draws[k][LIGHT_POINT + 1]) * s);
+        let s = f32x8::from(draws[LIGHT_POINT]).sqrt();
+        let (point, error) = barycentric_point([la, lb, lc], f32x8::ONE - s, f32x8::from(draws[LIGHT_POINT + 1]) * s);
         let to_light = point - from;
         let (pdf, seen) = area_to_solid_angle(per_lane(|k| light[k].selection), area, to_light, normal);
         let cos_light = negate(normal.dot(to_light));
@@ -500,14 +497,14 @@ impl<'a> Wavefront<'a> {
     fn light_points(
         &self,
         goes_on: &[bool; LANES],
-        draws: &[[f32; DRAWS]; LANES],
+        draws: &[[f32; LANES]; DRAWS],
         from: Vec3x8,
         shading: Vec3x8,
     ) -> Option<LightPoints> {
         let samples: [Option<crate::lights::LightSample>; LANES] = std::array::from_fn(|k| {
-            let u = Vec2::new(draws[k][LIGHT_POINT], draws[k][LIGHT_POINT + 1]);
+            let u = Vec2::new(draws[LIGHT_POINT][k], draws[LIGHT_POINT + 1][k]);
             goes_on[k]
-                .then(|| self.scene.area_lights.sample(from.lane(k), Some(shading.lane(k)), draws[k][LIGHT], u))?
+                .then(|| self.scene.area_lights.sample(from.lane(k), Some(shading.lane(k)), draws[LIGHT][k], u))?
         });
         if samples.iter().all(Option::is_none) {
             return None;
