@@ -113,7 +113,11 @@ impl Bvh8 {
 
     /// Closest hit, as `Bvh::closest`: `hit(i, ray)` returns the distance of a hit within the
     /// ray's range, which then shrinks `ray.t_max`. Every node visited is reported to
-    /// `counter` (`NoCounter` for none). `ONE_NODE` as for `any`.
+    /// `counter` (`NoCounter` for none).
+    ///
+    /// `ONE_NODE`, for a tree of one node (`is_one_node`), visits the entered leaves straight
+    /// off the root with no stack. Either way the leaf test is inlined into the loop, which
+    /// is faster here even in the dragon's deep tree (unlike `any`'s).
     #[inline]
     pub fn closest_counted<const ONE_NODE: bool, C: TraversalCounter>(
         &self,
@@ -133,7 +137,12 @@ impl Bvh8 {
         let mut current = 0u32;
         loop {
             if current & LEAF_BIT != 0 {
-                closest_in_leaf(current, ray, &mut hit);
+                let (first, count) = leaf_range(current);
+                for i in first..first + count {
+                    if let Some(t) = hit(i, ray) {
+                        ray.t_max = t;
+                    }
+                }
             } else {
                 counter.node();
                 let node = &self.nodes[current as usize];
@@ -141,12 +150,12 @@ impl Bvh8 {
                 if mask != 0 {
                     // Push the entered children far to near, then continue with the nearest:
                     // leaves and subtrees alike are visited in order of entry distance.
-                    let entered = sort_entered(t_near, node.children, mask);
-                    let (nearest, farther) = entered.as_slice().split_last().expect("a child was entered");
-                    for &(t, child) in farther {
+                    let mut hits = [(0f32, 0u32); WIDTH];
+                    let n = sort_entered(t_near, node.children, mask, &mut hits);
+                    for &(t, child) in &hits[..n - 1] {
                         stack.push((child, t));
                     }
-                    current = nearest.1;
+                    current = hits[n - 1].1;
                     continue;
                 }
             }
@@ -161,7 +170,8 @@ impl Bvh8 {
         }
     }
 
-    /// Whether the tree is one node, its children all leaves (see `any`).
+    /// Whether the tree is one node, its children all leaves: the Cornell box's 32 triangles,
+    /// whose queries skip the stack (`closest_counted`, `any`).
     pub fn is_one_node(&self) -> bool {
         self.nodes.len() == 1
     }
@@ -179,8 +189,9 @@ impl Bvh8 {
         counter.node();
         let node = &self.nodes[0];
         let (t_near, mask) = Query::new(ray).test(node, ray.t_min, ray.t_max);
-        let entered = sort_entered(t_near, node.children, mask);
-        for (j, &(t, leaf)) in entered.as_slice().iter().rev().enumerate() {
+        let mut hits = [(0f32, 0u32); WIDTH];
+        let n = sort_entered(t_near, node.children, mask, &mut hits);
+        for (j, &(t, leaf)) in hits[..n].iter().rev().enumerate() {
             if j > 0 && t >= ray.t_max {
                 break;
             }
@@ -195,12 +206,10 @@ impl Bvh8 {
 
     /// Any hit: stops at the first primitive for which `hit(i, ray)` is true.
     ///
-    /// `ONE_NODE`, for a tree of one node (`is_one_node`), tests the leaves straight off the
-    /// root, with no stack, the leaf test inlined into the loop: there a query's time goes to
-    /// the leaves (the Cornell box: about 3 % fewer instructions than through the general
-    /// loop). In a deep tree the leaf test is a call: inlined, its registers pushed the
-    /// traversal's into memory (the dragon's diffuse rays lost 9 % of their any-hit speed).
-    /// The two need two closures: a closure is inlined at one call only.
+    /// `ONE_NODE`, for a tree of one node (`is_one_node`), tests the entered leaves straight
+    /// off the root with no stack, the leaf test inlined into the loop. In a deep tree the
+    /// leaf test is a call: inlined there, it cost the dragon's diffuse rays 9 % of their
+    /// any-hit speed. The two need two closures, as a closure is inlined at one call only.
     #[inline]
     pub fn any<const ONE_NODE: bool>(&self, ray: &Ray, mut hit: impl FnMut(u32, &Ray) -> bool) -> bool {
         if self.nodes.is_empty() {
@@ -243,48 +252,25 @@ impl Bvh8 {
     }
 }
 
-/// A node's entered children with their entry distances, far to near.
-struct Entered {
-    entries: [(f32, u32); WIDTH],
-    count: usize,
-}
-
-impl Entered {
-    #[inline(always)]
-    fn as_slice(&self) -> &[(f32, u32)] {
-        &self.entries[..self.count]
-    }
-}
-
-/// The children in `mask` sorted far to near by entry distance (insertion sort; of equal
-/// distances the later slot first, so that popping visits the earlier slot first).
+/// Writes the children in `mask` with their entry distances into `hits`, far to near
+/// (insertion sort; of equal distances the later slot first, so that popping visits the
+/// earlier slot first), and returns how many. (Returned as an array instead, the sorted
+/// children cost the dragon's primary rays a quarter of their closest-hit speed.)
 #[inline(always)]
-fn sort_entered(t_near: [f32; WIDTH], children: [u32; WIDTH], mask: u32) -> Entered {
-    let mut entries = [(0f32, 0u32); WIDTH];
-    let mut count = 0;
+fn sort_entered(t_near: [f32; WIDTH], children: [u32; WIDTH], mask: u32, hits: &mut [(f32, u32); WIDTH]) -> usize {
+    let mut n = 0;
     for (k, entry) in t_near.into_iter().zip(children).enumerate() {
         if mask & (1 << k) != 0 {
-            let mut j = count;
-            while j > 0 && entries[j - 1].0 < entry.0 {
-                entries[j] = entries[j - 1];
+            let mut j = n;
+            while j > 0 && hits[j - 1].0 < entry.0 {
+                hits[j] = hits[j - 1];
                 j -= 1;
             }
-            entries[j] = entry;
-            count += 1;
+            hits[j] = entry;
+            n += 1;
         }
     }
-    Entered { entries, count }
-}
-
-/// The items of the leaf `reference` for `Bvh8::closest_counted` (out of line: see `Bvh8::any`).
-#[inline(never)]
-fn closest_in_leaf(reference: u32, ray: &mut Ray, hit: &mut impl FnMut(u32, &Ray) -> Option<f32>) {
-    let (first, count) = leaf_range(reference);
-    for i in first..first + count {
-        if let Some(t) = hit(i, ray) {
-            ray.t_max = t;
-        }
-    }
+    n
 }
 
 /// Whether `hit` is true for an item of the leaf `reference` (out of line: see `Bvh8::any`).
