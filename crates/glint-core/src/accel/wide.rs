@@ -116,8 +116,8 @@ impl Bvh8 {
     /// `counter` (`NoCounter` for none).
     ///
     /// `ONE_NODE`, for a tree of one node (`is_one_node`), visits the entered leaves straight
-    /// off the root with no stack. Either way the leaf test is inlined into the loop, which
-    /// is faster here even in the dragon's deep tree (unlike `any`'s).
+    /// off the root with no stack. Either way the leaf test is inlined into the loop: in the
+    /// dragon's deep tree that runs as fast as calling it (unlike `any`'s).
     #[inline]
     pub fn closest_counted<const ONE_NODE: bool, C: TraversalCounter>(
         &self,
