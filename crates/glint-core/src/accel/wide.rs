@@ -484,6 +484,23 @@ mod tests {
         assert!(!wide.any::<false>(&beside, |_, _| true) && !wide.any::<true>(&beside, |_, _| true));
     }
 
+    /// The items a closest-hit query visits, in order, and the distance it ends with; item i
+    /// is "hit" at a distance that depends on it, so that some leaves are skipped for starting
+    /// beyond the closest hit so far.
+    fn closest_visits<const ONE_NODE: bool>(wide: &Bvh8, mut ray: Ray) -> (Vec<u32>, u32) {
+        let mut visits = Vec::new();
+        let distance = |i: u32| 6.0 + (i % 7) as f32 * 2.5;
+        wide.closest_counted::<ONE_NODE, _>(
+            &mut ray,
+            |i, r| {
+                visits.push(i);
+                Some(distance(i)).filter(|&t| t < r.t_max)
+            },
+            &mut NoCounter,
+        );
+        (visits, ray.t_max.to_bits())
+    }
+
     /// In a tree of one node, the stackless queries visit the leaves the general loop visits,
     /// in the same order, and find the same answers.
     #[test]
@@ -504,28 +521,8 @@ mod tests {
             let origin = Vec3::new(rng.next_f32() * 20.0 - 3.0, rng.next_f32() * 8.0 - 1.0, -2.0 + rng.next_f32());
             let target = Vec3::new(rng.next_f32() * 15.0, rng.next_f32() * 6.0, rng.next_f32());
             let ray = Ray::new(origin, (target - origin).normalize());
-            // Items "hit" at a distance that depends on the item, so that some leaves are
-            // skipped for starting beyond the closest hit so far.
-            let distance = |i: u32| 6.0 + (i % 7) as f32 * 2.5;
-            let (mut general, mut one) = ((Vec::new(), ray), (Vec::new(), ray));
-            wide.closest_counted::<false, _>(
-                &mut general.1,
-                |i, r| {
-                    general.0.push(i);
-                    Some(distance(i)).filter(|&t| t < r.t_max)
-                },
-                &mut NoCounter,
-            );
-            wide.closest_counted::<true, _>(
-                &mut one.1,
-                |i, r| {
-                    one.0.push(i);
-                    Some(distance(i)).filter(|&t| t < r.t_max)
-                },
-                &mut NoCounter,
-            );
-            assert_eq!(general.0, one.0);
-            assert_eq!(general.1.t_max.to_bits(), one.1.t_max.to_bits());
+            let (general, one) = (closest_visits::<false>(&wide, ray), closest_visits::<true>(&wide, ray));
+            assert_eq!(general, one);
             multi_leaf += usize::from(general.0.len() > 8);
             culled += usize::from(!general.0.is_empty() && general.0.len() < 40);
             for stop in [3u32, 17, 39] {
