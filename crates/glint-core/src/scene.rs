@@ -12,7 +12,6 @@ use crate::lights::{AreaLights, Light};
 use crate::materials::Material;
 use crate::shapes::{
     intersect_cramer, moller_trumbore_edges, IntersectMethods, PrimHit, Shape, SurfaceGeometry, TriangleMethod,
-    WatertightRay,
 };
 use crate::textures::TextureQuery;
 use crate::Rgb;
@@ -496,8 +495,8 @@ impl Geometry {
         ray: &mut Ray,
         counter: &mut C,
     ) -> Option<((u32, u32), PrimHit)> {
-        counter.primitives(self.unbounded.len() as u32);
         let mut best: Option<((u32, u32), PrimHit)> = None;
+        counter.primitives(self.unbounded.len() as u32);
         for &(o, p) in &self.unbounded {
             if let Some(h) = self.objects[o as usize].intersect(p, ray, &self.methods) {
                 ray.t_max = h.t;
@@ -506,7 +505,7 @@ impl Geometry {
         }
         let mut best_lane = None;
         let mut tested = 0;
-        let prepared = WatertightRay8::new(ray, &WatertightRay::new(ray));
+        let prepared = WatertightRay8::for_ray(ray);
         self.bvh.closest_counted::<ONE_NODE, C>(
             ray,
             |b, ray| {
@@ -539,7 +538,7 @@ impl Geometry {
     pub fn occluded(&self, ray: &Ray) -> bool {
         (!self.unbounded.is_empty() && self.unbounded_occludes(ray)) || {
             if self.bvh.is_one_node() {
-                let prepared = WatertightRay8::new(ray, &WatertightRay::new(ray));
+                let prepared = WatertightRay8::for_ray(ray);
                 self.bvh.any::<true>(ray, |b, ray| self.any_in_block(b, ray, &prepared))
             } else {
                 self.occluded_in_tree(ray)
@@ -551,7 +550,7 @@ impl Geometry {
     /// `Bvh8::any`).
     #[inline(never)]
     fn occluded_in_tree(&self, ray: &Ray) -> bool {
-        let prepared = WatertightRay8::new(ray, &WatertightRay::new(ray));
+        let prepared = WatertightRay8::for_ray(ray);
         self.bvh.any::<false>(ray, |b, ray| self.any_in_block(b, ray, &prepared))
     }
 

@@ -132,6 +132,12 @@ pub struct WatertightRay8 {
 }
 
 impl WatertightRay8 {
+    /// For `ray`, through its scalar set-up.
+    #[inline]
+    pub fn for_ray(ray: &Ray) -> Self {
+        Self::new(ray, &WatertightRay::new(ray))
+    }
+
     pub fn new(ray: &Ray, scalar: &WatertightRay) -> Self {
         let axes = scalar.axes;
         let origin = ray.origin.to_array();
@@ -306,7 +312,7 @@ mod tests {
         assert_eq!(block.triangle(0), [Vec3::ZERO, Vec3::X, Vec3::Y]);
         // A ray straight through every lane's position hits only the triangle.
         let ray = Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z);
-        let hits = WatertightRay8::new(&ray, &WatertightRay::new(&ray)).intersect(&block, ray.t_min, ray.t_max);
+        let hits = WatertightRay8::for_ray(&ray).intersect(&block, ray.t_min, ray.t_max);
         assert_eq!(hits.mask, 1);
         assert_eq!(hits.t[0], 1.0);
         assert_eq!(std::mem::size_of::<Triangle8>(), 320);

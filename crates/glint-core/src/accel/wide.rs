@@ -137,12 +137,7 @@ impl Bvh8 {
         let mut current = 0u32;
         loop {
             if current & LEAF_BIT != 0 {
-                let (first, count) = leaf_range(current);
-                for i in first..first + count {
-                    if let Some(t) = hit(i, ray) {
-                        ray.t_max = t;
-                    }
-                }
+                closest_in_leaf(current, ray, &mut hit);
             } else {
                 counter.node();
                 let node = &self.nodes[current as usize];
@@ -195,12 +190,7 @@ impl Bvh8 {
             if j > 0 && t >= ray.t_max {
                 break;
             }
-            let (first, count) = leaf_range(leaf);
-            for i in first..first + count {
-                if let Some(t) = hit(i, ray) {
-                    ray.t_max = t;
-                }
-            }
+            closest_in_leaf(leaf, ray, &mut hit);
         }
     }
 
@@ -219,17 +209,10 @@ impl Bvh8 {
             debug_assert!(self.is_one_node());
             let (_, mask) = Query::new(ray).test(&self.nodes[0], ray.t_min, ray.t_max);
             let children = self.nodes[0].children;
-            for (k, child) in children.into_iter().enumerate() {
-                if mask & (1 << k) != 0 {
-                    let (first, count) = leaf_range(child);
-                    for i in first..first + count {
-                        if hit(i, ray) {
-                            return true;
-                        }
-                    }
-                }
-            }
-            return false;
+            return children
+                .into_iter()
+                .enumerate()
+                .any(|(k, child)| mask & (1 << k) != 0 && any_in_leaf_inline(child, ray, &mut hit));
         }
         let query = Query::new(ray);
         let mut stack = Stack::<u32>::new();
@@ -273,11 +256,29 @@ fn sort_entered(t_near: [f32; WIDTH], children: [u32; WIDTH], mask: u32, hits: &
     n
 }
 
-/// Whether `hit` is true for an item of the leaf `reference` (out of line: see `Bvh8::any`).
-#[inline(never)]
-fn any_in_leaf(reference: u32, ray: &Ray, hit: &mut impl FnMut(u32, &Ray) -> bool) -> bool {
+/// Tests the items of the leaf `reference` for `Bvh8::closest_counted`, each hit narrowing the
+/// ray.
+#[inline(always)]
+fn closest_in_leaf(reference: u32, ray: &mut Ray, hit: &mut impl FnMut(u32, &Ray) -> Option<f32>) {
+    let (first, count) = leaf_range(reference);
+    for i in first..first + count {
+        if let Some(t) = hit(i, ray) {
+            ray.t_max = t;
+        }
+    }
+}
+
+/// Whether `hit` is true for an item of the leaf `reference`.
+#[inline(always)]
+fn any_in_leaf_inline(reference: u32, ray: &Ray, hit: &mut impl FnMut(u32, &Ray) -> bool) -> bool {
     let (first, count) = leaf_range(reference);
     (first..first + count).any(|i| hit(i, ray))
+}
+
+/// `any_in_leaf_inline` out of line, for deep trees (see `Bvh8::any`).
+#[inline(never)]
+fn any_in_leaf(reference: u32, ray: &Ray, hit: &mut impl FnMut(u32, &Ray) -> bool) -> bool {
+    any_in_leaf_inline(reference, ray, hit)
 }
 
 /// A fixed-capacity traversal stack that is not zeroed per ray (zeroing a few kilobytes per
