@@ -8,6 +8,9 @@ pub struct Rng {
 const MULTIPLIER: u64 = 6364136223846793005;
 
 impl Rng {
+    /// A generator that is never drawn from (a Sobol sampler's): no seeding work.
+    pub const UNSEEDED: Rng = Rng { state: 0, increment: 1 };
+
     pub fn new(seed: u64, stream: u64) -> Self {
         let mut rng = Rng { state: 0, increment: (stream << 1) | 1 };
         rng.next_u32();
