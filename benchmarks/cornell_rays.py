@@ -17,7 +17,11 @@ alternating, and prints one Markdown table of rates and ratios (glint / Embree):
 
 Run it with the Python of the Embree anchor's venv (numpy and embreex):
 
-    ~/venvs/embree/bin/python benchmarks/cornell_rays.py [--rounds 3] [--repeats 5] [--glint BINARY]
+    ~/venvs/embree/bin/python benchmarks/cornell_rays.py [--rounds 3] [--repeats 5] [--glint BINARY] \
+        [--embree-packets /tmp/embree_packets]
+
+`--embree-packets` adds Embree's packets of 16 rays (what Mitsuba 3 calls on AVX-512 hosts),
+timed by benchmarks/embree_packets.c (its header says how to build it).
 
 Build glint first: `cargo build --release`. Both sides run on one thread.
 """
@@ -121,6 +125,12 @@ def glint_rates(glint, mesh, rays_path, repeats):
     return {"closest": float(last["closest_mrays"]), "occluded": float(last["anyhit_mrays"]), "matches": last["matches"]}
 
 
+def embree_packet_rates(binary, mesh, rays_path, query, repeats):
+    out = subprocess.run([binary, mesh, rays_path, query, str(repeats)], check=True, capture_output=True, text=True)
+    fields = dict(kv.split("=", 1) for kv in out.stdout.split())
+    return float(fields["packet16_mrays"])
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--glint", default=os.path.join(ROOT, "target", "release", "glint"))
@@ -128,6 +138,7 @@ def main():
     p.add_argument("--repeats", type=int, default=5, help="timed passes over each set; the best counts")
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--dir", help="where the mesh and ray sets go (default: a new temporary folder)")
+    p.add_argument("--embree-packets", help="the built benchmarks/embree_packets.c, for Embree's packets of 16")
     args = p.parse_args()
 
     os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})  # one thread, both sides
@@ -144,26 +155,34 @@ def main():
         common.save_hits(path.replace(".rays", ".hits"), *common.trace_closest(scene, rays))
     print(f"mesh and ray sets in {directory}; load average before: {os.getloadavg()[0]:.2f}", file=sys.stderr)
 
-    ratios = {name: [] for name in sets}
-    rates = {name: ([], []) for name in sets}
+    # Per set: glint's, Embree's and (with --embree-packets) Embree's packets' rates, one per round.
+    rates = {name: ([], [], []) for name in sets}
     matches = {}
     for r in range(args.rounds):
         for name, rays in sets.items():
-            query = SETS[name]
-            embree = embree_rate(scene, rays, query, args.repeats)
-            glint = glint_rates(args.glint, mesh, os.path.join(directory, name + ".rays"), args.repeats)
+            query, path = SETS[name], os.path.join(directory, name + ".rays")
+            rates[name][1].append(embree_rate(scene, rays, query, args.repeats))
+            if args.embree_packets:
+                rates[name][2].append(embree_packet_rates(args.embree_packets, mesh, path, query, args.repeats))
+            glint = glint_rates(args.glint, mesh, path, args.repeats)
             rates[name][0].append(glint[query])
-            rates[name][1].append(embree)
-            ratios[name].append(glint[query] / embree)
             matches[name] = glint["matches"]
         print(f"round {r + 1} of {args.rounds} done", file=sys.stderr)
 
-    print("| ray set | rays | query | glint Mrays/s | Embree Mrays/s | glint / Embree | glint's hits = Embree's |")
-    print("| --- | ---: | --- | ---: | ---: | ---: | ---: |")
+    packets = bool(args.embree_packets)
+    print("| ray set | rays | query | glint Mrays/s | Embree Mrays/s | glint / Embree"
+          + (" | Embree, packets of 16 | glint / packets" if packets else "") + " | glint's hits = Embree's |")
+    print("| --- | ---: | --- | ---: | ---: | ---: |" + (" ---: | ---: |" if packets else "") + " ---: |")
     for name, rays in sets.items():
-        glint, embree = (statistics.median(x) for x in rates[name])
-        print(f"| {name} | {len(rays):,} | {SETS[name]} hit | {glint:.2f} | {embree:.2f} | "
-              f"{statistics.median(ratios[name]):.2f} | {matches[name]} |")
+        glint, embree, sixteen = rates[name]
+        # Ratios per round (the pair ran back to back), then their median.
+        ratio = statistics.median(g / e for g, e in zip(glint, embree))
+        row = (f"| {name} | {len(rays):,} | {SETS[name]} hit | {statistics.median(glint):.2f} | "
+               f"{statistics.median(embree):.2f} | {ratio:.2f}")
+        if packets:
+            row += (f" | {statistics.median(sixteen):.2f} | "
+                    f"{statistics.median(g / p for g, p in zip(glint, sixteen)):.2f}")
+        print(row + f" | {matches[name]} |")
     print(json.dumps({"dir": directory, "rounds": args.rounds, "repeats": args.repeats}), file=sys.stderr)
 
 
