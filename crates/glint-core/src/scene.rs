@@ -227,6 +227,10 @@ pub struct Geometry {
     /// load instead of a binary search over `object_first`, whose dependent loads each closest
     /// hit waited on (about 2 % of the Cornell box's render time).
     object_of: Vec<u32>,
+    /// Where each triangle sits in the blocks (block · 8 + lane), by its lane id: a hit
+    /// triangle's corners are read from the block its query has just tested, not from its
+    /// object (which sat outside the L1 cache in the Cornell box's wavefront).
+    slot_of: Vec<u32>,
     /// Primitives without bounds (planes), tested on every ray.
     unbounded: Vec<(u32, u32)>,
     /// Every lane of every block is a triangle (or empty): with the watertight method a block
@@ -304,6 +308,12 @@ impl Geometry {
             (block_first, blocks.len() as u32 - block_first)
         });
         drop(binary);
+        let mut slot_of = vec![u32::MAX; ids as usize];
+        for (b, block) in blocks.iter().enumerate() {
+            for (lane, id) in block.lanes().filter(|&(_, id)| id & GENERIC == 0) {
+                slot_of[id as usize] = (b * LANES + lane) as u32;
+            }
+        }
         stats.wide_nodes = bvh.node_count();
         stats.leaf_blocks = blocks.len();
         stats.bytes = bvh.bytes()
@@ -322,6 +332,7 @@ impl Geometry {
             generic,
             object_first,
             object_of,
+            slot_of,
             unbounded,
             bvh,
             bounds: world_bounds,
@@ -370,7 +381,11 @@ impl Geometry {
     /// The corners of primitive `prim` of `object`, if it is a triangle in world space.
     #[inline]
     pub fn triangle(&self, object: u32, prim: u32) -> Option<[Vec3; 3]> {
-        world_triangle(&self.objects[object as usize], prim)
+        let id = self.object_first[object as usize] + prim;
+        match self.slot_of.get(id as usize) {
+            Some(&slot) if slot != u32::MAX => Some(self.blocks[slot as usize / LANES].triangle(slot as usize % LANES)),
+            _ => world_triangle(&self.objects[object as usize], prim),
+        }
     }
 
     /// Whether some triangle in world space has vertex normals (else `triangle_normals` is

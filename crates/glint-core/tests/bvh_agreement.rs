@@ -129,3 +129,33 @@ fn planes_are_found_outside_the_bvh() {
     check_ray(&s, &down);
     check_ray(&s, &ahead);
 }
+
+/// A hit triangle's corners, which the wavefront reads from the leaf blocks, are its shape's
+/// own corners, bit for bit; a transformed triangle (not in the blocks) has none, and neither
+/// has any other shape.
+#[test]
+fn corners_read_from_the_blocks_are_the_shapes_own() {
+    let mut rng = TestRng(11);
+    let mut objects = random_objects(&mut rng, 300);
+    let moved = glint_core::geometry::Transform::from_matrix(glam::Mat4::from_translation(Vec3::X)).unwrap();
+    objects.push(glint_core::scene::Object {
+        transform: Some(moved),
+        ..object(Shape::Triangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)))
+    });
+    let s = scene(objects);
+    let mut triangles = 0;
+    for (o, object) in s.objects().iter().enumerate() {
+        for p in 0..object.shape.primitive_count() {
+            let expected = match (&object.shape, &object.transform) {
+                (Shape::Triangle(t), None) => Some(t.vertices),
+                (Shape::Mesh(m), None) => Some(m.triangle_vertices(p as usize)),
+                _ => None,
+            };
+            let corners = s.geometry.triangle(o as u32, p);
+            let bits = |c: Option<[Vec3; 3]>| c.map(|c| c.map(|v| v.to_array().map(f32::to_bits)));
+            assert_eq!(bits(corners), bits(expected), "object {o}, primitive {p}");
+            triangles += usize::from(expected.is_some());
+        }
+    }
+    assert!(triangles > 100, "too few triangles ({triangles}) to mean anything");
+}
