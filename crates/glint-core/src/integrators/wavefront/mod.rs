@@ -121,6 +121,22 @@ struct Path {
     at: PrimHit,
 }
 
+impl Path {
+    /// A path before its camera ray is traced (`ray` to be set).
+    const FRESH: Path = Path {
+        ray: Ray { origin: Vec3::ZERO, direction: Vec3::Z, t_min: 0.0, t_max: f32::INFINITY },
+        throughput: Rgb::ONE,
+        radiance: Rgb::ZERO,
+        depth: 0,
+        last_point: Vec3::ZERO,
+        last_normal: Vec3::ZERO,
+        last_pdf: 0.0,
+        object: 0,
+        prim: 0,
+        at: PrimHit { t: 0.0, u: 0.0, v: 0.0, inner: 0 },
+    };
+}
+
 /// The surfaces the lanes hit, as `SurfaceGeometry` has them, and the materials there.
 struct Surfaces {
     point: Vec3x8,
@@ -161,21 +177,13 @@ impl<'a> Wavefront<'a> {
 
     /// The radiance along each camera ray, `out[i]` for `rays[i]` drawing from `contexts[i]`.
     pub fn radiance_tile(&self, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
-        let mut paths: Vec<Path> = rays
-            .iter()
-            .map(|&ray| Path {
-                ray,
-                throughput: Rgb::ONE,
-                radiance: Rgb::ZERO,
-                depth: 0,
-                last_point: Vec3::ZERO,
-                last_normal: Vec3::ZERO,
-                last_pdf: 0.0,
-                object: 0,
-                prim: 0,
-                at: PrimHit { t: 0.0, u: 0.0, v: 0.0, inner: 0 },
-            })
-            .collect();
+        // Each path's ray written into a fresh path in place: a path built whole and then
+        // moved into the vector was copied with loads wider than the stores that had just
+        // built it, a stall (store forwarding fails) per camera sample.
+        let mut paths = vec![Path::FRESH; rays.len()];
+        for (path, &ray) in paths.iter_mut().zip(rays) {
+            path.ray = ray;
+        }
         let mut active: Vec<u32> = (0..paths.len() as u32).collect();
         let mut hits = Vec::with_capacity(paths.len());
         while !active.is_empty() {
