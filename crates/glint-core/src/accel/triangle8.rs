@@ -168,15 +168,21 @@ impl WatertightRay8 {
         let mut w = bx * ay - by * ax;
         let zero = Lanes::ZERO;
         let exact_zero = u.cmp_eq(zero) | v_.cmp_eq(zero) | w.cmp_eq(zero);
-        if exact_zero.any() {
+        // Some edge function negative and another positive: the ray passes outside.
+        let outside = if exact_zero.any() {
             (u, v_, w) = recompute_in_f64(exact_zero.move_mask() as u32, [ax, ay, bx, by, cx, cy], (u, v_, w));
-        }
-        let negative = u.cmp_lt(zero) | v_.cmp_lt(zero) | w.cmp_lt(zero);
-        let positive = u.cmp_gt(zero) | v_.cmp_gt(zero) | w.cmp_gt(zero);
+            let negative = u.cmp_lt(zero) | v_.cmp_lt(zero) | w.cmp_lt(zero);
+            let positive = u.cmp_gt(zero) | v_.cmp_gt(zero) | w.cmp_gt(zero);
+            negative & positive
+        } else {
+            // No zeros: the same test is whether the three sign bits differ (the sign bit of
+            // (u ^ v) | (u ^ w)); a NaN lane's answer does not matter, `det` drops it below.
+            ((u ^ v_) | (u ^ w)).sign_bit()
+        };
         let det = u + v_ + w;
         // `det == det` drops the NaN lanes (empty and generic ones), which `cmp_ne` keeps on
         // SSE (unordered compare) though not on AVX.
-        let inside = !(negative & positive) & det.cmp_ne(zero) & det.cmp_eq(det);
+        let inside = !outside & det.cmp_ne(zero) & det.cmp_eq(det);
         if inside.none() {
             // Most blocks a ray reaches it misses: skip the distance and its error bound.
             return Hits8::NONE;
