@@ -293,17 +293,17 @@ fn camera_samples(
     let mut jitter = vec![(0.5, 0.5); pixels.len()];
     if !pass.centre {
         let mut groups = contexts.chunks_exact_mut(GROUP);
-        for (group, jitter) in (&mut groups).zip(jitter.chunks_exact_mut(GROUP)) {
+        for (group, offsets) in (&mut groups).zip(jitter.chunks_exact_mut(GROUP)) {
             let group: &mut [SampleContext; GROUP] = group.try_into().expect("a chunk of eight");
             let [dx, dy] = Sampler::next_f32_lanes::<2>(group.each_mut().map(|c| &mut c.sampler));
-            for (k, jitter) in jitter.iter_mut().enumerate() {
-                *jitter = (dx[k], dy[k]);
+            for (k, offset) in offsets.iter_mut().enumerate() {
+                *offset = (dx[k], dy[k]);
             }
         }
         let rest = groups.into_remainder();
         let first = pixels.len() - rest.len();
-        for (context, jitter) in rest.iter_mut().zip(&mut jitter[first..]) {
-            *jitter = (context.sampler.next_f32(), context.sampler.next_f32());
+        for (context, offset) in rest.iter_mut().zip(&mut jitter[first..]) {
+            *offset = (context.sampler.next_f32(), context.sampler.next_f32());
         }
     }
     let positions: Vec<(f32, f32)> =
@@ -314,4 +314,51 @@ fn camera_samples(
         .map(|(&(fx, fy), context)| scene.camera.sample_ray(fx, fy, || context.sampler.next_f32()))
         .collect();
     (positions, rays, contexts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::{Camera, Lens};
+    use crate::scene::Environment;
+    use crate::shapes::IntersectMethods;
+    use crate::Vec3;
+
+    /// A tile's camera samples, drawn eight samplers at a time, are what each pixel's sample
+    /// draws alone: film position, ray (through a thin lens, which draws two more numbers) and
+    /// the sampler's state after, for every sampler kind and a tile whose pixel count leaves a
+    /// remainder of the eights.
+    #[test]
+    fn grouped_camera_samples_equal_one_at_a_time() {
+        let camera = Camera::new(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, Vec3::Y, 45.0, 21, 13)
+            .unwrap()
+            .with_lens(Lens::Thin { radius: 0.2, focus_distance: 5.0 });
+        let environment = Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None };
+        let scene = Scene::new(camera, Vec::new(), Vec::new(), Vec::new(), environment, IntersectMethods::default());
+        let tile = (16, 8, 21, 13); // 5 × 5 pixels: three eights and a remainder of one
+        for sampler in SamplerKind::ALL {
+            for (index, centre) in [(0, false), (5, false), (0, true)] {
+                let pass = Pass { seed: 3, index, centre, filter: Filter::Box, sampler, samples: 16 };
+                let (positions, rays, mut contexts) = camera_samples(&scene, &pass, tile);
+                assert_eq!(rays.len(), 25);
+                let mut k = 0;
+                for y in tile.1..tile.3 {
+                    for x in tile.0..tile.2 {
+                        let pixel = y as u64 * 21 + x as u64;
+                        let mut alone = Sampler::new(sampler, pass.seed, pixel, index, pass.samples);
+                        let (dx, dy) = if centre { (0.5, 0.5) } else { (alone.next_f32(), alone.next_f32()) };
+                        let (fx, fy) = (x as f32 + dx, y as f32 + dy);
+                        let ray = scene.camera.sample_ray(fx, fy, || alone.next_f32());
+                        let what = format!("{sampler:?}, pass {index}, pixel ({x}, {y})");
+                        assert_eq!(positions[k], (fx, fy), "{what}");
+                        assert_eq!(rays[k], ray, "{what}");
+                        // The same state after: the next numbers agree.
+                        let next: Vec<f32> = (0..6).map(|_| contexts[k].sampler.next_f32()).collect();
+                        assert_eq!(next, (0..6).map(|_| alone.next_f32()).collect::<Vec<_>>(), "{what}");
+                        k += 1;
+                    }
+                }
+            }
+        }
+    }
 }

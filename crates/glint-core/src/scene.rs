@@ -227,7 +227,8 @@ pub struct Geometry {
     /// load instead of a binary search over `object_first`, whose dependent loads each closest
     /// hit waited on (about 2 % of the Cornell box's render time).
     object_of: Vec<u32>,
-    /// Where each triangle sits in the blocks (block · 8 + lane), by its lane id: a hit
+    /// Where each triangle sits in the blocks (block · 8 + lane), by its lane id (4 bytes a
+    /// primitive, `u32::MAX` for those tested through their object): a hit
     /// triangle's corners are read from the block its query has just tested, not from its
     /// object (which sat outside the L1 cache in the Cornell box's wavefront).
     slot_of: Vec<u32>,
@@ -311,7 +312,7 @@ impl Geometry {
         let mut slot_of = vec![u32::MAX; ids as usize];
         for (b, block) in blocks.iter().enumerate() {
             for (lane, id) in block.lanes().filter(|&(_, id)| id & GENERIC == 0) {
-                slot_of[id as usize] = (b * LANES + lane) as u32;
+                slot_of[id as usize] = u32::try_from(b * LANES + lane).expect("fewer than 2^32 block lanes");
             }
         }
         stats.wide_nodes = bvh.node_count();
@@ -319,7 +320,7 @@ impl Geometry {
         stats.bytes = bvh.bytes()
             + blocks.len() * std::mem::size_of::<Triangle8>()
             + generic.len() * std::mem::size_of::<(u32, u32)>()
-            + (object_first.len() + object_of.len()) * std::mem::size_of::<u32>();
+            + (object_first.len() + object_of.len() + slot_of.len()) * std::mem::size_of::<u32>();
         let triangles_only = generic.is_empty();
         // A mesh has normals at every vertex or at none: its first triangle tells.
         let vertex_normals = objects.iter().any(|o| o.shape.primitive_count() > 0 && world_normals(o, 0).is_some());
