@@ -21,7 +21,8 @@ Run it with the Python of the Embree anchor's venv (numpy and embreex):
         [--embree-packets /tmp/embree_packets]
 
 `--embree-packets` adds Embree's packets of 16 rays (what Mitsuba 3 calls on AVX-512 hosts),
-timed by benchmarks/embree_packets.c (its header says how to build it).
+timed by benchmarks/embree_packets.c (its header says how to build it), in a robust scene as
+the anchor builds it and in one built as Mitsuba 3 builds its scenes (not robust).
 
 Build glint first: `cargo build --release`. Both sides run on one thread.
 """
@@ -125,9 +126,9 @@ def glint_rates(glint, mesh, rays_path, repeats):
     return {"closest": float(last["closest_mrays"]), "occluded": float(last["anyhit_mrays"]), "matches": last["matches"]}
 
 
-def embree_packet_rates(binary, mesh, rays_path, query, repeats):
-    out = subprocess.run([binary, mesh, rays_path, query, str(repeats)], check=True, capture_output=True, text=True)
-    fields = dict(kv.split("=", 1) for kv in out.stdout.split())
+def embree_packet_rate(binary, mesh, rays_path, query, repeats, as_mitsuba=False):
+    cmd = [binary, mesh, rays_path, query, str(repeats)] + (["mitsuba"] if as_mitsuba else [])
+    fields = dict(kv.split("=", 1) for kv in subprocess.run(cmd, check=True, capture_output=True, text=True).stdout.split())
     return float(fields["packet16_mrays"])
 
 
@@ -155,15 +156,18 @@ def main():
         common.save_hits(path.replace(".rays", ".hits"), *common.trace_closest(scene, rays))
     print(f"mesh and ray sets in {directory}; load average before: {os.getloadavg()[0]:.2f}", file=sys.stderr)
 
-    # Per set: glint's, Embree's and (with --embree-packets) Embree's packets' rates, one per round.
-    rates = {name: ([], [], []) for name in sets}
+    # Per set: glint's, Embree's and (with --embree-packets) Embree's packets' rates, robust and
+    # as Mitsuba builds the scene, one per round.
+    rates = {name: ([], [], [], []) for name in sets}
     matches = {}
     for r in range(args.rounds):
         for name, rays in sets.items():
             query, path = SETS[name], os.path.join(directory, name + ".rays")
             rates[name][1].append(embree_rate(scene, rays, query, args.repeats))
             if args.embree_packets:
-                rates[name][2].append(embree_packet_rates(args.embree_packets, mesh, path, query, args.repeats))
+                for column, as_mitsuba in ((2, False), (3, True)):
+                    rates[name][column].append(
+                        embree_packet_rate(args.embree_packets, mesh, path, query, args.repeats, as_mitsuba))
             glint = glint_rates(args.glint, mesh, path, args.repeats)
             rates[name][0].append(glint[query])
             matches[name] = glint["matches"]
@@ -171,17 +175,19 @@ def main():
 
     packets = bool(args.embree_packets)
     print("| ray set | rays | query | glint Mrays/s | Embree Mrays/s | glint / Embree"
-          + (" | Embree, packets of 16 | glint / packets" if packets else "") + " | glint's hits = Embree's |")
-    print("| --- | ---: | --- | ---: | ---: | ---: |" + (" ---: | ---: |" if packets else "") + " ---: |")
+          + (" | Embree, packets of 16 | glint / packets | packets, as Mitsuba builds | glint / those"
+             if packets else "") + " | glint's hits = Embree's |")
+    print("| --- | ---: | --- | ---: | ---: | ---: |" + (" ---: | ---: | ---: | ---: |" if packets else "") + " ---: |")
     for name, rays in sets.items():
-        glint, embree, sixteen = rates[name]
+        glint, embree, sixteen, mitsuba = rates[name]
         # Ratios per round (the pair ran back to back), then their median.
         ratio = statistics.median(g / e for g, e in zip(glint, embree))
         row = (f"| {name} | {len(rays):,} | {SETS[name]} hit | {statistics.median(glint):.2f} | "
                f"{statistics.median(embree):.2f} | {ratio:.2f}")
         if packets:
-            row += (f" | {statistics.median(sixteen):.2f} | "
-                    f"{statistics.median(g / p for g, p in zip(glint, sixteen)):.2f}")
+            for peer in (sixteen, mitsuba):
+                row += (f" | {statistics.median(peer):.2f} | "
+                        f"{statistics.median(g / p for g, p in zip(glint, peer)):.2f}")
         print(row + f" | {matches[name]} |")
     print(json.dumps({"dir": directory, "rounds": args.rounds, "repeats": args.repeats}), file=sys.stderr)
 

@@ -10,11 +10,13 @@
  *   L=~/venvs/embree/lib/python3.11/site-packages/embreex.libs
  *   cc -O2 benchmarks/embree_packets.c -o /tmp/embree_packets -L$L -l:$(ls $L | grep embree4) -Wl,-rpath,$L -lm
  *
- * Run: embree_packets MESH.ply RAYS.rays closest|occluded [REPEATS]
+ * Run: embree_packets MESH.ply RAYS.rays closest|occluded [REPEATS] [mitsuba]
  * MESH is a binary little-endian PLY of float x, y, z vertices and uchar-count int faces (the
  * anchor's write_ply). Prints one line: rays, hits and Mrays/s for each mode (best of REPEATS).
  * Packets are consecutive rays of the file, sixteen at a time (a last partial packet is not
- * traced).
+ * traced). The scene is robust, as the Embree anchor builds it; with `mitsuba`, it is built as
+ * Mitsuba 3 builds its scenes instead (no scene flags, high build quality:
+ * src/render/scene_embree.inl).
  */
 #include <math.h>
 #include <stdio.h>
@@ -26,6 +28,7 @@ typedef void *RTCDevice, *RTCScene, *RTCGeometry;
 RTCDevice rtcNewDevice(const char *config);
 RTCScene rtcNewScene(RTCDevice device);
 void rtcSetSceneFlags(RTCScene scene, int flags);
+void rtcSetSceneBuildQuality(RTCScene scene, int quality);
 RTCGeometry rtcNewGeometry(RTCDevice device, int type);
 void *rtcSetNewGeometryBuffer(RTCGeometry geometry, int type, unsigned slot, int format, size_t stride, size_t count);
 void rtcCommitGeometry(RTCGeometry geometry);
@@ -37,7 +40,8 @@ void rtcOccluded1(RTCScene scene, void *ray, void *arguments);
 void rtcIntersect16(const int *valid, RTCScene scene, void *rayhit, void *arguments);
 void rtcOccluded16(const int *valid, RTCScene scene, void *ray, void *arguments);
 
-enum { SCENE_FLAG_ROBUST = 1 << 2, GEOMETRY_TRIANGLE = 0, BUFFER_INDEX = 0, BUFFER_VERTEX = 1 };
+enum { SCENE_FLAG_NONE = 0, SCENE_FLAG_ROBUST = 1 << 2, BUILD_QUALITY_HIGH = 2 };
+enum { GEOMETRY_TRIANGLE = 0, BUFFER_INDEX = 0, BUFFER_VERTEX = 1 };
 enum { FORMAT_UINT3 = 0x5003, FORMAT_FLOAT3 = 0x9003 };
 #define INVALID 0xFFFFFFFFu
 /* Field offsets in floats, per lane, of an RTCRayHitN with N lanes: the ray's 12 fields, then
@@ -79,8 +83,12 @@ static int was_hit(const float *packet, int lanes, int k, int occluded) {
 }
 
 int main(int argc, char **argv) {
-    if (argc < 4) { fprintf(stderr, "usage: %s MESH.ply RAYS.rays closest|occluded [REPEATS]\n", argv[0]); return 2; }
+    if (argc < 4) {
+        fprintf(stderr, "usage: %s MESH.ply RAYS.rays closest|occluded [REPEATS] [mitsuba]\n", argv[0]);
+        return 2;
+    }
     int occluded = strcmp(argv[3], "occluded") == 0, repeats = argc > 4 ? atoi(argv[4]) : 5;
+    int as_mitsuba = argc > 5 && strcmp(argv[5], "mitsuba") == 0;
     size_t size, vertices = 0, faces = 0;
     char *ply = read_file(argv[1], &size), *body = strstr(ply, "end_header\n");
     char *v = strstr(ply, "element vertex "), *f = strstr(ply, "element face ");
@@ -91,7 +99,12 @@ int main(int argc, char **argv) {
 
     RTCDevice device = rtcNewDevice(NULL);
     RTCScene scene = rtcNewScene(device);
-    rtcSetSceneFlags(scene, SCENE_FLAG_ROBUST);
+    if (as_mitsuba) {
+        rtcSetSceneFlags(scene, SCENE_FLAG_NONE);
+        rtcSetSceneBuildQuality(scene, BUILD_QUALITY_HIGH);
+    } else {
+        rtcSetSceneFlags(scene, SCENE_FLAG_ROBUST);
+    }
     RTCGeometry mesh = rtcNewGeometry(device, GEOMETRY_TRIANGLE);
     memcpy(rtcSetNewGeometryBuffer(mesh, BUFFER_VERTEX, 0, FORMAT_FLOAT3, 12, vertices), body, vertices * 12);
     unsigned *index = rtcSetNewGeometryBuffer(mesh, BUFFER_INDEX, 0, FORMAT_UINT3, 12, faces);
