@@ -228,9 +228,9 @@ pub struct Geometry {
     /// hit waited on (about 2 % of the Cornell box's render time).
     object_of: Vec<u32>,
     /// Where each triangle sits in the blocks (block · 8 + lane), by its lane id (4 bytes a
-    /// primitive, `u32::MAX` for those tested through their object): a hit
-    /// triangle's corners are read from the block its query has just tested, not from its
-    /// object (which sat outside the L1 cache in the Cornell box's wavefront).
+    /// primitive, `u32::MAX` for those tested through their object): a hit triangle's corners
+    /// are read from the block its query has just tested, not from its object (which sat
+    /// outside the L1 cache in the Cornell box's wavefront).
     slot_of: Vec<u32>,
     /// Primitives without bounds (planes), tested on every ray.
     unbounded: Vec<(u32, u32)>,
@@ -379,7 +379,8 @@ impl Geometry {
         self.triangles_only && self.unbounded.is_empty()
     }
 
-    /// The corners of primitive `prim` of `object`, if it is a triangle in world space.
+    /// The corners of primitive `prim` of `object`, if it is a triangle in world space (read
+    /// from its leaf block, see `slot_of`).
     #[inline]
     pub fn triangle(&self, object: u32, prim: u32) -> Option<[Vec3; 3]> {
         let id = self.object_first[object as usize] + prim;

@@ -74,7 +74,7 @@ impl Sampler {
         };
         Self {
             kind,
-            // Sobol draws nothing from it, and seeding it cost 0.8 % of the Cornell box's
+            // Sobol draws nothing from it, and seeding it cost 0.7 % of the Cornell box's
             // instructions.
             rng: if kind == SamplerKind::Sobol { Rng::UNSEEDED } else { Rng::for_sample(seed, pixel, index as u64) },
             pixel_seed,
