@@ -289,7 +289,7 @@ fn camera_samples(
     // (the box filter: every sample in the pixel's square weighs the same). Eight samplers
     // draw their jitter together (Sobol's sets for eight samples in SIMD lanes), the same
     // numbers each would draw alone.
-    const GROUP: usize = 8; // the samplers `Sampler::next_f32_lanes` draws for
+    const GROUP: usize = Sampler::LANES;
     let mut jitter = vec![(0.5, 0.5); pixels.len()];
     if !pass.centre {
         let mut groups = contexts.chunks_exact_mut(GROUP);

@@ -286,6 +286,7 @@ impl Geometry {
         let mut stats = binary.stats();
         let mut blocks = Vec::with_capacity(order.len() / 3 + 1);
         let mut generic = Vec::new();
+        let mut slot_of = vec![u32::MAX; ids as usize];
         let bvh = Bvh8::from_binary_with_leaves(&binary, |first, count| {
             let block_first = blocks.len() as u32;
             // Triangles first: a block with any triangle has one in lane 0, and a block of
@@ -297,7 +298,12 @@ impl Geometry {
                 for (lane, &i) in chunk.iter().enumerate() {
                     let (o, p) = bounded[i as usize];
                     match vertices((o, p)) {
-                        Some(v) => block.set_triangle(lane, object_first[o as usize] + p, v),
+                        Some(v) => {
+                            let id = object_first[o as usize] + p;
+                            block.set_triangle(lane, id, v);
+                            slot_of[id as usize] =
+                                u32::try_from(blocks.len() * LANES + lane).expect("fewer than 2^32 block lanes");
+                        }
                         None => {
                             block.set_generic(lane, generic.len() as u32);
                             generic.push((o, p));
@@ -309,12 +315,6 @@ impl Geometry {
             (block_first, blocks.len() as u32 - block_first)
         });
         drop(binary);
-        let mut slot_of = vec![u32::MAX; ids as usize];
-        for (b, block) in blocks.iter().enumerate() {
-            for (lane, id) in block.lanes().filter(|&(_, id)| id & GENERIC == 0) {
-                slot_of[id as usize] = u32::try_from(b * LANES + lane).expect("fewer than 2^32 block lanes");
-            }
-        }
         stats.wide_nodes = bvh.node_count();
         stats.leaf_blocks = blocks.len();
         stats.bytes = bvh.bytes()
@@ -383,11 +383,8 @@ impl Geometry {
     /// from its leaf block, see `slot_of`).
     #[inline]
     pub fn triangle(&self, object: u32, prim: u32) -> Option<[Vec3; 3]> {
-        let id = self.object_first[object as usize] + prim;
-        match self.slot_of.get(id as usize) {
-            Some(&slot) if slot != u32::MAX => Some(self.blocks[slot as usize / LANES].triangle(slot as usize % LANES)),
-            _ => world_triangle(&self.objects[object as usize], prim),
-        }
+        let slot = self.slot_of[(self.object_first[object as usize] + prim) as usize] as usize;
+        (slot != u32::MAX as usize).then(|| self.blocks[slot / LANES].triangle(slot % LANES))
     }
 
     /// Whether some triangle in world space has vertex normals (else `triangle_normals` is

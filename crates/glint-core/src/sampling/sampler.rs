@@ -63,6 +63,9 @@ pub struct Sampler {
 }
 
 impl Sampler {
+    /// The samplers `next_f32_lanes` draws for at once (one 256-bit vector of f32).
+    pub const LANES: usize = 8;
+
     /// Sample `index` of pixel `pixel` (of `count` in all; `u32::MAX` if unknown).
     pub fn new(kind: SamplerKind, seed: u64, pixel: u64, index: u32, count: u32) -> Self {
         let kind = if kind == SamplerKind::Stratified && count == u32::MAX { SamplerKind::Independent } else { kind };
@@ -139,8 +142,8 @@ impl Sampler {
     /// samplers standing at the same dimension (the path tracer's wavefront keeps its paths in
     /// step) compute each set of four dimensions for all eight together
     /// (`sobol::sample_4d_lanes`); others draw one by one.
-    pub fn next_f32_lanes<const N: usize>(mut samplers: [&mut Sampler; 8]) -> [[f32; 8]; N] {
-        let mut out = [[0f32; 8]; N];
+    pub fn next_f32_lanes<const N: usize>(mut samplers: [&mut Sampler; Self::LANES]) -> [[f32; Self::LANES]; N] {
+        let mut out = [[0f32; Self::LANES]; N];
         let first = samplers[0].dimension;
         // Below 256 dimensions every set uses the sample's cached shuffled index (`draw`).
         let in_step =

@@ -404,11 +404,8 @@ impl<'a> Wavefront<'a> {
         let (b1, b2) = (per_lane(|k| path(k).at.u), per_lane(|k| path(k).at.v));
         let (point, error) = barycentric_point([a, b, c], b1, b2);
         let geometric = (b - a).cross(c - a).normalize_or(Vec3x8::splat(Vec3::Z));
-        let shading = if geometry.has_vertex_normals() {
-            self.smooth_normals(path, geometry, (b1, b2), geometric)
-        } else {
-            geometric
-        };
+        let shading =
+            if geometry.has_vertex_normals() { self.smooth_normals(path, (b1, b2), geometric) } else { geometric };
         let material = std::array::from_fn(|k| materials[geometry.objects[path(k).object as usize].material as usize]);
         Surfaces { point, error, geometric, shading, material }
     }
@@ -418,10 +415,10 @@ impl<'a> Wavefront<'a> {
     fn smooth_normals<'p>(
         &self,
         path: &impl Fn(usize) -> &'p Path,
-        geometry: &crate::scene::Geometry,
         (b1, b2): (f32x8, f32x8),
         geometric: Vec3x8,
     ) -> Vec3x8 {
+        let geometry = &self.scene.geometry;
         let vertex_normals: [Option<[Vec3; 3]>; LANES] =
             std::array::from_fn(|k| geometry.triangle_normals(path(k).object, path(k).prim));
         let smooth = mask(|k| vertex_normals[k].is_some());
