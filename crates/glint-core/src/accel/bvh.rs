@@ -21,6 +21,8 @@ const LEAF_BLOCK: usize = super::LANES;
 /// other; 1 keeps the traversal data smallest among the fast ones (56 bytes per triangle).
 /// Measurements in docs/performance.md.
 const TRAVERSAL_COST: f32 = 1.0;
+/// Children of the root wide node (`Bvh8`), into which the top of the binary tree collapses.
+const ROOT_CHILDREN: usize = 8;
 /// The SAH cost in `BvhStats` counts a traversal step as one primitive test, whatever cost the
 /// build used, so costs of different trees compare.
 const REPORTED_TRAVERSAL_COST: f32 = 1.0;
@@ -91,8 +93,7 @@ impl Bvh {
         }
         let mut nodes = Vec::with_capacity(2 * prims.len());
         nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
-        let len = prims.len();
-        build_node(&mut nodes, 0, &mut prims, 0, len, 0);
+        build_root(&mut nodes, &mut prims);
         let order = prims.iter().map(|p| p.index).collect();
         (Self { nodes }, order)
     }
@@ -213,6 +214,62 @@ fn node_hit(node: &Node, ray: &Ray, inv: Vec3) -> Option<f32> {
     Aabb::new(node.min, node.max).hit_distance(ray.origin, inv, ray.t_min, ray.t_max)
 }
 
+/// The top of the tree: the subtrees the root wide node holds, split best first, then each
+/// built by `build_node`.
+///
+/// Every ray tests the root's eight children at once, however they are laid out, so a split
+/// that keeps them within eight adds no traversal. While there are fewer, the subtree whose
+/// split saves the most (by the SAH with traversal free) is split: first those of more than
+/// `MAX_LEAF_SIZE` primitives, which split anyway (so a large tree does not change), then any
+/// that gains. A small scene so gets tight leaves (the Cornell box's 32 triangles: eight
+/// leaves of about four instead of four of eight), and a ray that hits a wall skips the leaves
+/// behind it, which the SAH does not see (it prices rays that cross everything): the box's
+/// closest-hit queries ran 9 % fewer instructions and its render took 13 % less time. Deeper,
+/// a split can add a wide node; making splits free there too (all but every third level) gave
+/// the dragon 1.5 times the leaf blocks and cost its diffuse rays 30 % (docs/performance.md).
+fn build_root(nodes: &mut Vec<Node>, prims: &mut [BuildPrim]) {
+    // Subtrees of the root node: (node index, range, depth, the split's gain and choice if any).
+    let mut subtrees = vec![(0, 0, prims.len(), 0, root_split(&prims[..]))];
+    while subtrees.len() < ROOT_CHILDREN {
+        let best = subtrees
+            .iter()
+            .enumerate()
+            .filter_map(|(i, (.., split))| split.map(|(gain, _, _)| (i, gain)))
+            .filter(|&(_, gain)| gain > 0.0)
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        let Some((i, _)) = best else { break };
+        let (index, start, end, depth, split) = subtrees.swap_remove(i);
+        let (_, axis, position) = split.expect("chosen for its split");
+        let slice = &mut prims[start..end];
+        let bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
+        let mid = split_point(slice, axis, position);
+        let left = push_children(nodes, index, &bounds);
+        subtrees.push((left, start, start + mid, depth + 1, root_split(&prims[start..start + mid])));
+        subtrees.push((left + 1, start + mid, end, depth + 1, root_split(&prims[start + mid..end])));
+    }
+    for (index, start, end, depth, _) in subtrees {
+        build_node(nodes, index, prims, start, end, depth);
+    }
+}
+
+/// What splitting `prims` within the root node would gain (in surface area × leaf blocks, with
+/// traversal free; infinite when it must split anyway) and where: (gain, axis, position).
+fn root_split(prims: &[BuildPrim]) -> Option<(f32, usize, f32)> {
+    if prims.len() <= 2 {
+        return None;
+    }
+    let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
+    let centroid_bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
+    let (axis, position, cost) = find_split(prims, &bounds, &centroid_bounds, 0.0)?;
+    let gain = if prims.len() > MAX_LEAF_SIZE {
+        f32::INFINITY
+    } else {
+        let leaf = leaf_cost(prims.len(), prims.iter().filter(|p| p.alone).count());
+        (leaf - cost) * bounds.surface_area()
+    };
+    Some((gain, axis, position))
+}
+
 fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], start: usize, end: usize, depth: usize) {
     let slice = &mut prims[start..end];
     let bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
@@ -231,17 +288,10 @@ fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], star
         slice.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
         return split_node(nodes, index, prims, (start, mid, end), depth, &bounds);
     }
-    let split = find_split(slice, &bounds, &centroid_bounds);
+    let split = find_split(slice, &bounds, &centroid_bounds, TRAVERSAL_COST);
     let leaf_cost = leaf_cost(count, slice.iter().filter(|p| p.alone).count());
     let mid = match split {
-        Some((axis, position, cost)) if cost < leaf_cost || count > MAX_LEAF_SIZE => {
-            let mid = partition(slice, |p| p.centroid[axis] < position);
-            if mid == 0 || mid == count {
-                count / 2 // all centroids in one bin: split in the middle of the list
-            } else {
-                mid
-            }
-        }
+        Some((axis, position, cost)) if cost < leaf_cost || count > MAX_LEAF_SIZE => split_point(slice, axis, position),
         None if count > MAX_LEAF_SIZE => count / 2, // coincident centroids
         _ => return make_leaf(nodes),
     };
@@ -256,17 +306,40 @@ fn split_node(
     depth: usize,
     bounds: &Aabb,
 ) {
-    let left = nodes.len();
-    nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
-    nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
-    nodes[index] = Node { min: bounds.min, first: left as u32, max: bounds.max, count: 0 };
+    let left = push_children(nodes, index, bounds);
     build_node(nodes, left, prims, start, start + mid, depth + 1);
     build_node(nodes, left + 1, prims, start + mid, end, depth + 1);
 }
 
+/// Makes `nodes[index]` an interior node over `bounds` with two new children (to be built);
+/// returns the first child's index.
+fn push_children(nodes: &mut Vec<Node>, index: usize, bounds: &Aabb) -> usize {
+    let left = nodes.len();
+    nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
+    nodes.push(Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 });
+    nodes[index] = Node { min: bounds.min, first: left as u32, max: bounds.max, count: 0 };
+    left
+}
+
+/// Puts the primitives whose centroids lie below `position` on `axis` first; returns how many
+/// (half, if that leaves a side empty).
+fn split_point(slice: &mut [BuildPrim], axis: usize, position: f32) -> usize {
+    let mid = partition(slice, |p| p.centroid[axis] < position);
+    if mid == 0 || mid == slice.len() {
+        slice.len() / 2 // all centroids in one bin: split in the middle of the list
+    } else {
+        mid
+    }
+}
+
 /// The best binned SAH split: (axis, centroid position, cost relative to one primitive test).
 /// One pass over the primitives fills the bins of all three axes.
-fn find_split(prims: &[BuildPrim], bounds: &Aabb, centroid_bounds: &Aabb) -> Option<(usize, f32, f32)> {
+fn find_split(
+    prims: &[BuildPrim],
+    bounds: &Aabb,
+    centroid_bounds: &Aabb,
+    traversal_cost: f32,
+) -> Option<(usize, f32, f32)> {
     let area = bounds.surface_area().max(f32::MIN_POSITIVE);
     let lo = centroid_bounds.min;
     let extent = centroid_bounds.extent();
@@ -306,7 +379,7 @@ fn find_split(prims: &[BuildPrim], bounds: &Aabb, centroid_bounds: &Aabb) -> Opt
             if n.0 == 0 || right.0 == 0 {
                 continue;
             }
-            let cost = TRAVERSAL_COST
+            let cost = traversal_cost
                 + (acc.surface_area() * leaf_cost(n.0, n.1) + right_area[b + 1] * leaf_cost(right.0, right.1)) / area;
             if best.is_none_or(|(_, _, c)| cost < c) {
                 best = Some((axis, lo[axis] + (b + 1) as f32 / scale[axis], cost));
@@ -369,6 +442,54 @@ mod tests {
             .collect();
         let (bvh, _) = Bvh::build(&boxes);
         assert!(bvh.stats().depth <= SAH_DEPTH + 13, "depth {}", bvh.stats().depth);
+    }
+
+    /// The tree `build_node` makes from the root, every split priced with its traversal.
+    fn build_without_root_phase(boxes: &[Aabb]) -> (Bvh, Vec<u32>) {
+        let mut nodes = vec![Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 }];
+        let mut prims: Vec<BuildPrim> = boxes
+            .iter()
+            .enumerate()
+            .map(|(i, b)| BuildPrim { bounds: *b, centroid: b.centroid(), index: i as u32, alone: false })
+            .collect();
+        build_node(&mut nodes, 0, &mut prims, 0, boxes.len(), 0);
+        (Bvh { nodes }, prims.iter().map(|p| p.index).collect())
+    }
+
+    /// A small scene's splits within the root wide node are free: eight clusters of four boxes
+    /// get a leaf each, where the SAH alone (a leaf priced per block of eight) put two clusters
+    /// in each of four leaves.
+    #[test]
+    fn small_scenes_fill_the_root_with_tight_leaves() {
+        let cluster = |c: usize| {
+            (0..4).map(move |i| {
+                let p = Vec3::new(10.0 * c as f32 + 0.2 * i as f32, 0.0, 0.0);
+                Aabb::new(p, p + Vec3::splat(0.1))
+            })
+        };
+        let boxes: Vec<Aabb> = (0..8).flat_map(cluster).collect();
+        let (bvh, order) = Bvh::build(&boxes);
+        assert_eq!(bvh.stats().leaves, 8);
+        for leaf in bvh.nodes.iter().filter(|n| n.count > 0) {
+            let clusters: Vec<u32> = (leaf.first..leaf.first + leaf.count).map(|i| order[i as usize] / 4).collect();
+            assert_eq!(clusters, vec![clusters[0]; 4], "a leaf of one cluster");
+        }
+        assert_eq!(build_without_root_phase(&boxes).0.stats().leaves, 4);
+    }
+
+    /// A large input's top splits anyway: its tree is the one `build_node` alone makes.
+    #[test]
+    fn large_inputs_are_built_as_before() {
+        let boxes: Vec<Aabb> = (0..1000)
+            .map(|i| {
+                let p = Vec3::new((i % 10) as f32, ((i / 10) % 10) as f32 * 1.5, (i / 100) as f32 * 0.7);
+                Aabb::new(p, p + Vec3::splat(0.5))
+            })
+            .collect();
+        let (bvh, order) = Bvh::build(&boxes);
+        let (plain, plain_order) = build_without_root_phase(&boxes);
+        assert_eq!(order, plain_order);
+        assert_eq!(bvh.stats(), plain.stats());
     }
 
     #[test]
