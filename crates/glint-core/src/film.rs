@@ -4,6 +4,23 @@
 
 use crate::Rgb;
 
+/// Rows `y0..` of a film (`Film::bands_mut`).
+pub struct FilmBand<'a> {
+    width: u32,
+    y0: u32,
+    sum: &'a mut [Rgb],
+    weight: &'a mut [f32],
+}
+
+impl FilmBand<'_> {
+    /// `Film::add_samples` for pixel (x, y) of the film, which must lie in this band.
+    pub fn add_samples(&mut self, x: u32, y: u32, radiance_sum: Rgb, count: f32) {
+        let i = ((y - self.y0) * self.width + x) as usize;
+        self.sum[i] += radiance_sum;
+        self.weight[i] += count;
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
     pub width: u32,
@@ -23,6 +40,18 @@ impl Film {
         let i = (y * self.width + x) as usize;
         self.sum[i] += radiance_sum;
         self.weight[i] += count;
+    }
+
+    /// The film as bands of `rows` rows (the last may have fewer), each writable on its own:
+    /// parallel tiles add their samples to the band they lie in.
+    pub fn bands_mut(&mut self, rows: u32) -> Vec<FilmBand<'_>> {
+        let (width, len) = (self.width, (self.width * rows) as usize);
+        self.sum
+            .chunks_mut(len)
+            .zip(self.weight.chunks_mut(len))
+            .enumerate()
+            .map(|(b, (sum, weight))| FilmBand { width, y0: b as u32 * rows, sum, weight })
+            .collect()
     }
 
     /// Adds radiance to a pixel's sum without adding weight (light tracing's splats; the
