@@ -90,3 +90,29 @@ impl Film {
         (0..self.height).flat_map(|y| (0..self.width).map(move |x| (x, y))).map(|(x, y)| self.pixel(x, y)).collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Samples added through the bands land where `add_samples` puts them, the last band
+    /// shorter than the others.
+    #[test]
+    fn bands_write_their_own_rows() {
+        let (width, height) = (5, 7);
+        let mut direct = Film::new(width, height);
+        let mut banded = Film::new(width, height);
+        let mut bands = banded.bands_mut(3);
+        assert_eq!(bands.len(), 3);
+        for y in 0..height {
+            for x in 0..width {
+                let radiance = Rgb::new(x as f32, y as f32, (x * y) as f32 + 0.5);
+                direct.add_samples(x, y, radiance, 1.0 + y as f32);
+                bands[(y / 3) as usize].add_samples(x, y, radiance, 1.0 + y as f32);
+            }
+        }
+        drop(bands);
+        assert_eq!(banded, direct);
+        assert_eq!(banded.pixel(4, 6), Rgb::new(4.0, 6.0, 24.5) / 7.0);
+    }
+}
