@@ -228,24 +228,32 @@ fn node_hit(node: &Node, ray: &Ray, inv: Vec3) -> Option<f32> {
 /// a split can add a wide node; making splits free there too (all but every third level) gave
 /// the dragon 1.5 times the leaf blocks and cost its diffuse rays 30 % (docs/performance.md).
 fn build_root(nodes: &mut Vec<Node>, prims: &mut [BuildPrim]) {
-    // Subtrees of the root node: (node index, range, depth, the split's gain and choice if any).
-    let mut subtrees = vec![(0, 0, prims.len(), 0, root_split(&prims[..]))];
+    // Subtrees of the root node: (node index, range, depth, what splitting it gains, if it can).
+    let mut subtrees = vec![(0, 0, prims.len(), 0, root_gain(&prims[..]))];
     while subtrees.len() < ROOT_CHILDREN {
         let best = subtrees
             .iter()
             .enumerate()
-            .filter_map(|(i, (.., split))| split.map(|(gain, _, _)| (i, gain)))
+            .filter_map(|(i, (.., gain))| gain.map(|(gain, _)| (i, gain)))
             .filter(|&(_, gain)| gain > 0.0)
             .max_by(|a, b| a.1.total_cmp(&b.1));
         let Some((i, _)) = best else { break };
-        let (index, start, end, depth, split) = subtrees.swap_remove(i);
-        let (_, axis, position) = split.expect("chosen for its split");
+        let (index, start, end, depth, gain) = subtrees.swap_remove(i);
         let slice = &mut prims[start..end];
         let bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
-        let mid = split_point(slice, axis, position);
+        // The split `build_node` would make: SAH's, or the middle of the list where the
+        // centroids coincide.
+        let split = gain.and_then(|(_, split)| split).or_else(|| {
+            let centroid_bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
+            find_split(slice, &bounds, &centroid_bounds, 0.0).map(|(axis, position, _)| (axis, position))
+        });
+        let mid = match split {
+            Some((axis, position)) => split_point(slice, axis, position),
+            None => slice.len() / 2,
+        };
         let left = push_children(nodes, index, &bounds);
-        subtrees.push((left, start, start + mid, depth + 1, root_split(&prims[start..start + mid])));
-        subtrees.push((left + 1, start + mid, end, depth + 1, root_split(&prims[start + mid..end])));
+        subtrees.push((left, start, start + mid, depth + 1, root_gain(&prims[start..start + mid])));
+        subtrees.push((left + 1, start + mid, end, depth + 1, root_gain(&prims[start + mid..end])));
     }
     for (index, start, end, depth, _) in subtrees {
         build_node(nodes, index, prims, start, end, depth);
@@ -253,21 +261,21 @@ fn build_root(nodes: &mut Vec<Node>, prims: &mut [BuildPrim]) {
 }
 
 /// What splitting `prims` within the root node would gain (in surface area × leaf blocks, with
-/// traversal free; infinite when it must split anyway) and where: (gain, axis, position).
-fn root_split(prims: &[BuildPrim]) -> Option<(f32, usize, f32)> {
+/// traversal free) and the split, if it can split: infinite for more than `MAX_LEAF_SIZE`,
+/// which split anyway (their split found when chosen, so that a large tree's last subtrees of
+/// the root are not binned twice).
+fn root_gain(prims: &[BuildPrim]) -> Option<(f32, Option<(usize, f32)>)> {
+    if prims.len() > MAX_LEAF_SIZE {
+        return Some((f32::INFINITY, None));
+    }
     if prims.len() <= 2 {
         return None;
     }
     let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
     let centroid_bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
     let (axis, position, cost) = find_split(prims, &bounds, &centroid_bounds, 0.0)?;
-    let gain = if prims.len() > MAX_LEAF_SIZE {
-        f32::INFINITY
-    } else {
-        let leaf = leaf_cost(prims.len(), prims.iter().filter(|p| p.alone).count());
-        (leaf - cost) * bounds.surface_area()
-    };
-    Some((gain, axis, position))
+    let leaf = leaf_cost(prims.len(), prims.iter().filter(|p| p.alone).count());
+    Some(((leaf - cost) * bounds.surface_area(), Some((axis, position))))
 }
 
 fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], start: usize, end: usize, depth: usize) {
