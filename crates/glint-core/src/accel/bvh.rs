@@ -224,7 +224,7 @@ fn node_hit(node: &Node, ray: &Ray, inv: Vec3) -> Option<f32> {
 /// that gains. A small scene so gets tight leaves (the Cornell box's 32 triangles: eight
 /// leaves of about four instead of four of eight), and a ray that hits a wall skips the leaves
 /// behind it, which the SAH does not see (it prices rays that cross everything): the box's
-/// closest-hit queries ran 9 % fewer instructions and its render took 13 % less time. Deeper,
+/// render ran 9 % fewer instructions and took 13 % less time. Deeper,
 /// a split can add a wide node; making splits free there too (all but every third level) gave
 /// the dragon 1.5 times the leaf blocks and cost its diffuse rays 30 % (docs/performance.md).
 fn build_root(nodes: &mut Vec<Node>, prims: &mut [BuildPrim]) {
