@@ -4,10 +4,11 @@
 
 use crate::Rgb;
 
-/// Rows `y0..` of a film (`Film::bands_mut`).
+/// Rows `y0..y0 + rows` of a film (`Film::bands_mut`).
 pub struct FilmBand<'a> {
     width: u32,
     y0: u32,
+    rows: u32,
     sum: &'a mut [Rgb],
     weight: &'a mut [f32],
 }
@@ -15,6 +16,7 @@ pub struct FilmBand<'a> {
 impl FilmBand<'_> {
     /// `Film::add_samples` for pixel (x, y) of the film, which must lie in this band.
     pub fn add_samples(&mut self, x: u32, y: u32, radiance_sum: Rgb, count: f32) {
+        debug_assert!(x < self.width && (self.y0..self.y0 + self.rows).contains(&y), "({x}, {y}) outside the band");
         let i = ((y - self.y0) * self.width + x) as usize;
         self.sum[i] += radiance_sum;
         self.weight[i] += count;
@@ -45,12 +47,17 @@ impl Film {
     /// The film as bands of `rows` rows (the last may have fewer), each writable on its own:
     /// parallel tiles add their samples to the band they lie in.
     pub fn bands_mut(&mut self, rows: u32) -> Vec<FilmBand<'_>> {
-        let (width, len) = (self.width, (self.width * rows) as usize);
+        // `max(1)`: an empty film has no bands (and chunks of none would panic).
+        let (width, len) = (self.width, (self.width * rows).max(1) as usize);
         self.sum
             .chunks_mut(len)
             .zip(self.weight.chunks_mut(len))
             .enumerate()
-            .map(|(b, (sum, weight))| FilmBand { width, y0: b as u32 * rows, sum, weight })
+            .map(|(b, (sum, weight))| {
+                // The last band may be shorter.
+                let band_rows = (sum.len() / width as usize) as u32;
+                FilmBand { width, y0: b as u32 * rows, rows: band_rows, sum, weight }
+            })
             .collect()
     }
 
@@ -113,6 +120,7 @@ mod tests {
         }
         drop(bands);
         assert_eq!(banded, direct);
+        assert!(Film::new(0, 4).bands_mut(3).is_empty() && Film::new(4, 0).bands_mut(3).is_empty());
         assert_eq!(banded.pixel(4, 6), Rgb::new(4.0, 6.0, 24.5) / 7.0);
     }
 }

@@ -22,7 +22,7 @@ const LEAF_BLOCK: usize = super::LANES;
 /// Measurements in docs/performance.md.
 const TRAVERSAL_COST: f32 = 1.0;
 /// Children of the root wide node (`Bvh8`), into which the top of the binary tree collapses.
-const ROOT_CHILDREN: usize = 8;
+const ROOT_CHILDREN: usize = super::wide::WIDTH;
 /// The SAH cost in `BvhStats` counts a traversal step as one primitive test, whatever cost the
 /// build used, so costs of different trees compare.
 const REPORTED_TRAVERSAL_COST: f32 = 1.0;
@@ -218,64 +218,97 @@ fn node_hit(node: &Node, ray: &Ray, inv: Vec3) -> Option<f32> {
 /// built by `build_node`.
 ///
 /// Every ray tests the root's eight children at once, however they are laid out, so a split
-/// that keeps them within eight adds no traversal. While there are fewer, the subtree whose
-/// split saves the most (by the SAH with traversal free) is split: first those of more than
-/// `MAX_LEAF_SIZE` primitives, which split anyway (so a large tree does not change), then any
-/// that gains. A small scene so gets tight leaves (the Cornell box's 32 triangles: eight
-/// leaves of about four instead of four of eight), and a ray that hits a wall skips the leaves
-/// behind it, which the SAH does not see (it prices rays that cross everything): the box's
-/// render ran 9 % fewer instructions and took 13 % less time. Deeper,
-/// a split can add a wide node; making splits free there too (all but every third level) gave
-/// the dragon 1.5 times the leaf blocks and cost its diffuse rays 30 % (docs/performance.md).
+/// that keeps them within eight adds no traversal. While there are fewer than eight subtrees,
+/// the one whose split saves the most (by the SAH with traversal free) is split: first those
+/// of more than `MAX_LEAF_SIZE` primitives, which split anyway, as `build_node` would split
+/// them (so a large tree keeps its shape), then any that gains. A small scene so gets tight
+/// leaves (the Cornell box's 32 triangles: eight leaves of about four instead of four of
+/// eight), and a ray that hits a wall skips the leaves behind it, which the SAH does not see
+/// (it prices rays that cross everything): the box's render ran 9 % fewer instructions and
+/// took 13 % less time. (The eight become the root's children when `build_node` leaves them
+/// as they are; the collapse into wide nodes opens the largest interior children first, so a
+/// subtree split further below, as one of primitives tested alone can be, may take a root
+/// slot instead.) Deeper, a split can add a wide node; making splits free there too (all but
+/// every third level) gave the dragon 1.5 times the leaf blocks and cost its diffuse rays
+/// 30 % (docs/performance.md).
 fn build_root(nodes: &mut Vec<Node>, prims: &mut [BuildPrim]) {
-    // Subtrees of the root node: (node index, range, depth, what splitting it gains, if it can).
-    let mut subtrees = vec![(0, 0, prims.len(), 0, root_gain(&prims[..]))];
+    let mut subtrees = vec![RootSubtree::new(0, 0, prims.len(), 0, prims)];
     while subtrees.len() < ROOT_CHILDREN {
         let best = subtrees
             .iter()
             .enumerate()
-            .filter_map(|(i, (.., gain))| gain.map(|(gain, _)| (i, gain)))
-            .filter(|&(_, gain)| gain > 0.0)
+            .filter_map(|(i, s)| match s.split {
+                RootSplit::Forced => Some((i, f32::INFINITY)),
+                RootSplit::Gains { gain, .. } if gain > 0.0 => Some((i, gain)),
+                _ => None,
+            })
             .max_by(|a, b| a.1.total_cmp(&b.1));
         let Some((i, _)) = best else { break };
-        let (index, start, end, depth, gain) = subtrees.swap_remove(i);
+        let RootSubtree { index, start, end, depth, split } = subtrees.swap_remove(i);
         let slice = &mut prims[start..end];
         let bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
-        // The split `build_node` would make: SAH's, or the middle of the list where the
-        // centroids coincide.
-        let split = gain.and_then(|(_, split)| split).or_else(|| {
-            let centroid_bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
-            find_split(slice, &bounds, &centroid_bounds, 0.0).map(|(axis, position, _)| (axis, position))
-        });
         let mid = match split {
-            Some((axis, position)) => split_point(slice, axis, position),
-            None => slice.len() / 2,
+            RootSplit::Gains { axis, position, .. } => split_point(slice, axis, position),
+            // As `build_node` splits it (its traversal cost too, so that rounding breaks ties
+            // between bins alike): the SAH's split, or the middle where the centroids coincide.
+            _ => {
+                let centroid_bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
+                match find_split(slice, &bounds, &centroid_bounds, TRAVERSAL_COST) {
+                    Some((axis, position, _)) => split_point(slice, axis, position),
+                    None => slice.len() / 2,
+                }
+            }
         };
         let left = push_children(nodes, index, &bounds);
-        subtrees.push((left, start, start + mid, depth + 1, root_gain(&prims[start..start + mid])));
-        subtrees.push((left + 1, start + mid, end, depth + 1, root_gain(&prims[start + mid..end])));
+        subtrees.push(RootSubtree::new(left, start, start + mid, depth + 1, prims));
+        subtrees.push(RootSubtree::new(left + 1, start + mid, end, depth + 1, prims));
     }
-    for (index, start, end, depth, _) in subtrees {
-        build_node(nodes, index, prims, start, end, depth);
+    for s in subtrees {
+        build_node(nodes, s.index, prims, s.start, s.end, s.depth);
     }
 }
 
-/// What splitting `prims` within the root node would gain (in surface area × leaf blocks, with
-/// traversal free) and the split, if it can split: infinite for more than `MAX_LEAF_SIZE`,
-/// which split anyway (their split found when chosen, so that a large tree's last subtrees of
-/// the root are not binned twice).
-fn root_gain(prims: &[BuildPrim]) -> Option<(f32, Option<(usize, f32)>)> {
-    if prims.len() > MAX_LEAF_SIZE {
-        return Some((f32::INFINITY, None));
+/// A subtree of the root wide node while `build_root` fills it: `nodes[index]` over
+/// `prims[start..end]`.
+struct RootSubtree {
+    index: usize,
+    start: usize,
+    end: usize,
+    depth: usize,
+    split: RootSplit,
+}
+
+/// What splitting a subtree of the root would do.
+enum RootSplit {
+    /// More than `MAX_LEAF_SIZE` primitives: it splits anyway (its split found when it is made,
+    /// so that a large tree's last subtrees of the root are not binned twice).
+    Forced,
+    /// The SAH's split with traversal free, and what it saves (surface area × leaf blocks).
+    Gains { gain: f32, axis: usize, position: f32 },
+    /// None: too few primitives, or their centroids coincide.
+    Leaf,
+}
+
+impl RootSubtree {
+    fn new(index: usize, start: usize, end: usize, depth: usize, prims: &[BuildPrim]) -> Self {
+        let prims = &prims[start..end];
+        let split = if prims.len() > MAX_LEAF_SIZE {
+            RootSplit::Forced
+        } else if prims.len() <= 2 {
+            RootSplit::Leaf
+        } else {
+            let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
+            let centroid_bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
+            match find_split(prims, &bounds, &centroid_bounds, 0.0) {
+                Some((axis, position, cost)) => {
+                    let leaf = leaf_cost(prims.len(), prims.iter().filter(|p| p.alone).count());
+                    RootSplit::Gains { gain: (leaf - cost) * bounds.surface_area(), axis, position }
+                }
+                None => RootSplit::Leaf,
+            }
+        };
+        Self { index, start, end, depth, split }
     }
-    if prims.len() <= 2 {
-        return None;
-    }
-    let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
-    let centroid_bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
-    let (axis, position, cost) = find_split(prims, &bounds, &centroid_bounds, 0.0)?;
-    let leaf = leaf_cost(prims.len(), prims.iter().filter(|p| p.alone).count());
-    Some(((leaf - cost) * bounds.surface_area(), Some((axis, position))))
 }
 
 fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], start: usize, end: usize, depth: usize) {
@@ -485,19 +518,34 @@ mod tests {
         assert_eq!(build_without_root_phase(&boxes).0.stats().leaves, 4);
     }
 
-    /// A large input's top splits anyway: its tree is the one `build_node` alone makes.
+    /// A large input's top splits anyway: its tree is the one `build_node` alone makes, node
+    /// for node (the array's order aside), on boxes placed at random so that the SAH's bins
+    /// rarely tie.
     #[test]
     fn large_inputs_are_built_as_before() {
-        let boxes: Vec<Aabb> = (0..1000)
-            .map(|i| {
-                let p = Vec3::new((i % 10) as f32, ((i / 10) % 10) as f32 * 1.5, (i / 100) as f32 * 0.7);
-                Aabb::new(p, p + Vec3::splat(0.5))
-            })
-            .collect();
-        let (bvh, order) = Bvh::build(&boxes);
-        let (plain, plain_order) = build_without_root_phase(&boxes);
-        assert_eq!(order, plain_order);
-        assert_eq!(bvh.stats(), plain.stats());
+        let mut rng = crate::sampling::Rng::new(5, 0);
+        for n in [65, 300, 2000] {
+            let boxes: Vec<Aabb> = (0..n)
+                .map(|_| {
+                    let p = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 100.0;
+                    let size = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 3.0;
+                    Aabb::new(p, p + size)
+                })
+                .collect();
+            let (bvh, order) = Bvh::build(&boxes);
+            let (plain, plain_order) = build_without_root_phase(&boxes);
+            assert_eq!(order, plain_order, "{n} boxes");
+            fn same(a: &Bvh, i: usize, b: &Bvh, j: usize) -> bool {
+                let (x, y) = (&a.nodes[i], &b.nodes[j]);
+                let here = x.min == y.min && x.max == y.max && x.count == y.count;
+                if x.count > 0 {
+                    return here && x.first == y.first;
+                }
+                let (l, r) = (x.first as usize, y.first as usize);
+                here && same(a, l, b, r) && same(a, l + 1, b, r + 1)
+            }
+            assert!(same(&bvh, 0, &plain, 0), "{n} boxes: the trees differ");
+        }
     }
 
     #[test]

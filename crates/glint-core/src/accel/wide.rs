@@ -18,7 +18,7 @@ use super::bvh::{Bvh, Node};
 use crate::geometry::Ray;
 
 /// Children a node holds, all eight boxes tested at once (AVX lanes).
-const WIDTH: usize = 8;
+pub(super) const WIDTH: usize = 8;
 /// Each wide level pushes at most WIDTH - 1 entries; the binary build bounds the depth (see
 /// bvh.rs).
 const STACK_SIZE: usize = (WIDTH - 1) * 128;
