@@ -509,8 +509,8 @@ impl Geometry {
         ray: &mut Ray,
         counter: &mut C,
     ) -> Option<((u32, u32), PrimHit)> {
-        let mut best: Option<((u32, u32), PrimHit)> = None;
         counter.primitives(self.unbounded.len() as u32);
+        let mut best: Option<((u32, u32), PrimHit)> = None;
         for &(o, p) in &self.unbounded {
             if let Some(h) = self.objects[o as usize].intersect(p, ray, &self.methods) {
                 ray.t_max = h.t;

@@ -83,11 +83,7 @@ impl Bvh {
     /// instances, …) rather than eight at a time (plain triangles): the SAH prices each such
     /// primitive as a block.
     pub fn build_mixed(bounds: &[Aabb], alone: impl Fn(usize) -> bool) -> (Self, Vec<u32>) {
-        let mut prims: Vec<BuildPrim> = bounds
-            .iter()
-            .enumerate()
-            .map(|(i, b)| BuildPrim { bounds: *b, centroid: b.centroid(), index: i as u32, alone: alone(i) })
-            .collect();
+        let mut prims = build_prims(bounds, alone);
         if prims.is_empty() {
             return (Self { nodes: Vec::new() }, Vec::new());
         }
@@ -214,6 +210,21 @@ fn node_hit(node: &Node, ray: &Ray, inv: Vec3) -> Option<f32> {
     Aabb::new(node.min, node.max).hit_distance(ray.origin, inv, ray.t_min, ray.t_max)
 }
 
+/// The primitives to build over, in input order.
+fn build_prims(bounds: &[Aabb], alone: impl Fn(usize) -> bool) -> Vec<BuildPrim> {
+    bounds
+        .iter()
+        .enumerate()
+        .map(|(i, b)| BuildPrim { bounds: *b, centroid: b.centroid(), index: i as u32, alone: alone(i) })
+        .collect()
+}
+
+/// The bounds of `prims` and of their centroids.
+fn bounds_of(prims: &[BuildPrim]) -> (Aabb, Aabb) {
+    let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
+    (bounds, prims.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid)))
+}
+
 /// The top of the tree: the subtrees the root wide node holds, split best first, then each
 /// built by `build_node`.
 ///
@@ -246,19 +257,16 @@ fn build_root(nodes: &mut Vec<Node>, prims: &mut [BuildPrim]) {
         let Some((i, _)) = best else { break };
         let RootSubtree { index, start, end, depth, split } = subtrees.swap_remove(i);
         let slice = &mut prims[start..end];
-        let bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
-        let mid = match split {
-            RootSplit::Gains { axis, position, .. } => split_point(slice, axis, position),
+        let (bounds, centroid_bounds) = bounds_of(slice);
+        let split = match split {
+            RootSplit::Gains { axis, position, .. } => Some((axis, position)),
             // As `build_node` splits it (its traversal cost too, so that rounding breaks ties
             // between bins alike): the SAH's split, or the middle where the centroids coincide.
             _ => {
-                let centroid_bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
-                match find_split(slice, &bounds, &centroid_bounds, TRAVERSAL_COST) {
-                    Some((axis, position, _)) => split_point(slice, axis, position),
-                    None => slice.len() / 2,
-                }
+                find_split(slice, &bounds, &centroid_bounds, TRAVERSAL_COST).map(|(axis, position, _)| (axis, position))
             }
         };
+        let mid = split_point(slice, split);
         let left = push_children(nodes, index, &bounds);
         subtrees.push(RootSubtree::new(left, start, start + mid, depth + 1, prims));
         subtrees.push(RootSubtree::new(left + 1, start + mid, end, depth + 1, prims));
@@ -297,8 +305,7 @@ impl RootSubtree {
         } else if prims.len() <= 2 {
             RootSplit::Leaf
         } else {
-            let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
-            let centroid_bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
+            let (bounds, centroid_bounds) = bounds_of(prims);
             match find_split(prims, &bounds, &centroid_bounds, 0.0) {
                 Some((axis, position, cost)) => {
                     let leaf = leaf_cost(prims.len(), prims.iter().filter(|p| p.alone).count());
@@ -313,8 +320,7 @@ impl RootSubtree {
 
 fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], start: usize, end: usize, depth: usize) {
     let slice = &mut prims[start..end];
-    let bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
-    let centroid_bounds = slice.iter().fold(Aabb::EMPTY, |b, p| b.grow_point(p.centroid));
+    let (bounds, centroid_bounds) = bounds_of(slice);
     let count = slice.len();
     let make_leaf = |nodes: &mut Vec<Node>| {
         nodes[index] = Node { min: bounds.min, first: start as u32, max: bounds.max, count: count as u32 };
@@ -332,8 +338,10 @@ fn build_node(nodes: &mut Vec<Node>, index: usize, prims: &mut [BuildPrim], star
     let split = find_split(slice, &bounds, &centroid_bounds, TRAVERSAL_COST);
     let leaf_cost = leaf_cost(count, slice.iter().filter(|p| p.alone).count());
     let mid = match split {
-        Some((axis, position, cost)) if cost < leaf_cost || count > MAX_LEAF_SIZE => split_point(slice, axis, position),
-        None if count > MAX_LEAF_SIZE => count / 2, // coincident centroids
+        Some((axis, position, cost)) if cost < leaf_cost || count > MAX_LEAF_SIZE => {
+            split_point(slice, Some((axis, position)))
+        }
+        None if count > MAX_LEAF_SIZE => split_point(slice, None),
         _ => return make_leaf(nodes),
     };
     split_node(nodes, index, prims, (start, mid, end), depth, &bounds);
@@ -362,12 +370,13 @@ fn push_children(nodes: &mut Vec<Node>, index: usize, bounds: &Aabb) -> usize {
     left
 }
 
-/// Puts the primitives whose centroids lie below `position` on `axis` first; returns how many
-/// (half, if that leaves a side empty).
-fn split_point(slice: &mut [BuildPrim], axis: usize, position: f32) -> usize {
-    let mid = partition(slice, |p| p.centroid[axis] < position);
+/// Puts the primitives whose centroids lie below `position` on `axis` first and returns how
+/// many; the middle of the list where that leaves a side empty (all centroids in one bin) or
+/// where there is no split (coincident centroids).
+fn split_point(slice: &mut [BuildPrim], split: Option<(usize, f32)>) -> usize {
+    let mid = split.map_or(0, |(axis, position)| partition(slice, |p| p.centroid[axis] < position));
     if mid == 0 || mid == slice.len() {
-        slice.len() / 2 // all centroids in one bin: split in the middle of the list
+        slice.len() / 2
     } else {
         mid
     }
@@ -488,11 +497,7 @@ mod tests {
     /// The tree `build_node` makes from the root, every split priced with its traversal.
     fn build_without_root_phase(boxes: &[Aabb]) -> (Bvh, Vec<u32>) {
         let mut nodes = vec![Node { min: Vec3::ZERO, first: 0, max: Vec3::ZERO, count: 0 }];
-        let mut prims: Vec<BuildPrim> = boxes
-            .iter()
-            .enumerate()
-            .map(|(i, b)| BuildPrim { bounds: *b, centroid: b.centroid(), index: i as u32, alone: false })
-            .collect();
+        let mut prims = build_prims(boxes, |_| false);
         build_node(&mut nodes, 0, &mut prims, 0, boxes.len(), 0);
         (Bvh { nodes }, prims.iter().map(|p| p.index).collect())
     }
