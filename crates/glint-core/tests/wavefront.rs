@@ -188,12 +188,24 @@ fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampli
     let open = room_where(|objects, _| {
         objects.drain(4..6); // the back wall
     });
+    // More lights than the lanes choose among by counting: a lamp of 48 small triangles,
+    // facing down, with uneven powers.
+    let many_lights = room_where(|objects, materials| {
+        for i in 0..48 {
+            let (x, z) = (-0.8 + 0.1 * (i % 12) as f32, -0.6 + 0.3 * (i / 12) as f32);
+            let [a, b, c] = [Vec3::new(x, 0.9, z), Vec3::new(x + 0.08, 0.9, z), Vec3::new(x, 0.9, z + 0.2)];
+            materials.push(diffuse(Rgb::splat(0.5), Rgb::splat(1.0 + i as f32), false));
+            objects.push(object_with(Shape::Triangle(Triangle::new(a, c, b)), materials.len() as u32 - 1));
+        }
+    });
+    assert!(many_lights.area_lights.len() > 48, "the lamp's triangles are lights");
     let scenes = [
         (solid_angle(room()), "solid-angle sampling", true),
         (textured, "a textured wall", true),
         (solid_angle(spheres()), "spheres, solid angle", true),
         (spheres(), "spheres", true),
         (open, "an open room", false),
+        (many_lights, "many lights", true),
     ];
     for (scene, what, closed) in scenes {
         assert!(tracer.runs_as_wavefront(&scene), "{what}: a wavefront scene");

@@ -280,6 +280,11 @@ impl AreaLights {
         }
     }
 
+    /// The number of emitters (each triangle of an emissive mesh is one).
+    pub fn len(&self) -> usize {
+        self.emitters.len()
+    }
+
     pub fn is_empty(&self) -> bool {
         self.emitters.is_empty()
     }
@@ -307,6 +312,11 @@ impl AreaLights {
     #[inline]
     pub(crate) fn choose_index(&self, u_select: f32) -> Option<usize> {
         self.choose(u_select).map(|(i, _)| i)
+    }
+
+    /// The cumulative probabilities by which `choose_index` picks an emitter.
+    pub(crate) fn selection_cdf(&self) -> &[f32] {
+        &self.cdf
     }
 
     /// The emitter that primitive `prim` of `object` is, if it is one (as `pdf` finds it).

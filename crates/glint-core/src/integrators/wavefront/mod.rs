@@ -21,7 +21,7 @@ mod lanes;
 use std::f32::consts::FRAC_1_PI;
 
 use glam::{Vec2, Vec3};
-use wide::{f32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
+use wide::{f32x8, i32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
 use self::lanes::{
     area_to_solid_angle, barycentric_point, negate, offset_ray_origin, orthonormal_basis, power_heuristic,
@@ -47,6 +47,9 @@ const LOBE: usize = 3;
 const DIRECTION: usize = 4;
 const ROULETTE: usize = 6;
 const DRAWS: usize = 7;
+
+/// Lights up to this many are chosen in the lanes by counting, more by binary search.
+const SHORT_CDF: usize = 32;
 
 /// A material as the lanes read it.
 #[derive(Clone, Copy, Debug)]
@@ -465,10 +468,26 @@ impl<'a> Wavefront<'a> {
     ) -> Option<LightPoints> {
         let zero = f32x8::ZERO;
         let none = emitters.len() - 1;
-        let chosen: [usize; LANES] = std::array::from_fn(|k| match goes_on[k] {
-            true => self.scene.area_lights.choose_index(draws[LIGHT][k]).unwrap_or(none),
-            false => none,
-        });
+        let lights = &self.scene.area_lights;
+        let cdf = lights.selection_cdf();
+        let chosen: [usize; LANES] = if lights.is_empty() {
+            [none; LANES]
+        } else if cdf.len() <= SHORT_CDF && cdf.is_sorted() {
+            // `choose_index` is a binary search of the CDF, here the count of its entries at
+            // or below the number (the same index), counted in all lanes at once.
+            let u = f32x8::from(draws[LIGHT]);
+            let mut count = i32x8::ZERO;
+            for &c in cdf {
+                count -= bytemuck::cast::<f32x8, i32x8>(f32x8::splat(c).cmp_le(u));
+            }
+            let count = count.to_array();
+            std::array::from_fn(|k| if goes_on[k] { (count[k] as usize).min(cdf.len() - 1) } else { none })
+        } else {
+            std::array::from_fn(|k| match goes_on[k] {
+                true => lights.choose_index(draws[LIGHT][k]).unwrap_or(none),
+                false => none,
+            })
+        };
         if chosen.iter().all(|&i| i == none) {
             return None;
         }
