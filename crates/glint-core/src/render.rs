@@ -316,7 +316,7 @@ fn camera_samples(
         let mut groups = contexts.chunks_exact_mut(GROUP);
         for (group, offsets) in (&mut groups).zip(jitter.chunks_exact_mut(GROUP)) {
             let group: &mut [SampleContext; GROUP] = group.try_into().expect("a chunk of eight");
-            let [dx, dy] = Sampler::next_f32_lanes::<2>(group.each_mut().map(|c| &mut c.sampler));
+            let [dx, dy] = Sampler::next_f32_lanes::<2>(group.each_mut().map(|c| &mut c.sampler)).map(|v| v.to_array());
             for (k, offset) in offsets.iter_mut().enumerate() {
                 *offset = (dx[k], dy[k]);
             }

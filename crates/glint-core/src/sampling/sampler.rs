@@ -17,6 +17,7 @@
 
 use super::rng::mix;
 use super::{sobol, Rng};
+use wide::{f32x8, CmpLt};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SamplerKind {
@@ -137,44 +138,52 @@ impl Sampler {
         }
     }
 
-    /// The next `N` dimensions of eight samplers at once, as columns: `out[j][k]` is what the
-    /// `j`-th `next_f32` of `samplers[k]` would give (column `j` is one lane vector). Sobol
-    /// samplers standing at the same dimension (the path tracer's wavefront keeps its paths in
-    /// step) compute each set of four dimensions for all eight together
-    /// (`sobol::sample_4d_lanes`); others draw one by one.
-    pub fn next_f32_lanes<const N: usize>(mut samplers: [&mut Sampler; Self::LANES]) -> [[f32; Self::LANES]; N] {
-        let mut out = [[0f32; Self::LANES]; N];
+    /// The next `N` dimensions of eight samplers at once, as lane vectors: lane k of `out[j]`
+    /// is what the `j`-th `next_f32` of `samplers[k]` would give. Sobol samplers standing at
+    /// the same dimension (the path tracer's wavefront keeps its paths in step) compute each
+    /// set of four dimensions for all eight together (`sobol::sample_4d_lanes`); others draw
+    /// one by one.
+    pub fn next_f32_lanes<const N: usize>(mut samplers: [&mut Sampler; Self::LANES]) -> [f32x8; N] {
         let first = samplers[0].dimension;
         // Below 256 dimensions every set uses the sample's cached shuffled index (`draw`).
         let in_step =
             first as usize + N <= 256 && samplers.iter().all(|s| s.kind == SamplerKind::Sobol && s.dimension == first);
         if !in_step {
+            let mut out = [[0f32; Self::LANES]; N];
             for (k, sampler) in samplers.iter_mut().enumerate() {
                 for column in &mut out {
                     column[k] = sampler.next_f32();
                 }
             }
-            return out;
+            return out.map(f32x8::from);
         }
         // Below 256 dimensions the scramble seed does not depend on the dimension.
         let shuffled = samplers.each_ref().map(|s| s.shuffled);
         let seed = samplers.each_ref().map(|s| sobol_seed(s.pixel_seed, s.index, first));
-        let mut sets = samplers.each_ref().map(|s| s.sobol);
+        // The set the first dimension falls in: computed already, unless it begins a new one.
+        let mut set: [f32x8; 4] = match first % 4 {
+            0 => [f32x8::ZERO; 4],
+            _ => std::array::from_fn(|i| f32x8::from(samplers.each_ref().map(|s| s.sobol[i]))),
+        };
+        let mut last_computed = None;
         let mut d = first;
-        for column in &mut out {
+        let out = std::array::from_fn(|_| {
             if d.is_multiple_of(4) {
                 // No `min(ONE_BELOW)` as `draw` takes: the crate's floats have 23 bits below
                 // 1, so they are at most 1 - 2⁻²³, below ONE_BELOW already.
-                sets = sobol::sample_4d_lanes(shuffled, d / 4, seed);
-                debug_assert!(sets.iter().flatten().all(|&x| x < ONE_BELOW));
+                let sets = sobol::sample_4d_lanes(shuffled, d / 4, seed);
+                set = sets.by_dimension;
+                debug_assert!(set.iter().all(|v| v.cmp_lt(f32x8::splat(ONE_BELOW)).all()));
+                last_computed = Some(sets.by_sample);
             }
-            for (drawn, set) in column.iter_mut().zip(&sets) {
-                *drawn = set[(d % 4) as usize];
-            }
+            let column = set[(d % 4) as usize];
             d += 1;
-        }
-        for (sampler, set) in samplers.iter_mut().zip(sets) {
-            sampler.sobol = set;
+            column
+        });
+        for (k, sampler) in samplers.iter_mut().enumerate() {
+            if let Some(by_sample) = &last_computed {
+                sampler.sobol = by_sample[k];
+            }
             sampler.dimension = d;
         }
         out
@@ -352,14 +361,14 @@ mod tests {
                     };
                     let mut together: [Sampler; 8] = std::array::from_fn(make);
                     let mut alone = together.clone();
-                    let drawn: Vec<[f32; 8]> = match count {
+                    let drawn: Vec<f32x8> = match count {
                         7 => Sampler::next_f32_lanes::<7>(together.each_mut()).to_vec(),
                         _ => Sampler::next_f32_lanes::<2>(together.each_mut()).to_vec(),
                     };
                     let after = Sampler::next_f32_lanes::<3>(together.each_mut());
-                    for k in 0..8 {
-                        let expected: Vec<f32> = (0..count + 3).map(|_| alone[k].next_f32()).collect();
-                        let got: Vec<f32> = drawn.iter().chain(&after).map(|column| column[k]).collect();
+                    for (k, alone) in alone.iter_mut().enumerate() {
+                        let expected: Vec<f32> = (0..count + 3).map(|_| alone.next_f32()).collect();
+                        let got: Vec<f32> = drawn.iter().chain(&after).map(|column| column.as_array_ref()[k]).collect();
                         assert_eq!(
                             got,
                             expected,

@@ -50,7 +50,7 @@ pub fn shuffled_index(index: u32, seed: u32) -> u32 {
 /// set, seed)`.
 #[inline]
 pub fn sample_4d(shuffled: u32, set: u32, seed: u32) -> [f32; 4] {
-    let sobol = Int4::from(sobol_set_rev(shuffled, set));
+    let sobol = Int4::from(sobol_set_rev(set_tables(set), shuffled));
     // The crate's scramble, unchanged: a per-set, per-lane Owen scramble of the bits.
     let scramble = {
         let seed: Int4 = [seed.wrapping_mul(0x9c8f2d3b); 4].into();
@@ -60,11 +60,16 @@ pub fn sample_4d(shuffled: u32, set: u32, seed: u32) -> [f32; 4] {
     owen_scramble_int4_rev(sobol, hash_int4(scramble)).reverse_bits().to_f32_norm()
 }
 
-/// The Sobol point (not yet scrambled, bits reversed) of dimensions `4 set .. 4 set + 4` at
-/// the shuffled index: four table lookups, XORed.
+/// The tables of dimensions `4 set .. 4 set + 4`.
 #[inline(always)]
-fn sobol_set_rev(shuffled: u32, set: u32) -> [u32; 4] {
-    let pieces = &tables().products[set as usize];
+fn set_tables(set: u32) -> &'static [[[u32; 4]; 16]; 4] {
+    &tables().products[set as usize]
+}
+
+/// The Sobol point (not yet scrambled, bits reversed) of the dimensions of `pieces` (a set's
+/// tables) at the shuffled index: four table lookups, XORed.
+#[inline(always)]
+fn sobol_set_rev(pieces: &[[[u32; 4]; 16]; 4], shuffled: u32) -> [u32; 4] {
     let [a, b, c, d] = [
         pieces[0][(shuffled >> 28) as usize],
         pieces[1][(shuffled >> 24 & 15) as usize],
@@ -75,31 +80,54 @@ fn sobol_set_rev(shuffled: u32, set: u32) -> [u32; 4] {
 }
 
 /// `sample_4d` for eight samples at once, the same `set` for all and each its own shuffled
-/// index and seed: the same bits, with two samples' four dimensions in one 256-bit vector.
-/// The crate's scramble is a chain of dependent multiplies and shifts on four lanes; eight
-/// lanes take each step for two samples, half the instructions. For the path tracer's
+/// index and seed: the same bits, both as one vector per dimension and per sample. The crate's
+/// scramble is a chain of dependent multiplies and shifts on four lanes; here each step runs
+/// on two samples' four dimensions at once, half the instructions. For the path tracer's
 /// wavefront, whose paths stand at the same dimension.
-pub fn sample_4d_lanes(shuffled: [u32; 8], set: u32, seed: [u32; 8]) -> [[f32; 4]; 8] {
-    let mut out = [[0f32; 4]; 8];
-    for pair in 0..4 {
-        let (a, b) = (2 * pair, 2 * pair + 1);
-        let (sobol_a, sobol_b) = (sobol_set_rev(shuffled[a], set), sobol_set_rev(shuffled[b], set));
+pub fn sample_4d_lanes(shuffled: [u32; 8], set: u32, seed: [u32; 8]) -> Sets8 {
+    let pieces = set_tables(set);
+    let sobol = shuffled.map(|s| sobol_set_rev(pieces, s));
+    // The crate's per-dimension scramble constants, for both samples of a pair.
+    let [c0, c1, c2, c3] = [0x912f69ba, 0x174f18ab, 0x691e72ca, 0xb40cc1b8];
+    let constants = u32x8::from([c0, c1, c2, c3, c0, c1, c2, c3]) ^ u32x8::splat(set);
+    // Pair j holds samples j and j + 4: the transpose below then puts the samples in order.
+    let pairs: [[f32; 8]; 4] = std::array::from_fn(|j| {
+        let (a, b) = (j, j + 4);
         let sobol = u32x8::from([
-            sobol_a[0], sobol_a[1], sobol_a[2], sobol_a[3], sobol_b[0], sobol_b[1], sobol_b[2], sobol_b[3],
+            sobol[a][0],
+            sobol[a][1],
+            sobol[a][2],
+            sobol[a][3],
+            sobol[b][0],
+            sobol[b][1],
+            sobol[b][2],
+            sobol[b][3],
         ]);
         let seeds = u32x8::from([seed[a], seed[a], seed[a], seed[a], seed[b], seed[b], seed[b], seed[b]]);
-        // The crate's per-dimension scramble constants, for both samples.
-        let [c0, c1, c2, c3] = [0x912f69ba, 0x174f18ab, 0x691e72ca, 0xb40cc1b8];
-        let scramble =
-            (seeds * u32x8::splat(0x9c8f2d3b)) ^ u32x8::splat(set) ^ u32x8::from([c0, c1, c2, c3, c0, c1, c2, c3]);
+        let scramble = (seeds * u32x8::splat(0x9c8f2d3b)) ^ constants;
         let bits = reverse_bits(owen_scramble_rev8(sobol, hash8(scramble)));
         // The crate's `to_f32_norm`: the top 23 bits as the mantissa of a float in [1, 2).
         let values: f32x8 = bytemuck::cast((bits >> 9) | u32x8::splat(0x3f80_0000));
-        let values = (values - f32x8::ONE).to_array();
-        out[a] = [values[0], values[1], values[2], values[3]];
-        out[b] = [values[4], values[5], values[6], values[7]];
+        (values - f32x8::ONE).to_array()
+    });
+    let p = &pairs;
+    Sets8 {
+        by_dimension: std::array::from_fn(|i| {
+            f32x8::from([p[0][i], p[1][i], p[2][i], p[3][i], p[0][4 + i], p[1][4 + i], p[2][4 + i], p[3][4 + i]])
+        }),
+        by_sample: std::array::from_fn(|k| {
+            let half = 4 * (k / 4);
+            [p[k % 4][half], p[k % 4][half + 1], p[k % 4][half + 2], p[k % 4][half + 3]]
+        }),
     }
-    out
+}
+
+/// One set of four dimensions of eight samples (`sample_4d_lanes`).
+pub struct Sets8 {
+    /// Lane k of `by_dimension[i]`: dimension i of sample k.
+    pub by_dimension: [f32x8; 4],
+    /// The four dimensions of sample k.
+    pub by_sample: [[f32; 4]; 8],
 }
 
 /// The crate's `hash_int4`, eight wide.
@@ -165,10 +193,13 @@ mod tests {
             let index: [u32; 8] = std::array::from_fn(|k| (round * 331 + k as u32 * 4099) & 0xFFFF);
             let shuffled: [u32; 8] = std::array::from_fn(|k| shuffled_index(index[k], seed[k]));
             for set in [0, 1, 2, round % SETS, SETS - 1] {
-                let lanes = sample_4d_lanes(shuffled, set, seed);
+                let sets = sample_4d_lanes(shuffled, set, seed);
+                let lanes = sets.by_dimension.map(|d| d.to_array());
                 for k in 0..8 {
                     let one = sample_4d(shuffled[k], set, seed[k]).map(f32::to_bits);
-                    assert_eq!(lanes[k].map(f32::to_bits), one, "sample {k}, set {set}, round {round}");
+                    let got = [0, 1, 2, 3].map(|i| lanes[i][k].to_bits());
+                    assert_eq!(got, one, "sample {k}, set {set}, round {round}, by dimension");
+                    assert_eq!(sets.by_sample[k].map(f32::to_bits), one, "sample {k}, set {set}, round {round}");
                     checked += 1;
                 }
             }

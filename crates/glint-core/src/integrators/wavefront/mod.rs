@@ -280,8 +280,8 @@ impl<'a> Wavefront<'a> {
         // Paths at the maximum depth, and on black surfaces, end here.
         let goes_on: [bool; LANES] =
             std::array::from_fn(|k| k < n && depth[k] < self.max_depth && material[k].reflects);
-        // draws[j][k]: draw j of lane k (a column per draw, read as one lane vector).
-        let mut draws = [[0f32; LANES]; DRAWS];
+        // draws[j]: draw j of each lane.
+        let mut draws = [f32x8::ZERO; DRAWS];
         let roulette_comes = |k: usize| depth[k] + 1 >= self.rr_depth;
         let in_step = n == LANES && depth.iter().all(|&d| d == depth[0]);
         if in_step && goes_on.iter().any(|&on| on) {
@@ -293,16 +293,18 @@ impl<'a> Wavefront<'a> {
                 draws[..DRAWS - 1].copy_from_slice(&Sampler::next_f32_lanes::<{ DRAWS - 1 }>(samplers));
             }
         } else {
+            let mut columns = [[0f32; LANES]; DRAWS];
             for k in (0..n).filter(|&k| goes_on[k]) {
                 let sampler = &mut contexts[index[k]].sampler;
                 let count = if roulette_comes(k) { DRAWS } else { DRAWS - 1 };
-                for column in &mut draws[..count] {
+                for column in &mut columns[..count] {
                     column[k] = sampler.next_f32();
                 }
             }
+            draws = columns.map(f32x8::from);
         }
-        debug_assert!(draws[LOBE].iter().all(|&u| u < 1.0), "u_lobe < p_diffuse = 1: the diffuse lobe");
-        let draw = |j: usize| f32x8::from(draws[j]);
+        debug_assert!(draws[LOBE].cmp_lt(f32x8::ONE).all(), "u_lobe < p_diffuse = 1: the diffuse lobe");
+        let draw = |j: usize| draws[j];
         let on = mask(|k| goes_on[k]);
 
         // The BSDF's frame (Bsdf::new): both normals turned to wo's side, and the geometric one
@@ -463,7 +465,7 @@ impl<'a> Wavefront<'a> {
         &self,
         emitters: &[TriangleEmitter],
         goes_on: &[bool; LANES],
-        draws: &[[f32; LANES]; DRAWS],
+        draws: &[f32x8; DRAWS],
         from: Vec3x8,
     ) -> Option<LightPoints> {
         let zero = f32x8::ZERO;
@@ -475,7 +477,7 @@ impl<'a> Wavefront<'a> {
         } else if cdf.len() <= SHORT_CDF && cdf.is_sorted() {
             // `choose_index` is a binary search of the CDF, here the count of its entries at
             // or below the number (the same index), counted in all lanes at once.
-            let u = f32x8::from(draws[LIGHT]);
+            let u = draws[LIGHT];
             let mut count = i32x8::ZERO;
             for &c in cdf {
                 count -= bytemuck::cast::<f32x8, i32x8>(f32x8::splat(c).cmp_le(u));
@@ -484,7 +486,7 @@ impl<'a> Wavefront<'a> {
             std::array::from_fn(|k| if goes_on[k] { (count[k] as usize).min(cdf.len() - 1) } else { none })
         } else {
             std::array::from_fn(|k| match goes_on[k] {
-                true => lights.choose_index(draws[LIGHT][k]).unwrap_or(none),
+                true => lights.choose_index(draws[LIGHT].as_array_ref()[k]).unwrap_or(none),
                 false => none,
             })
         };
@@ -499,8 +501,8 @@ impl<'a> Wavefront<'a> {
         // A one-sided light with every corner behind its plane sends nothing here.
         let behind = |corner: Vec3x8| normal.dot(corner - from).cmp_gt(zero);
         let hidden = !two_sided & behind(la) & behind(lb) & behind(lc);
-        let s = f32x8::from(draws[LIGHT_POINT]).sqrt();
-        let (point, error) = barycentric_point([la, lb, lc], f32x8::ONE - s, f32x8::from(draws[LIGHT_POINT + 1]) * s);
+        let s = draws[LIGHT_POINT].sqrt();
+        let (point, error) = barycentric_point([la, lb, lc], f32x8::ONE - s, draws[LIGHT_POINT + 1] * s);
         let to_light = point - from;
         let (pdf, seen) = area_to_solid_angle(per_lane(|k| light[k].selection), area, to_light, normal);
         let cos_light = negate(normal.dot(to_light));
@@ -521,14 +523,14 @@ impl<'a> Wavefront<'a> {
     fn light_points(
         &self,
         goes_on: &[bool; LANES],
-        draws: &[[f32; LANES]; DRAWS],
+        draws: &[f32x8; DRAWS],
         from: Vec3x8,
         shading: Vec3x8,
     ) -> Option<LightPoints> {
         let samples: [Option<crate::lights::LightSample>; LANES] = std::array::from_fn(|k| {
-            let u = Vec2::new(draws[LIGHT_POINT][k], draws[LIGHT_POINT + 1][k]);
-            goes_on[k]
-                .then(|| self.scene.area_lights.sample(from.lane(k), Some(shading.lane(k)), draws[LIGHT][k], u))?
+            let draw = |j: usize| draws[j].as_array_ref()[k];
+            let u = Vec2::new(draw(LIGHT_POINT), draw(LIGHT_POINT + 1));
+            goes_on[k].then(|| self.scene.area_lights.sample(from.lane(k), Some(shading.lane(k)), draw(LIGHT), u))?
         });
         if samples.iter().all(Option::is_none) {
             return None;
