@@ -85,6 +85,19 @@ fn world_normals(object: &Object, prim: u32) -> Option<[Vec3; 3]> {
 /// How far short of a target surface a shadow ray stops, as a fraction of its length.
 pub(crate) const SHADOW_EPSILON: f32 = 1e-4;
 
+/// Which primitive a ray hit (primitive `prim` of object `object`) and where on it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrimitiveHit {
+    pub object: u32,
+    pub prim: u32,
+    pub at: PrimHit,
+}
+
+impl PrimitiveHit {
+    /// A placeholder before a query.
+    pub const NONE: Self = Self { object: u32::MAX, prim: u32::MAX, at: PrimHit { t: 0.0, u: 0.0, v: 0.0, inner: 0 } };
+}
+
 /// One intersected surface point, everything an integrator needs to shade it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceHit {
@@ -487,18 +500,28 @@ impl Geometry {
     /// becomes the hit's distance.
     #[inline]
     pub fn closest_primitive(&self, ray: &mut Ray) -> Option<((u32, u32), PrimHit)> {
+        let mut found = PrimitiveHit::NONE;
+        self.closest_primitive_into(ray, &mut found).then_some(((found.object, found.prim), found.at))
+    }
+
+    /// `closest_primitive` written into `found` (left as it was if nothing is hit), for callers
+    /// that keep the answer: a returned answer is copied from the query's stack, and that
+    /// copy's loads spanned the query's narrower stores, a stall (store forwarding fails) of
+    /// every query.
+    #[inline]
+    pub fn closest_primitive_into(&self, ray: &mut Ray, found: &mut PrimitiveHit) -> bool {
         if self.bvh.is_one_node() {
-            self.closest_primitive_counted::<true, _>(ray, &mut NoCounter)
+            self.closest_primitive_counted::<true, _>(ray, &mut NoCounter, found)
         } else {
-            self.closest_primitive_counted::<false, _>(ray, &mut NoCounter)
+            self.closest_primitive_counted::<false, _>(ray, &mut NoCounter, found)
         }
     }
 
     /// The traversal work of a closest-hit query (for the BVH heat map and `bench-rays`).
     pub fn traversal_counts(&self, ray: &Ray) -> TraversalCounts {
         let mut counts = TraversalCounts::default();
-        let mut ray = *ray;
-        self.closest_primitive_counted::<false, _>(&mut ray, &mut counts);
+        let (mut ray, mut found) = (*ray, PrimitiveHit::NONE);
+        self.closest_primitive_counted::<false, _>(&mut ray, &mut counts, &mut found);
         counts
     }
 
@@ -508,7 +531,8 @@ impl Geometry {
         &self,
         ray: &mut Ray,
         counter: &mut C,
-    ) -> Option<((u32, u32), PrimHit)> {
+        found: &mut PrimitiveHit,
+    ) -> bool {
         counter.primitives(self.unbounded.len() as u32);
         let mut best: Option<((u32, u32), PrimHit)> = None;
         for &(o, p) in &self.unbounded {
@@ -536,7 +560,9 @@ impl Geometry {
         if let Some((id, h)) = best_lane {
             best = Some((self.locate(id), h));
         }
-        best
+        let Some(((object, prim), at)) = best else { return false };
+        *found = PrimitiveHit { object, prim, at };
+        true
     }
 
     /// Whether some unbounded primitive lies along the ray. Out of line: inlined, its set-up

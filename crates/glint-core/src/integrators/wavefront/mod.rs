@@ -33,8 +33,7 @@ use crate::geometry::Ray;
 use crate::lights::{TriangleEmitter, TriangleSampling};
 use crate::materials::{luminance, Material, PhongPoint};
 use crate::sampling::Sampler;
-use crate::scene::{Scene, SHADOW_EPSILON};
-use crate::shapes::PrimHit;
+use crate::scene::{PrimitiveHit, Scene, SHADOW_EPSILON};
 use crate::textures::Texture;
 use crate::Rgb;
 
@@ -118,10 +117,8 @@ struct Path {
     last_point: Vec3,
     last_normal: Vec3,
     last_pdf: f32,
-    /// The closest hit of `ray`: object, primitive, and where on it.
-    object: u32,
-    prim: u32,
-    at: PrimHit,
+    /// The closest hit of `ray`.
+    hit: PrimitiveHit,
 }
 
 impl Path {
@@ -134,9 +131,7 @@ impl Path {
         last_point: Vec3::ZERO,
         last_normal: Vec3::ZERO,
         last_pdf: 0.0,
-        object: 0,
-        prim: 0,
-        at: PrimHit { t: 0.0, u: 0.0, v: 0.0, inner: 0 },
+        hit: PrimitiveHit::NONE,
     };
 }
 
@@ -203,13 +198,11 @@ impl<'a> Wavefront<'a> {
                 // then hands to the surface. A fresh copy's fields would still be in the store
                 // buffer when the query loads them as a vector: a stall (store forwarding
                 // fails) of every closest hit.
-                match self.scene.geometry.closest_primitive(&mut path.ray) {
-                    Some(((object, prim), hit)) => {
-                        (path.object, path.prim, path.at) = (object, prim, hit);
-                        hits.push(i);
-                    }
+                if self.scene.geometry.closest_primitive_into(&mut path.ray, &mut path.hit) {
+                    hits.push(i);
+                } else {
                     // Weight 1: the environment emits nothing, so it is not light-sampled.
-                    None => path.radiance += path.throughput * self.scene.environment.radiance(path.ray.direction),
+                    path.radiance += path.throughput * self.scene.environment.radiance(path.ray.direction);
                 }
             }
             active.clear();
@@ -255,7 +248,7 @@ impl<'a> Wavefront<'a> {
                 Some(emitters) => {
                     let none = emitters.len() - 1;
                     let emitter: [&TriangleEmitter; LANES] = std::array::from_fn(|k| {
-                        &emitters[scene.area_lights.emitter_index(path(k).object, path(k).prim).unwrap_or(none)]
+                        &emitters[scene.area_lights.emitter_index(path(k).hit.object, path(k).hit.prim).unwrap_or(none)]
                     });
                     let to_light = point - Vec3x8::from_fn(|k| path(k).last_point);
                     let (pdf, seen) = area_to_solid_angle(
@@ -269,7 +262,14 @@ impl<'a> Wavefront<'a> {
                 None => per_lane(|k| {
                     let p = path(k);
                     let (hit_point, hit_normal) = (point.lane(k), geometric.lane(k));
-                    scene.area_lights.pdf(p.last_point, Some(p.last_normal), p.object, p.prim, hit_point, hit_normal)
+                    scene.area_lights.pdf(
+                        p.last_point,
+                        Some(p.last_normal),
+                        p.hit.object,
+                        p.hit.prim,
+                        hit_point,
+                        hit_normal,
+                    )
                 }),
             };
             let weight =
@@ -403,15 +403,16 @@ impl<'a> Wavefront<'a> {
     fn flat_surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, materials: &[LaneMaterial]) -> Surfaces {
         let geometry = &self.scene.geometry;
         let corners: [[Vec3; 3]; LANES] = std::array::from_fn(|k| {
-            geometry.triangle(path(k).object, path(k).prim).expect("flat surfaces are triangles")
+            geometry.triangle(path(k).hit.object, path(k).hit.prim).expect("flat surfaces are triangles")
         });
         let [a, b, c] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| corners[k][j]));
-        let (b1, b2) = (per_lane(|k| path(k).at.u), per_lane(|k| path(k).at.v));
+        let (b1, b2) = (per_lane(|k| path(k).hit.at.u), per_lane(|k| path(k).hit.at.v));
         let (point, error) = barycentric_point([a, b, c], b1, b2);
         let geometric = (b - a).cross(c - a).normalize_or(Vec3x8::splat(Vec3::Z));
         let shading =
             if geometry.has_vertex_normals() { self.smooth_normals(path, (b1, b2), geometric) } else { geometric };
-        let material = std::array::from_fn(|k| materials[geometry.objects[path(k).object as usize].material as usize]);
+        let material =
+            std::array::from_fn(|k| materials[geometry.objects[path(k).hit.object as usize].material as usize]);
         Surfaces { point, error, geometric, shading, material }
     }
 
@@ -425,7 +426,7 @@ impl<'a> Wavefront<'a> {
     ) -> Vec3x8 {
         let geometry = &self.scene.geometry;
         let vertex_normals: [Option<[Vec3; 3]>; LANES] =
-            std::array::from_fn(|k| geometry.triangle_normals(path(k).object, path(k).prim));
+            std::array::from_fn(|k| geometry.triangle_normals(path(k).hit.object, path(k).hit.prim));
         let smooth = mask(|k| vertex_normals[k].is_some());
         if smooth.any() {
             let [na, nb, nc] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| vertex_normals[k].map_or(Vec3::ZERO, |n| n[j])));
@@ -443,7 +444,7 @@ impl<'a> Wavefront<'a> {
         let scene = self.scene;
         let hits: [Option<crate::scene::SurfaceHit>; LANES] = std::array::from_fn(|k| {
             let p = path(k);
-            (k < n).then(|| scene.geometry.surface_hit((p.object, p.prim), &p.ray, &p.at))
+            (k < n).then(|| scene.geometry.surface_hit((p.hit.object, p.hit.prim), &p.ray, &p.hit.at))
         });
         let geometry = |k: usize| hits[k].map(|h| h.geometry);
         Surfaces {
