@@ -304,14 +304,14 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     {
         let stop = stop.clone();
         let quiet = args.quiet;
-        // First Ctrl-C: finish the current pass and write everything; a second one quits.
+        // First Ctrl-C: finish the passes under way and write everything; a second one quits.
         let _ = ctrlc::set_handler(move || {
             if stop.swap(true, Ordering::SeqCst) {
                 std::process::exit(130);
             }
             if !quiet {
                 eprintln!(
-                    "\ninterrupted: finishing the current pass, then writing the image (Ctrl-C again to quit at once)"
+                    "\ninterrupted: finishing the passes under way, then writing the image (Ctrl-C again to quit at once)"
                 );
             }
         });

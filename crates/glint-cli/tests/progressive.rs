@@ -1,5 +1,5 @@
 //! Progressive rendering loses nothing: a time limit ends the render between passes, Ctrl-C
-//! (SIGINT) finishes the current pass and writes the image, and a render resumed from a
+//! (SIGINT) finishes the passes under way and writes the image, and a render resumed from a
 //! checkpoint equals an uninterrupted one. Outputs record the sample count and seed.
 
 use std::path::{Path, PathBuf};

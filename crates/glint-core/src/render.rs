@@ -5,7 +5,9 @@
 //!
 //! A render ends when the target sample count is reached, when its time limit is spent, or
 //! when the caller raises the stop flag (Ctrl-C); it always ends between passes, so what has
-//! been rendered is complete and kept.
+//! been rendered is complete and kept. Passes run in groups of about `GROUP_TIME` (each tile's
+//! passes of a group in one parallel job, so that the threads wait for each other once per
+//! group), and the stop flag and time limit are checked between groups.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -21,6 +23,11 @@ use crate::scene::Scene;
 use crate::Rgb;
 
 const TILE_SIZE: u32 = 16;
+
+/// About how long a group of passes takes (the stop flag and the time limit are checked and
+/// checkpoints may be saved between groups), and how many passes a group has at most.
+const GROUP_TIME: f64 = 0.2;
+const MAX_GROUP: u32 = 16;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RenderSettings {
@@ -71,6 +78,23 @@ pub trait PassRenderer {
     /// Renders pass `pass.index`; calls `on_tile` once per image tile's worth of work.
     fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts;
 
+    /// Renders consecutive passes, to the film `render_pass` would leave after each in turn.
+    /// Camera passes run each tile's passes in one parallel job, so that the threads wait for
+    /// each other once per group rather than once per pass.
+    fn render_passes(
+        &mut self,
+        scene: &Scene,
+        passes: &[Pass],
+        film: &mut Film,
+        on_tile: &(dyn Fn() + Sync),
+    ) -> RayCounts {
+        let mut rays = RayCounts::default();
+        for pass in passes {
+            rays.add(&self.render_pass(scene, pass, film, on_tile));
+        }
+        rays
+    }
+
     /// The render's state beyond the film, for checkpoints (SPPM's per-pixel radii, photon
     /// counts and fluxes); empty when the film holds everything.
     fn state(&self) -> Vec<u8> {
@@ -92,7 +116,17 @@ pub struct CameraPasses<'a>(pub &'a dyn Integrator);
 
 impl PassRenderer for CameraPasses<'_> {
     fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
-        camera_pass(scene, self.0, pass, film, on_tile)
+        camera_passes(scene, self.0, std::slice::from_ref(pass), film, on_tile)
+    }
+
+    fn render_passes(
+        &mut self,
+        scene: &Scene,
+        passes: &[Pass],
+        film: &mut Film,
+        on_tile: &(dyn Fn() + Sync),
+    ) -> RayCounts {
+        camera_passes(scene, self.0, passes, film, on_tile)
     }
 }
 
@@ -101,7 +135,17 @@ pub struct OwnedCameraPasses(pub Box<dyn Integrator>);
 
 impl PassRenderer for OwnedCameraPasses {
     fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
-        camera_pass(scene, self.0.as_ref(), pass, film, on_tile)
+        camera_passes(scene, self.0.as_ref(), std::slice::from_ref(pass), film, on_tile)
+    }
+
+    fn render_passes(
+        &mut self,
+        scene: &Scene,
+        passes: &[Pass],
+        film: &mut Film,
+        on_tile: &(dyn Fn() + Sync),
+    ) -> RayCounts {
+        camera_passes(scene, self.0.as_ref(), passes, film, on_tile)
     }
 }
 
@@ -128,8 +172,8 @@ pub fn render_with(
 
 /// Renders in passes of one sample per pixel (all samples in one pass at 1 spp, the pixel
 /// centre). `resume` is a film and its sample count from a checkpoint; `stop` is checked
-/// between passes; `on_pass(film, spp_done, renderer)` is called after every pass (to save
-/// checkpoints, with the renderer's own state).
+/// between groups of passes; `on_pass(film, spp_done, renderer)` is called after every group
+/// (to save checkpoints, with the renderer's own state).
 pub fn render_progressive(
     scene: &Scene,
     renderer: &mut dyn PassRenderer,
@@ -146,6 +190,8 @@ pub fn render_progressive(
     let mut rays = RayCounts::default();
     let mut samples = 0u64;
     let mut stopped_early = None;
+    // Passes per group: one at first, then as many as take about GROUP_TIME.
+    let mut group = 1;
     while spp_done < settings.spp {
         if stop.load(Ordering::Relaxed) {
             stopped_early = Some(StopReason::Interrupted);
@@ -156,19 +202,33 @@ pub fn render_progressive(
             break;
         }
         let centre = settings.spp == 1 && progressive.time_limit.is_none();
-        let pass = Pass {
-            seed: settings.seed,
-            index: spp_done,
-            centre,
-            filter: settings.filter,
-            sampler: settings.sampler,
-            // Stratification needs the count up front; a time limit leaves it open.
-            samples: if progressive.time_limit.is_some() { u32::MAX } else { settings.spp },
-        };
-        rays.add(&renderer.render_pass(scene, &pass, &mut film, on_tile));
-        spp_done += 1;
-        samples += width as u64 * height as u64;
+        let passes: Vec<Pass> = (spp_done..settings.spp)
+            .take(group as usize)
+            .map(|index| Pass {
+                seed: settings.seed,
+                index,
+                centre,
+                filter: settings.filter,
+                sampler: settings.sampler,
+                // Stratification needs the count up front; a time limit leaves it open.
+                samples: if progressive.time_limit.is_some() { u32::MAX } else { settings.spp },
+            })
+            .collect();
+        let group_start = Instant::now();
+        rays.add(&renderer.render_passes(scene, &passes, &mut film, on_tile));
+        let count = passes.len() as u32;
+        spp_done += count;
+        samples += count as u64 * width as u64 * height as u64;
         on_pass(&film, spp_done, &*renderer);
+        let per_pass = group_start.elapsed().as_secs_f64() / count as f64;
+        let mut next = (GROUP_TIME / per_pass.max(1e-9)).clamp(1.0, MAX_GROUP as f64) as u32;
+        if let Some(limit) = progressive.time_limit {
+            // No group that would run past the time limit, so that it overshoots by one pass
+            // at most, as passes one at a time would.
+            let left = limit.saturating_sub(start.elapsed()).as_secs_f64();
+            next = next.min((left / per_pass.max(1e-9)) as u32).max(1);
+        }
+        group = next;
     }
     RenderOutput { film, rays, samples, spp_done, elapsed: start.elapsed(), stopped_early }
 }
@@ -209,19 +269,21 @@ pub fn par_tiles(width: u32, height: u32) -> impl IndexedParallelIterator<Item =
 /// pixel order, and the rays they traced.
 type TileResult = (Vec<(f32, f32)>, Vec<Rgb>, RayCounts);
 
-/// One sample per pixel, sample index `pass.index`, added to the film: into its own pixel for
-/// the box filter, by each tile as it finishes (tiles are disjoint, so the order of additions
-/// does not matter); splatted to every pixel within the filter's radius otherwise, serially
-/// after the parallel tiles, so that the image does not depend on the thread count.
-fn camera_pass(
+/// Consecutive passes of one sample per pixel (sample index `pass.index`), added to the film
+/// as one pass after another would: for the box filter, each into its own pixel by each tile as
+/// it finishes it (tiles are disjoint, and a tile adds its passes in order, so the order of
+/// additions to a pixel is the passes' order); for other filters, splatted to every pixel
+/// within the filter's radius serially after the parallel tiles, a pass at a time, so that the
+/// image does not depend on the thread count.
+fn camera_passes(
     scene: &Scene,
     integrator: &dyn Integrator,
-    pass: &Pass,
+    passes: &[Pass],
     film: &mut Film,
     on_tile: &(dyn Fn() + Sync),
 ) -> RayCounts {
     let (width, height) = (scene.camera.width, scene.camera.height);
-    let render_tile = |(x0, y0, x1, y1)| -> TileResult {
+    let render_tile = |pass: &Pass, (x0, y0, x1, y1)| -> TileResult {
         let (positions, rays, mut contexts) = camera_samples(scene, pass, (x0, y0, x1, y1));
         let mut radiance = vec![Rgb::ZERO; rays.len()];
         integrator.radiance_tile(scene, &rays, &mut contexts, &mut radiance);
@@ -237,19 +299,23 @@ fn camera_pass(
         (positions, radiance, counts)
     };
     let mut rays = RayCounts::default();
-    if pass.filter == Filter::Box {
+    if passes.iter().all(|pass| pass.filter == Filter::Box) {
         // Added in the tiles: serially after them, the additions took 2 % of a two-thread
         // render of the Cornell box.
         let bands: Vec<_> = film.bands_mut(TILE_SIZE).into_iter().map(std::sync::Mutex::new).collect();
         let counts: Vec<RayCounts> = par_tiles(width, height)
             .map(|(x0, y0, x1, y1)| {
-                let (_, radiance, counts) = render_tile((x0, y0, x1, y1));
-                let mut band = bands[(y0 / TILE_SIZE) as usize].lock().expect("no tile panicked");
-                for (i, &r) in radiance.iter().enumerate() {
-                    band.add_samples(x0 + i as u32 % (x1 - x0), y0 + i as u32 / (x1 - x0), r, 1.0);
+                let mut counts = RayCounts::default();
+                for pass in passes {
+                    let (_, radiance, pass_counts) = render_tile(pass, (x0, y0, x1, y1));
+                    let mut band = bands[(y0 / TILE_SIZE) as usize].lock().expect("no tile panicked");
+                    for (i, &r) in radiance.iter().enumerate() {
+                        band.add_samples(x0 + i as u32 % (x1 - x0), y0 + i as u32 / (x1 - x0), r, 1.0);
+                    }
+                    drop(band);
+                    on_tile();
+                    counts.add(&pass_counts);
                 }
-                drop(band);
-                on_tile();
                 counts
             })
             .collect();
@@ -258,18 +324,22 @@ fn camera_pass(
         }
         return rays;
     }
-    let tiles: Vec<TileResult> = par_tiles(width, height)
-        .map(|tile| {
-            let result = render_tile(tile);
-            on_tile();
-            result
-        })
-        .collect();
-    for (positions, radiance, tile_rays) in tiles {
-        for (&(fx, fy), r) in positions.iter().zip(radiance) {
-            splat(film, pass.filter, fx, fy, r);
+    // Splatted a pass at a time: a group's samples held at once would take memory in
+    // proportion to the group's size.
+    for pass in passes {
+        let tiles: Vec<TileResult> = par_tiles(width, height)
+            .map(|tile| {
+                let result = render_tile(pass, tile);
+                on_tile();
+                result
+            })
+            .collect();
+        for (positions, radiance, tile_rays) in tiles {
+            for (&(fx, fy), r) in positions.iter().zip(radiance) {
+                splat(film, pass.filter, fx, fy, r);
+            }
+            rays.add(&tile_rays);
         }
-        rays.add(&tile_rays);
     }
     rays
 }
