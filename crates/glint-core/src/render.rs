@@ -13,6 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
+use wide::f32x8;
 
 use crate::film::Film;
 use crate::filter::Filter;
@@ -399,11 +400,19 @@ fn camera_samples(
     }
     let positions: Vec<(f32, f32)> =
         pixels.iter().zip(&jitter).map(|(&(x, y), &(dx, dy))| (x as f32 + dx, y as f32 + dy)).collect();
-    let rays = positions
-        .iter()
-        .zip(contexts.iter_mut())
-        .map(|(&(fx, fy), context)| scene.camera.sample_ray(fx, fy, || context.sampler.next_f32()))
-        .collect();
+    // A pinhole's rays eight at a time (they draw no numbers); the rest one by one.
+    let mut rays = Vec::with_capacity(positions.len());
+    let mut eights = positions.chunks_exact(GROUP);
+    for eight in &mut eights {
+        let (x, y) = (std::array::from_fn(|k| eight[k].0), std::array::from_fn(|k| eight[k].1));
+        match scene.camera.pinhole_rays8(f32x8::from(x), f32x8::from(y)) {
+            Some(eight_rays) => rays.extend(eight_rays),
+            None => break,
+        }
+    }
+    for (&(fx, fy), context) in positions.iter().zip(contexts.iter_mut()).skip(rays.len()) {
+        rays.push(scene.camera.sample_ray(fx, fy, || context.sampler.next_f32()));
+    }
     (positions, rays, contexts)
 }
 
@@ -415,19 +424,26 @@ mod tests {
     use crate::shapes::IntersectMethods;
     use crate::Vec3;
 
-    /// A tile's camera samples, drawn eight samplers at a time, are what each pixel's sample
-    /// draws alone: film position, ray (through a thin lens, which draws two more numbers) and
-    /// the sampler's state after, for every sampler kind and a tile whose pixel count leaves a
-    /// remainder of the eights.
+    /// A tile's camera samples, drawn eight samplers at a time (and a pinhole's rays made
+    /// eight at a time), are what each pixel's sample draws alone: film position, ray
+    /// (through a thin lens, which draws two more numbers, or a pinhole) and the sampler's
+    /// state after, for every sampler kind and a tile whose pixel count leaves a remainder of
+    /// the eights.
     #[test]
     fn grouped_camera_samples_equal_one_at_a_time() {
-        let camera = Camera::new(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, Vec3::Y, 45.0, 21, 13)
-            .unwrap()
-            .with_lens(Lens::Thin { radius: 0.2, focus_distance: 5.0 });
+        let pinhole = Camera::new(Vec3::new(0.3, -0.2, -5.0), Vec3::new(0.1, 0.2, 0.0), Vec3::Y, 45.0, 21, 13).unwrap();
+        let thin = pinhole.clone().with_lens(Lens::Thin { radius: 0.2, focus_distance: 5.0 });
         let environment = Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None };
-        let scene = Scene::new(camera, Vec::new(), Vec::new(), Vec::new(), environment, IntersectMethods::default());
         let tile = (16, 8, 21, 13); // 5 × 5 pixels: three eights and a remainder of one
-        for sampler in SamplerKind::ALL {
+        for (sampler, camera) in SamplerKind::ALL.into_iter().flat_map(|s| [(s, thin.clone()), (s, pinhole.clone())]) {
+            let scene = Scene::new(
+                camera,
+                Vec::new(),
+                Vec::new(),
+                Vec::new(),
+                environment.clone(),
+                IntersectMethods::default(),
+            );
             for (index, centre) in [(0, false), (5, false), (0, true)] {
                 let pass = Pass { seed: 3, index, centre, filter: Filter::Box, sampler, samples: 16 };
                 let (positions, rays, mut contexts) = camera_samples(&scene, &pass, tile);

@@ -6,6 +6,7 @@
 //! the direction's length, which is what lets transformed rays keep the same `t`.
 
 mod aabb;
+pub(crate) mod lanes;
 mod ray;
 mod robust;
 mod transform;
