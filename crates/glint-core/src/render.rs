@@ -369,19 +369,28 @@ fn camera_samples(
     pass: &Pass,
     (x0, y0, x1, y1): (u32, u32, u32, u32),
 ) -> (Vec<(f32, f32)>, Vec<Ray>, Vec<SampleContext>) {
-    let pixels: Vec<(u32, u32)> = (y0..y1).flat_map(|y| (x0..x1).map(move |x| (x, y))).collect();
-    let mut contexts: Vec<SampleContext> = pixels
-        .iter()
-        .map(|&(x, y)| {
-            let pixel_index = y as u64 * scene.camera.width as u64 + x as u64;
-            SampleContext::with_sampler(Sampler::new(pass.sampler, pass.seed, pixel_index, pass.index, pass.samples))
-        })
-        .collect();
+    const GROUP: usize = Sampler::LANES;
+    let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+    for y in y0..y1 {
+        pixels.extend((x0..x1).map(|x| (x, y)));
+    }
+    let pixel_index = |(x, y): (u32, u32)| y as u64 * scene.camera.width as u64 + x as u64;
+    // Eight samplers made together (Sobol's index shuffles in SIMD lanes), the rest one by one.
+    let mut contexts = Vec::with_capacity(pixels.len());
+    let mut eights = pixels.chunks_exact(GROUP);
+    for eight in &mut eights {
+        let pixels = std::array::from_fn(|k| pixel_index(eight[k]));
+        let samplers = Sampler::new_eight(pass.sampler, pass.seed, pixels, pass.index, pass.samples);
+        contexts.extend(samplers.map(SampleContext::with_sampler));
+    }
+    for &pixel in eights.remainder() {
+        let sampler = Sampler::new(pass.sampler, pass.seed, pixel_index(pixel), pass.index, pass.samples);
+        contexts.push(SampleContext::with_sampler(sampler));
+    }
     // Through the pixel centre for a single-sample render; otherwise jittered over the pixel
     // (the box filter: every sample in the pixel's square weighs the same). Eight samplers
     // draw their jitter together (Sobol's sets for eight samples in SIMD lanes), the same
     // numbers each would draw alone.
-    const GROUP: usize = Sampler::LANES;
     let mut jitter = vec![(0.5, 0.5); pixels.len()];
     if !pass.centre {
         let mut groups = contexts.chunks_exact_mut(GROUP);

@@ -70,17 +70,42 @@ impl Sampler {
     /// Sample `index` of pixel `pixel` (of `count` in all; `u32::MAX` if unknown).
     pub fn new(kind: SamplerKind, seed: u64, pixel: u64, index: u32, count: u32) -> Self {
         let kind = if kind == SamplerKind::Stratified && count == u32::MAX { SamplerKind::Independent } else { kind };
-        let pixel_seed = mix(seed ^ mix(pixel ^ 0x5A4D_504C_4552));
-        let shuffled = if kind == SamplerKind::Sobol {
-            sobol::shuffled_index(index & 0xFFFF, sobol_seed(pixel_seed, index, 0))
-        } else {
-            0
-        };
+        let pixel_seed = pixel_seed(seed, pixel);
+        if kind == SamplerKind::Sobol {
+            let shuffled = sobol::shuffled_index(index & 0xFFFF, sobol_seed(pixel_seed, index, 0));
+            return Self::sobol(pixel_seed, shuffled, index, count);
+        }
         Self {
             kind,
-            // Sobol draws nothing from it, and seeding it cost 0.7 % of the Cornell box's
+            rng: Rng::for_sample(seed, pixel, index as u64),
+            pixel_seed,
+            index,
+            count: count.max(1),
+            dimension: 0,
+            sobol: [0.0; 4],
+            shuffled: 0,
+        }
+    }
+
+    /// `new` for the same sample index of eight pixels: what eight calls give, with Sobol's
+    /// index shuffles computed together in lanes.
+    pub fn new_eight(kind: SamplerKind, seed: u64, pixels: [u64; Self::LANES], index: u32, count: u32) -> [Self; 8] {
+        if kind != SamplerKind::Sobol {
+            return pixels.map(|pixel| Self::new(kind, seed, pixel, index, count));
+        }
+        let pixel_seeds = pixels.map(|pixel| pixel_seed(seed, pixel));
+        let shuffled = sobol::shuffled_index_lanes(index & 0xFFFF, pixel_seeds.map(|p| sobol_seed(p, index, 0)));
+        std::array::from_fn(|k| Self::sobol(pixel_seeds[k], shuffled[k], index, count))
+    }
+
+    /// A Sobol sampler for sample `index` of the pixel with `pixel_seed`, its index shuffled to
+    /// `shuffled` (under the seed of its first 256 dimensions).
+    fn sobol(pixel_seed: u64, shuffled: u32, index: u32, count: u32) -> Self {
+        Self {
+            kind: SamplerKind::Sobol,
+            // It draws nothing from it, and seeding it cost 0.7 % of the Cornell box's
             // instructions.
-            rng: if kind == SamplerKind::Sobol { Rng::UNSEEDED } else { Rng::for_sample(seed, pixel, index as u64) },
+            rng: Rng::UNSEEDED,
             pixel_seed,
             index,
             count: count.max(1),
@@ -191,6 +216,11 @@ impl Sampler {
 }
 
 const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// The seed of every sample of a pixel, from the render's seed.
+fn pixel_seed(seed: u64, pixel: u64) -> u64 {
+    mix(seed ^ mix(pixel ^ 0x5A4D_504C_4552))
+}
 
 /// The Sobol scramble seed of dimension `d` of sample `index`: the pixel's own for the first
 /// 256 dimensions of its first 2¹⁶ samples (the crate's limits), a new one past them.

@@ -45,6 +45,14 @@ pub fn shuffled_index(index: u32, seed: u32) -> u32 {
     owen_scramble_rev(index.reverse_bits(), hash(seed ^ 0x79c68e4a))
 }
 
+/// `shuffled_index` of one sample index under eight seeds at once (eight pixels' samples of
+/// one pass), the crate's hash and scramble in lanes.
+pub fn shuffled_index_lanes(index: u32, seed: [u32; 8]) -> [u32; 8] {
+    debug_assert!(index < 1 << 16);
+    let scramble = hash8(u32x8::from(seed) ^ u32x8::splat(0x79c68e4a));
+    owen_scramble_rev8(u32x8::splat(index.reverse_bits()), scramble).to_array()
+}
+
 /// Dimensions `4 set .. 4 set + 4` of the sample whose shuffled index is `shuffled` (from
 /// `shuffled_index` with the same `seed`), each in [0, 1): `sobol_burley::sample_4d(index,
 /// set, seed)`.
@@ -182,6 +190,16 @@ mod tests {
             }
         }
         assert!(checked > 100_000);
+    }
+
+    /// Eight shuffled indices at once equal eight calls.
+    #[test]
+    fn eight_shuffled_indices_equal_one_at_a_time() {
+        for round in 0..500u32 {
+            let seed: [u32; 8] = std::array::from_fn(|k| (round * 8 + k as u32).wrapping_mul(0x9E37_79B9) ^ 0x5eed);
+            let index = round.wrapping_mul(2_654_435_761) >> 16;
+            assert_eq!(shuffled_index_lanes(index, seed), seed.map(|s| shuffled_index(index, s)), "round {round}");
+        }
     }
 
     /// Eight samples at once equal eight calls, bit for bit.
