@@ -49,6 +49,9 @@ const DRAWS: usize = 7;
 
 /// Lights up to this many are chosen in the lanes by counting, more by binary search.
 const SHORT_CDF: usize = 32;
+/// Triangle emitters up to this many (with the black one) are blended into the lanes that
+/// chose them, more gathered lane by lane.
+const BLENDED_EMITTERS: usize = 8;
 
 /// A material as the lanes read it.
 #[derive(Clone, Copy, Debug)]
@@ -99,6 +102,9 @@ pub(super) struct Wavefront<'a> {
     /// The area lights as triangles, then a black one for lanes without a light, when all are
     /// triangles sampled by area: then the lanes sample them themselves.
     emitters: Option<&'a [TriangleEmitter]>,
+    /// The lights' CDF, when the lanes choose among them by counting: at most `SHORT_CDF`
+    /// entries, sorted.
+    counted_cdf: Option<&'a [f32]>,
     max_depth: u32,
     rr_depth: u32,
 }
@@ -170,7 +176,9 @@ impl<'a> Wavefront<'a> {
         };
         let lights = &scene.area_lights;
         let emitters = lights.triangle_table().filter(|_| lights.triangle_sampling == TriangleSampling::Area);
-        Some(Self { scene, flat, emitters, max_depth: tracer.max_depth, rr_depth: tracer.rr_depth })
+        let cdf = lights.selection_cdf();
+        let counted_cdf = (!lights.is_empty() && cdf.len() <= SHORT_CDF && cdf.is_sorted()).then_some(cdf);
+        Some(Self { scene, flat, emitters, counted_cdf, max_depth: tracer.max_depth, rr_depth: tracer.rr_depth })
     }
 
     /// The radiance along each camera ray, `out[i]` for `rays[i]` drawing from `contexts[i]`.
@@ -472,10 +480,9 @@ impl<'a> Wavefront<'a> {
         let zero = f32x8::ZERO;
         let none = emitters.len() - 1;
         let lights = &self.scene.area_lights;
-        let cdf = lights.selection_cdf();
-        let chosen: [usize; LANES] = if lights.is_empty() {
-            [none; LANES]
-        } else if cdf.len() <= SHORT_CDF && cdf.is_sorted() {
+        let on = bytemuck::cast::<f32x8, i32x8>(mask(|k| goes_on[k]));
+        // Each lane's emitter (`none` where the path ends).
+        let chosen: i32x8 = if let Some(cdf) = self.counted_cdf {
             // `choose_index` is a binary search of the CDF, here the count of its entries at
             // or below the number (the same index), counted in all lanes at once.
             let u = draws[LIGHT];
@@ -483,39 +490,37 @@ impl<'a> Wavefront<'a> {
             for &c in cdf {
                 count -= bytemuck::cast::<f32x8, i32x8>(f32x8::splat(c).cmp_le(u));
             }
-            let count = count.to_array();
-            std::array::from_fn(|k| if goes_on[k] { (count[k] as usize).min(cdf.len() - 1) } else { none })
+            on.blend(count.min(i32x8::splat(cdf.len() as i32 - 1)), i32x8::splat(none as i32))
+        } else if lights.is_empty() {
+            i32x8::splat(none as i32)
         } else {
-            std::array::from_fn(|k| match goes_on[k] {
-                true => lights.choose_index(draws[LIGHT].as_array_ref()[k]).unwrap_or(none),
-                false => none,
-            })
+            i32x8::from(std::array::from_fn::<i32, LANES, _>(|k| match goes_on[k] {
+                true => lights.choose_index(draws[LIGHT].as_array_ref()[k]).unwrap_or(none) as i32,
+                false => none as i32,
+            }))
         };
-        if chosen.iter().all(|&i| i == none) {
+        let unchosen = bytemuck::cast::<i32x8, f32x8>(chosen.cmp_eq(i32x8::splat(none as i32)));
+        if unchosen.all() {
             return None;
         }
-        let light = chosen.map(|i| &emitters[i]);
-        let [la, lb, lc] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| light[k].corners[j]));
-        let normal = Vec3x8::from_fn(|k| light[k].normal);
-        let area = per_lane(|k| light[k].area);
-        let two_sided = mask(|k| light[k].two_sided);
+        let EmitterLanes { corners: [la, lb, lc], normal, radiance, area, selection, two_sided } =
+            EmitterLanes::chosen(emitters, chosen);
         // A one-sided light with every corner behind its plane sends nothing here.
         let behind = |corner: Vec3x8| normal.dot(corner - from).cmp_gt(zero);
         let hidden = !two_sided & behind(la) & behind(lb) & behind(lc);
         let s = draws[LIGHT_POINT].sqrt();
         let (point, error) = barycentric_point([la, lb, lc], f32x8::ONE - s, draws[LIGHT_POINT + 1] * s);
         let to_light = point - from;
-        let (pdf, seen) = area_to_solid_angle(per_lane(|k| light[k].selection), area, to_light, normal);
+        let (pdf, seen) = area_to_solid_angle(selection, area, to_light, normal);
         let cos_light = negate(normal.dot(to_light));
-        let sampled = mask(|k| chosen[k] != none)
+        let sampled = !unchosen
             & !hidden
             & !area.cmp_le(zero)
             & seen
             & pdf.cmp_gt(zero)
             & pdf.is_finite()
             & !cos_light.cmp_eq(zero);
-        let radiance =
-            Vec3x8::select(two_sided | cos_light.cmp_gt(zero), Vec3x8::from_fn(|k| light[k].radiance), Vec3x8::ZERO);
+        let radiance = Vec3x8::select(two_sided | cos_light.cmp_gt(zero), radiance, Vec3x8::ZERO);
         Some(LightPoints { sampled, point, normal, error, radiance, pdf })
     }
 
@@ -546,6 +551,62 @@ impl<'a> Wavefront<'a> {
             radiance: Vec3x8::from_fn(|k| samples[k].map_or(Rgb::ZERO, |s| s.radiance)),
             pdf: per_lane(|k| samples[k].map_or(0.0, |s| s.pdf)),
         })
+    }
+}
+
+/// The triangle emitters the lanes chose, field by field.
+struct EmitterLanes {
+    corners: [Vec3x8; 3],
+    normal: Vec3x8,
+    radiance: Vec3x8,
+    area: f32x8,
+    selection: f32x8,
+    /// A lane mask.
+    two_sided: f32x8,
+}
+
+impl EmitterLanes {
+    /// The emitters `chosen` (indices into `emitters`). A few emitters are each blended into
+    /// the lanes that chose them, where a gather loads every field lane by lane.
+    #[inline(always)]
+    fn chosen(emitters: &[TriangleEmitter], chosen: i32x8) -> Self {
+        if emitters.len() <= BLENDED_EMITTERS {
+            let of = |e: &TriangleEmitter| Self {
+                corners: e.corners.map(Vec3x8::splat),
+                normal: Vec3x8::splat(e.normal),
+                radiance: Vec3x8::splat(e.radiance),
+                area: f32x8::splat(e.area),
+                selection: f32x8::splat(e.selection),
+                two_sided: mask(|_| e.two_sided),
+            };
+            let (last, rest) = emitters.split_last().expect("the table ends with the black emitter");
+            let mut lanes = of(last);
+            for (j, e) in rest.iter().enumerate() {
+                let here = bytemuck::cast::<i32x8, f32x8>(chosen.cmp_eq(i32x8::splat(j as i32)));
+                if here.any() {
+                    let e = of(e);
+                    lanes = Self {
+                        corners: std::array::from_fn(|c| Vec3x8::select(here, e.corners[c], lanes.corners[c])),
+                        normal: Vec3x8::select(here, e.normal, lanes.normal),
+                        radiance: Vec3x8::select(here, e.radiance, lanes.radiance),
+                        area: here.blend(e.area, lanes.area),
+                        selection: here.blend(e.selection, lanes.selection),
+                        two_sided: here.blend(e.two_sided, lanes.two_sided),
+                    };
+                }
+            }
+            return lanes;
+        }
+        let chosen = chosen.to_array();
+        let light: [&TriangleEmitter; LANES] = std::array::from_fn(|k| &emitters[chosen[k] as usize]);
+        Self {
+            corners: [0, 1, 2].map(|j| Vec3x8::from_fn(|k| light[k].corners[j])),
+            normal: Vec3x8::from_fn(|k| light[k].normal),
+            radiance: Vec3x8::from_fn(|k| light[k].radiance),
+            area: per_lane(|k| light[k].area),
+            selection: per_lane(|k| light[k].selection),
+            two_sided: mask(|k| light[k].two_sided),
+        }
     }
 }
 
