@@ -59,7 +59,9 @@ pub struct Sampler {
     dimension: u32,
     /// Sobol: the four dimensions of the current set, computed together (SIMD), each below 1.
     sobol: [f32; 4],
-    /// Sobol: this sample's shuffled index under the scramble seed of its first 256 dimensions.
+    /// Sobol: the scramble seed of this sample's first 256 dimensions, and its index shuffled
+    /// under that seed.
+    seed: u32,
     shuffled: u32,
 }
 
@@ -72,8 +74,8 @@ impl Sampler {
         let kind = if kind == SamplerKind::Stratified && count == u32::MAX { SamplerKind::Independent } else { kind };
         let pixel_seed = pixel_seed(seed, pixel);
         if kind == SamplerKind::Sobol {
-            let shuffled = sobol::shuffled_index(index & 0xFFFF, sobol_seed(pixel_seed, index, 0));
-            return Self::sobol(pixel_seed, shuffled, index, count);
+            let seed = sobol_seed(pixel_seed, index, 0);
+            return Self::sobol(pixel_seed, seed, sobol::shuffled_index(index & 0xFFFF, seed), index, count);
         }
         Self {
             kind,
@@ -83,6 +85,7 @@ impl Sampler {
             count: count.max(1),
             dimension: 0,
             sobol: [0.0; 4],
+            seed: 0,
             shuffled: 0,
         }
     }
@@ -94,13 +97,14 @@ impl Sampler {
             return pixels.map(|pixel| Self::new(kind, seed, pixel, index, count));
         }
         let pixel_seeds = pixels.map(|pixel| pixel_seed(seed, pixel));
-        let shuffled = sobol::shuffled_index_lanes(index & 0xFFFF, pixel_seeds.map(|p| sobol_seed(p, index, 0)));
-        std::array::from_fn(|k| Self::sobol(pixel_seeds[k], shuffled[k], index, count))
+        let seeds = pixel_seeds.map(|p| sobol_seed(p, index, 0));
+        let shuffled = sobol::shuffled_index_lanes(index & 0xFFFF, seeds);
+        std::array::from_fn(|k| Self::sobol(pixel_seeds[k], seeds[k], shuffled[k], index, count))
     }
 
-    /// A Sobol sampler for sample `index` of the pixel with `pixel_seed`, its index shuffled to
-    /// `shuffled` (under the seed of its first 256 dimensions).
-    fn sobol(pixel_seed: u64, shuffled: u32, index: u32, count: u32) -> Self {
+    /// A Sobol sampler for sample `index` of the pixel with `pixel_seed`, the scramble seed of
+    /// its first 256 dimensions `seed`, its index shuffled under it to `shuffled`.
+    fn sobol(pixel_seed: u64, seed: u32, shuffled: u32, index: u32, count: u32) -> Self {
         Self {
             kind: SamplerKind::Sobol,
             // It draws nothing from it, and seeding it cost 0.7 % of the Cornell box's
@@ -111,6 +115,7 @@ impl Sampler {
             count: count.max(1),
             dimension: 0,
             sobol: [0.0; 4],
+            seed,
             shuffled,
         }
     }
@@ -125,6 +130,7 @@ impl Sampler {
             count: 1,
             dimension: 0,
             sobol: [0.0; 4],
+            seed: 0,
             shuffled: 0,
         }
     }
@@ -154,9 +160,13 @@ impl Sampler {
                 ((stratum as f32 + self.rng.next_f32()) / self.count as f32).min(ONE_BELOW)
             }
             SamplerKind::Sobol => {
-                let seed = sobol_seed(self.pixel_seed, self.index, d);
-                // `new` shuffled under the seed of the first 256 dimensions; later ones anew.
-                let shuffled = if d < 256 { self.shuffled } else { sobol::shuffled_index(self.index & 0xFFFF, seed) };
+                // `new` seeded and shuffled the first 256 dimensions; later ones anew.
+                let (seed, shuffled) = if d < 256 {
+                    (self.seed, self.shuffled)
+                } else {
+                    let seed = sobol_seed(self.pixel_seed, self.index, d);
+                    (seed, sobol::shuffled_index(self.index & 0xFFFF, seed))
+                };
                 self.sobol = sobol::sample_4d(shuffled, (d % 256) / 4, seed).map(|x| x.min(ONE_BELOW));
                 self.sobol[(d % 4) as usize]
             }
@@ -184,7 +194,7 @@ impl Sampler {
         }
         // Below 256 dimensions the scramble seed does not depend on the dimension.
         let shuffled = samplers.each_ref().map(|s| s.shuffled);
-        let seed = samplers.each_ref().map(|s| sobol_seed(s.pixel_seed, s.index, first));
+        let seed = samplers.each_ref().map(|s| s.seed);
         // The set the first dimension falls in: computed already, unless it begins a new one.
         let mut set: [f32x8; 4] = match first % 4 {
             0 => [f32x8::ZERO; 4],
