@@ -7,6 +7,7 @@ use crate::accel::{
     Bvh, Bvh8, BvhStats, NoCounter, TraversalCounter, TraversalCounts, Triangle8, WatertightRay8, EMPTY, GENERIC, LANES,
 };
 use crate::camera::Camera;
+use crate::geometry::lanes::Vec3x8;
 use crate::geometry::{offset_ray_origin, transform_point_with_error, Aabb, Ray, Transform};
 use crate::lights::{AreaLights, Light};
 use crate::materials::Material;
@@ -396,8 +397,35 @@ impl Geometry {
     /// from its leaf block, see `slot_of`).
     #[inline]
     pub fn triangle(&self, object: u32, prim: u32) -> Option<[Vec3; 3]> {
-        let slot = self.slot_of[(self.object_first[object as usize] + prim) as usize] as usize;
-        (slot != u32::MAX as usize).then(|| self.blocks[slot / LANES].triangle(slot % LANES))
+        let slot = self.slot(object, prim)?;
+        Some([0, 1, 2].map(|corner| self.slot_corner(slot, corner)))
+    }
+
+    /// Where primitive `prim` of `object` lies in the leaf blocks, if it is a triangle in world
+    /// space (block `slot / LANES`, lane `slot % LANES`).
+    #[inline(always)]
+    fn slot(&self, object: u32, prim: u32) -> Option<usize> {
+        let slot = self.slot_of[(self.object_first[object as usize] + prim) as usize];
+        (slot != u32::MAX).then_some(slot as usize)
+    }
+
+    /// Corner `corner` of the triangle at `slot`.
+    #[inline(always)]
+    fn slot_corner(&self, slot: usize, corner: usize) -> Vec3 {
+        self.blocks[slot / LANES].vertex(slot % LANES, corner)
+    }
+
+    /// The corners of eight triangles in world space, primitive `prims[k].1` of object
+    /// `prims[k].0` in lane k, read from their leaf blocks straight into the lanes; `None` if
+    /// one is not such a triangle.
+    #[inline]
+    pub(crate) fn triangles8(&self, prims: [(u32, u32); LANES]) -> Option<[Vec3x8; 3]> {
+        let slots = prims.map(|(object, prim)| self.slot(object, prim));
+        if slots.contains(&None) {
+            return None;
+        }
+        let slots = slots.map(|slot| slot.unwrap_or_default());
+        Some([0, 1, 2].map(|corner| Vec3x8::from_fn(|k| self.slot_corner(slots[k], corner))))
     }
 
     /// Whether some triangle in world space has vertex normals (else `triangle_normals` is

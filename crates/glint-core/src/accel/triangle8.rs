@@ -80,10 +80,14 @@ impl Triangle8 {
 
     /// The vertices of the triangle in `lane`.
     pub fn triangle(&self, lane: usize) -> [Vec3; 3] {
-        let v = &self.vertices;
-        [0, 1, 2].map(|k| {
-            Vec3::new(v[k][0].as_array_ref()[lane], v[k][1].as_array_ref()[lane], v[k][2].as_array_ref()[lane])
-        })
+        [0, 1, 2].map(|k| self.vertex(lane, k))
+    }
+
+    /// Vertex `k` of the triangle in `lane`.
+    #[inline(always)]
+    pub fn vertex(&self, lane: usize, k: usize) -> Vec3 {
+        let v = &self.vertices[k];
+        Vec3::new(v[0].as_array_ref()[lane], v[1].as_array_ref()[lane], v[2].as_array_ref()[lane])
     }
 }
 

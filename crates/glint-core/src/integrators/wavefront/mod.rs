@@ -410,10 +410,9 @@ impl<'a> Wavefront<'a> {
     #[inline(always)]
     fn flat_surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, materials: &[LaneMaterial]) -> Surfaces {
         let geometry = &self.scene.geometry;
-        let corners: [[Vec3; 3]; LANES] = std::array::from_fn(|k| {
-            geometry.triangle(path(k).hit.object, path(k).hit.prim).expect("flat surfaces are triangles")
-        });
-        let [a, b, c] = [0, 1, 2].map(|j| Vec3x8::from_fn(|k| corners[k][j]));
+        let [a, b, c] = geometry
+            .triangles8(std::array::from_fn(|k| (path(k).hit.object, path(k).hit.prim)))
+            .expect("flat surfaces are triangles");
         let (b1, b2) = (per_lane(|k| path(k).hit.at.u), per_lane(|k| path(k).hit.at.v));
         let (point, error) = barycentric_point([a, b, c], b1, b2);
         let geometric = (b - a).cross(c - a).normalize_or(Vec3x8::splat(Vec3::Z));
