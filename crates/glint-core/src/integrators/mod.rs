@@ -33,7 +33,12 @@ use crate::Rgb;
 
 /// Per-sample state an integrator may use: the sample's random numbers and counts of the rays
 /// it traced.
+///
+/// `repr(C)`, the sampler first: a context is built on the stack and then moved in 32-byte
+/// pieces, and with the counts first those pieces straddled the sampler's own stores, a
+/// stall (store forwarding fails) of every camera sample.
 #[derive(Clone, Debug)]
+#[repr(C)]
 pub struct SampleContext {
     pub sampler: Sampler,
     pub rays: RayCounts,
@@ -81,7 +86,8 @@ pub trait Integrator: Send + Sync {
 
     /// The radiance along many camera rays (an image tile's): `out[i]` for `rays[i]`, drawing
     /// from `contexts[i]`. The same as `radiance` for each; an integrator may run them
-    /// together (the path tracer's wavefront).
+    /// together (the path tracer's wavefront), and may then count the rays they traced in all
+    /// in the first context rather than each in its own.
     fn radiance_tile(&self, scene: &Scene, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
         radiance_each(self, scene, rays, contexts, out);
     }

@@ -28,7 +28,7 @@ use self::lanes::{
     square_to_cosine_hemisphere, Vec3x8, LANES,
 };
 use super::path::PathTracer;
-use super::SampleContext;
+use super::{RayCounts, SampleContext};
 use crate::geometry::Ray;
 use crate::lights::{TriangleEmitter, TriangleSampling};
 use crate::materials::{luminance, Material, PhongPoint};
@@ -192,16 +192,18 @@ impl<'a> Wavefront<'a> {
         }
         let mut active: Vec<u32> = (0..paths.len() as u32).collect();
         let mut hits = Vec::with_capacity(paths.len());
+        // The rays traced, counted for the tile: each path's own count was another cache line
+        // touched per query.
+        let mut counts = RayCounts::default();
         while !active.is_empty() {
             hits.clear();
+            // The paths stand at the same depth: camera rays in the first round.
+            match paths[active[0] as usize].depth {
+                0 => counts.camera += active.len() as u64,
+                _ => counts.reflection += active.len() as u64,
+            }
             for &i in &active {
                 let path = &mut paths[i as usize];
-                let counts = &mut contexts[i as usize].rays;
-                if path.depth == 0 {
-                    counts.camera += 1;
-                } else {
-                    counts.reflection += 1;
-                }
                 // The query narrows the path's own ray, as the scalar code narrows the copy it
                 // then hands to the surface. A fresh copy's fields would still be in the store
                 // buffer when the query loads them as a vector: a stall (store forwarding
@@ -215,18 +217,21 @@ impl<'a> Wavefront<'a> {
             }
             active.clear();
             for chunk in hits.chunks(LANES) {
-                self.bounce(chunk, &mut paths, contexts, &mut active);
+                counts.shadow += self.bounce(chunk, &mut paths, contexts, &mut active);
             }
         }
         for (out, path) in out.iter_mut().zip(&paths) {
             *out = path.radiance;
         }
+        if let Some(first) = contexts.first_mut() {
+            first.rays.add(&counts);
+        }
     }
 
     /// One bounce of the (up to eight) paths `chunk`, which hit something: emission found,
     /// next-event estimation, the BSDF sample and Russian roulette. The paths that go on are
-    /// added to `active`.
-    fn bounce(&self, chunk: &[u32], paths: &mut [Path], contexts: &mut [SampleContext], active: &mut Vec<u32>) {
+    /// added to `active`. Returns the number of shadow rays traced.
+    fn bounce(&self, chunk: &[u32], paths: &mut [Path], contexts: &mut [SampleContext], active: &mut Vec<u32>) -> u64 {
         let scene = self.scene;
         let n = chunk.len();
         // Lanes past the chunk's end repeat its first path; nothing of theirs is kept.
@@ -328,6 +333,7 @@ impl<'a> Wavefront<'a> {
             None => self.light_points(&goes_on, &draws, point, shading),
         };
         let mut direct = Vec3x8::ZERO;
+        let mut shadow_rays_traced = 0;
         if let Some(LightPoints {
             sampled,
             point: light_point,
@@ -359,13 +365,8 @@ impl<'a> Wavefront<'a> {
             let bsdf_pdf = (above.cmp_gt(zero) & cos.cmp_gt(zero)).blend(cos * f32x8::splat(FRAC_1_PI), zero);
             let weight = power_heuristic(pdf, bsdf_pdf);
             let contribution = Vec3x8::ZERO + f.mul_lanes(light_radiance) * (weight / pdf);
-            let unoccluded = mask(|k| {
-                if traced & (1 << k) == 0 {
-                    return false;
-                }
-                contexts[index[k]].rays.shadow += 1;
-                !scene.occluded(&shadow_rays[k])
-            });
+            shadow_rays_traced = traced.count_ones();
+            let unoccluded = mask(|k| traced & (1 << k) != 0 && !scene.occluded(&shadow_rays[k]));
             direct = Vec3x8::select(unoccluded, contribution, Vec3x8::ZERO);
         }
         radiance = Vec3x8::select(on, radiance + throughput.mul_lanes(direct), radiance);
@@ -402,6 +403,7 @@ impl<'a> Wavefront<'a> {
                 active.push(i as u32);
             }
         }
+        shadow_rays_traced as u64
     }
 
     /// The surfaces of triangles in world space with constant materials, computed in the lanes
