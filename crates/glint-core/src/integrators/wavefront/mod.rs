@@ -200,7 +200,8 @@ impl<'a> Wavefront<'a> {
         while !active.is_empty() {
             hits.clear();
             // The paths stand at the same depth: camera rays in the first round.
-            match paths[active[0] as usize].depth {
+            let depth = paths[active[0] as usize].depth;
+            match depth {
                 0 => counts.camera += active.len() as u64,
                 _ => counts.reflection += active.len() as u64,
             }
@@ -219,7 +220,7 @@ impl<'a> Wavefront<'a> {
             }
             active.clear();
             for chunk in hits.chunks(LANES) {
-                counts.shadow += self.bounce(chunk, &mut paths, contexts, &mut active);
+                counts.shadow += self.bounce(chunk, depth, &mut paths, contexts, &mut active);
             }
         }
         for (out, path) in out.iter_mut().zip(&paths) {
@@ -232,8 +233,16 @@ impl<'a> Wavefront<'a> {
 
     /// One bounce of the (up to eight) paths `chunk`, which hit something: emission found,
     /// next-event estimation, the BSDF sample and Russian roulette. The paths that go on are
-    /// added to `active`. Returns the number of shadow rays traced.
-    fn bounce(&self, chunk: &[u32], paths: &mut [Path], contexts: &mut [SampleContext], active: &mut Vec<u32>) -> u64 {
+    /// added to `active`. Returns the number of shadow rays traced. The paths have all taken
+    /// `depth` bounces (they start together and take one per round).
+    fn bounce(
+        &self,
+        chunk: &[u32],
+        depth: u32,
+        paths: &mut [Path],
+        contexts: &mut [SampleContext],
+        active: &mut Vec<u32>,
+    ) -> u64 {
         let scene = self.scene;
         let n = chunk.len();
         // Lanes past the chunk's end repeat its first path; nothing of theirs is kept.
@@ -242,7 +251,7 @@ impl<'a> Wavefront<'a> {
         // reference is found (and bounds-checked) once.
         let lane_paths: [&Path; LANES] = index.map(|i| &paths[i]);
         let path = |k: usize| lane_paths[k];
-        let depth: [u32; LANES] = std::array::from_fn(|k| path(k).depth);
+        debug_assert!((0..n).all(|k| path(k).depth == depth), "the paths of a round stand at the same depth");
         let zero = f32x8::ZERO;
 
         let wo = -Vec3x8::from_fn(|k| path(k).ray.direction).normalize();
@@ -288,21 +297,19 @@ impl<'a> Wavefront<'a> {
                 }),
             };
             let weight =
-                mask(|k| depth[k] == 0).blend(f32x8::ONE, power_heuristic(per_lane(|k| path(k).last_pdf), light_pdf));
+                if depth == 0 { f32x8::ONE } else { power_heuristic(per_lane(|k| path(k).last_pdf), light_pdf) };
             radiance = Vec3x8::select(found, radiance + throughput.mul_lanes(emitted) * weight, radiance);
         }
 
         // Paths at the maximum depth, and on black surfaces, end here.
-        let goes_on: [bool; LANES] =
-            std::array::from_fn(|k| k < n && depth[k] < self.max_depth && material[k].reflects);
+        let goes_on: [bool; LANES] = std::array::from_fn(|k| k < n && depth < self.max_depth && material[k].reflects);
         // draws[j]: draw j of each lane.
         let mut draws = [f32x8::ZERO; DRAWS];
-        let roulette_comes = |k: usize| depth[k] + 1 >= self.rr_depth;
-        let in_step = n == LANES && depth.iter().all(|&d| d == depth[0]);
-        if in_step && goes_on.iter().any(|&on| on) {
+        let roulette_comes = depth + 1 >= self.rr_depth;
+        if n == LANES && goes_on.iter().any(|&on| on) {
             // All eight at once (the numbers of paths that end are drawn too, unread).
             let samplers = contexts.get_disjoint_mut(index).expect("eight distinct paths").map(|c| &mut c.sampler);
-            if roulette_comes(0) {
+            if roulette_comes {
                 draws = Sampler::next_f32_lanes::<DRAWS>(samplers);
             } else {
                 draws[..DRAWS - 1].copy_from_slice(&Sampler::next_f32_lanes::<{ DRAWS - 1 }>(samplers));
@@ -311,7 +318,7 @@ impl<'a> Wavefront<'a> {
             let mut columns = [[0f32; LANES]; DRAWS];
             for k in (0..n).filter(|&k| goes_on[k]) {
                 let sampler = &mut contexts[index[k]].sampler;
-                let count = if roulette_comes(k) { DRAWS } else { DRAWS - 1 };
+                let count = if roulette_comes { DRAWS } else { DRAWS - 1 };
                 for column in &mut columns[..count] {
                     column[k] = sampler.next_f32();
                 }
@@ -383,7 +390,7 @@ impl<'a> Wavefront<'a> {
         let pdf = local.z.cmp_gt(zero).blend(local.z * f32x8::splat(FRAC_1_PI), zero);
         throughput = throughput.mul_lanes(diffuse);
         // Russian roulette (Mitsuba's rule), from rr_depth bounces on.
-        let roulette = mask(|k| depth[k] + 1 >= self.rr_depth);
+        let roulette = mask(|_| roulette_comes);
         let max = throughput.max_element();
         let survival = max.cmp_lt(f32x8::splat(0.95)).blend(max, f32x8::splat(0.95));
         let killed = roulette & (survival.cmp_le(zero) | draw(ROULETTE).cmp_ge(survival));
