@@ -55,7 +55,7 @@ fn time_limit_ends_the_render_and_the_exr_records_spp_and_seed() {
 }
 
 #[test]
-fn sigint_finishes_the_pass_and_writes_the_image() {
+fn sigint_finishes_the_passes_under_way_and_writes_the_image() {
     let dir = temp_dir("sigint");
     let (out, checkpoint) = (dir.join("i.pfm"), dir.join("i.ckp"));
     let child = glint()

@@ -5,9 +5,9 @@
 //!
 //! A render ends when the target sample count is reached, when its time limit is spent, or
 //! when the caller raises the stop flag (Ctrl-C); it always ends between passes, so what has
-//! been rendered is complete and kept. Passes run in groups of about `GROUP_TIME` (each tile's
-//! passes of a group in one parallel job, so that the threads wait for each other once per
-//! group), and the stop flag and time limit are checked between groups.
+//! been rendered is complete and kept. Passes run in groups of about `GROUP_TIME` (with the box
+//! filter, each tile's passes of a group in one parallel job, so that the threads wait for
+//! each other once per group), and the stop flag and time limit are checked between groups.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -25,10 +25,14 @@ use crate::Rgb;
 
 const TILE_SIZE: u32 = 16;
 
-/// About how long a group of passes takes (the stop flag and the time limit are checked and
-/// checkpoints may be saved between groups), and how many passes a group has at most.
+/// About how long a group of passes takes: the stop flag and the time limit are checked and
+/// checkpoints may be saved between groups.
 const GROUP_TIME: f64 = 0.2;
+/// The most passes in a group.
 const MAX_GROUP: u32 = 16;
+
+// Camera samples come in eights: samplers, their jitter and a pinhole's rays in one set of lanes.
+const _: () = assert!(Sampler::LANES == crate::geometry::lanes::LANES);
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RenderSettings {
@@ -80,8 +84,8 @@ pub trait PassRenderer {
     fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts;
 
     /// Renders consecutive passes, to the film `render_pass` would leave after each in turn.
-    /// Camera passes run each tile's passes in one parallel job, so that the threads wait for
-    /// each other once per group rather than once per pass.
+    /// Box-filtered camera passes run each tile's passes in one parallel job, so that the
+    /// threads wait for each other once per group rather than once per pass.
     fn render_passes(
         &mut self,
         scene: &Scene,
@@ -218,20 +222,28 @@ pub fn render_progressive(
         let group_start = Instant::now();
         rays.add(&renderer.render_passes(scene, &passes, &mut film, on_tile));
         let count = passes.len() as u32;
+        // The passes' own time (saving a checkpoint after them is not part of it).
+        let per_pass = group_start.elapsed().as_secs_f64() / count as f64;
         spp_done += count;
         samples += count as u64 * width as u64 * height as u64;
         on_pass(&film, spp_done, &*renderer);
-        let per_pass = group_start.elapsed().as_secs_f64() / count as f64;
-        let mut next = (GROUP_TIME / per_pass.max(1e-9)).clamp(1.0, MAX_GROUP as f64) as u32;
-        if let Some(limit) = progressive.time_limit {
-            // No group that would run past the time limit, so that it overshoots by one pass
-            // at most, as passes one at a time would.
-            let left = limit.saturating_sub(start.elapsed()).as_secs_f64();
-            next = next.min((left / per_pass.max(1e-9)) as u32).max(1);
-        }
-        group = next;
+        let left = progressive.time_limit.map(|limit| limit.saturating_sub(start.elapsed()).as_secs_f64());
+        group = next_group(per_pass, left);
     }
     RenderOutput { film, rays, samples, spp_done, elapsed: start.elapsed(), stopped_early }
+}
+
+/// The passes of the next group, after passes of `per_pass` seconds each, with `left` seconds
+/// of a time limit to go: as many as take about `GROUP_TIME`, at least one, and none that
+/// would run past the time limit (so that it overshoots by one pass at most, as passes one at
+/// a time would).
+fn next_group(per_pass: f64, left: Option<f64>) -> u32 {
+    let per_pass = per_pass.max(1e-9);
+    let group = (GROUP_TIME / per_pass).clamp(1.0, MAX_GROUP as f64) as u32;
+    match left {
+        Some(left) => group.min((left / per_pass) as u32).max(1),
+        None => group,
+    }
 }
 
 /// One pass of a progressive render.
@@ -379,8 +391,8 @@ fn camera_samples(
     let mut contexts = Vec::with_capacity(pixels.len());
     let mut eights = pixels.chunks_exact(GROUP);
     for eight in &mut eights {
-        let pixels = std::array::from_fn(|k| pixel_index(eight[k]));
-        let samplers = Sampler::new_eight(pass.sampler, pass.seed, pixels, pass.index, pass.samples);
+        let indices = std::array::from_fn(|k| pixel_index(eight[k]));
+        let samplers = Sampler::new_eight(pass.sampler, pass.seed, indices, pass.index, pass.samples);
         contexts.extend(samplers.map(SampleContext::with_sampler));
     }
     for &pixel in eights.remainder() {
@@ -411,8 +423,7 @@ fn camera_samples(
         pixels.iter().zip(&jitter).map(|(&(x, y), &(dx, dy))| (x as f32 + dx, y as f32 + dy)).collect();
     // A pinhole's rays eight at a time (they draw no numbers); the rest one by one.
     let mut rays = Vec::with_capacity(positions.len());
-    let mut eights = positions.chunks_exact(GROUP);
-    for eight in &mut eights {
+    for eight in positions.chunks_exact(GROUP) {
         let (x, y) = (std::array::from_fn(|k| eight[k].0), std::array::from_fn(|k| eight[k].1));
         match scene.camera.pinhole_rays8(f32x8::from(x), f32x8::from(y)) {
             Some(eight_rays) => rays.extend(eight_rays),
@@ -432,6 +443,20 @@ mod tests {
     use crate::scene::Environment;
     use crate::shapes::IntersectMethods;
     use crate::Vec3;
+
+    /// Groups of passes: about `GROUP_TIME` long, at least one pass, at most `MAX_GROUP`, and
+    /// none running past a time limit.
+    #[test]
+    fn groups_take_about_their_time_and_stop_at_the_limit() {
+        assert_eq!(next_group(0.02, None), 10);
+        assert_eq!(next_group(1e-12, None), MAX_GROUP);
+        assert_eq!(next_group(0.0, None), MAX_GROUP);
+        assert_eq!(next_group(5.0, None), 1);
+        assert_eq!(next_group(0.02, Some(0.05)), 2);
+        assert_eq!(next_group(0.02, Some(0.01)), 1);
+        assert_eq!(next_group(0.02, Some(0.0)), 1);
+        assert_eq!(next_group(0.02, Some(100.0)), 10);
+    }
 
     /// A tile's camera samples, drawn eight samplers at a time (and a pinhole's rays made
     /// eight at a time), are what each pixel's sample draws alone: film position, ray
@@ -453,7 +478,8 @@ mod tests {
                 environment.clone(),
                 IntersectMethods::default(),
             );
-            for (index, centre) in [(0, false), (5, false), (0, true)] {
+            // Sample 70,000 is past the first 2¹⁶, where Sobol's seeds change.
+            for (index, centre) in [(0, false), (5, false), (70_000, false), (0, true)] {
                 let pass = Pass { seed: 3, index, centre, filter: Filter::Box, sampler, samples: 16 };
                 let (positions, rays, mut contexts) = camera_samples(&scene, &pass, tile);
                 assert_eq!(rays.len(), 25);

@@ -100,21 +100,30 @@ fn passes_in_groups_equal_passes_one_at_a_time() {
         falloff: Falloff::InverseSquare,
     }));
     let spp = 21;
+    let pass =
+        |index, filter| Pass { seed: 5, index, centre: false, filter, sampler: SamplerKind::Sobol, samples: spp };
     for filter in [Filter::Box, Filter::Mitchell] {
-        let settings = RenderSettings { spp, seed: 5, filter, sampler: SamplerKind::Sobol };
-        let grouped = render(&s, &Raycast, &settings, &|| {}).film;
-        let mut one_by_one = Film::new(s.camera.width, s.camera.height);
+        let film = || Film::new(s.camera.width, s.camera.height);
+        let (mut grouped, mut one_by_one) = (film(), film());
+        for group in [0..1, 1..8, 8..spp] {
+            let passes: Vec<Pass> = group.map(|index| pass(index, filter)).collect();
+            CameraPasses(&Raycast).render_passes(&s, &passes, &mut grouped, &|| {});
+        }
         for index in 0..spp {
-            let pass = Pass { seed: 5, index, centre: false, filter, sampler: SamplerKind::Sobol, samples: spp };
-            CameraPasses(&Raycast).render_pass(&s, &pass, &mut one_by_one, &|| {});
+            CameraPasses(&Raycast).render_pass(&s, &pass(index, filter), &mut one_by_one, &|| {});
         }
         let (a, b) = (grouped.accumulators(), one_by_one.accumulators());
         assert!(a.0.iter().any(|p| p.x > 0.0 && p.x < spp as f32 * 0.9), "{filter:?}: no shaded pixels");
-        assert_eq!(
-            a.0.iter().map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>(),
-            b.0.iter().map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>(),
-            "{filter:?}: sums"
-        );
+        let bits = |sums: &[Rgb]| sums.iter().map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+        assert_eq!(bits(a.0), bits(b.0), "{filter:?}: sums");
         assert_eq!(a.1, b.1, "{filter:?}: weights");
     }
+    // And the render loop, which groups passes by their time, gives the same film.
+    let settings = RenderSettings { spp, seed: 5, filter: Filter::Box, sampler: SamplerKind::Sobol };
+    let rendered = render(&s, &Raycast, &settings, &|| {}).film;
+    let mut one_by_one = Film::new(s.camera.width, s.camera.height);
+    for index in 0..spp {
+        CameraPasses(&Raycast).render_pass(&s, &pass(index, Filter::Box), &mut one_by_one, &|| {});
+    }
+    assert_eq!(rendered.accumulators().0, one_by_one.accumulators().0);
 }

@@ -194,17 +194,29 @@ fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampli
     let open = room_where(|objects, _| {
         objects.drain(4..6); // the back wall
     });
-    // More lights than the lanes choose among by counting: a lamp of 48 small triangles,
-    // facing down, with uneven powers.
-    let many_lights = room_where(|objects, materials| {
-        for i in 0..48 {
-            let (x, z) = (-0.8 + 0.1 * (i % 12) as f32, -0.6 + 0.3 * (i / 12) as f32);
-            let [a, b, c] = [Vec3::new(x, 0.9, z), Vec3::new(x + 0.08, 0.9, z), Vec3::new(x, 0.9, z + 0.2)];
-            materials.push(diffuse(Rgb::splat(0.5), Rgb::splat(1.0 + i as f32), false));
-            objects.push(object_with(Shape::Triangle(Triangle::new(a, c, b)), materials.len() as u32 - 1));
+    // More lights than the lanes choose among by counting (a lamp of 48 small triangles, facing
+    // down, with uneven powers), and more than they blend but few enough to count (16).
+    let lamp_of = |triangles: usize| {
+        room_where(move |objects, materials| {
+            for i in 0..triangles {
+                let (x, z) = (-0.8 + 0.1 * (i % 12) as f32, -0.6 + 0.3 * (i / 12) as f32);
+                let [a, b, c] = [Vec3::new(x, 0.9, z), Vec3::new(x + 0.08, 0.9, z), Vec3::new(x, 0.9, z + 0.2)];
+                materials.push(diffuse(Rgb::splat(0.5), Rgb::splat(1.0 + i as f32), false));
+                objects.push(object_with(Shape::Triangle(Triangle::new(a, c, b)), materials.len() as u32 - 1));
+            }
+        })
+    };
+    let (many_lights, sixteen_lights) = (lamp_of(48), lamp_of(16));
+    assert!(many_lights.area_lights.len() > 48, "the lamp's triangles are lights");
+    assert!((17..=32).contains(&sixteen_lights.area_lights.len()));
+    // No light at all: nothing for the lanes to choose.
+    let dark = room_where(|_, materials| {
+        for m in materials.iter_mut() {
+            let Material::Phong(m) = m;
+            m.emission = Rgb::ZERO;
         }
     });
-    assert!(many_lights.area_lights.len() > 48, "the lamp's triangles are lights");
+    assert!(dark.area_lights.is_empty());
     let scenes = [
         (solid_angle(room()), "solid-angle sampling", true),
         (textured, "a textured wall", true),
@@ -212,6 +224,8 @@ fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampli
         (spheres(), "spheres", true),
         (open, "an open room", false),
         (many_lights, "many lights", true),
+        (sixteen_lights, "sixteen lights", true),
+        (dark, "no lights", false),
     ];
     for (scene, what, closed) in scenes {
         assert!(tracer.runs_as_wavefront(&scene), "{what}: a wavefront scene");

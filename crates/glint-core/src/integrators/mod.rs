@@ -41,6 +41,8 @@ use crate::Rgb;
 #[repr(C)]
 pub struct SampleContext {
     pub sampler: Sampler,
+    /// The rays this sample traced, or, for a tile's samples run together, all the tile's in
+    /// its first sample's (`Integrator::radiance_tile`).
     pub rays: RayCounts,
 }
 

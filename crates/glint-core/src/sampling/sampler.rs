@@ -59,9 +59,9 @@ pub struct Sampler {
     dimension: u32,
     /// Sobol: the four dimensions of the current set, computed together (SIMD), each below 1.
     sobol: [f32; 4],
-    /// Sobol: the scramble seed of this sample's first 256 dimensions, and its index shuffled
-    /// under that seed.
+    /// Sobol: the scramble seed of this sample's first 256 dimensions.
     seed: u32,
+    /// Sobol: this sample's index shuffled under `seed`.
     shuffled: u32,
 }
 
@@ -92,7 +92,13 @@ impl Sampler {
 
     /// `new` for the same sample index of eight pixels: what eight calls give, with Sobol's
     /// index shuffles computed together in lanes.
-    pub fn new_eight(kind: SamplerKind, seed: u64, pixels: [u64; Self::LANES], index: u32, count: u32) -> [Self; 8] {
+    pub fn new_eight(
+        kind: SamplerKind,
+        seed: u64,
+        pixels: [u64; Self::LANES],
+        index: u32,
+        count: u32,
+    ) -> [Self; Self::LANES] {
         if kind != SamplerKind::Sobol {
             return pixels.map(|pixel| Self::new(kind, seed, pixel, index, count));
         }

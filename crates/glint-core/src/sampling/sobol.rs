@@ -90,8 +90,8 @@ fn sobol_set_rev(pieces: &[[[u32; 4]; 16]; 4], shuffled: u32) -> [u32; 4] {
 /// `sample_4d` for eight samples at once, the same `set` for all and each its own shuffled
 /// index and seed: the same bits, both as one vector per dimension and per sample. The crate's
 /// scramble is a chain of dependent multiplies and shifts on four lanes; here each step runs
-/// on two samples' four dimensions at once, half the instructions. For the path tracer's
-/// wavefront, whose paths stand at the same dimension.
+/// on two samples' four dimensions at once, half the instructions. For samples that stand at
+/// the same dimension: a tile's camera jitter, the path tracer's wavefront.
 pub fn sample_4d_lanes(shuffled: [u32; 8], set: u32, seed: [u32; 8]) -> Sets8 {
     let pieces = set_tables(set);
     let sobol = shuffled.map(|s| sobol_set_rev(pieces, s));

@@ -47,7 +47,8 @@ const DIRECTION: usize = 4;
 const ROULETTE: usize = 6;
 const DRAWS: usize = 7;
 
-/// Lights up to this many are chosen in the lanes by counting, more by binary search.
+/// Lights up to this many are chosen in the lanes by counting, more (or a CDF that is not
+/// sorted, from negative powers) by binary search.
 const SHORT_CDF: usize = 32;
 /// Triangle emitters up to this many (with the black one) are blended into the lanes that
 /// chose them, more gathered lane by lane.
@@ -268,36 +269,41 @@ impl<'a> Wavefront<'a> {
         let emitted = Vec3x8::select(emits_toward, Vec3x8::from_fn(|k| material[k].emission), Vec3x8::ZERO);
         let found = emitted.nonzero();
         if found.any() {
-            let light_pdf = match self.emitters {
-                Some(emitters) => {
-                    let none = emitters.len() - 1;
-                    let emitter: [&TriangleEmitter; LANES] = std::array::from_fn(|k| {
-                        &emitters[scene.area_lights.emitter_index(path(k).hit.object, path(k).hit.prim).unwrap_or(none)]
-                    });
-                    let to_light = point - Vec3x8::from_fn(|k| path(k).last_point);
-                    let (pdf, seen) = area_to_solid_angle(
-                        per_lane(|k| emitter[k].selection),
-                        per_lane(|k| emitter[k].area),
-                        to_light,
-                        geometric,
-                    );
-                    (mask(|k| !std::ptr::eq(emitter[k], &emitters[none])) & seen).blend(pdf, zero)
-                }
-                None => per_lane(|k| {
-                    let p = path(k);
-                    let (hit_point, hit_normal) = (point.lane(k), geometric.lane(k));
-                    scene.area_lights.pdf(
-                        p.last_point,
-                        Some(p.last_normal),
-                        p.hit.object,
-                        p.hit.prim,
-                        hit_point,
-                        hit_normal,
-                    )
-                }),
+            // At the first hit the camera found it (weight 1): no light sample to weigh against.
+            let weight = if depth == 0 {
+                f32x8::ONE
+            } else {
+                let light_pdf = match self.emitters {
+                    Some(emitters) => {
+                        let none = emitters.len() - 1;
+                        let emitter: [&TriangleEmitter; LANES] = std::array::from_fn(|k| {
+                            &emitters
+                                [scene.area_lights.emitter_index(path(k).hit.object, path(k).hit.prim).unwrap_or(none)]
+                        });
+                        let to_light = point - Vec3x8::from_fn(|k| path(k).last_point);
+                        let (pdf, seen) = area_to_solid_angle(
+                            per_lane(|k| emitter[k].selection),
+                            per_lane(|k| emitter[k].area),
+                            to_light,
+                            geometric,
+                        );
+                        (mask(|k| !std::ptr::eq(emitter[k], &emitters[none])) & seen).blend(pdf, zero)
+                    }
+                    None => per_lane(|k| {
+                        let p = path(k);
+                        let (hit_point, hit_normal) = (point.lane(k), geometric.lane(k));
+                        scene.area_lights.pdf(
+                            p.last_point,
+                            Some(p.last_normal),
+                            p.hit.object,
+                            p.hit.prim,
+                            hit_point,
+                            hit_normal,
+                        )
+                    }),
+                };
+                power_heuristic(per_lane(|k| path(k).last_pdf), light_pdf)
             };
-            let weight =
-                if depth == 0 { f32x8::ONE } else { power_heuristic(per_lane(|k| path(k).last_pdf), light_pdf) };
             radiance = Vec3x8::select(found, radiance + throughput.mul_lanes(emitted) * weight, radiance);
         }
 
@@ -390,7 +396,7 @@ impl<'a> Wavefront<'a> {
         let pdf = local.z.cmp_gt(zero).blend(local.z * f32x8::splat(FRAC_1_PI), zero);
         throughput = throughput.mul_lanes(diffuse);
         // Russian roulette (Mitsuba's rule), from rr_depth bounces on.
-        let roulette = mask(|_| roulette_comes);
+        let roulette = if roulette_comes { mask(|_| true) } else { zero };
         let max = throughput.max_element();
         let survival = max.cmp_lt(f32x8::splat(0.95)).blend(max, f32x8::splat(0.95));
         let killed = roulette & (survival.cmp_le(zero) | draw(ROULETTE).cmp_ge(survival));
