@@ -9,6 +9,7 @@
 //! filter, each tile's passes of a group in one parallel job, so that the threads wait for
 //! each other once per group), and the stop flag and time limit are checked between groups.
 
+use std::borrow::Borrow;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -116,12 +117,14 @@ pub trait PassRenderer {
     }
 }
 
-/// A camera integrator's passes: one sample per pixel.
-pub struct CameraPasses<'a>(pub &'a dyn Integrator);
+/// A camera integrator's passes: one sample per pixel. The integrator borrowed
+/// (`&dyn Integrator`) or owned (`Box<dyn Integrator>`, one made for a scene, as photon mapping
+/// is).
+pub struct CameraPasses<I>(pub I);
 
-impl PassRenderer for CameraPasses<'_> {
+impl<'a, I: Borrow<dyn Integrator + 'a>> PassRenderer for CameraPasses<I> {
     fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
-        camera_passes(scene, self.0, std::slice::from_ref(pass), film, on_tile)
+        self.render_passes(scene, std::slice::from_ref(pass), film, on_tile)
     }
 
     fn render_passes(
@@ -131,26 +134,7 @@ impl PassRenderer for CameraPasses<'_> {
         film: &mut Film,
         on_tile: &(dyn Fn() + Sync),
     ) -> RayCounts {
-        camera_passes(scene, self.0, passes, film, on_tile)
-    }
-}
-
-/// A camera integrator owned by its passes (one made for a scene, as photon mapping is).
-pub struct OwnedCameraPasses(pub Box<dyn Integrator>);
-
-impl PassRenderer for OwnedCameraPasses {
-    fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
-        camera_passes(scene, self.0.as_ref(), std::slice::from_ref(pass), film, on_tile)
-    }
-
-    fn render_passes(
-        &mut self,
-        scene: &Scene,
-        passes: &[Pass],
-        film: &mut Film,
-        on_tile: &(dyn Fn() + Sync),
-    ) -> RayCounts {
-        camera_passes(scene, self.0.as_ref(), passes, film, on_tile)
+        camera_passes(scene, self.0.borrow(), passes, film, on_tile)
     }
 }
 

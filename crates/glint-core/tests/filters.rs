@@ -100,6 +100,7 @@ fn passes_in_groups_equal_passes_one_at_a_time() {
         falloff: Falloff::InverseSquare,
     }));
     let spp = 21;
+    let raycast: &dyn glint_core::integrators::Integrator = &Raycast;
     let pass =
         |index, filter| Pass { seed: 5, index, centre: false, filter, sampler: SamplerKind::Sobol, samples: spp };
     for filter in [Filter::Box, Filter::Mitchell] {
@@ -107,10 +108,10 @@ fn passes_in_groups_equal_passes_one_at_a_time() {
         let (mut grouped, mut one_by_one) = (film(), film());
         for group in [0..1, 1..8, 8..spp] {
             let passes: Vec<Pass> = group.map(|index| pass(index, filter)).collect();
-            CameraPasses(&Raycast).render_passes(&s, &passes, &mut grouped, &|| {});
+            CameraPasses(raycast).render_passes(&s, &passes, &mut grouped, &|| {});
         }
         for index in 0..spp {
-            CameraPasses(&Raycast).render_pass(&s, &pass(index, filter), &mut one_by_one, &|| {});
+            CameraPasses(raycast).render_pass(&s, &pass(index, filter), &mut one_by_one, &|| {});
         }
         let (a, b) = (grouped.accumulators(), one_by_one.accumulators());
         assert!(a.0.iter().any(|p| p.x > 0.0 && p.x < spp as f32 * 0.9), "{filter:?}: no shaded pixels");
@@ -123,7 +124,7 @@ fn passes_in_groups_equal_passes_one_at_a_time() {
     let rendered = render(&s, &Raycast, &settings, &|| {}).film;
     let mut one_by_one = Film::new(s.camera.width, s.camera.height);
     for index in 0..spp {
-        CameraPasses(&Raycast).render_pass(&s, &pass(index, Filter::Box), &mut one_by_one, &|| {});
+        CameraPasses(raycast).render_pass(&s, &pass(index, Filter::Box), &mut one_by_one, &|| {});
     }
     assert_eq!(rendered.accumulators().0, one_by_one.accumulators().0);
 }

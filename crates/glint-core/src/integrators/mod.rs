@@ -24,7 +24,7 @@ pub use raycast::Raycast;
 pub use sppm::Sppm;
 pub use whitted::Whitted;
 
-use crate::render::{OwnedCameraPasses, PassRenderer};
+use crate::render::{CameraPasses, PassRenderer};
 
 use crate::geometry::Ray;
 use crate::sampling::{Rng, Sampler};
@@ -225,14 +225,12 @@ impl IntegratorKind {
             IntegratorKind::Sppm => {
                 Box::new(Sppm::new(scene, settings.max_depth, settings.sppm_radius, settings.photons_per_pass)?)
             }
-            IntegratorKind::Photon => Box::new(OwnedCameraPasses(Box::new(PhotonMapper::new(
-                scene,
-                settings.max_depth,
-                settings.rr_depth,
-                settings.photon,
-                seed,
-            )?))),
-            camera => Box::new(OwnedCameraPasses(camera.create(settings).expect("a camera integrator"))),
+            IntegratorKind::Photon => {
+                let mapper: Box<dyn Integrator> =
+                    Box::new(PhotonMapper::new(scene, settings.max_depth, settings.rr_depth, settings.photon, seed)?);
+                Box::new(CameraPasses(mapper))
+            }
+            camera => Box::new(CameraPasses(camera.create(settings).expect("a camera integrator"))),
         })
     }
 }

@@ -507,8 +507,6 @@ impl<'a> Wavefront<'a> {
                 count -= bytemuck::cast::<f32x8, i32x8>(f32x8::splat(c).cmp_le(u));
             }
             on.blend(count.min(i32x8::splat(cdf.len() as i32 - 1)), i32x8::splat(none as i32))
-        } else if lights.is_empty() {
-            i32x8::splat(none as i32)
         } else {
             i32x8::from(std::array::from_fn::<i32, LANES, _>(|k| match goes_on[k] {
                 true => lights.choose_index(draws[LIGHT].as_array_ref()[k]).unwrap_or(none) as i32,
