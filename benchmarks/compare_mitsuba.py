@@ -20,6 +20,12 @@ Ratios are the first glint run against each Mitsuba configuration: best to best 
 to median (the last run of one that ran twice). Equal-time error = (relMSE × seconds) of
 glint over the same product of the peer: below 1, glint's image is closer to the reference
 after the same time. Build glint first: `cargo build --release`.
+
+The host's speed drifts within a sitting (a Mitsuba run at its start and its end have differed
+by 6 %), so `--paired N` then runs N rounds of the first Mitsuba configuration beside the
+first glint run, each round one Mitsuba process (best of its three renders) and three glint
+renders (best), in alternating order, and prints each round's ratio and their median: a
+ratio of neighbours in time, which drift touches least.
 """
 import argparse
 import os
@@ -79,6 +85,8 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--seeds", type=int, default=4)
+    ap.add_argument("--paired", type=int, default=0, metavar="N",
+                    help="then N rounds of the first Mitsuba configuration and the first glint run side by side")
     args = ap.parse_args()
     if not args.glint:
         ap.error("give at least one --glint binary (the first is the one scored)")
@@ -117,6 +125,30 @@ def main():
         error = f"{relmse:.6f} (seeds 1–{args.seeds}) | {relmse * best:.4f}" if i == 0 else " | "
         print(f"| glint `{label}` | {min(times[i]):.2f}; {statistics.median(times[i]):.2f} | "
               f"{SAMPLES / min(times[i]) / 1e6:.2f} | {error} | | |")
+    if args.paired > 0:
+        paired_rounds(args, first, runs[0])
+
+
+def paired_rounds(args, configuration, run):
+    """Rounds of Mitsuba's `configuration` and glint's `run` side by side: per round, Mitsuba's
+    best of three renders over glint's best of three, Mitsuba first in odd rounds."""
+    binary, extra = run
+    ratios = []
+    with tempfile.TemporaryDirectory() as directory:
+        output = os.path.join(directory, "t.pfm")
+        for r in range(args.paired):
+            glint_best = None
+            steps = ["mitsuba", "glint"] if r % 2 == 0 else ["glint", "mitsuba"]
+            for step in steps:
+                if step == "mitsuba":
+                    peer_best = mitsuba(args.mitsuba_python, configuration, args.threads)[0]
+                else:
+                    glint_best = min(glint_seconds(binary, extra, args.threads, output) for _ in range(3))
+            ratios.append(peer_best / glint_best)
+            print(f"paired round {r + 1}: Mitsuba `{configuration}` {peer_best:.3f} s, glint {glint_best:.3f} s, "
+                  f"glint / peer samples/s {peer_best / glint_best:.3f}")
+    print(f"paired rounds: glint / Mitsuba `{configuration}` samples/s median {statistics.median(ratios):.3f} "
+          f"(min {min(ratios):.3f}, max {max(ratios):.3f}, {len(ratios)} rounds)")
 
 
 if __name__ == "__main__":
