@@ -136,14 +136,14 @@ def paired_rounds(args, configuration, run):
     ratios = []
     with tempfile.TemporaryDirectory() as directory:
         output = os.path.join(directory, "t.pfm")
+        measure = {
+            "mitsuba": lambda: mitsuba(args.mitsuba_python, configuration, args.threads)[0],
+            "glint": lambda: min(glint_seconds(binary, extra, args.threads, output) for _ in range(3)),
+        }
         for r in range(args.paired):
-            glint_best = None
-            steps = ["mitsuba", "glint"] if r % 2 == 0 else ["glint", "mitsuba"]
-            for step in steps:
-                if step == "mitsuba":
-                    peer_best = mitsuba(args.mitsuba_python, configuration, args.threads)[0]
-                else:
-                    glint_best = min(glint_seconds(binary, extra, args.threads, output) for _ in range(3))
+            order = ("mitsuba", "glint") if r % 2 == 0 else ("glint", "mitsuba")
+            best = {name: measure[name]() for name in order}
+            peer_best, glint_best = best["mitsuba"], best["glint"]
             ratios.append(peer_best / glint_best)
             print(f"paired round {r + 1}: Mitsuba `{configuration}` {peer_best:.3f} s, glint {glint_best:.3f} s, "
                   f"glint / peer samples/s {peer_best / glint_best:.3f}")
