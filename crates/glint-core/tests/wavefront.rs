@@ -11,7 +11,7 @@ use glint_core::camera::Camera;
 use glint_core::geometry::Ray;
 use glint_core::integrators::{Integrator, PathTracer, SampleContext};
 use glint_core::lights::{AreaLights, Falloff, Light, PointLight, TriangleSampling};
-use glint_core::materials::{Material, Phong};
+use glint_core::materials::{Fresnel, Material, Phong};
 use glint_core::sampling::{Sampler, SamplerKind};
 use glint_core::scene::{Object, Scene};
 use glint_core::shapes::{Mesh, Polygon, Shape, Sphere, Triangle};
@@ -240,13 +240,81 @@ fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampli
     }
 }
 
+/// Surfaces whose BSDF is more than Lambert's lobe, each bounce there taken by the scalar code
+/// while the other lanes take theirs together: a mirror wall, a glass sphere (refraction, η²
+/// in the roulette), the course's mixed material, a rough metal and rough glass (GGX), all in
+/// one room and each alone, at depth limits and roulette from the first bounce.
+#[test]
+fn the_wavefront_serves_mirrors_glass_glossy_and_mixed_materials() {
+    let phong = |f: &dyn Fn(&mut Phong)| {
+        let mut p = Phong { diffuse: Texture::Constant(Rgb::ZERO), ..Phong::default() };
+        f(&mut p);
+        Material::Phong(p)
+    };
+    let glass = phong(&|p| {
+        p.transmission = Texture::Constant(Rgb::ONE);
+        p.ior = 1.5;
+        p.fresnel = Fresnel::Exact;
+    });
+    let mixed = phong(&|p| {
+        p.diffuse = Texture::Constant(Rgb::new(0.4, 0.4, 0.3));
+        p.reflection = Texture::Constant(Rgb::splat(0.3));
+        p.transmission = Texture::Constant(Rgb::splat(0.2));
+        p.ior = 1.5;
+    });
+    let rough_metal = phong(&|p| {
+        p.reflection = Texture::Constant(Rgb::new(0.9, 0.7, 0.4));
+        p.roughness = 0.4;
+        p.fresnel = Fresnel::Conductor { eta: Rgb::new(0.2, 0.4, 1.2), k: Rgb::new(3.6, 2.5, 2.2) };
+    });
+    let rough_glass = phong(&|p| {
+        p.transmission = Texture::Constant(Rgb::ONE);
+        p.ior = 1.5;
+        p.roughness = 0.3;
+        p.fresnel = Fresnel::Exact;
+    });
+    let with = |materials: Vec<Material>| {
+        room_where(move |objects, room_materials| {
+            // A mirror-ish left wall, then each material on a sphere or on the smooth quad.
+            let Material::Phong(left) = &mut room_materials[1];
+            left.reflection = Texture::Constant(Rgb::splat(0.5));
+            let centres = [Vec3::new(0.45, -0.65, 0.3), Vec3::new(-0.4, -0.6, 0.5), Vec3::new(0.1, 0.3, 0.6)];
+            for (j, material) in materials.into_iter().enumerate() {
+                room_materials.push(material);
+                let id = room_materials.len() as u32 - 1;
+                objects.push(object_with(Shape::Sphere(Sphere::new(centres[j % 3], 0.25)), id));
+            }
+        })
+    };
+    let scenes = [
+        (with(vec![glass.clone()]), "a glass sphere and a mirror wall"),
+        (with(vec![mixed.clone()]), "the mixed material"),
+        (with(vec![rough_metal.clone(), rough_glass]), "GGX metal and glass"),
+        (with(vec![glass, mixed, rough_metal]), "all together"),
+    ];
+    for (scene, what) in &scenes {
+        let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
+        assert!(tracer.runs_as_wavefront(scene), "{what}: a wavefront scene");
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in [(3, 0), (17, 5)] {
+                let lit = assert_same(scene, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+            }
+        }
+    }
+    let all = &scenes[3].0;
+    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 1), (5, 0)] {
+        let tracer = PathTracer { max_depth, rr_depth, wavefront: true };
+        for seed in 0..2 {
+            assert_same(all, &tracer, SamplerKind::Sobol, seed, seed as u32);
+        }
+    }
+}
+
 /// Scenes the lanes do not serve go path by path, with the same result as ever.
 #[test]
 fn other_scenes_fall_back_to_one_path_at_a_time() {
     let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
-    let mut mirror = room();
-    let Material::Phong(p) = &mut mirror.materials[1];
-    p.reflection = Texture::Constant(Rgb::splat(0.5));
     let mut lamp = room();
     lamp.lights.push(Light::Point(PointLight {
         position: Vec3::new(0.2, 0.5, 0.1),
@@ -255,7 +323,7 @@ fn other_scenes_fall_back_to_one_path_at_a_time() {
     }));
     let mut sky = room();
     sky.environment.background = Rgb::splat(0.2);
-    for (scene, what) in [(mirror, "a mirror"), (lamp, "a point light"), (sky, "an environment light")] {
+    for (scene, what) in [(lamp, "a point light"), (sky, "an environment light")] {
         assert!(!tracer.runs_as_wavefront(&scene), "{what} is not in the lanes");
         assert_same(&scene, &tracer, SamplerKind::Sobol, 1, 0);
     }
