@@ -16,9 +16,10 @@ use super::wavefront::Wavefront;
 use super::{radiance_each, Integrator, IntegratorSettings, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
-use crate::scene::Scene;
+use crate::scene::{Scene, SurfaceHit};
 use crate::Rgb;
 
+#[derive(Clone, Copy, Debug)]
 pub struct PathTracer {
     pub max_depth: u32,
     pub rr_depth: u32,
@@ -48,15 +49,35 @@ impl PathTracer {
 }
 
 /// A scattering event that sampled the ray now traced.
-#[derive(Clone, Copy)]
-struct Scatter {
-    point: Vec3,
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Scatter {
+    pub point: Vec3,
     /// What light sampling from `point` was given as the receiver's normal.
-    shading_normal: Vec3,
+    pub shading_normal: Vec3,
     /// The BSDF's solid-angle density for the sampled direction.
-    pdf: f32,
+    pub pdf: f32,
     /// A mirror or refraction: light sampling could not have made it.
-    delta: bool,
+    pub delta: bool,
+}
+
+/// A path between bounces, as `PathTracer::bounce` reads and leaves it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PathState {
+    pub radiance: Rgb,
+    pub throughput: Rgb,
+    /// The product of the refractions' relative η², for Russian roulette.
+    pub eta_scale: f32,
+    /// Bounces so far.
+    pub depth: u32,
+    /// Where the last bounce was sampled, and how (`None` for a camera ray): for the MIS
+    /// weight of emission found next.
+    pub previous: Option<Scatter>,
+}
+
+impl PathState {
+    /// A path before its camera ray is traced.
+    pub const CAMERA: Self =
+        Self { radiance: Rgb::ZERO, throughput: Rgb::ONE, eta_scale: 1.0, depth: 0, previous: None };
 }
 
 /// The power heuristic (β = 2) for the strategy with density `a` against one with `b`.
@@ -79,79 +100,94 @@ impl Integrator for PathTracer {
     }
 
     fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
-        let mut radiance = Rgb::ZERO;
-        let mut throughput = Rgb::ONE;
-        let mut eta_scale = 1.0f32;
+        let mut path = PathState::CAMERA;
         let mut ray = *camera_ray;
-        // Where the last bounce was sampled, and how: for the MIS weight of emission hit next.
-        let mut previous: Option<Scatter> = None;
-        let mut depth = 0u32;
         loop {
-            if previous.is_none() {
+            if path.previous.is_none() {
                 context.rays.camera += 1;
             } else {
                 context.rays.reflection += 1;
             }
             let Some(hit) = scene.intersect(&ray) else {
                 // The environment is light-sampled too: weigh this BSDF sample against that.
-                let weight = match previous {
+                let weight = match path.previous {
                     Some(from) if !from.delta && scene.environment.emits() => {
                         power_heuristic(from.pdf, scene.environment.pdf(ray.direction))
                     }
                     _ => 1.0,
                 };
-                radiance += throughput * scene.environment.radiance(ray.direction) * weight;
+                path.radiance += path.throughput * scene.environment.radiance(ray.direction) * weight;
                 break;
             };
-            let wo = -ray.direction.normalize();
-            let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
-            let geometric = hit.geometry.geometric_normal;
-            let emitted = material.emitted(wo, geometric);
-            if emitted != Rgb::ZERO {
-                let weight = match previous {
-                    Some(from) if !from.delta => {
-                        let light_pdf = scene.area_lights.pdf(
-                            from.point,
-                            Some(from.shading_normal),
-                            hit.object,
-                            hit.prim,
-                            hit.geometry.point,
-                            geometric,
-                        );
-                        power_heuristic(from.pdf, light_pdf)
-                    }
-                    _ => 1.0,
-                };
-                radiance += throughput * emitted * weight;
+            match self.bounce(scene, &ray, &hit, &mut path, context) {
+                Some(next) => ray = next,
+                None => break,
             }
-            if depth >= self.max_depth {
-                break;
-            }
-            let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, geometric);
-            if bsdf.has_diffuse() {
-                radiance += throughput * sample_lights(scene, &hit, &bsdf, wo, Weighting::Mis, context);
-            }
-            let u_lobe = context.sampler.next_f32();
-            let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
-            let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break };
-            throughput *= sample.weight;
-            eta_scale *= sample.eta_squared;
-            previous = Some(Scatter {
-                point: hit.geometry.point,
-                shading_normal: hit.geometry.shading_normal,
-                pdf: sample.pdf,
-                delta: sample.delta,
-            });
-            depth += 1;
-            if depth >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context) {
-                break;
-            }
-            if throughput == Rgb::ZERO {
-                break;
-            }
-            ray = hit.spawn_ray(sample.wi);
         }
-        radiance
+        path.radiance
+    }
+}
+
+impl PathTracer {
+    /// One bounce of `path` at `hit`, the closest hit of `ray`: the emission found there, light
+    /// sampling, the BSDF's sample and Russian roulette. Returns the ray to trace next, or
+    /// `None` where the path ends. (The wavefront takes the bounces its lanes do not model
+    /// from here.)
+    pub(super) fn bounce(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: &SurfaceHit,
+        path: &mut PathState,
+        context: &mut SampleContext,
+    ) -> Option<Ray> {
+        let wo = -ray.direction.normalize();
+        let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
+        let geometric = hit.geometry.geometric_normal;
+        let emitted = material.emitted(wo, geometric);
+        if emitted != Rgb::ZERO {
+            let weight = match path.previous {
+                Some(from) if !from.delta => {
+                    let light_pdf = scene.area_lights.pdf(
+                        from.point,
+                        Some(from.shading_normal),
+                        hit.object,
+                        hit.prim,
+                        hit.geometry.point,
+                        geometric,
+                    );
+                    power_heuristic(from.pdf, light_pdf)
+                }
+                _ => 1.0,
+            };
+            path.radiance += path.throughput * emitted * weight;
+        }
+        if path.depth >= self.max_depth {
+            return None;
+        }
+        let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, geometric);
+        if bsdf.has_diffuse() {
+            path.radiance += path.throughput * sample_lights(scene, hit, &bsdf, wo, Weighting::Mis, context);
+        }
+        let u_lobe = context.sampler.next_f32();
+        let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
+        let sample = bsdf.sample(wo, u_lobe, u)?;
+        path.throughput *= sample.weight;
+        path.eta_scale *= sample.eta_squared;
+        path.previous = Some(Scatter {
+            point: hit.geometry.point,
+            shading_normal: hit.geometry.shading_normal,
+            pdf: sample.pdf,
+            delta: sample.delta,
+        });
+        path.depth += 1;
+        if path.depth >= self.rr_depth && !russian_roulette(&mut path.throughput, path.eta_scale, context) {
+            return None;
+        }
+        if path.throughput == Rgb::ZERO {
+            return None;
+        }
+        Some(hit.spawn_ray(sample.wi))
     }
 }
 
@@ -183,7 +219,7 @@ pub(super) enum Weighting {
 /// every delta light (point, spot, directional), which only light sampling can find.
 pub(super) fn sample_lights(
     scene: &Scene,
-    hit: &crate::scene::SurfaceHit,
+    hit: &SurfaceHit,
     bsdf: &Bsdf,
     wo: Vec3,
     weighting: Weighting,

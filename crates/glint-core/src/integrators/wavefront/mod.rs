@@ -6,10 +6,10 @@
 //! everything: the surface of flat or smooth triangles with constant colours, and triangle
 //! lights sampled by area (the Cornell box). Otherwise each lane asks the scalar code for what
 //! differs (the surface of a sphere or a textured mesh, a point on a sphere light or by solid
-//! angle) and the rest stays in lanes. A path on a surface whose BSDF is more than Lambert's
-//! lobe (mirror, glass, glossy, the course's mixed material) takes the rest of that bounce,
-//! light sampling and BSDF sampling, from the scalar code (`scalar_bounce`), while the other
-//! lanes take theirs together. Other scenes go path by path through `PathTracer::radiance`.
+//! angle) and the rest stays in lanes. A path that hits a surface whose BSDF is more than
+//! Lambert's lobe (mirror, glass, glossy, the course's mixed material) takes that bounce from
+//! the scalar code, `PathTracer::bounce`, while the others take theirs in lanes. Other scenes
+//! go path by path through `PathTracer::radiance`.
 //!
 //! It is that same estimator, operation for operation: each lane computes the bits the scalar
 //! code computes and, while its path goes on, draws the same numbers in the same order (a path
@@ -29,11 +29,11 @@ use self::lanes::{
     area_to_solid_angle, barycentric_point, negate, offset_ray_origin, orthonormal_basis, power_heuristic,
     square_to_cosine_hemisphere, Vec3x8, LANES,
 };
-use super::path::{russian_roulette, sample_lights, PathTracer, Weighting};
+use super::path::{PathState, PathTracer, Scatter};
 use super::{RayCounts, SampleContext};
 use crate::geometry::Ray;
 use crate::lights::{TriangleEmitter, TriangleSampling};
-use crate::materials::{luminance, Bsdf, Material, PhongPoint};
+use crate::materials::{luminance, Material, PhongPoint};
 use crate::sampling::Sampler;
 use crate::scene::{PrimitiveHit, Scene, SHADOW_EPSILON};
 use crate::textures::Texture;
@@ -64,30 +64,26 @@ struct LaneMaterial {
     reflects: bool,
     emission: Rgb,
     two_sided: bool,
-    /// The BSDF is more than Lambert's lobe: the bounce is the scalar code's (`scalar_bounce`).
-    scalar: bool,
 }
 
 impl LaneMaterial {
     /// What lanes without a hit read.
-    const BLACK: Self =
-        Self { diffuse: Rgb::ZERO, reflects: false, emission: Rgb::ZERO, two_sided: false, scalar: false };
+    const BLACK: Self = Self { diffuse: Rgb::ZERO, reflects: false, emission: Rgb::ZERO, two_sided: false };
 
-    fn new(diffuse: Rgb, emission: Rgb, two_sided: bool, material: &Material) -> Self {
-        let scalar = !diffuse_only(material);
-        Self { diffuse, reflects: luminance(diffuse) > 0.0, emission, two_sided, scalar }
+    fn new(diffuse: Rgb, emission: Rgb, two_sided: bool) -> Self {
+        Self { diffuse, reflects: luminance(diffuse) > 0.0, emission, two_sided }
     }
 
-    /// `material` evaluated at a point.
-    fn at(point: &PhongPoint, material: &Material) -> Self {
-        Self::new(point.diffuse, point.emission, point.two_sided_emission, material)
+    /// An evaluated material.
+    fn at(point: &PhongPoint) -> Self {
+        Self::new(point.diffuse, point.emission, point.two_sided_emission)
     }
 
     /// A material with constant colours, evaluated once.
     fn constant(material: &Material) -> Option<Self> {
         let Material::Phong(m) = material;
         let Texture::Constant(diffuse) = m.diffuse else { return None };
-        Some(Self::new(diffuse, m.emission, m.two_sided_emission, material))
+        Some(Self::new(diffuse, m.emission, m.two_sided_emission))
     }
 }
 
@@ -112,11 +108,11 @@ pub(super) struct Wavefront<'a> {
     /// The lights' CDF, when the lanes choose among them by counting: at most `SHORT_CDF`
     /// entries, sorted.
     counted_cdf: Option<&'a [f32]>,
-    /// Some material is more than Lambert's lobe: some bounces are the scalar code's, and
-    /// paths carry an η² other than 1 after a refraction.
-    mixed: bool,
-    max_depth: u32,
-    rr_depth: u32,
+    /// For each material, whether its BSDF is more than Lambert's lobe (the bounce is then
+    /// the scalar code's), when some material is.
+    scalar_materials: Option<Vec<bool>>,
+    /// For the scalar bounces, and the depth limits.
+    tracer: PathTracer,
 }
 
 /// One path between bounces. Aligned to cache lines (128 bytes where 112 would do): a tile's
@@ -132,15 +128,15 @@ struct Path {
     depth: u32,
     /// The last scattering point, its shading normal, and the BSDF's density of the direction
     /// sampled there (for the MIS weight of emission found next), when `depth` > 0; the density
-    /// is infinite after a delta lobe (a mirror or a refraction), whose emission found counts
-    /// in full.
+    /// is infinite after a delta lobe (a mirror or a refraction), which the power heuristic
+    /// turns into weight 1, as the scalar code gives emission found through one.
     last_point: Vec3,
     last_normal: Vec3,
     last_pdf: f32,
     /// The closest hit of `ray`.
     hit: PrimitiveHit,
     /// The product of the refractions' relative η², for Russian roulette (last: the fields
-    /// above keep the places they had before it, which the box's speed was measured with).
+    /// above keep the places the diffuse scenes' speed was measured with).
     eta_scale: f32,
 }
 
@@ -187,7 +183,8 @@ impl<'a> Wavefront<'a> {
         if !served {
             return None;
         }
-        let mixed = !scene.materials.iter().all(diffuse_only);
+        let scalar_materials = Some(scene.materials.iter().map(|m| !diffuse_only(m)).collect::<Vec<_>>())
+            .filter(|scalar| scalar.contains(&true));
         let flat = if scene.geometry.all_triangles() {
             scene.materials.iter().map(LaneMaterial::constant).collect::<Option<Vec<_>>>()
         } else {
@@ -197,8 +194,7 @@ impl<'a> Wavefront<'a> {
         let emitters = lights.triangle_table().filter(|_| lights.triangle_sampling == TriangleSampling::Area);
         let cdf = lights.selection_cdf();
         let counted_cdf = (!lights.is_empty() && cdf.len() <= SHORT_CDF && cdf.is_sorted()).then_some(cdf);
-        let (max_depth, rr_depth) = (tracer.max_depth, tracer.rr_depth);
-        Some(Self { scene, flat, emitters, counted_cdf, mixed, max_depth, rr_depth })
+        Some(Self { scene, flat, emitters, counted_cdf, scalar_materials, tracer: *tracer })
     }
 
     /// The radiance along each camera ray, `out[i]` for `rays[i]` drawing from `contexts[i]`.
@@ -237,6 +233,20 @@ impl<'a> Wavefront<'a> {
                 }
             }
             active.clear();
+            if let Some(scalar) = &self.scalar_materials {
+                // Paths on surfaces the lanes do not model take their bounce from the scalar code.
+                let objects = &self.scene.geometry.objects;
+                hits.retain(|&i| {
+                    let (path, context) = (&mut paths[i as usize], &mut contexts[i as usize]);
+                    if !scalar[objects[path.hit.object as usize].material as usize] {
+                        return true;
+                    }
+                    if self.scalar_bounce(path, context) {
+                        active.push(i);
+                    }
+                    false
+                });
+            }
             for chunk in hits.chunks(LANES) {
                 counts.shadow += self.bounce(chunk, depth, &mut paths, contexts, &mut active);
             }
@@ -324,21 +334,13 @@ impl<'a> Wavefront<'a> {
             radiance = Vec3x8::select(found, radiance + throughput.mul_lanes(emitted) * weight, radiance);
         }
 
-        // Paths at the maximum depth, and on black surfaces, end here. Paths on surfaces the
-        // lanes do not model go on in the scalar code, after the lanes' work (at the end).
-        let goes_on: [bool; LANES] = std::array::from_fn(|k| k < n && depth < self.max_depth && material[k].reflects);
-        let (goes_on, scalar): ([bool; LANES], [bool; LANES]) = match self.mixed {
-            true => (
-                std::array::from_fn(|k| goes_on[k] && !material[k].scalar),
-                std::array::from_fn(|k| k < n && depth < self.max_depth && material[k].scalar),
-            ),
-            false => (goes_on, [false; LANES]),
-        };
+        // Paths at the maximum depth, and on black surfaces, end here.
+        let goes_on: [bool; LANES] =
+            std::array::from_fn(|k| k < n && depth < self.tracer.max_depth && material[k].reflects);
         // draws[j]: draw j of each lane.
         let mut draws = [f32x8::ZERO; DRAWS];
-        let roulette_comes = depth + 1 >= self.rr_depth;
-        // The scalar code draws its own numbers: its lanes' samplers are not to be touched here.
-        if n == LANES && goes_on.iter().any(|&on| on) && !scalar.contains(&true) {
+        let roulette_comes = depth + 1 >= self.tracer.rr_depth;
+        if n == LANES && goes_on.iter().any(|&on| on) {
             // All eight at once (the numbers of paths that end are drawn too, unread).
             let samplers = contexts.get_disjoint_mut(index).expect("eight distinct paths").map(|c| &mut c.sampler);
             if roulette_comes {
@@ -423,10 +425,10 @@ impl<'a> Wavefront<'a> {
         throughput = throughput.mul_lanes(diffuse);
         // Russian roulette (Mitsuba's rule), from rr_depth bounces on.
         let roulette = if roulette_comes { mask(|_| true) } else { zero };
-        let max = match self.mixed {
+        let max = match self.scalar_materials {
             // Scaled by η², as the scalar code does: paths that went through glass.
-            true => throughput.max_element() * per_lane(|k| path(k).eta_scale),
-            false => throughput.max_element(),
+            Some(_) => throughput.max_element() * per_lane(|k| path(k).eta_scale),
+            None => throughput.max_element(),
         };
         let survival = max.cmp_lt(f32x8::splat(0.95)).blend(max, f32x8::splat(0.95));
         let killed = roulette & (survival.cmp_le(zero) | draw(ROULETTE).cmp_ge(survival));
@@ -446,44 +448,41 @@ impl<'a> Wavefront<'a> {
                 path.last_pdf = pdf.as_array_ref()[k];
                 path.depth += 1;
                 active.push(i as u32);
-            } else if scalar[k] && self.scalar_bounce(path, &mut contexts[i]) {
-                active.push(i as u32);
             }
         }
         shadow_rays_traced as u64
     }
 
-    /// The rest of a bounce on a surface whose BSDF is more than Lambert's lobe, as
-    /// `PathTracer::radiance` takes it after the emission found (which the lanes counted):
-    /// light sampling where the BSDF has a non-delta lobe, the BSDF's sample, Russian roulette.
-    /// Returns whether the path goes on; its next ray is then set.
+    /// The bounce of a path on a surface whose BSDF is more than Lambert's lobe, whole, from the
+    /// scalar code (`PathTracer::bounce`). Returns whether the path goes on; its next ray is
+    /// then set.
     #[inline(never)]
     fn scalar_bounce(&self, path: &mut Path, context: &mut SampleContext) -> bool {
         let scene = self.scene;
         let hit = scene.geometry.surface_hit((path.hit.object, path.hit.prim), &path.ray, &path.hit.at);
-        let wo = -path.ray.direction.normalize();
-        let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
-        let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
-        if bsdf.has_diffuse() {
-            path.radiance += path.throughput * sample_lights(scene, &hit, &bsdf, wo, Weighting::Mis, context);
-        }
-        let u_lobe = context.sampler.next_f32();
-        let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
-        let Some(sample) = bsdf.sample(wo, u_lobe, u) else { return false };
-        path.throughput *= sample.weight;
-        path.eta_scale *= sample.eta_squared;
-        path.last_point = hit.geometry.point;
-        path.last_normal = hit.geometry.shading_normal;
-        // Infinite after a delta lobe: the lanes' power heuristic then gives weight 1.
-        path.last_pdf = if sample.delta { f32::INFINITY } else { sample.pdf };
-        path.depth += 1;
-        if path.depth >= self.rr_depth && !russian_roulette(&mut path.throughput, path.eta_scale, context) {
-            return false;
-        }
-        if path.throughput == Rgb::ZERO {
-            return false;
-        }
-        path.ray = hit.spawn_ray(sample.wi);
+        let previous = (path.depth > 0).then_some(Scatter {
+            point: path.last_point,
+            shading_normal: path.last_normal,
+            pdf: path.last_pdf,
+            delta: path.last_pdf == f32::INFINITY,
+        });
+        let mut state = PathState {
+            radiance: path.radiance,
+            throughput: path.throughput,
+            eta_scale: path.eta_scale,
+            depth: path.depth,
+            previous,
+        };
+        let next = self.tracer.bounce(scene, &path.ray, &hit, &mut state, context);
+        path.radiance = state.radiance;
+        let (Some(ray), Some(scatter)) = (next, state.previous) else { return false };
+        path.ray = ray;
+        path.throughput = state.throughput;
+        path.eta_scale = state.eta_scale;
+        path.depth = state.depth;
+        path.last_point = scatter.point;
+        path.last_normal = scatter.shading_normal;
+        path.last_pdf = if scatter.delta { f32::INFINITY } else { scatter.pdf };
         true
     }
 
@@ -543,10 +542,7 @@ impl<'a> Wavefront<'a> {
             geometric: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.geometric_normal)),
             shading: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.shading_normal)),
             material: std::array::from_fn(|k| match &hits[k] {
-                Some(h) => {
-                    let material = &scene.materials[h.material as usize];
-                    LaneMaterial::at(&material.evaluate(&h.texture_query()), material)
-                }
+                Some(h) => LaneMaterial::at(&scene.materials[h.material as usize].evaluate(&h.texture_query())),
                 None => LaneMaterial::BLACK,
             }),
         }
