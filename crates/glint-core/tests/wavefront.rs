@@ -241,9 +241,10 @@ fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampli
 }
 
 /// Surfaces whose BSDF is more than Lambert's lobe, each bounce there taken by the scalar code
-/// while the other lanes take theirs together: a mirror wall, a glass sphere (refraction, η²
-/// in the roulette), the course's mixed material, a rough metal and rough glass (GGX), all in
-/// one room and each alone, at depth limits and roulette from the first bounce.
+/// while the other paths take theirs in lanes: a mirror wall (alone, in a room of triangles
+/// whose surfaces the lanes compute), a glass sphere (refraction, η² in the roulette), the
+/// course's mixed material, a rough metal and rough glass (GGX); alone, in a pair and all
+/// together, at depth limits and roulette from the first bounce.
 #[test]
 fn the_wavefront_serves_mirrors_glass_glossy_and_mixed_materials() {
     let phong = |f: &dyn Fn(&mut Phong)| {
@@ -287,6 +288,8 @@ fn the_wavefront_serves_mirrors_glass_glossy_and_mixed_materials() {
         })
     };
     let scenes = [
+        // Triangles and constant colours alone: the lanes compute the other paths' surfaces.
+        (with(vec![]), "a mirror wall"),
         (with(vec![glass.clone()]), "a glass sphere and a mirror wall"),
         (with(vec![mixed.clone()]), "the mixed material"),
         (with(vec![rough_metal.clone(), rough_glass]), "GGX metal and glass"),
@@ -302,7 +305,7 @@ fn the_wavefront_serves_mirrors_glass_glossy_and_mixed_materials() {
             }
         }
     }
-    let all = &scenes[3].0;
+    let all = &scenes[4].0;
     for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 1), (5, 0)] {
         let tracer = PathTracer { max_depth, rr_depth, wavefront: true };
         for seed in 0..2 {

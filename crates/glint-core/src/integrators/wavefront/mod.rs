@@ -108,9 +108,9 @@ pub(super) struct Wavefront<'a> {
     /// The lights' CDF, when the lanes choose among them by counting: at most `SHORT_CDF`
     /// entries, sorted.
     counted_cdf: Option<&'a [f32]>,
-    /// For each material, whether its BSDF is more than Lambert's lobe (the bounce is then
-    /// the scalar code's), when some material is.
-    scalar_materials: Option<Vec<bool>>,
+    /// For each material, whether its BSDF is more than Lambert's lobe (a bounce there is the
+    /// scalar code's), when some material is.
+    beyond_lambert: Option<Vec<bool>>,
     /// For the scalar bounces, and the depth limits.
     tracer: PathTracer,
 }
@@ -183,8 +183,10 @@ impl<'a> Wavefront<'a> {
         if !served {
             return None;
         }
-        let scalar_materials = Some(scene.materials.iter().map(|m| !diffuse_only(m)).collect::<Vec<_>>())
-            .filter(|scalar| scalar.contains(&true));
+        let beyond_lambert = match scene.materials.iter().all(diffuse_only) {
+            true => None,
+            false => Some(scene.materials.iter().map(|m| !diffuse_only(m)).collect()),
+        };
         let flat = if scene.geometry.all_triangles() {
             scene.materials.iter().map(LaneMaterial::constant).collect::<Option<Vec<_>>>()
         } else {
@@ -194,7 +196,7 @@ impl<'a> Wavefront<'a> {
         let emitters = lights.triangle_table().filter(|_| lights.triangle_sampling == TriangleSampling::Area);
         let cdf = lights.selection_cdf();
         let counted_cdf = (!lights.is_empty() && cdf.len() <= SHORT_CDF && cdf.is_sorted()).then_some(cdf);
-        Some(Self { scene, flat, emitters, counted_cdf, scalar_materials, tracer: *tracer })
+        Some(Self { scene, flat, emitters, counted_cdf, beyond_lambert, tracer: *tracer })
     }
 
     /// The radiance along each camera ray, `out[i]` for `rays[i]` drawing from `contexts[i]`.
@@ -233,12 +235,12 @@ impl<'a> Wavefront<'a> {
                 }
             }
             active.clear();
-            if let Some(scalar) = &self.scalar_materials {
+            if let Some(beyond_lambert) = &self.beyond_lambert {
                 // Paths on surfaces the lanes do not model take their bounce from the scalar code.
                 let objects = &self.scene.geometry.objects;
                 hits.retain(|&i| {
                     let (path, context) = (&mut paths[i as usize], &mut contexts[i as usize]);
-                    if !scalar[objects[path.hit.object as usize].material as usize] {
+                    if !beyond_lambert[objects[path.hit.object as usize].material as usize] {
                         return true;
                     }
                     if self.scalar_bounce(path, context) {
@@ -425,7 +427,7 @@ impl<'a> Wavefront<'a> {
         throughput = throughput.mul_lanes(diffuse);
         // Russian roulette (Mitsuba's rule), from rr_depth bounces on.
         let roulette = if roulette_comes { mask(|_| true) } else { zero };
-        let max = match self.scalar_materials {
+        let max = match self.beyond_lambert {
             // Scaled by η², as the scalar code does: paths that went through glass.
             Some(_) => throughput.max_element() * per_lane(|k| path(k).eta_scale),
             None => throughput.max_element(),
