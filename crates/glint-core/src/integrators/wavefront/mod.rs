@@ -115,7 +115,7 @@ pub(super) struct Wavefront<'a> {
     tracer: PathTracer,
 }
 
-/// One path between bounces. Aligned to cache lines (128 bytes where 112 would do): a tile's
+/// One path between bounces. Aligned to cache lines (128 bytes where 116 would do): a tile's
 /// paths outgrow the L1 cache, and unaligned, half of them straddled three lines.
 #[derive(Clone, Copy, Debug)]
 #[repr(align(64))]
@@ -457,7 +457,7 @@ impl<'a> Wavefront<'a> {
 
     /// The bounce of a path on a surface whose BSDF is more than Lambert's lobe, whole, from the
     /// scalar code (`PathTracer::bounce`). Returns whether the path goes on; its next ray is
-    /// then set.
+    /// then set. (Out of line: the round loop of a diffuse scene never calls it.)
     #[inline(never)]
     fn scalar_bounce(&self, path: &mut Path, context: &mut SampleContext) -> bool {
         let scene = self.scene;
