@@ -276,7 +276,7 @@ fn the_wavefront_serves_mirrors_glass_glossy_and_mixed_materials() {
     });
     let with = |materials: Vec<Material>| {
         room_where(move |objects, room_materials| {
-            // A mirror-ish left wall, then each material on a sphere or on the smooth quad.
+            // A half-mirror left wall, then each material on a sphere of its own.
             let Material::Phong(left) = &mut room_materials[1];
             left.reflection = Texture::Constant(Rgb::splat(0.5));
             let centres = [Vec3::new(0.45, -0.65, 0.3), Vec3::new(-0.4, -0.6, 0.5), Vec3::new(0.1, 0.3, 0.6)];

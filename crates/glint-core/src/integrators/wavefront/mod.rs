@@ -183,10 +183,8 @@ impl<'a> Wavefront<'a> {
         if !served {
             return None;
         }
-        let beyond_lambert = match scene.materials.iter().all(diffuse_only) {
-            true => None,
-            false => Some(scene.materials.iter().map(|m| !diffuse_only(m)).collect()),
-        };
+        let beyond_lambert: Vec<bool> = scene.materials.iter().map(|m| !diffuse_only(m)).collect();
+        let beyond_lambert = beyond_lambert.contains(&true).then_some(beyond_lambert);
         let flat = if scene.geometry.all_triangles() {
             scene.materials.iter().map(LaneMaterial::constant).collect::<Option<Vec<_>>>()
         } else {
