@@ -23,7 +23,7 @@
 use glam::{Vec2, Vec3};
 
 use super::SurfaceGeometry;
-use crate::geometry::{gamma, Aabb, Ray};
+use crate::geometry::{gamma, next_float_down, next_float_up, Aabb, Ray};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum BoxMethod {
@@ -109,10 +109,19 @@ impl AaBox {
         ray.contains(t_exit).then_some(t_exit)
     }
 
-    /// The face is the one the point is nearest to, relative to the box's size; on an edge or
-    /// a corner either adjacent face's normal is a valid answer. uv span [0,1]² on each face.
+    /// The face is the one the point is nearest to, relative to the box's size; uv span
+    /// [0,1]² on each face.
+    ///
+    /// The point is kept on the box and, on the face's other two axes, at least its rounding
+    /// error inside the face's edges. A ray spawned from it then starts strictly inside every
+    /// slab but the face's own, so a ray leaving a hit at an edge or corner toward the inside
+    /// meets the next face at some t > 0 (a mirror box's corner then reflects it from each
+    /// face in turn, as a corner reflector does). With the point on an edge, a ray leaving
+    /// through the adjacent face met it at t = 0, which no ray contains: rays escaped closed
+    /// mirror boxes at their edges.
     pub fn surface(&self, point: Vec3) -> SurfaceGeometry {
         let size = (self.max - self.min).max(Vec3::splat(f32::MIN_POSITIVE));
+        let mut point = point.clamp(self.min, self.max);
         let mut best = (f32::INFINITY, 0, 1.0f32);
         for axis in 0..3 {
             let to_min = (point[axis] - self.min[axis]).abs() / size[axis];
@@ -127,12 +136,14 @@ impl AaBox {
         let (_, axis, sign) = best;
         let mut normal = Vec3::ZERO;
         normal[axis] = sign;
-        let mut point = point;
         point[axis] = if sign > 0.0 { self.max[axis] } else { self.min[axis] };
-        let local = (point - self.min) / size;
-        let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
         // The face coordinate is exact; the other two come from O + tD.
         let error = gamma(3) * point.abs();
+        let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
+        for other in [a, b] {
+            point[other] = inside_by(point[other], self.min[other], self.max[other], error[other]);
+        }
+        let local = (point - self.min) / size;
         SurfaceGeometry {
             point,
             geometric_normal: normal,
@@ -140,6 +151,18 @@ impl AaBox {
             uv: Vec2::new(local[a], local[b]),
             error,
         }
+    }
+}
+
+/// `x` moved into [lo, hi] by at least `margin` and at least one ulp from each end (the
+/// middle, if the interval is narrower than that).
+fn inside_by(x: f32, lo: f32, hi: f32, margin: f32) -> f32 {
+    let low = (lo + margin).max(next_float_up(lo));
+    let high = (hi - margin).min(next_float_down(hi));
+    if low > high {
+        0.5 * (lo + hi)
+    } else {
+        x.clamp(low, high)
     }
 }
 
@@ -198,6 +221,91 @@ mod tests {
         let g = b.surface(Vec3::new(0.0, 0.0, -1.0));
         assert_eq!(g.geometric_normal, -Vec3::Z);
         assert_eq!(g.uv, Vec2::new(0.5, 0.5));
+    }
+
+    /// The box's surface where `ray` meets it, by `method`.
+    fn hit_surface(b: &AaBox, ray: &Ray, method: BoxMethod) -> Option<SurfaceGeometry> {
+        b.intersect(ray, method).map(|t| b.surface(ray.at(t)))
+    }
+
+    #[test]
+    fn edge_and_corner_points_are_kept_inside_the_face() {
+        let b = unit_box();
+        // On the +x+y edge (and a little beyond it, as rounding may put it): on the face,
+        // strictly inside the other slabs.
+        for p in [Vec3::new(1.0, 1.0, 0.25), Vec3::new(1.0, next_float_up(1.0), 0.25), Vec3::ONE] {
+            let g = b.surface(p);
+            let (axis, _) = (0..3).map(|a| (a, g.geometric_normal[a])).find(|&(_, n)| n != 0.0).unwrap();
+            assert_eq!(g.point[axis].abs(), 1.0, "{p} -> {}", g.point);
+            for other in (0..3).filter(|&a| a != axis && p[a] >= 1.0) {
+                assert!(g.point[other] < 1.0 && g.point[other] >= 1.0 - 1e-6, "{p} -> {}", g.point);
+            }
+        }
+        // A mirror ray from inside into the edge comes back off both faces: a corner reflector.
+        for m in METHODS {
+            let d = Vec3::new(3.0, 3.0, 1.0);
+            let mut ray = Ray::new(Vec3::new(-0.5, -0.5, 0.0), d);
+            for _ in 0..2 {
+                let g = hit_surface(&b, &ray, m).expect("the ray stays inside");
+                let wi = crate::geometry::reflect(ray.direction, g.geometric_normal);
+                ray = Ray::new(crate::geometry::offset_ray_origin(g.point, g.error, g.geometric_normal, wi), wi);
+            }
+            assert!((ray.direction - Vec3::new(-3.0, -3.0, 1.0)).length() < 1e-5, "{m:?}: {}", ray.direction);
+        }
+    }
+
+    /// Rays from inside a closed mirror box aimed at its edges and corners, reflected again and
+    /// again by both methods, must always hit the box again from inside: no ray leaks out.
+    #[test]
+    fn mirror_rays_at_edges_and_corners_stay_inside() {
+        let mut rng = TestRng(11);
+        let boxes = [
+            unit_box(),
+            AaBox::new(Vec3::splat(-2.0), Vec3::splat(2.0)),
+            AaBox::new(Vec3::new(1e4, -3.0, 0.0), Vec3::new(1e4 + 7.0, 2.0, 0.75)),
+        ];
+        for b in boxes {
+            for m in METHODS {
+                for i in 0..3000 {
+                    // A target on an edge (two coordinates on faces) or a corner (three).
+                    let mut target = b.min + rng.vec3(0.0, 1.0) * (b.max - b.min);
+                    let on_faces = 2 + (i % 2);
+                    let first = (rng.next_u64() % 3) as usize;
+                    for k in 0..on_faces {
+                        let a = (first + k) % 3;
+                        target[a] = if rng.next_u64().is_multiple_of(2) { b.min[a] } else { b.max[a] };
+                    }
+                    let origin = b.min + (0.1 + 0.8 * rng.vec3(0.0, 1.0)) * (b.max - b.min);
+                    let mut ray = Ray::new(origin, target - origin);
+                    for bounce in 0..50 {
+                        let g = hit_surface(&b, &ray, m).unwrap_or_else(|| {
+                            panic!("{m:?}: ray {ray:?} left {b:?} after {bounce} bounces (aimed at {target})")
+                        });
+                        // A mirror's ray, or now and then a diffuse one (any inward direction).
+                        let mut wi = crate::geometry::reflect(ray.direction, g.geometric_normal);
+                        if bounce % 3 == 2 {
+                            wi = rng.unit_vector();
+                            if wi.dot(g.geometric_normal) > 0.0 {
+                                wi = -wi;
+                            }
+                        }
+                        let o = crate::geometry::offset_ray_origin(g.point, g.error, g.geometric_normal, wi);
+                        // Strictly inside the slabs of the face's edges; on the face's own
+                        // plane only where its error bound is 0 (a face at coordinate 0).
+                        let face_axis = g.geometric_normal.abs().max_position();
+                        for a in 0..3 {
+                            let inside = if a == face_axis {
+                                o[a] >= b.min[a] && o[a] <= b.max[a]
+                            } else {
+                                o[a] > b.min[a] && o[a] < b.max[a]
+                            };
+                            assert!(inside, "{m:?}: spawned outside at {o} from {}", g.point);
+                        }
+                        ray = Ray::new(o, wi);
+                    }
+                }
+            }
+        }
     }
 
     #[test]
