@@ -252,9 +252,14 @@ impl PhotonMapper {
                 return Rgb::ZERO;
             }
             let r = r2.sqrt();
+            let normal = hit.geometry.geometric_normal;
+            let normal = if normal.dot(wo) < 0.0 { -normal } else { normal };
             let mut sum = Rgb::ZERO;
             for (d2, i) in nearest.iter() {
                 let photon = map.photon(i);
+                if !photon.can_reach(hit.geometry.point, normal) {
+                    continue;
+                }
                 let weight = 1.0 - d2.sqrt() / (CONE_K * r);
                 sum += bsdf.eval_without_cosine(wo, photon.incoming()) * photon.power * weight;
             }

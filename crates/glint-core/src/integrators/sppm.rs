@@ -6,7 +6,9 @@
 //! Each pass:
 //! 1. **camera pass**: a camera sample per pixel follows mirrors and glass to the first surface
 //!    with a non-delta part, its *visible point*; on the way, emission hit and light-sampled
-//!    direct light at each such surface are added to the pixel's direct estimate;
+//!    direct light at each such surface are added to the pixel's direct estimate; from
+//!    `rr_depth` bounces on, Russian roulette (survival at most 0.95) ends chains that would
+//!    not end by themselves (a closed mirror box, total internal reflection in nested glass);
 //! 2. **photon pass**: as many photons as the image has pixels (or `photons_per_pass`) are
 //!    traced; those landing after at least one bounce (direct light is step 1's) are stored in
 //!    a kd-tree;
@@ -24,7 +26,7 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::path::{sample_lights, Weighting};
+use super::path::{russian_roulette, sample_lights, Weighting};
 use super::photon_mapping::{PhotonShooter, BATCH};
 use super::{RayCounts, SampleContext};
 use crate::film::Film;
@@ -45,6 +47,8 @@ type CameraSample = (u32, Rgb, Option<VisiblePoint>);
 
 struct VisiblePoint {
     point: Vec3,
+    /// The geometric normal on the side of `wo`.
+    normal: Vec3,
     wo: Vec3,
     bsdf: Bsdf,
     /// Camera throughput to the point, over the probability of stopping there.
@@ -64,6 +68,8 @@ struct PixelState {
 
 pub struct Sppm {
     pub max_depth: u32,
+    /// Russian roulette on the camera path's delta bounces from this many on.
+    pub rr_depth: u32,
     /// First radius; 0: three pixel footprints at the visible point.
     pub initial_radius: f32,
     /// Photons per pass; 0: the pixel count.
@@ -75,10 +81,17 @@ pub struct Sppm {
 }
 
 impl Sppm {
-    pub fn new(scene: &Scene, max_depth: u32, initial_radius: f32, photons_per_pass: u32) -> Result<Self, String> {
+    pub fn new(
+        scene: &Scene,
+        max_depth: u32,
+        rr_depth: u32,
+        initial_radius: f32,
+        photons_per_pass: u32,
+    ) -> Result<Self, String> {
         let n = scene.camera.width as usize * scene.camera.height as usize;
         Ok(Self {
             max_depth,
+            rr_depth,
             initial_radius,
             photons_per_pass,
             source: ParticleSource::new(scene)?,
@@ -103,6 +116,7 @@ impl Sppm {
         let mut ray = scene.camera.sample_ray(x as f32 + dx, y as f32 + dy, || context.sampler.next_f32());
         let mut direct = Rgb::ZERO;
         let mut throughput = Rgb::ONE;
+        let mut eta_scale = 1.0;
         let mut distance = 0.0;
         let mut visible = None;
         for depth in 0..=self.max_depth {
@@ -127,7 +141,9 @@ impl Sppm {
                 // Photons give the indirect part (paths of two or more scattering events).
                 if depth + 1 < self.max_depth {
                     let point = hit.geometry.point;
-                    visible = Some(VisiblePoint { point, wo, bsdf, weight: throughput / p, distance });
+                    let normal = hit.geometry.geometric_normal;
+                    let normal = if normal.dot(wo) < 0.0 { -normal } else { normal };
+                    visible = Some(VisiblePoint { point, normal, wo, bsdf, weight: throughput / p, distance });
                 }
                 break;
             }
@@ -135,6 +151,10 @@ impl Sppm {
             let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
             let Some(sample) = bsdf.sample_delta(wo, u_lobe, u) else { break };
             throughput *= sample.weight / (1.0 - p);
+            eta_scale *= sample.eta_squared;
+            if depth + 1 >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, &mut context) {
+                break;
+            }
             if throughput == Rgb::ZERO {
                 break;
             }
@@ -193,6 +213,9 @@ impl PassRenderer for Sppm {
             let mut flux = Rgb::ZERO;
             let mut found = 0u32;
             map.for_each_within(vp.point, state.radius, |photon, _| {
+                if !photon.can_reach(vp.point, vp.normal) {
+                    return;
+                }
                 let f = vp.bsdf.eval_without_cosine(vp.wo, photon.incoming());
                 if f != Rgb::ZERO {
                     flux += f * photon.power;
