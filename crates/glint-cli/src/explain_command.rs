@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use glint_core::integrators::recorder::{RayRecord, RayTree};
+use glint_core::integrators::whitted::{DEPTH_CEILING, TREE_RAY_LIMIT};
 use glint_core::integrators::{IntegratorSettings, PhotonMapper, SampleContext, Whitted};
 use glint_core::materials::Bsdf;
 use glint_core::photons::NearestPhotons;
@@ -27,8 +28,8 @@ pub struct ExplainArgs {
     width: Option<u32>,
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
     height: Option<u32>,
-    /// Maximum recursion depth (default: the scene's).
-    #[arg(long)]
+    /// Maximum recursion depth, -1 = unbounded (default: the scene's), as for `render`.
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::render_command::parse_max_depth)]
     max_depth: Option<u32>,
     #[arg(long)]
     min_contribution: Option<f32>,
@@ -68,8 +69,13 @@ pub fn run(args: ExplainArgs) -> Result<(), String> {
         settings.min_contribution = c;
     }
     settings.transparent_shadows |= args.transparent_shadows;
-    let (tree, colour) = explain_pixel(&scene, &settings, x, y);
+    let (tree, colour, cut) = explain_pixel(&scene, &settings, x, y);
     print!("{}", format_tree(&scene, &settings, x, y, &tree, colour));
+    if cut {
+        println!(
+            "the tree was cut at {DEPTH_CEILING} generations or {TREE_RAY_LIMIT} rays: neither the depth nor the contribution rule ended it"
+        );
+    }
     if let Some(k) = args.photons {
         print!("{}", explain_photons(&scene, &settings, loaded.render.seed, x, y, k)?);
     }
@@ -138,26 +144,15 @@ pub fn explain_photons(
 }
 
 /// Traces the pixel-centre ray with the Whitted integrator, recording the ray tree. The colour
-/// is exactly what `glint render --integrator whitted --spp 1` computes for that pixel.
-pub fn explain_pixel(scene: &Scene, settings: &IntegratorSettings, x: u32, y: u32) -> (RayTree, Rgb) {
-    let whitted = Whitted {
-        max_depth: settings.max_depth,
-        min_contribution: settings.min_contribution,
-        transparent_shadows: settings.transparent_shadows,
-    };
+/// is exactly what `glint render --integrator whitted --spp 1` computes for that pixel; the
+/// flag says whether a ceiling cut the tree (`DEPTH_CEILING`, `TREE_RAY_LIMIT`).
+pub fn explain_pixel(scene: &Scene, settings: &IntegratorSettings, x: u32, y: u32) -> (RayTree, Rgb, bool) {
+    let whitted = Whitted::new(settings.max_depth, settings.min_contribution, settings.transparent_shadows);
     let ray = scene.camera.generate_ray(x as f32 + 0.5, y as f32 + 0.5);
     let mut tree = RayTree::default();
     let mut context = SampleContext::new(Rng::new(0, 0));
-    let colour = whitted.trace(
-        scene,
-        &ray,
-        glint_core::integrators::recorder::RayKind::Camera,
-        0,
-        Rgb::ONE,
-        &mut context,
-        &mut tree,
-    );
-    (tree, colour)
+    let colour = whitted.trace_camera_ray(scene, &ray, &mut context, &mut tree);
+    (tree, colour, whitted.cut_trees() > 0)
 }
 
 fn v(p: Vec3) -> String {

@@ -45,8 +45,8 @@ pub struct RenderArgs {
     integrator: Option<IntegratorArg>,
     /// Maximum recursion depth (Whitted: generations of reflection/refraction rays; path
     /// tracers: scattering events, -1 = unbounded).
-    #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(i64).range(-1..=u32::MAX as i64))]
-    max_depth: Option<i64>,
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_max_depth)]
+    max_depth: Option<u32>,
     /// Whitted: stop a branch whose accumulated weight falls below this.
     #[arg(long)]
     min_contribution: Option<f32>,
@@ -372,6 +372,9 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         render_progressive(&scene, renderer.as_mut(), &progressive, resume, &stop, &|| progress.inc(1), &mut on_pass)
     });
     progress.finish_and_clear();
+    for w in renderer.warnings() {
+        eprintln!("warning: {w}");
+    }
     if let Some(e) = checkpoint_error {
         eprintln!("warning: {e}");
     }
@@ -448,6 +451,15 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// `--max-depth` for every command: a count of bounces, or -1 for unbounded (`u32::MAX`).
+pub fn parse_max_depth(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<i64>() {
+        Ok(-1) => Ok(u32::MAX),
+        Ok(d) if (0..u32::MAX as i64).contains(&d) => Ok(d as u32),
+        _ => Err(format!("expected -1 (unbounded) or a depth from 0 to {}, got `{s}`", u32::MAX - 1)),
+    }
+}
+
 /// Replaces heat-map counts (channel R) by false colours scaled to the image's maximum, and
 /// draws the colour bar along the bottom rows. Returns the count that maps to red.
 fn false_colour_heat_map(pixels: &mut [Rgb], width: u32, height: u32) -> f32 {
@@ -470,7 +482,7 @@ impl RenderArgs {
     pub fn integrator_settings(&self, from_scene: &IntegratorSettings) -> Result<IntegratorSettings, String> {
         let mut s = *from_scene;
         if let Some(d) = self.max_depth {
-            s.max_depth = u32::try_from(d).unwrap_or(u32::MAX);
+            s.max_depth = d;
         }
         if let Some(c) = self.min_contribution {
             if !(c.is_finite() && c >= 0.0) {

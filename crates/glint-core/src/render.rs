@@ -107,6 +107,11 @@ pub trait PassRenderer {
         Vec::new()
     }
 
+    /// What the user should know about the render so far (see `Integrator::warnings`).
+    fn warnings(&self) -> Vec<String> {
+        Vec::new()
+    }
+
     /// Restores what `state` saved, before resuming.
     fn restore(&mut self, state: &[u8]) -> Result<(), String> {
         if state.is_empty() {
@@ -135,6 +140,10 @@ impl<'a, I: Borrow<dyn Integrator + 'a>> PassRenderer for CameraPasses<I> {
         on_tile: &(dyn Fn() + Sync),
     ) -> RayCounts {
         camera_passes(scene, self.0.borrow(), passes, film, on_tile)
+    }
+
+    fn warnings(&self) -> Vec<String> {
+        self.0.borrow().warnings()
     }
 }
 

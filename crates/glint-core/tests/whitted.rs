@@ -19,13 +19,13 @@ fn phong(diffuse: Rgb) -> Phong {
 }
 
 fn whitted(max_depth: u32) -> Whitted {
-    Whitted { max_depth, min_contribution: 0.0, transparent_shadows: false }
+    Whitted::new(max_depth, 0.0, false)
 }
 
 fn trace(w: &Whitted, s: &Scene, ray: &Ray) -> (Rgb, RayTree) {
     let mut tree = RayTree::default();
     let mut context = SampleContext::new(Rng::new(0, 0));
-    let c = w.trace(s, ray, RayKind::Camera, 0, Rgb::ONE, &mut context, &mut tree);
+    let c = w.trace_camera_ray(s, ray, &mut context, &mut tree);
     (c, tree)
 }
 
@@ -132,7 +132,7 @@ fn lit_floor_with_blocker(blocker_transmission: f32, transparent_shadows: bool) 
         intensity: Rgb::ONE,
         falloff: Falloff::None,
     })];
-    let w = Whitted { max_depth: 0, min_contribution: 0.0, transparent_shadows };
+    let w = Whitted::new(0, 0.0, transparent_shadows);
     // Look straight down at the origin, from below the blocker.
     trace(&w, &s, &Ray::new(Vec3::new(0.0, 1.0, 0.0), -Vec3::Y)).0
 }
@@ -163,13 +163,13 @@ fn contribution_threshold_stops_at_the_predicted_depth() {
     s.materials =
         vec![Material::Phong(Phong { reflection: Texture::Constant(Rgb::splat(0.5)), ..phong(Rgb::splat(0.2)) })];
     let ray = Ray::new(Vec3::ZERO, Vec3::new(0.05, 0.0, 1.0).normalize());
-    let w = Whitted { max_depth: 100, min_contribution: 0.1, transparent_shadows: false };
+    let w = Whitted::new(100, 0.1, false);
     let (_, tree) = trace(&w, &s, &ray);
     let reflections = tree.rays.iter().filter(|r| r.kind == RayKind::Reflection).count();
     assert_eq!(reflections, 3);
     assert_eq!(tree.rays.iter().map(|r| r.depth).max(), Some(3));
     // And the depth limit alone, with no threshold: exactly max_depth generations.
-    let (_, tree) = trace(&Whitted { max_depth: 7, min_contribution: 0.0, transparent_shadows: false }, &s, &ray);
+    let (_, tree) = trace(&Whitted::new(7, 0.0, false), &s, &ray);
     assert_eq!(tree.rays.len(), 8);
 }
 

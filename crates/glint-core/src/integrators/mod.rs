@@ -13,7 +13,7 @@ mod raycast;
 pub mod recorder;
 mod sppm;
 mod wavefront;
-mod whitted;
+pub mod whitted;
 
 pub use bvh_heat::{heat_colour, BvhHeat};
 pub use light::LightTracer;
@@ -92,6 +92,12 @@ pub trait Integrator: Send + Sync {
     /// in the first context rather than each in its own.
     fn radiance_tile(&self, scene: &Scene, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
         radiance_each(self, scene, rays, contexts, out);
+    }
+
+    /// What the user should know about the render so far (paths or ray trees cut at a
+    /// ceiling, say); empty when all went as asked.
+    fn warnings(&self) -> Vec<String> {
+        Vec::new()
     }
 }
 
@@ -203,11 +209,9 @@ impl IntegratorKind {
             IntegratorKind::PathNaive => {
                 Box::new(NaivePathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth })
             }
-            IntegratorKind::Whitted => Box::new(Whitted {
-                max_depth: settings.max_depth,
-                min_contribution: settings.min_contribution,
-                transparent_shadows: settings.transparent_shadows,
-            }),
+            IntegratorKind::Whitted => {
+                Box::new(Whitted::new(settings.max_depth, settings.min_contribution, settings.transparent_shadows))
+            }
             IntegratorKind::Light | IntegratorKind::Photon | IntegratorKind::Sppm => return None,
         })
     }
@@ -222,9 +226,13 @@ impl IntegratorKind {
     ) -> Result<Box<dyn PassRenderer + Send>, String> {
         Ok(match self {
             IntegratorKind::Light => Box::new(LightTracer::new(scene, settings.max_depth)?),
-            IntegratorKind::Sppm => {
-                Box::new(Sppm::new(scene, settings.max_depth, settings.sppm_radius, settings.photons_per_pass)?)
-            }
+            IntegratorKind::Sppm => Box::new(Sppm::new(
+                scene,
+                settings.max_depth,
+                settings.rr_depth,
+                settings.sppm_radius,
+                settings.photons_per_pass,
+            )?),
             IntegratorKind::Photon => {
                 let mapper: Box<dyn Integrator> =
                     Box::new(PhotonMapper::new(scene, settings.max_depth, settings.rr_depth, settings.photon, seed)?);

@@ -10,10 +10,16 @@
 //!   normal; on total internal reflection the transmitted weight goes to reflection;
 //! - recursion ends at `max_depth` bounces (0 = local shading with shadows only), when the
 //!   path's accumulated weight falls below `min_contribution`, and when a ray leaves the scene
-//!   (background colour).
+//!   (background colour). Where none of these ends it (unbounded depth in a closed box of
+//!   perfect mirrors, or glass whose k_r + k_t ≥ 1 without Fresnel, whose tree doubles at
+//!   every surface), two ceilings do: `DEPTH_CEILING` generations, which keeps the recursion
+//!   within a worker thread's stack, and `TREE_RAY_LIMIT` rays per sample; the render counts
+//!   the samples so cut and warns (`Integrator::warnings`).
 //!
 //! The same code renders and explains a pixel: it reports every ray to a `Recorder`, a no-op
 //! when rendering and the ray tree for `glint explain`.
+
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::recorder::{LightRecord, NoRecorder, RayKind, Recorder};
 use super::{Integrator, SampleContext};
@@ -24,23 +30,73 @@ use crate::Rgb;
 /// How many transparent surfaces a shadow ray passes through at most.
 const MAX_SHADOW_OCCLUDERS: usize = 256;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// The most generations of reflection and refraction, whatever `max_depth` says: each costs
+/// a recursion's stack frames (under 1 KiB), and a worker thread has 2 MiB.
+pub const DEPTH_CEILING: u32 = 1000;
+/// The most rays (camera, reflected, refracted) in one sample's ray tree.
+pub const TREE_RAY_LIMIT: u32 = 1 << 12;
+
+#[derive(Debug)]
 pub struct Whitted {
     pub max_depth: u32,
     pub min_contribution: f32,
     pub transparent_shadows: bool,
+    /// Samples whose tree a ceiling cut, for the render's warning.
+    cut_trees: AtomicU64,
+}
+
+/// One sample's tree as it grows: rays left before `TREE_RAY_LIMIT`, and whether a ceiling
+/// cut a branch.
+struct TreeBudget {
+    rays_left: u32,
+    cut: bool,
 }
 
 impl Integrator for Whitted {
     fn radiance(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Rgb {
-        self.trace(scene, ray, RayKind::Camera, 0, Rgb::ONE, context, &mut NoRecorder)
+        self.trace_camera_ray(scene, ray, context, &mut NoRecorder)
+    }
+
+    fn warnings(&self) -> Vec<String> {
+        let cut = self.cut_trees.load(Ordering::Relaxed);
+        if cut == 0 {
+            return Vec::new();
+        }
+        vec![format!(
+            "whitted: the ray trees of {cut} samples were cut at {DEPTH_CEILING} generations or {TREE_RAY_LIMIT} rays, where neither `max_depth` nor `min_contribution` ended them (a closed room of perfect mirrors, or materials whose k_r + k_t ≥ 1); the branches cut add nothing"
+        )]
     }
 }
 
 impl Whitted {
+    pub fn new(max_depth: u32, min_contribution: f32, transparent_shadows: bool) -> Self {
+        Self { max_depth, min_contribution, transparent_shadows, cut_trees: AtomicU64::new(0) }
+    }
+
+    /// Samples whose ray tree a ceiling cut so far (`DEPTH_CEILING`, `TREE_RAY_LIMIT`).
+    pub fn cut_trees(&self) -> u64 {
+        self.cut_trees.load(Ordering::Relaxed)
+    }
+
+    /// Radiance along a camera ray, every ray of its tree reported to `recorder`.
+    pub fn trace_camera_ray<R: Recorder>(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        context: &mut SampleContext,
+        recorder: &mut R,
+    ) -> Rgb {
+        let mut budget = TreeBudget { rays_left: TREE_RAY_LIMIT - 1, cut: false };
+        let radiance = self.trace(scene, ray, RayKind::Camera, 0, Rgb::ONE, context, recorder, &mut budget);
+        if budget.cut {
+            self.cut_trees.fetch_add(1, Ordering::Relaxed);
+        }
+        radiance
+    }
+
     /// Radiance along `ray`, which carries `weight` (the product of k_r / k_t above it).
     #[allow(clippy::too_many_arguments)]
-    pub fn trace<R: Recorder>(
+    fn trace<R: Recorder>(
         &self,
         scene: &Scene,
         ray: &Ray,
@@ -49,6 +105,7 @@ impl Whitted {
         weight: Rgb,
         context: &mut SampleContext,
         recorder: &mut R,
+        budget: &mut TreeBudget,
     ) -> Rgb {
         match kind {
             RayKind::Camera => context.rays.camera += 1,
@@ -62,7 +119,7 @@ impl Whitted {
             return background;
         };
         recorder.hit(&hit);
-        let radiance = self.shade(scene, ray, &hit, depth, weight, context, recorder);
+        let radiance = self.shade(scene, ray, &hit, depth, weight, context, recorder, budget);
         recorder.end_ray(radiance);
         radiance
     }
@@ -77,6 +134,7 @@ impl Whitted {
         weight: Rgb,
         context: &mut SampleContext,
         recorder: &mut R,
+        budget: &mut TreeBudget,
     ) -> Rgb {
         let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
         let incident = ray.direction.normalize();
@@ -114,6 +172,10 @@ impl Whitted {
         if depth >= self.max_depth {
             return radiance;
         }
+        if depth >= DEPTH_CEILING {
+            budget.cut = true;
+            return radiance;
+        }
         let cos_incident = -incident.dot(normal);
         let entering = incident.dot(hit.geometry.geometric_normal) < 0.0;
         let eta = if entering { 1.0 / material.ior } else { material.ior };
@@ -124,23 +186,34 @@ impl Whitted {
             reflection_weight += transmission_weight;
             transmission_weight = Rgb::ZERO;
         }
-        if let Some(w) = self.worth_tracing(weight, reflection_weight) {
+        if let Some(w) = self.worth_tracing(weight, reflection_weight, budget) {
             let reflected = hit.spawn_ray(reflect(incident, normal));
-            radiance +=
-                reflection_weight * self.trace(scene, &reflected, RayKind::Reflection, depth + 1, w, context, recorder);
+            radiance += reflection_weight
+                * self.trace(scene, &reflected, RayKind::Reflection, depth + 1, w, context, recorder, budget);
         }
-        if let (Some(direction), Some(w)) = (refracted, self.worth_tracing(weight, transmission_weight)) {
-            let transmitted = hit.spawn_ray(direction);
-            radiance += transmission_weight
-                * self.trace(scene, &transmitted, RayKind::Refraction, depth + 1, w, context, recorder);
+        if let Some(direction) = refracted {
+            if let Some(w) = self.worth_tracing(weight, transmission_weight, budget) {
+                let transmitted = hit.spawn_ray(direction);
+                radiance += transmission_weight
+                    * self.trace(scene, &transmitted, RayKind::Refraction, depth + 1, w, context, recorder, budget);
+            }
         }
         radiance
     }
 
-    /// The child ray's accumulated weight, if it is at least `min_contribution` on some channel.
-    fn worth_tracing(&self, weight: Rgb, factor: Rgb) -> Option<Rgb> {
+    /// The child ray's accumulated weight, if it is at least `min_contribution` on some channel
+    /// and the tree has a ray left for it (which it then takes).
+    fn worth_tracing(&self, weight: Rgb, factor: Rgb, budget: &mut TreeBudget) -> Option<Rgb> {
         let w = weight * factor;
-        (factor != Rgb::ZERO && w.max_element() >= self.min_contribution).then_some(w)
+        if factor == Rgb::ZERO || w.max_element() < self.min_contribution {
+            return None;
+        }
+        if budget.rays_left == 0 {
+            budget.cut = true;
+            return None;
+        }
+        budget.rays_left -= 1;
+        Some(w)
     }
 
     /// Fraction of the light that reaches the end of the shadow ray: 0 or 1, or with transparent
