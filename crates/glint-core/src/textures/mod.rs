@@ -60,6 +60,20 @@ impl Texture {
     }
 }
 
+impl Texture {
+    /// The largest value of each channel anywhere (textures blend between their colours).
+    pub fn max_value(&self) -> Rgb {
+        match self {
+            Texture::Constant(c) => *c,
+            Texture::Checker(t) => t.even.max(t.odd),
+            Texture::SolidChecker(t) => t.even.max(t.odd),
+            Texture::Image(t) => t.pixels.iter().fold(Rgb::ZERO, |m, p| m.max(*p)),
+            Texture::Marble(t) => t.base.max(t.vein),
+            Texture::Wood(t) => t.light.max(t.dark),
+        }
+    }
+}
+
 impl From<Rgb> for Texture {
     fn from(c: Rgb) -> Self {
         Texture::Constant(c)

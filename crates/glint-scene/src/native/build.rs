@@ -206,6 +206,7 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         objects.push(build_object(&cx, i, entry, &materials, &mut library, source, &mut warnings)?);
     }
 
+    warnings.extend(materials.iter().filter_map(|(name, m)| m.energy_warning(name)));
     let mut scene = Scene::new(camera, objects, materials, lights, environment, methods);
     scene.area_lights.triangle_sampling = render.light_sampling;
     Ok(LoadedScene { scene, render, warnings })
