@@ -7,6 +7,7 @@
 
 mod error;
 mod image;
+mod limits;
 mod located;
 pub mod mesh;
 pub mod mitsuba;
@@ -14,6 +15,7 @@ pub mod native;
 mod source;
 
 pub use error::{Location, SceneError};
+pub use limits::set_memory_limit;
 pub use native::{load_scene, load_scene_with, parse_scene, LoadedScene, RenderOptions};
 pub use source::Source;
 
@@ -22,6 +24,6 @@ pub use source::Source;
 pub fn default_scene() -> Result<LoadedScene, SceneError> {
     const TOML: &str = include_str!("../../../scenes/default.toml");
     const TORUS: &[u8] = include_bytes!("../../../scenes/meshes/torus.obj");
-    let source = Source::Embedded(&[("meshes/torus.obj", TORUS)]);
+    let source = Source::embedded(&[("meshes/torus.obj", TORUS)]);
     parse_scene(TOML, native::Format::Toml, "<built-in default scene>", &source)
 }

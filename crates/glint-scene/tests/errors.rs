@@ -25,7 +25,7 @@ material = "green"
 "#;
 
 fn parse(text: &str) -> Result<glint_scene::LoadedScene, SceneError> {
-    parse_scene(text, Format::Toml, "test.toml", &Source::Directory(std::env::temp_dir()))
+    parse_scene(text, Format::Toml, "test.toml", &Source::directory(std::env::temp_dir()))
 }
 
 fn error(text: &str) -> SceneError {
@@ -58,7 +58,7 @@ fn malformed_toml_names_line_and_column() {
 #[test]
 fn malformed_json_names_line_and_column() {
     let json = "{\n  \"camera\": {\"position\": [0,0,-5], \"look_at\": [0,0,0]},\n  \"shapes\": [\n    {\"type\": \"sphere\" \"radius\": 1}\n  ]\n}";
-    let e = parse_scene(json, Format::Json, "s.json", &Source::Directory(".".into())).err().unwrap();
+    let e = parse_scene(json, Format::Json, "s.json", &Source::directory(".".into())).err().unwrap();
     assert_eq!(line_of(&e), 4);
     assert!(e.to_string().contains("expected"), "{e}");
 }
@@ -148,7 +148,7 @@ fn corrupt_mesh_is_reported() {
     )
     .unwrap();
     let mesh = GOOD.replace("type = \"sphere\"\nradius = 1", "type = \"mesh\"\nfile = \"broken.ply\"");
-    let e = parse_scene(&mesh, Format::Toml, "t.toml", &Source::Directory(dir.clone())).err().unwrap();
+    let e = parse_scene(&mesh, Format::Toml, "t.toml", &Source::directory(dir.clone())).err().unwrap();
     assert!(e.to_string().contains("`broken.ply`"), "{e}");
     std::fs::remove_dir_all(dir).unwrap();
 }
@@ -161,7 +161,7 @@ fn json_and_toml_read_the_same_scene() {
       "lights": [{"type": "directional", "direction": [0, 0, 1]}],
       "shapes": [{"type": "sphere", "radius": 1, "material": "green"}]
     }"#;
-    let a = parse_scene(json, Format::Json, "s.json", &Source::Directory(".".into())).unwrap();
+    let a = parse_scene(json, Format::Json, "s.json", &Source::directory(".".into())).unwrap();
     let b = parse(GOOD).unwrap();
     assert_eq!(a.scene.camera, b.scene.camera);
     assert_eq!(a.scene.materials, b.scene.materials);
@@ -169,7 +169,7 @@ fn json_and_toml_read_the_same_scene() {
     assert_eq!(a.render, b.render);
     // JSON errors about an element name its path, as JSON has no spans to give.
     let bad = json.replace("\"material\": \"green\"", "\"material\": \"gren\"");
-    let e = parse_scene(&bad, Format::Json, "s.json", &Source::Directory(".".into())).err().unwrap();
+    let e = parse_scene(&bad, Format::Json, "s.json", &Source::directory(".".into())).err().unwrap();
     assert!(e.to_string().contains("shapes[0]") && e.to_string().contains("did you mean `green`?"), "{e}");
 }
 
@@ -195,11 +195,12 @@ fn every_example_scene_loads() {
 fn mutated_native_scenes_never_panic() {
     let scenes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
     let original = std::fs::read_to_string(scenes.join("whitted-1980.toml")).unwrap().into_bytes();
-    let source = glint_scene::Source::Directory(scenes.clone());
     let (mut loaded, mut refused) = (0, 0);
     for bytes in common::mutants(&original, b"[]{}=\",.-#\n0123456789e", 1500, 0x2545_F491_4F6C_DD1D) {
         let Ok(text) = String::from_utf8(bytes) else { continue };
+        // A source of its own each, made inside: it records the files it reads.
         let result = std::panic::catch_unwind(|| {
+            let source = glint_scene::Source::directory(scenes.clone());
             glint_scene::parse_scene(&text, glint_scene::native::Format::Toml, "mutant.toml", &source)
         });
         match result {
@@ -226,4 +227,17 @@ fn light_sampling_is_read_and_checked() {
     let e = error(&with("solid-angel"));
     assert!(e.to_string().contains("did you mean `solid-angle`?"), "{e}");
     assert_eq!(line_of(&e), 2);
+}
+
+#[test]
+fn a_polygon_off_its_plane_is_refused() {
+    let flat = GOOD.replace(
+        "[[shapes]]\ntype = \"sphere\"\nradius = 1",
+        "[[shapes]]\ntype = \"polygon\"\nvertices = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]",
+    );
+    assert!(parse(&flat).is_ok());
+    let bent = flat.replace("[1, 1, 0]", "[1, 1, 0.2]");
+    let e = error(&bent);
+    assert_eq!(line_of(&e), 16); // the `vertices` line
+    assert!(e.to_string().contains("not planar"), "{e}");
 }

@@ -10,7 +10,7 @@ use glint_scene::native::Format;
 use glint_scene::{parse_scene, LoadedScene, Source};
 
 fn load(text: &str, dir: &Path) -> LoadedScene {
-    parse_scene(text, Format::Toml, "instances.toml", &Source::Directory(dir.to_path_buf()))
+    parse_scene(text, Format::Toml, "instances.toml", &Source::directory(dir.to_path_buf()))
         .unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -64,7 +64,7 @@ fn an_instance_renders_like_the_baked_mesh() {
 fn unknown_mesh_name_is_an_error_with_a_suggestion() {
     let text = format!("{HEADER}\n[meshes.torus]\nfile = \"meshes/torus.obj\"\n\n[[shapes]]\ntype = \"instance\"\nmesh = \"tors\"\nmaterial = \"gold\"\n");
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let e = parse_scene(&text, Format::Toml, "i.toml", &Source::Directory(scenes)).err().unwrap();
+    let e = parse_scene(&text, Format::Toml, "i.toml", &Source::directory(scenes)).err().unwrap();
     assert!(e.to_string().contains("did you mean `torus`?"), "{e}");
 }
 

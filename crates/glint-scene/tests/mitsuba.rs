@@ -366,3 +366,57 @@ fn mutated_scenes_never_panic() {
     assert!(loaded > 0 && refused > 0, "{loaded} loaded, {refused} refused");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn deeply_nested_xml_is_refused_not_a_stack_overflow() {
+    let depth = 10_000;
+    let text = format!(
+        "<scene version=\"3.0.0\">\n{SENSOR}\n{}{}</scene>\n",
+        "<shape type=\"sphere\">".repeat(depth),
+        "</shape>".repeat(depth)
+    );
+    let e = error_of("nested", &text);
+    assert!(e.contains("nested.xml:3:") && e.contains("nested more than 256 deep"), "{e}");
+}
+
+#[test]
+fn a_define_no_default_declares_is_reported_with_a_suggestion() {
+    let defines = [("sppp".to_string(), "2".to_string())];
+    let loaded = load_scene_with(&fixture("every-element.xml"), &defines).unwrap();
+    let warning = loaded.warnings.iter().find(|w| w.contains("-D sppp")).expect("a warning for -D sppp");
+    assert!(warning.contains("did you mean `spp`"), "{warning}");
+    // A declared one is not reported.
+    let loaded = load_scene_with(&fixture("every-element.xml"), &[("spp".into(), "2".into())]).unwrap();
+    assert!(!loaded.warnings.iter().any(|w| w.contains("-D spp")), "{:?}", loaded.warnings);
+}
+
+#[test]
+fn an_out_of_range_fov_is_reported_as_given() {
+    let sensor = r#"<sensor type="perspective"><float name="fov" value="190"/><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="4"/></film></sensor>"#;
+    let e = error_of("fov", &format!("<scene version=\"3.0.0\">\n{sensor}\n</scene>\n"));
+    assert!(e.contains("got 190"), "{e}");
+}
+
+#[test]
+fn environment_maps_with_infinite_or_negative_texels_are_refused() {
+    for (name, bad) in [("inf", f32::INFINITY), ("negative", -5.0), ("nan", f32::NAN)] {
+        let dir = std::env::temp_dir().join(format!("glint-envmap-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let sky = image::Rgb32FImage::from_fn(8, 4, |x, y| {
+            if (x, y) == (5, 2) {
+                image::Rgb([bad, 1.0, 1.0])
+            } else {
+                image::Rgb([1.0, 1.0, 1.0])
+            }
+        });
+        image::DynamicImage::ImageRgb32F(sky).save(dir.join("sky.exr")).unwrap();
+        let toml = dir.join("s.toml");
+        std::fs::write(
+            &toml,
+            "[camera]\nposition = [0, 0, -5]\nlook_at = [0, 0, 0]\n[environment]\nmap = \"sky.exr\"\n",
+        )
+        .unwrap();
+        let e = load_scene(&toml).err().unwrap_or_else(|| panic!("{name}: accepted")).to_string();
+        assert!(e.contains("s.toml:5:") && e.contains("sky.exr") && e.contains("texel (5, 2)"), "{name}: {e}");
+    }
+}

@@ -97,7 +97,7 @@ transform = [{{ rotate = {{ axis = [0, 1, 0], angle = 25 }} }}]
 }
 
 fn render_at(scale: f64) -> Vec<glint_core::Rgb> {
-    let loaded = parse_scene(&scene_text(scale), Format::Toml, "scaled.toml", &Source::Directory(".".into())).unwrap();
+    let loaded = parse_scene(&scene_text(scale), Format::Toml, "scaled.toml", &Source::directory(".".into())).unwrap();
     let integrator = IntegratorKind::Whitted.create(&loaded.render.integrator_settings).expect("a camera integrator");
     render(&loaded.scene, integrator.as_ref(), &RenderSettings { spp: 1, seed: 0, ..Default::default() }, &|| {})
         .film

@@ -69,6 +69,21 @@ impl Polygon {
         Some(Self { offset: -normal.dot(centroid), normal, axes, projected, vertices, uvs: None })
     }
 
+    /// The vertex farthest from the polygon's plane (Newell's normal through the centroid) and
+    /// that distance relative to the polygon's size: 0 for a flat polygon, in rounding for one
+    /// whose vertices were written flat.
+    pub fn farthest_off_plane(&self) -> (usize, f32) {
+        let size = self.vertices.iter().map(|v| (*v - self.vertices[0]).length()).fold(f32::MIN_POSITIVE, f32::max);
+        let distance = |v: &Vec3| (self.normal.dot(*v) + self.offset).abs() / size;
+        self.vertices.iter().enumerate().map(|(i, v)| (i, distance(v))).fold((0, 0.0), |best, candidate| {
+            if candidate.1 > best.1 {
+                candidate
+            } else {
+                best
+            }
+        })
+    }
+
     /// Adds per-vertex uvs, interpolated barycentrically over a triangle and bilinearly over a
     /// quad (the course's interpolation of a rectangle's corner uvs).
     pub fn with_uvs(mut self, uvs: Vec<Vec2>) -> Result<Self, String> {
@@ -234,6 +249,18 @@ pub fn winding_number(vertices: &[Vec2], p: Vec2) -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn flatness_by_hand() {
+        let square = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y];
+        assert_eq!(Polygon::new(square.to_vec()).unwrap().farthest_off_plane(), (0, 0.0));
+        // One corner raised by 0.1 of a unit square (size √2 from vertex 0): the plane through
+        // the centroid is 0.025 from each vertex.
+        let mut bent = square;
+        bent[2].z = 0.1;
+        let (_, off) = Polygon::new(bent.to_vec()).unwrap().farthest_off_plane();
+        assert!((off - 0.025 / 2f32.sqrt()).abs() < 2e-3, "{off}");
+    }
     use crate::shapes::test_util::TestRng;
 
     const TESTS: [PolygonTest; 2] = [PolygonTest::Crossing, PolygonTest::Winding];

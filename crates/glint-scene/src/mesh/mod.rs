@@ -13,10 +13,19 @@ use glint_core::shapes::Mesh;
 pub fn read_mesh(name: &str, bytes: &[u8]) -> Result<Mesh, String> {
     let (stem, data) = match name.strip_suffix(".gz") {
         Some(stem) => {
+            let limit = crate::limits::memory_limit();
             let mut out = Vec::new();
             flate2::read::GzDecoder::new(bytes)
+                .take(limit.saturating_add(1))
                 .read_to_end(&mut out)
                 .map_err(|e| format!("not valid gzip data: {e}"))?;
+            if out.len() as u64 > limit {
+                return Err(format!(
+                    "it inflates to more than {}, the memory limit ({})",
+                    crate::limits::describe(limit),
+                    crate::limits::RAISE
+                ));
+            }
             (stem, out)
         }
         None => (name, bytes.to_vec()),
@@ -67,6 +76,20 @@ mod tests {
         let ply = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
         let m = read_mesh("t.ply", ply).unwrap();
         assert_eq!((m.positions.len(), m.indices), (3, vec![[0, 1, 2]]));
+    }
+
+    #[test]
+    fn malformed_faces_and_vertices_are_refused_with_their_line() {
+        let e = read_mesh("x.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2\n").unwrap_err();
+        assert!(e.contains("line 5") && e.contains("at least 3 vertices"), "{e}");
+        let e = read_mesh("x.obj", b"v 0 0 0\nf 1 # a point\n").unwrap_err();
+        assert!(e.contains("line 2"), "{e}");
+        let only_x = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0\n1\n2\n3 0 1 2\n";
+        let e = read_mesh("x.ply", only_x).unwrap_err();
+        assert!(e.contains("no `y` property"), "{e}");
+        let nan = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n";
+        let e = read_mesh("x.ply", nan).unwrap_err();
+        assert!(e.contains("line 11") && e.contains("`nan`"), "{e}");
     }
 
     #[test]

@@ -3,6 +3,7 @@ use glint_core::shapes::Mesh;
 
 /// All objects of the file merged into one mesh; polygons triangulated as fans by `tobj`.
 pub(super) fn read(data: &[u8]) -> Result<Mesh, String> {
+    check_faces(data)?;
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
     let (models, _) = tobj::load_obj_buf(&mut &data[..], &options, |_| Err(tobj::LoadError::OpenFileFailed))
         .map_err(|e| format!("not a valid OBJ file: {e}"))?;
@@ -23,4 +24,20 @@ pub(super) fn read(data: &[u8]) -> Result<Mesh, String> {
     mesh.normals = (all_normals && !normals.is_empty()).then_some(normals);
     mesh.uvs = (all_uvs && !uvs.is_empty()).then_some(uvs);
     Ok(mesh)
+}
+
+/// Every face names at least three vertices (`tobj` turns a face of one or two into
+/// zero-area triangles, which were then only a warning).
+fn check_faces(data: &[u8]) -> Result<(), String> {
+    for (index, line) in data.split(|&b| b == b'\n').enumerate() {
+        let line = String::from_utf8_lossy(line);
+        let mut words = line.split_whitespace();
+        if words.next() == Some("f") {
+            let count = words.take_while(|w| !w.starts_with('#')).count();
+            if count < 3 {
+                return Err(format!("line {}: a face needs at least 3 vertices, this one has {count}", index + 1));
+            }
+        }
+    }
+    Ok(())
 }

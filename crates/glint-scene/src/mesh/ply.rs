@@ -75,6 +75,14 @@ pub(super) fn read(data: &[u8]) -> Result<Mesh, String> {
     let vertex_parser = Parser::<Vertex>::new();
     let face_parser = Parser::<Face>::new();
     let header = vertex_parser.read_header(&mut reader).map_err(|e| format!("not a valid PLY header: {e}"))?;
+    if let Some(vertex) = header.elements.get("vertex") {
+        if let Some(axis) = ["x", "y", "z"].into_iter().find(|p| !vertex.properties.contains_key(*p)) {
+            return Err(format!("the PLY vertices have no `{axis}` property (x, y and z are needed)"));
+        }
+    }
+    if header.encoding == ply_rs::ply::Encoding::Ascii {
+        check_ascii_numbers(data)?;
+    }
     let (mut vertices, mut faces) = (Vec::new(), Vec::new());
     for (name, element) in &header.elements {
         match name.as_str() {
@@ -107,4 +115,22 @@ pub(super) fn read(data: &[u8]) -> Result<Mesh, String> {
         }
     }
     Ok(mesh)
+}
+
+/// In an ASCII PLY, every word after the header is a finite number: the parser's own message
+/// for one that is not ("Line 0: Couln't read element line.") named neither the line nor why.
+fn check_ascii_numbers(data: &[u8]) -> Result<(), String> {
+    let text = String::from_utf8_lossy(data);
+    let mut lines = text.lines().enumerate();
+    for (_, line) in lines.by_ref() {
+        if line.trim() == "end_header" {
+            break;
+        }
+    }
+    for (index, line) in lines {
+        if let Some(word) = line.split_whitespace().find(|w| !w.parse::<f64>().is_ok_and(f64::is_finite)) {
+            return Err(format!("line {}: `{word}` is not a finite number", index + 1));
+        }
+    }
+    Ok(())
 }

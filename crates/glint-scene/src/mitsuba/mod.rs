@@ -17,9 +17,22 @@ pub fn load_mitsuba(path: &Path, defines: &[(String, String)]) -> Result<LoadedS
     let (root, files) = xml::read_scene(path, defines)?;
     let translator = translate::Translator::new(&files, &root)?;
     let (file, mut warnings) = translator.translate(&root)?;
+    // A -D that no <default> declares and no `$name` uses changes nothing: most likely a typo.
+    let used = |name: &str| {
+        files.declared.iter().any(|d| d == name)
+            || files.files.iter().any(|(_, text)| text.contains(&format!("${name}")))
+    };
+    for (name, _) in defines.iter().filter(|(name, _)| !used(name)) {
+        let suggestion = crate::error::did_you_mean(name, files.declared.iter().map(String::as_str));
+        warnings
+            .push(format!("-D {name}: no <default name=\"{name}\"> in the scene, so it changes nothing{suggestion}"));
+    }
     let text = &files.files[0].1;
     let mut loaded = crate::native::build_file(file, text, path, &Source::directory_of(path))?;
     warnings.append(&mut loaded.warnings);
     loaded.warnings = warnings;
+    // The XML files (the scene and what it includes), then the meshes and textures.
+    let xml_files = files.files.iter().map(|(path, _)| path.clone());
+    loaded.inputs = xml_files.chain(loaded.inputs.into_iter().skip(1)).collect();
     Ok(loaded)
 }

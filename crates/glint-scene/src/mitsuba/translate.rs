@@ -189,6 +189,9 @@ impl<'a> Translator<'a> {
                 }
             }
         };
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(self.error(&sensor.position, format!("`fov` must be between 0 and 180 degrees, got {fov}")));
+        }
         let axis = p.string(self, "fov_axis")?.unwrap_or_else(|| "x".into());
         let vertical = vertical_fov(fov, aspect, &axis).ok_or_else(|| {
             self.error(&sensor.position, format!("`fov_axis` must be x, y, diagonal, smaller or larger, got `{axis}`"))

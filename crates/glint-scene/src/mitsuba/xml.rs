@@ -31,6 +31,8 @@ pub(super) struct Position {
 #[derive(Debug, Default)]
 pub(super) struct Files {
     pub files: Vec<(PathBuf, String)>,
+    /// The names the files' `<default>`s declare, for checking the command line's -D names.
+    pub declared: Vec<String>,
 }
 
 impl Files {
@@ -77,6 +79,9 @@ pub(super) fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(E
 }
 
 const MAX_INCLUDE_DEPTH: u32 = 16;
+/// How deeply elements may nest. Mitsuba's scenes nest a handful deep; the limit keeps the
+/// readers' recursion (and the tree's drop) far from the stack's end, which 10,000 levels hit.
+const MAX_NESTING: u32 = 256;
 
 fn read_file(
     path: &Path,
@@ -89,6 +94,14 @@ fn read_file(
     let index = files.files.len();
     files.files.push((path.to_path_buf(), text));
     let text = files.files[index].1.clone();
+    // Before the XML parser, whose recursion a deep enough nesting overflows.
+    if let Some(offset) = nesting_beyond(&text, MAX_NESTING) {
+        return Err(SceneError::new(
+            path,
+            Some(Location::from_offset(&text, offset)),
+            format!("elements nested more than {MAX_NESTING} deep"),
+        ));
+    }
     let document = roxmltree::Document::parse(&text).map_err(|e| {
         let p = e.pos();
         SceneError::new(
@@ -99,7 +112,7 @@ fn read_file(
     })?;
     let directory = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let reader = Reader { document: &document, file: index, directory, main: index == 0 };
-    reader.element(document.root_element(), files, parameters, depth)
+    reader.element(document.root_element(), files, parameters, depth, 0)
 }
 
 struct Reader<'d, 'input> {
@@ -121,8 +134,12 @@ impl Reader<'_, '_> {
         files: &mut Files,
         parameters: &mut HashMap<String, String>,
         depth: u32,
+        nesting: u32,
     ) -> Result<Element, SceneError> {
         let position = self.position(node);
+        if nesting >= MAX_NESTING {
+            return Err(files.error(&position, format!("elements nested more than {MAX_NESTING} deep")));
+        }
         let mut attributes = Vec::new();
         for a in node.attributes() {
             let value = substitute(a.value(), parameters).map_err(|m| files.error(&position, m))?;
@@ -141,6 +158,7 @@ impl Reader<'_, '_> {
                     };
                     // The command line's -D wins; the first <default> of a name counts.
                     parameters.entry(name.to_string()).or_insert_with(|| value.to_string());
+                    files.declared.push(name.to_string());
                 }
                 "include" => {
                     let Some(filename) = child.attribute("filename") else {
@@ -165,11 +183,46 @@ impl Reader<'_, '_> {
                         element.children.push(included);
                     }
                 }
-                _ => element.children.push(self.element(child, files, parameters, depth)?),
+                _ => element.children.push(self.element(child, files, parameters, depth, nesting + 1)?),
             }
         }
         Ok(element)
     }
+}
+
+/// The byte offset of the first tag nested deeper than `limit`, if any: a scan of start and
+/// end tags that skips comments, CDATA, processing instructions and declarations, and
+/// counts `<a/>` as opening nothing.
+fn nesting_beyond(text: &str, limit: u32) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let (mut depth, mut i) = (0u32, 0usize);
+    let skip_to = |from: usize, end: &str| text[from..].find(end).map_or(bytes.len(), |k| from + k + end.len());
+    while let Some(k) = text[i..].find('<') {
+        let start = i + k;
+        let rest = &text[start..];
+        i = if rest.starts_with("<!--") {
+            skip_to(start, "-->")
+        } else if rest.starts_with("<![CDATA[") {
+            skip_to(start, "]]>")
+        } else if rest.starts_with("<?") {
+            skip_to(start, "?>")
+        } else if rest.starts_with("<!") {
+            skip_to(start, ">")
+        } else if rest.starts_with("</") {
+            depth = depth.saturating_sub(1);
+            skip_to(start, ">")
+        } else {
+            let end = skip_to(start, ">");
+            if !text[..end].ends_with("/>") {
+                depth += 1;
+                if depth > limit {
+                    return Some(start);
+                }
+            }
+            end
+        };
+    }
+    None
 }
 
 /// Replaces every `$name` in `value` by its parameter.

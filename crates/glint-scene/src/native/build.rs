@@ -209,7 +209,8 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
     warnings.extend(materials.iter().filter_map(|(name, m)| m.energy_warning(name)));
     let mut scene = Scene::new(camera, objects, materials, lights, environment, methods);
     scene.area_lights.triangle_sampling = render.light_sampling;
-    Ok(LoadedScene { scene, render, warnings })
+    let inputs = std::iter::once(path.to_path_buf()).chain(source.files_read()).collect();
+    Ok(LoadedScene { scene, render, warnings, inputs })
 }
 
 fn build_camera(cx: &Context, camera: &Located<CameraDesc>) -> Result<Camera, SceneError> {
@@ -509,6 +510,15 @@ fn build_object(
                 vertices.iter().map(|p| finite(*p)).collect::<Result<Vec<_>, _>>().map_err(|m| at("vertices", m))?;
             let mut polygon = Polygon::new(points)
                 .ok_or_else(|| at("vertices", "the polygon has zero area (its vertices are collinear)".into()))?;
+            // The even-odd and winding tests work in the polygon's plane: a vertex off it
+            // would be hit somewhere else than where it is drawn.
+            let (vertex, off) = polygon.farthest_off_plane();
+            if off > 1e-4 {
+                return Err(at(
+                    "vertices",
+                    format!("the polygon is not planar: vertex {vertex} lies {off:.2e} of the polygon's size off its plane (a polygon must be flat; split it into triangles)"),
+                ));
+            }
             if let Some(uvs) = uvs {
                 polygon = polygon.with_uvs(uvs.iter().map(|&t| Vec2::from(t)).collect()).map_err(|m| at("uvs", m))?;
             }
@@ -572,6 +582,15 @@ fn build_environment_map(
     let bytes = source.read(file).map_err(|m| ("map", format!("environment map: {m}")))?;
     let (width, height, pixels) =
         crate::image::decode(file, &bytes).map_err(|m| ("map", format!("environment map `{file}`: {m}")))?;
+    // Radiance is finite and never negative: one +inf texel made the map's importance
+    // sampling black out the lit half of a sphere, one of −5 gave negative pixels.
+    if let Some(i) = pixels.iter().position(|p| !p.is_finite() || p.min_element() < 0.0) {
+        let (x, y) = (i % width as usize, i / width as usize);
+        return Err((
+            "map",
+            format!("environment map `{file}`: texel ({x}, {y}) is {}; radiance must be finite and ≥ 0", pixels[i]),
+        ));
+    }
     let scale = desc.map_scale.unwrap_or(1.0);
     if !(scale.is_finite() && scale >= 0.0) {
         return Err(("map_scale", format!("`map_scale` must be a number ≥ 0, got {scale}")));
