@@ -25,10 +25,10 @@ pub struct BenchRaysArgs {
     #[arg(long)]
     out: Option<PathBuf>,
     /// Worker threads (default 1).
-    #[arg(long, default_value_t = 1)]
-    threads: usize,
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: u32,
     /// Time each query this many times and report the best.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
     repeat: u32,
 }
 
@@ -38,8 +38,11 @@ pub fn run(args: BenchRaysArgs) -> Result<(), String> {
     let mesh = glint_scene::mesh::load_mesh(&args.mesh)?;
     let triangles = mesh.triangle_count();
     let rays = read_rays(&args.rays)?;
+    if rays.is_empty() {
+        return Err(format!("the ray file `{}` holds no rays", args.rays.display()));
+    }
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.max(1))
+        .num_threads(args.threads as usize)
         .build()
         .map_err(|e| format!("cannot start worker threads: {e}"))?;
 

@@ -2,25 +2,27 @@
 //! with a fingerprint of what was being rendered, so `--resume` continues exactly where the
 //! render stopped (to the same image as an uninterrupted render) and refuses a mismatch.
 //!
-//! Format (little-endian): `GLINTCK2`, width u32, height u32, spp_done u32, seed u64,
+//! Format (little-endian): `GLINTCK3`, width u32, height u32, spp_done u32, seed u64,
 //! fingerprint u64, then width·height RGB sums (3 × f32) and width·height weights (f32), then
-//! the integrator's own state: its length u64 and its bytes (empty but for SPPM). `GLINTCK1`
-//! files (without the state) are still read. Written to a temporary file and renamed, so a
-//! crash mid-write never leaves a broken one.
+//! the integrator's own state: its length u64 and its bytes (empty but for SPPM), then an
+//! FNV-1a checksum u64 of everything before it. `GLINTCK2` (no checksum) and `GLINTCK1` (no
+//! state either) files are still read. Written to a temporary file and renamed, so a crash
+//! mid-write never leaves a broken one. A checkpoint is trusted only as far as it checks out:
+//! its header against the render and the file's length, its pixels finite and their weights
+//! what its passes give.
 
 use std::path::Path;
 
 use glint_core::film::Film;
 use glint_core::Rgb;
 
-const MAGIC: &[u8; 8] = b"GLINTCK2";
+const MAGIC: &[u8; 8] = b"GLINTCK3";
+const MAGIC_WITHOUT_CHECKSUM: &[u8; 8] = b"GLINTCK2";
 const MAGIC_WITHOUT_STATE: &[u8; 8] = b"GLINTCK1";
 
 pub struct Checkpoint {
     pub film: Film,
     pub spp_done: u32,
-    pub seed: u64,
-    pub fingerprint: u64,
     /// The integrator's state beyond the film.
     pub state: Vec<u8>,
 }
@@ -37,9 +39,38 @@ pub fn fingerprint(parts: &[&[u8]]) -> u64 {
     hash
 }
 
+/// What the render being resumed expects of a checkpoint. Every field of the file is checked
+/// against it (and against the file's length, with checked arithmetic) before anything is
+/// allocated or trusted.
+pub struct Expected {
+    pub width: u32,
+    pub height: u32,
+    pub seed: u64,
+    pub fingerprint: u64,
+    /// The render's target spp: a checkpoint may not hold more.
+    pub spp: u32,
+    pub weights: WeightRule,
+    /// The filter has no negative lobes, so no pixel's sum can be negative.
+    pub nonnegative: bool,
+}
+
+/// What every pixel's accumulated weight must be.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WeightRule {
+    /// The number of passes: box-filtered camera samples, light tracing.
+    PerPass,
+    /// One: SPPM keeps its estimate in a film of weight 1.
+    One,
+    /// Any finite value (other filters spread a sample's weight over several pixels).
+    Finite,
+}
+
+/// The header: magic, width, height, spp_done, seed, fingerprint.
+const HEADER: usize = 36;
+
 pub fn save(path: &Path, film: &Film, spp_done: u32, seed: u64, fingerprint: u64, state: &[u8]) -> Result<(), String> {
     let (sum, weight) = film.accumulators();
-    let mut bytes = Vec::with_capacity(36 + sum.len() * 16);
+    let mut bytes = Vec::with_capacity(HEADER + sum.len() * 16 + 16 + state.len());
     bytes.extend_from_slice(MAGIC);
     for v in [film.width, film.height, spp_done] {
         bytes.extend_from_slice(&v.to_le_bytes());
@@ -56,44 +87,89 @@ pub fn save(path: &Path, film: &Film, spp_done: u32, seed: u64, fingerprint: u64
     }
     bytes.extend_from_slice(&(state.len() as u64).to_le_bytes());
     bytes.extend_from_slice(state);
-    let temporary = path.with_extension("tmp-checkpoint");
-    std::fs::write(&temporary, &bytes)
-        .map_err(|e| format!("cannot write the checkpoint `{}`: {e}", temporary.display()))?;
-    std::fs::rename(&temporary, path).map_err(|e| format!("cannot write the checkpoint `{}`: {e}", path.display()))
+    let sum = checksum(&bytes);
+    bytes.extend_from_slice(&sum.to_le_bytes());
+    glint_cli::output::write_file_atomically(path, &bytes, "checkpoint")
 }
 
-pub fn load(path: &Path) -> Result<Checkpoint, String> {
+/// The checksum over a checkpoint's contents.
+fn checksum(bytes: &[u8]) -> u64 {
+    fingerprint(&[bytes])
+}
+
+pub fn load(path: &Path, expected: &Expected) -> Result<Checkpoint, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read the checkpoint `{}`: {e}", path.display()))?;
-    let bad = || format!("`{}` is not a glint checkpoint (or it is damaged)", path.display());
-    if bytes.len() < 36 || (&bytes[..8] != MAGIC && &bytes[..8] != MAGIC_WITHOUT_STATE) {
-        return Err(bad());
+    let refuse = |why: String| format!("the checkpoint `{}` {why}", path.display());
+    let damaged = |why: &str| refuse(format!("is damaged or not a glint checkpoint: {why}"));
+    if bytes.len() < HEADER {
+        return Err(damaged("it is shorter than its header"));
     }
-    let with_state = &bytes[..8] == MAGIC;
-    let u32_at = |i: usize| u32::from_le_bytes(bytes[i..i + 4].try_into().unwrap_or([0; 4]));
-    let u64_at = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().unwrap_or([0; 8]));
+    let magic = &bytes[..8];
+    if magic != MAGIC && magic != MAGIC_WITHOUT_CHECKSUM && magic != MAGIC_WITHOUT_STATE {
+        return Err(damaged("it does not start with GLINTCK"));
+    }
+    let u32_at = |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    let u64_at = |i: usize| u64::from(u32_at(i)) | u64::from(u32_at(i + 4)) << 32;
     let (width, height, spp_done) = (u32_at(8), u32_at(12), u32_at(16));
     let (seed, fingerprint) = (u64_at(20), u64_at(28));
-    let n = width as usize * height as usize;
-    let film_end = 36 + n * 16;
-    let state = if with_state {
-        if bytes.len() < film_end + 8 {
-            return Err(bad());
-        }
-        let length = u64_at(film_end) as usize;
-        if bytes.len() != film_end + 8 + length {
-            return Err(bad());
-        }
-        bytes[film_end + 8..].to_vec()
+    if (width, height) != (expected.width, expected.height) {
+        return Err(refuse(format!(
+            "is of a {width}x{height} render; this one is {}x{}",
+            expected.width, expected.height
+        )));
+    }
+    if fingerprint != expected.fingerprint || seed != expected.seed {
+        return Err(refuse("was made from another scene or other settings (the scene file and the files it reads, integrator, resolution, seed, methods and light sampling must be the same)".into()));
+    }
+    if spp_done == 0 || spp_done > expected.spp {
+        return Err(refuse(format!(
+            "holds {spp_done} samples per pixel; a checkpoint of this render holds 1 to {}",
+            expected.spp
+        )));
+    }
+    // Lengths in u64 with checks: a crafted header must not overflow them.
+    let pixels = u64::from(width) * u64::from(height);
+    let film_end = (HEADER as u64).checked_add(pixels.checked_mul(16).ok_or_else(|| damaged("its size overflows"))?);
+    let film_end = film_end.ok_or_else(|| damaged("its size overflows"))?;
+    let (payload_end, state) = if magic == MAGIC_WITHOUT_STATE {
+        (film_end, 0..0)
     } else {
-        if bytes.len() != film_end {
-            return Err(bad());
-        }
-        Vec::new()
+        let length_at = usize::try_from(film_end)
+            .ok()
+            .filter(|&i| i + 8 <= bytes.len())
+            .ok_or_else(|| damaged("it is cut short"))?;
+        let length = u64_at(length_at);
+        let start = film_end + 8;
+        let end = start.checked_add(length).ok_or_else(|| damaged("its size overflows"))?;
+        (end, start as usize..end as usize)
     };
-    let floats: Vec<f32> =
-        bytes[36..film_end].chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
-    let sum = floats[..3 * n].chunks_exact(3).map(|c| Rgb::new(c[0], c[1], c[2])).collect();
-    let weight = floats[3 * n..].to_vec();
-    let film = Film::from_accumulators(width, height, sum, weight).ok_or_else(bad)?;
-    Ok(Checkpoint { film, spp_done, seed, fingerprint, state })
+    let checksum_length = if magic == MAGIC { 8 } else { 0 };
+    if payload_end.checked_add(checksum_length) != Some(bytes.len() as u64) {
+        return Err(damaged("its length does not match its header"));
+    }
+    let payload_end = payload_end as usize;
+    if magic == MAGIC && checksum(&bytes[..payload_end]) != u64_at(payload_end) {
+        return Err(damaged("its checksum does not match its contents"));
+    }
+    let n = pixels as usize;
+    let float = |i: usize| f32::from_bits(u32_at(HEADER + 4 * i));
+    let sum: Vec<Rgb> = (0..n).map(|p| Rgb::new(float(3 * p), float(3 * p + 1), float(3 * p + 2))).collect();
+    let weight: Vec<f32> = (0..n).map(|p| float(3 * n + p)).collect();
+    for (p, (s, w)) in sum.iter().zip(&weight).enumerate() {
+        let (x, y) = (p as u32 % width, p as u32 / width);
+        let bad = |what: String| damaged(&format!("pixel ({x}, {y}) has {what}"));
+        if !s.is_finite() || (expected.nonnegative && s.min_element() < 0.0) {
+            return Err(bad(format!("the sum {s}")));
+        }
+        let weight_ok = match expected.weights {
+            WeightRule::PerPass => *w == spp_done as f32,
+            WeightRule::One => *w == 1.0,
+            WeightRule::Finite => w.is_finite(),
+        };
+        if !weight_ok {
+            return Err(bad(format!("the weight {w} after {spp_done} passes")));
+        }
+    }
+    let film = Film::from_accumulators(width, height, sum, weight).ok_or_else(|| damaged("its film"))?;
+    Ok(Checkpoint { film, spp_done, state: bytes[state].to_vec() })
 }

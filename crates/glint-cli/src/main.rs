@@ -20,6 +20,9 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene to an image (.png, .exr or .pfm).
+    #[command(
+        after_help = "Exit status: 0 when the render ended (its samples done or its --time spent), 1 on an error (nothing is written, or what was written is named), 2 on a usage error, 3 when interrupted by Ctrl-C, SIGTERM or SIGHUP after writing the image (and --checkpoint) of the passes finished, 130 on a second Ctrl-C (quit at once, nothing more written)."
+    )]
     Render(render_command::RenderArgs),
     /// Print the ray tree of one pixel (Whitted's recursion): every ray, what it hit, each
     /// light's contribution and shadow test, the weights passed down, and the final colour.
@@ -47,12 +50,15 @@ fn main() -> ExitCode {
     }));
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Render(args) => render_command::run(args),
-        Command::Explain(args) => explain_command::run(args),
-        Command::BenchRays(args) => bench_rays_command::run(args),
+        Command::Render(args) => render_command::run(args).map(|outcome| match outcome {
+            render_command::Outcome::Finished => ExitCode::SUCCESS,
+            render_command::Outcome::Interrupted => ExitCode::from(render_command::EXIT_INTERRUPTED),
+        }),
+        Command::Explain(args) => explain_command::run(args).map(|()| ExitCode::SUCCESS),
+        Command::BenchRays(args) => bench_rays_command::run(args).map(|()| ExitCode::SUCCESS),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(message) => {
             eprintln!("error: {message}");
             ExitCode::FAILURE

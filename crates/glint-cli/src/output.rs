@@ -1,9 +1,10 @@
 //! Image writers, chosen by the output file's extension: OpenEXR (32-bit float), PFM (float,
-//! rows stored bottom to top as the format says) and PNG (8-bit sRGB, with exposure).
+//! rows stored bottom to top as the format says) and PNG (8-bit sRGB, with exposure). Every
+//! file glint writes goes through `write_file_atomically`: whole or not at all.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::io::Write;
+use std::path::{Path, PathBuf};
 
 use glint_core::Rgb;
 
@@ -28,21 +29,79 @@ impl ImageFormat {
     }
 }
 
-/// Checks, before a render starts, that the output can be written: creates the file (and
-/// removes it again if it did not exist, so a failed render leaves nothing behind).
+/// Checks, before a render starts, that the output can be written: a regular file (or a
+/// new one) in a directory where glint can create its temporary file, or a character device
+/// such as /dev/null. A FIFO, a socket or a directory is refused: opening a FIFO waits for a
+/// reader that may never come.
 pub fn check_writable(path: &Path) -> Result<ImageFormat, String> {
     let format = ImageFormat::from_path(path)?;
-    let existed = path.exists();
-    File::options()
-        .write(true)
-        .create(true)
-        .truncate(false)
-        .open(path)
-        .map_err(|e| format!("cannot write the output `{}`: {e}", path.display()))?;
-    if !existed {
-        let _ = std::fs::remove_file(path);
-    }
+    check_writable_file(path, "output")?;
     Ok(format)
+}
+
+/// `check_writable` for any file glint writes (`what`: "output", "checkpoint").
+pub fn check_writable_file(path: &Path, what: &str) -> Result<(), String> {
+    let cannot = |why: &dyn std::fmt::Display| format!("cannot write the {what} `{}`: {why}", path.display());
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => return Err(cannot(&"it is a directory")),
+        Ok(m) if is_device(&m) => {
+            return File::options().write(true).open(path).map(|_| ()).map_err(|e| cannot(&e));
+        }
+        Ok(m) if !m.is_file() => {
+            return Err(cannot(&"it is not a regular file (a FIFO or socket?); glint writes files and devices only"))
+        }
+        _ => {}
+    }
+    // Where the file will really be written: its temporary file goes beside it.
+    let temporary = temporary_path(&real_path(path));
+    File::create(&temporary).map_err(|e| cannot(&e))?;
+    let _ = std::fs::remove_file(&temporary);
+    Ok(())
+}
+
+#[cfg(unix)]
+fn is_device(m: &std::fs::Metadata) -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    m.file_type().is_char_device() || m.file_type().is_block_device()
+}
+
+#[cfg(not(unix))]
+fn is_device(_: &std::fs::Metadata) -> bool {
+    false
+}
+
+/// The file a path names, through a symbolic link (whose target is replaced, not the link).
+fn real_path(path: &Path) -> PathBuf {
+    std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf())
+}
+
+fn temporary_path(path: &Path) -> PathBuf {
+    let name = path.file_name().map_or("glint".into(), |n| n.to_string_lossy().to_string());
+    path.with_file_name(format!(".{name}.glint-{}.tmp", std::process::id()))
+}
+
+/// Writes `bytes` to `path` so that the file is either the old one or the new one whole: into
+/// a temporary file beside it, flushed to disk, then renamed over it (a kill or a full disk
+/// mid-write leaves the previous file as it was). A device is written directly, and every
+/// error is reported (a full disk, /dev/full).
+pub fn write_file_atomically(path: &Path, bytes: &[u8], what: &str) -> Result<(), String> {
+    let cannot = |why: &dyn std::fmt::Display| format!("cannot write the {what} `{}`: {why}", path.display());
+    if std::fs::metadata(path).is_ok_and(|m| is_device(&m)) {
+        let mut device = File::options().write(true).open(path).map_err(|e| cannot(&e))?;
+        return device.write_all(bytes).and_then(|_| device.flush()).map_err(|e| cannot(&e));
+    }
+    let target = real_path(path);
+    let temporary = temporary_path(&target);
+    let written = File::create(&temporary).and_then(|mut file| {
+        file.write_all(bytes)?;
+        file.sync_all()
+    });
+    let renamed = written.and_then(|_| std::fs::rename(&temporary, &target));
+    if let Err(e) = renamed {
+        let _ = std::fs::remove_file(&temporary);
+        return Err(cannot(&e));
+    }
+    Ok(())
 }
 
 /// Writes row-major pixels (row 0 = top). `exposure` (in stops) applies to PNG only;
@@ -55,8 +114,22 @@ pub fn write_image(
     exposure: f32,
     metadata: &[(&str, String)],
 ) -> Result<(), String> {
-    let failed = |e: &dyn std::fmt::Display| format!("cannot write `{}`: {e}", path.display());
-    match ImageFormat::from_path(path)? {
+    let bytes = encode_image(ImageFormat::from_path(path)?, width, height, pixels, exposure, metadata)
+        .map_err(|e| format!("cannot write `{}`: {e}", path.display()))?;
+    write_file_atomically(path, &bytes, "output")
+}
+
+/// The image file's bytes.
+fn encode_image(
+    format: ImageFormat,
+    width: u32,
+    height: u32,
+    pixels: &[Rgb],
+    exposure: f32,
+    metadata: &[(&str, String)],
+) -> Result<Vec<u8>, String> {
+    let mut bytes = Vec::new();
+    match format {
         ImageFormat::Exr => {
             use exr::prelude::*;
             let channels = SpecificChannels::rgb(|position: Vec2<usize>| {
@@ -67,32 +140,33 @@ pub fn write_image(
             for (name, value) in metadata {
                 image.attributes.other.insert(Text::from(*name), AttributeValue::Text(Text::from(value.as_str())));
             }
-            image.write().to_file(path).map_err(|e| failed(&e))
+            image.write().to_buffered(std::io::Cursor::new(&mut bytes)).map_err(|e| e.to_string())?;
         }
-        ImageFormat::Pfm => write_pfm(path, width, height, pixels).map_err(|e| failed(&e)),
+        ImageFormat::Pfm => bytes = encode_pfm(width, height, pixels),
         ImageFormat::Png => {
             let scale = exposure.exp2();
-            let bytes: Vec<u8> = pixels.iter().flat_map(|p| (*p * scale).to_array().map(encode_srgb)).collect();
-            image::RgbImage::from_raw(width, height, bytes)
+            let rgb: Vec<u8> = pixels.iter().flat_map(|p| (*p * scale).to_array().map(encode_srgb)).collect();
+            image::RgbImage::from_raw(width, height, rgb)
                 .ok_or("image size mismatch".to_string())?
-                .save(path)
-                .map_err(|e| failed(&e))
+                .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+                .map_err(|e| e.to_string())?;
         }
     }
+    Ok(bytes)
 }
 
-fn write_pfm(path: &Path, width: u32, height: u32, pixels: &[Rgb]) -> std::io::Result<()> {
-    let mut out = BufWriter::new(File::create(path)?);
+fn encode_pfm(width: u32, height: u32, pixels: &[Rgb]) -> Vec<u8> {
     // A negative scale marks little-endian data.
-    write!(out, "PF\n{width} {height}\n-1.0\n")?;
+    let mut out = format!("PF\n{width} {height}\n-1.0\n").into_bytes();
+    out.reserve(pixels.len() * 12);
     for row in (0..height as usize).rev() {
         for p in &pixels[row * width as usize..(row + 1) * width as usize] {
             for c in p.to_array() {
-                out.write_all(&c.to_le_bytes())?;
+                out.extend_from_slice(&c.to_le_bytes());
             }
         }
     }
-    out.flush()
+    out
 }
 
 /// Reads a PFM written by `write_pfm` (or any little-endian RGB PFM) back, row 0 = top.
@@ -152,7 +226,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("t.pfm");
         let pixels: Vec<Rgb> = (0..6).map(|i| Rgb::splat(i as f32)).collect();
-        write_pfm(&path, 3, 2, &pixels).unwrap();
+        write_file_atomically(&path, &encode_pfm(3, 2, &pixels), "output").unwrap();
         assert_eq!(read_pfm(&path).unwrap(), (3, 2, pixels));
         std::fs::remove_dir_all(dir).unwrap();
     }

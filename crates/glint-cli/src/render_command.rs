@@ -16,7 +16,7 @@ use glint_core::shapes::{BoxMethod, PolygonTest, SphereMethod, TriangleMethod};
 use glint_scene::LoadedScene;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use glint_cli::output::{check_writable, write_image, ImageFormat};
+use glint_cli::output::{check_writable, check_writable_file, write_image, ImageFormat};
 use glint_core::integrators::heat_colour;
 use glint_core::sampling::SamplerKind;
 use glint_core::Rgb;
@@ -100,8 +100,12 @@ pub struct RenderArgs {
     /// and when the render ends (also on Ctrl-C or --time).
     #[arg(long)]
     checkpoint: Option<PathBuf>,
-    #[arg(long, default_value_t = 30.0)]
+    #[arg(long, default_value_t = 30.0, allow_hyphen_values = true)]
     checkpoint_interval: f64,
+    /// Refuse renders whose buffers (film, image, photon maps, SPPM state) would need more
+    /// than this many GiB, and meshes that inflate to more (default: GLINT_MEMORY_LIMIT, else 8).
+    #[arg(long, value_name = "GIB")]
+    memory_limit: Option<f64>,
     /// Continue a render from a checkpoint (same scene and settings), to the same image an
     /// uninterrupted render gives.
     #[arg(long)]
@@ -196,7 +200,7 @@ pub fn parse_define(s: &str) -> Result<(String, String), String> {
     Ok((name.to_string(), value.to_string()))
 }
 
-pub fn run(args: RenderArgs) -> Result<(), String> {
+pub fn run(args: RenderArgs) -> Result<Outcome, String> {
     let output = args.output.clone().unwrap_or_else(|| {
         let stem = args
             .scene
@@ -205,15 +209,28 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
             .map_or("default".into(), |s| s.to_string_lossy().to_string());
         PathBuf::from(format!("{stem}.png"))
     });
-    // Before any work: a render must never be lost to an unwritable output.
+    // Before any work: a render must never be lost to an unwritable output or checkpoint.
     check_writable(&output)?;
+    if let Some(path) = &args.checkpoint {
+        check_writable_file(path, "checkpoint")?;
+    }
+    for (flag, value) in [("--exposure", args.exposure as f64), ("--checkpoint-interval", args.checkpoint_interval)] {
+        if !value.is_finite() || (flag == "--checkpoint-interval" && value < 0.0) {
+            return Err(format!(
+                "{flag} must be a finite number{}, got {value}",
+                if flag == "--exposure" { "" } else { " of seconds ≥ 0" }
+            ));
+        }
+    }
+    let memory_limit = memory_limit_bytes(args.memory_limit)?;
+    glint_scene::set_memory_limit(memory_limit);
 
     let loaded = match &args.scene {
         Some(path) => glint_scene::load_scene_with(path, &args.define),
         None => glint_scene::default_scene(),
     }
     .map_err(|e| e.to_string())?;
-    let LoadedScene { mut scene, render: options, warnings } = loaded;
+    let LoadedScene { mut scene, render: options, warnings, inputs } = loaded;
     for w in &warnings {
         eprintln!("warning: {w}");
     }
@@ -257,13 +274,13 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     if time_limit.is_some() && args.spp.is_none() {
         settings.spp = u32::MAX; // the time limit decides
     }
-    let scene_text = match &args.scene {
-        Some(path) => std::fs::read(path).unwrap_or_default(),
+    let scene_bytes = match &args.scene {
+        Some(_) => inputs_bytes(&inputs),
         None => b"<built-in default scene>".to_vec(),
     };
     let defines = format!("{:?}", args.define);
     let fingerprint = checkpoint::fingerprint(&[
-        &scene_text,
+        &scene_bytes,
         defines.as_bytes(),
         integrator_kind.name().as_bytes(),
         format!(
@@ -284,15 +301,34 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         )
         .as_bytes(),
     ]);
+    let needed = memory_needed(integrator_kind, &integrator_settings, scene.camera.width, scene.camera.height);
+    if needed > memory_limit {
+        return Err(format!(
+            "this render needs about {:.1} GiB ({}x{} pixels{}), more than the memory limit of {:.1} GiB; raise it with --memory-limit GIB (or GLINT_MEMORY_LIMIT), or render smaller",
+            needed as f64 / GIB,
+            scene.camera.width,
+            scene.camera.height,
+            if integrator_kind == IntegratorKind::Photon { " and the photon maps" } else { "" },
+            memory_limit as f64 / GIB
+        ));
+    }
     let resume = match &args.resume {
         Some(path) => {
-            let c = checkpoint::load(path)?;
-            if c.fingerprint != fingerprint || c.seed != settings.seed {
-                return Err(format!(
-                    "the checkpoint `{}` was made from another scene or other settings (scene file, integrator, resolution, seed, methods and light sampling must be the same)",
-                    path.display()
-                ));
-            }
+            let expected = checkpoint::Expected {
+                width: scene.camera.width,
+                height: scene.camera.height,
+                seed: settings.seed,
+                fingerprint,
+                spp: settings.spp,
+                weights: match integrator_kind {
+                    IntegratorKind::Sppm => checkpoint::WeightRule::One,
+                    IntegratorKind::Light => checkpoint::WeightRule::PerPass,
+                    _ if filter == Filter::Box => checkpoint::WeightRule::PerPass,
+                    _ => checkpoint::WeightRule::Finite,
+                },
+                nonnegative: filter != Filter::Mitchell,
+            };
+            let c = checkpoint::load(path, &expected)?;
             if !args.quiet {
                 eprintln!("resuming from `{}` at {} spp", path.display(), c.spp_done);
             }
@@ -304,7 +340,8 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     {
         let stop = stop.clone();
         let quiet = args.quiet;
-        // First Ctrl-C: finish the passes under way and write everything; a second one quits.
+        // First Ctrl-C (or SIGTERM, SIGHUP: a render farm stops jobs so): finish the passes
+        // under way and write everything; a second one quits.
         let _ = ctrlc::set_handler(move || {
             if stop.swap(true, Ordering::SeqCst) {
                 std::process::exit(130);
@@ -340,7 +377,12 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         .progress_chars("=> "),
     );
     let started = Instant::now();
-    let mut renderer = pool.install(|| integrator_kind.renderer(&integrator_settings, &scene, settings.seed))?;
+    let renderer = pool.install(|| integrator_kind.renderer_until(&integrator_settings, &scene, settings.seed, &stop));
+    if stop.load(Ordering::Relaxed) {
+        eprintln!("interrupted before the first pass: nothing written");
+        return Ok(Outcome::Interrupted);
+    }
+    let mut renderer = renderer?;
     let wavefront =
         integrator_kind == IntegratorKind::Path && PathTracer::new(&integrator_settings).runs_as_wavefront(&scene);
     if integrator_kind == IntegratorKind::Photon && !args.quiet {
@@ -378,10 +420,11 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
     if let Some(e) = checkpoint_error {
         eprintln!("warning: {e}");
     }
-    if let Some(path) = &args.checkpoint {
-        checkpoint::save(path, &result.film, result.spp_done, settings.seed, fingerprint, &renderer.state())?;
-    }
     if result.spp_done == 0 {
+        if result.stopped_early == Some(StopReason::Interrupted) {
+            eprintln!("interrupted before the first pass: nothing written");
+            return Ok(Outcome::Interrupted);
+        }
         return Err("the render was stopped before its first pass: nothing to write".into());
     }
 
@@ -401,7 +444,11 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
         ("glint:integrator", integrator_kind.name().to_string()),
         ("glint:version", env!("CARGO_PKG_VERSION").to_string()),
     ];
+    // The image first: a checkpoint that cannot be written must not cost the render.
     write_image(&output, width, height, &pixels, exposure, &metadata)?;
+    if let Some(path) = &args.checkpoint {
+        checkpoint::save(path, &result.film, result.spp_done, settings.seed, fingerprint, &renderer.state())?;
+    }
     if args.stats {
         let g = &scene.geometry;
         let s = g.bvh_stats();
@@ -448,7 +495,77 @@ pub fn run(args: RenderArgs) -> Result<(), String> {
             output.display()
         );
     }
-    Ok(())
+    Ok(match result.stopped_early {
+        Some(StopReason::Interrupted) => Outcome::Interrupted,
+        _ => Outcome::Finished,
+    })
+}
+
+/// How a render ended, for the exit status.
+pub enum Outcome {
+    Finished,
+    /// Stopped by Ctrl-C, SIGTERM or SIGHUP, with what was rendered written.
+    Interrupted,
+}
+
+/// The exit status of a render that was interrupted but wrote its image (and checkpoint).
+pub const EXIT_INTERRUPTED: u8 = 3;
+
+const GIB: f64 = (1u64 << 30) as f64;
+/// The memory limit when neither --memory-limit nor GLINT_MEMORY_LIMIT sets one.
+const DEFAULT_MEMORY_LIMIT_GIB: f64 = 8.0;
+
+/// The memory limit in bytes: `--memory-limit`, else GLINT_MEMORY_LIMIT, else the default
+/// (all in GiB).
+fn memory_limit_bytes(flag: Option<f64>) -> Result<u64, String> {
+    let (value, from) = match (flag, std::env::var("GLINT_MEMORY_LIMIT")) {
+        (Some(v), _) => (v, "--memory-limit"),
+        (None, Ok(text)) => (
+            text.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("GLINT_MEMORY_LIMIT must be a number of GiB, got `{text}`"))?,
+            "GLINT_MEMORY_LIMIT",
+        ),
+        (None, Err(_)) => (DEFAULT_MEMORY_LIMIT_GIB, "the default"),
+    };
+    if !(value.is_finite() && value > 0.0) {
+        return Err(format!("{from} must be a positive number of GiB, got {value}"));
+    }
+    Ok((value * GIB).min(u64::MAX as f64) as u64)
+}
+
+/// About how much memory a render's own buffers take: the film (sums, weights) and the image
+/// made from it, the per-pixel state of SPPM and light tracing, and photon maps.
+fn memory_needed(kind: IntegratorKind, settings: &IntegratorSettings, width: u32, height: u32) -> u64 {
+    let pixels = u64::from(width) * u64::from(height);
+    // Film sums and weights (16 bytes), the RGB image (12) and its encoded file (up to 12).
+    let mut bytes = pixels * 40;
+    bytes += match kind {
+        // Each pass: a visible point (~200 bytes with its BSDF) and state (32) per pixel, and
+        // as many photons (32 bytes, with the kd-tree's copy).
+        IntegratorKind::Sppm => pixels * 300,
+        // A pass's splats: a few per pixel.
+        IntegratorKind::Light => pixels * 64,
+        IntegratorKind::Photon => {
+            let photons = u64::from(settings.photon.global_photons) + u64::from(settings.photon.caustic_photons);
+            photons * 96
+        }
+        _ => 0,
+    };
+    bytes
+}
+
+/// The bytes of every file a scene was read from, for the checkpoint fingerprint (a file that
+/// cannot be read now counts by its name).
+fn inputs_bytes(inputs: &[PathBuf]) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    for path in inputs {
+        bytes.extend_from_slice(path.to_string_lossy().as_bytes());
+        bytes.push(0);
+        bytes.extend(std::fs::read(path).unwrap_or_default());
+        bytes.push(0xFF);
+    }
+    bytes
 }
 
 /// `--max-depth` for every command: a count of bounces, or -1 for unbounded (`u32::MAX`).

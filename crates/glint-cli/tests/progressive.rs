@@ -54,31 +54,48 @@ fn time_limit_ends_the_render_and_the_exr_records_spp_and_seed() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// SIGINT (Ctrl-C), SIGTERM (a render farm's stop) and SIGHUP (a closed terminal) each finish
+/// the passes under way, write the image and the checkpoint, and exit with status 3; the
+/// checkpoint resumes to the image an uninterrupted render gives.
 #[test]
-fn sigint_finishes_the_passes_under_way_and_writes_the_image() {
-    let dir = temp_dir("sigint");
-    let (out, checkpoint) = (dir.join("i.pfm"), dir.join("i.ckp"));
-    let child = glint()
-        .args(["render", &cornell_box(), "--width", "64", "--spp", "1000000", "-o", out.to_str().unwrap()])
-        .args(["--checkpoint", checkpoint.to_str().unwrap(), "--checkpoint-interval", "0"])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    // Wait until rendering is under way (the first pass wrote a checkpoint), then interrupt.
-    let start = Instant::now();
-    while !checkpoint.exists() {
-        assert!(start.elapsed() < Duration::from_secs(30), "no pass finished");
-        std::thread::sleep(Duration::from_millis(20));
+fn a_signal_finishes_the_passes_under_way_and_keeps_everything() {
+    let dir = temp_dir("signals");
+    let path = |n: &str| dir.join(n).to_string_lossy().to_string();
+    let scene = cornell_box();
+    for signal in ["INT", "TERM", "HUP"] {
+        let (out, checkpoint) = (path(&format!("{signal}.pfm")), path(&format!("{signal}.ckp")));
+        let child = glint()
+            .args(["render", &scene, "--width", "32", "--spp", "1000000", "-o", &out])
+            .args(["--checkpoint", &checkpoint, "--checkpoint-interval", "0"])
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Wait until rendering is under way (the first pass wrote a checkpoint), then signal.
+        let start = Instant::now();
+        while !Path::new(&checkpoint).exists() {
+            assert!(start.elapsed() < Duration::from_secs(30), "no pass finished");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let sent = Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status().unwrap();
+        assert!(sent.success());
+        let o = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(3), "SIG{signal}: {err}");
+        assert!(err.contains("(interrupted)"), "{err}");
+        let (w, h, pixels) = glint_cli::output::read_pfm(Path::new(&out)).unwrap();
+        assert_eq!((w, h), (32, 32));
+        assert!(pixels.iter().any(|p| p.x > 0.0), "the written image is black");
+        // Resumed a few passes further, it equals the render that ran there uninterrupted.
+        let bytes = std::fs::read(&checkpoint).unwrap();
+        let spp_done = u32::from_le_bytes(bytes[16..20].try_into().unwrap());
+        let target = (spp_done + 3).to_string();
+        let resumed = path(&format!("{signal}-resumed.pfm"));
+        let full = path(&format!("{signal}-full.pfm"));
+        let common = ["render", scene.as_str(), "--width", "32", "--spp", target.as_str(), "-q", "-o"];
+        run(&[&common[..], &[resumed.as_str(), "--resume", checkpoint.as_str()]].concat());
+        run(&[&common[..], &[full.as_str()]].concat());
+        assert_eq!(std::fs::read(&full).unwrap(), std::fs::read(&resumed).unwrap(), "SIG{signal}");
     }
-    let killed = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
-    assert!(killed.success());
-    let o = child.wait_with_output().unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "{err}");
-    assert!(err.contains("(interrupted)"), "{err}");
-    let (w, h, pixels) = glint_cli::output::read_pfm(&out).unwrap();
-    assert_eq!((w, h), (64, 64));
-    assert!(pixels.iter().any(|p| p.x > 0.0), "the written image is black");
     std::fs::remove_dir_all(dir).unwrap();
 }
 

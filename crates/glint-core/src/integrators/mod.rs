@@ -24,6 +24,8 @@ pub use raycast::Raycast;
 pub use sppm::Sppm;
 pub use whitted::Whitted;
 
+use std::sync::atomic::AtomicBool;
+
 use crate::render::{CameraPasses, PassRenderer};
 
 use crate::geometry::Ray;
@@ -224,6 +226,18 @@ impl IntegratorKind {
         scene: &Scene,
         seed: u64,
     ) -> Result<Box<dyn PassRenderer + Send>, String> {
+        self.renderer_until(settings, scene, seed, &AtomicBool::new(false))
+    }
+
+    /// `renderer`, giving up with an error soon after `stop` is raised (photon mapping's maps
+    /// take a while to build).
+    pub fn renderer_until(
+        self,
+        settings: &IntegratorSettings,
+        scene: &Scene,
+        seed: u64,
+        stop: &AtomicBool,
+    ) -> Result<Box<dyn PassRenderer + Send>, String> {
         Ok(match self {
             IntegratorKind::Light => Box::new(LightTracer::new(scene, settings.max_depth)?),
             IntegratorKind::Sppm => Box::new(Sppm::new(
@@ -234,8 +248,14 @@ impl IntegratorKind {
                 settings.photons_per_pass,
             )?),
             IntegratorKind::Photon => {
-                let mapper: Box<dyn Integrator> =
-                    Box::new(PhotonMapper::new(scene, settings.max_depth, settings.rr_depth, settings.photon, seed)?);
+                let mapper: Box<dyn Integrator> = Box::new(PhotonMapper::new_until(
+                    scene,
+                    settings.max_depth,
+                    settings.rr_depth,
+                    settings.photon,
+                    seed,
+                    stop,
+                )?);
                 Box::new(CameraPasses(mapper))
             }
             camera => Box::new(CameraPasses(camera.create(settings).expect("a camera integrator"))),

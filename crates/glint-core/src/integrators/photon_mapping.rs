@@ -27,6 +27,7 @@
 //! background) is sampled for direct light and emits photons like any light.
 
 use std::cell::RefCell;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use glam::Vec2;
 use rayon::prelude::*;
@@ -92,6 +93,8 @@ pub(super) struct PhotonShooter<'a> {
     pub source: &'a ParticleSource,
     pub max_depth: u32,
     pub seed: u64,
+    /// Raised (Ctrl-C): `fill_map` stops after the round under way.
+    pub stop: Option<&'a AtomicBool>,
 }
 
 /// Which particle vertices become photons.
@@ -143,6 +146,9 @@ impl PhotonShooter<'_> {
         let mut rays = RayCounts::default();
         let mut next_batch = 0u64;
         while (photons.len() as u64) < wanted && emitted < max_particles {
+            if self.stop.is_some_and(|stop| stop.load(Ordering::Relaxed)) {
+                break;
+            }
             let (more, n, r) = self.shoot(stream, next_batch..next_batch + ROUND, keep);
             photons.extend(more);
             emitted += n;
@@ -183,8 +189,20 @@ impl PhotonMapper {
         settings: PhotonSettings,
         seed: u64,
     ) -> Result<Self, String> {
+        Self::new_until(scene, max_depth, rr_depth, settings, seed, &AtomicBool::new(false))
+    }
+
+    /// `new`, giving up with an error soon after `stop` is raised (Ctrl-C while shooting).
+    pub fn new_until(
+        scene: &Scene,
+        max_depth: u32,
+        rr_depth: u32,
+        settings: PhotonSettings,
+        seed: u64,
+        stop: &AtomicBool,
+    ) -> Result<Self, String> {
         let source = ParticleSource::new(scene)?;
-        let shooter = PhotonShooter { scene, source: &source, max_depth, seed };
+        let shooter = PhotonShooter { scene, source: &source, max_depth, seed, stop: Some(stop) };
         let (global, mut photon_rays) = shooter.fill_map(
             GLOBAL_STREAM,
             settings.global_photons as u64,
@@ -198,6 +216,9 @@ impl PhotonMapper {
             &|v| v.bounces > 0 && v.specular_chain,
         );
         photon_rays.add(&caustic_rays);
+        if stop.load(Ordering::Relaxed) {
+            return Err("interrupted while the photon maps were built".into());
+        }
         let bounds = scene.geometry.bounds();
         let max_radius = if settings.max_radius > 0.0 {
             settings.max_radius
@@ -444,7 +465,7 @@ mod tests {
             IntersectMethods::default(),
         );
         let source = ParticleSource::new(&scene).unwrap();
-        let shooter = PhotonShooter { scene: &scene, source: &source, max_depth: 1, seed: 9 };
+        let shooter = PhotonShooter { scene: &scene, source: &source, max_depth: 1, seed: 9, stop: None };
         let (photons, emitted, _) = shooter.shoot(1, 0..400, &|v| v.bounces == 0);
         // Summed in f64: 400,000 values of f32 drift by a percent.
         let sum = photons.iter().fold(glam::DVec3::ZERO, |acc, p| acc + p.power.as_dvec3());

@@ -196,7 +196,8 @@ impl PassRenderer for Sppm {
         let wanted = if self.photons_per_pass > 0 { self.photons_per_pass as u64 } else { self.pixels.len() as u64 };
         let batches = wanted.div_ceil(BATCH);
         let first = pass.index as u64 * batches;
-        let shooter = PhotonShooter { scene, source: &self.source, max_depth: self.max_depth, seed: pass.seed };
+        let shooter =
+            PhotonShooter { scene, source: &self.source, max_depth: self.max_depth, seed: pass.seed, stop: None };
         let (photons, emitted, photon_rays) = shooter.shoot(PHOTON_STREAM, first..first + batches, &|v| v.bounces > 0);
         rays.add(&photon_rays);
         let map = PhotonMap::build(photons, emitted);
