@@ -213,7 +213,9 @@ impl WatertightRay8 {
         let delta_t = Lanes::splat(3.0)
             * (Lanes::splat(gamma(3)) * max_e * max_z + delta_e * max_z + delta_z * max_e)
             * inv_det.abs();
-        let hit = in_range & t.cmp_gt(delta_t);
+        // As the scalar test: the bound only where a vertex is not ahead of the origin.
+        let ahead = az.fast_min(bz).fast_min(cz).cmp_gt(zero);
+        let hit = in_range & (ahead | t.cmp_gt(delta_t));
         Hits8 { mask: hit.move_mask() as u32, t: t.to_array(), u: v_ * inv_det, v: w * inv_det }
     }
 }

@@ -15,7 +15,7 @@ use glam::Vec3;
 use wide::{f32x8, CmpGt, CmpLe, CmpLt};
 
 use super::bvh::{Bvh, Node};
-use crate::geometry::Ray;
+use crate::geometry::{gamma, Ray};
 
 /// Children a node holds, all eight boxes tested at once (AVX lanes).
 pub(super) const WIDTH: usize = 8;
@@ -354,6 +354,14 @@ impl TraversalCounter for TraversalCounts {
 struct Query {
     origin: [f32x8; 3],
     inv_dir: [f32x8; 3],
+    /// `inv_dir` widened for the far planes, so that the test is conservative, as pbrt-v4's
+    /// Bounds3::IntersectP is: a far distance takes a subtraction and a multiply by the
+    /// correctly rounded 1/d, so the exact one is at most (1 + 2γ₃) times the computed one;
+    /// 1 + 2γ₅ covers that and the rounding of this product, at no cost per node. Without it
+    /// a ray through a box's face within rounding culled the box whose triangle the
+    /// watertight test would hit (rays at the vertices of a flat grid: leaves of zero
+    /// thickness).
+    inv_dir_far: [f32x8; 3],
     /// For each axis, which of `bounds[axis]` is the near plane (0 = min for a positive direction).
     near: [usize; 3],
 }
@@ -367,6 +375,7 @@ impl Query {
         Self {
             origin: [0, 1, 2].map(|a| f32x8::splat(ray.origin[a])),
             inv_dir: [0, 1, 2].map(|a| f32x8::splat(inv[a])),
+            inv_dir_far: [0, 1, 2].map(|a| f32x8::splat(inv[a] * (1.0 + 2.0 * gamma(5)))),
             near,
         }
     }
@@ -379,7 +388,7 @@ impl Query {
         for axis in 0..3 {
             let bounds = &node.bounds[axis];
             let near = (bounds[self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
-            let far = (bounds[1 - self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
+            let far = (bounds[1 - self.near[axis]] - self.origin[axis]) * self.inv_dir_far[axis];
             // A NaN distance (0 · ∞: a ray in a slab's plane) must leave the interval as it
             // is, so compare-and-select rather than `max`, whose NaN result `wide` leaves
             // unspecified (its scalar fallback returns the NaN, which would cull the child).

@@ -82,9 +82,12 @@ impl Aabb {
     }
 
     /// Slab test over `[t_min, t_max]`, given the reciprocal direction; the entry distance.
+    /// Conservative (pbrt-v4's Bounds3::IntersectP): the exit distance is widened by its
+    /// rounding error, 1 + 2γ₃, so no ray that meets the box is culled.
     #[inline(always)]
     pub fn hit_distance(&self, origin: Vec3, inv_dir: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
         let (t_enter, t_exit) = self.slab_interval(origin, inv_dir);
+        let t_exit = t_exit * (1.0 + 2.0 * super::gamma(3));
         let (t_enter, t_exit) = (t_enter.max(t_min), t_exit.min(t_max));
         (t_enter <= t_exit).then_some(t_enter)
     }

@@ -1,0 +1,196 @@
+//! No ray leaks through hostile geometry: tiny objects seen from afar, objects far from the
+//! origin, needles and slivers, and rays through the exact vertices of a flat grid. Each ray
+//! here passes through the interior of a closed mesh or of a triangle (or exactly through a
+//! shared vertex of a watertight sheet), so it must hit, by the BVH and by brute force alike,
+//! and at the right distance. (The t error bound had rejected most hits on small, far and
+//! thin triangles; the node test, not conservative, culled leaves of zero thickness.)
+//! `benchmarks/hostile_meshes.py` measures the same families against Embree.
+
+mod common;
+
+use common::{object, scene, TestRng};
+use glint_core::geometry::Ray;
+use glint_core::scene::Scene;
+use glint_core::shapes::{Mesh, Shape};
+use glint_core::Vec3;
+
+/// An icosphere of `radius` about `centre`, subdivided `levels` times: closed, its shared
+/// vertices bit-identical.
+fn icosphere(centre: Vec3, radius: f32, levels: u32) -> Mesh {
+    let t = (1.0 + 5f32.sqrt()) / 2.0;
+    let mut positions: Vec<Vec3> = [
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
+    .collect();
+    let mut faces: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..levels {
+        let mut midpoints = std::collections::HashMap::new();
+        let mut midpoint = |a: u32, b: u32, positions: &mut Vec<Vec3>| {
+            *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                positions.push(((positions[a as usize] + positions[b as usize]) * 0.5).normalize());
+                positions.len() as u32 - 1
+            })
+        };
+        faces = faces
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let (ab, bc, ca) =
+                    (midpoint(a, b, &mut positions), midpoint(b, c, &mut positions), midpoint(c, a, &mut positions));
+                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    let positions = positions.iter().map(|p| centre + radius * *p).collect();
+    Mesh { positions, indices: faces, ..Default::default() }
+}
+
+fn mesh_scene(mesh: Mesh) -> Scene {
+    scene(vec![object(Shape::Mesh(mesh))])
+}
+
+/// Both queries hit, at the same distance (to the bit on the same triangle; a ray through a
+/// shared edge or vertex may name either triangle), within `tolerance` (relative) of
+/// `expected_t` if given.
+fn assert_hits(scene: &Scene, ray: &Ray, expected_t: Option<f32>, tolerance: f32, what: &str) {
+    let fast = scene.intersect(ray).unwrap_or_else(|| panic!("{what}: the BVH missed {ray:?}"));
+    let brute = scene.intersect_brute_force(ray).unwrap_or_else(|| panic!("{what}: brute force missed {ray:?}"));
+    if fast.prim == brute.prim {
+        assert_eq!(fast.t, brute.t, "{what}: {ray:?}");
+    } else {
+        assert!(((fast.t - brute.t) / brute.t).abs() < 1e-5, "{what}: {} vs {}, {ray:?}", fast.t, brute.t);
+    }
+    if let Some(t) = expected_t {
+        assert!(((fast.t - t) / t).abs() < tolerance, "{what}: t = {} for {t}, {ray:?}", fast.t);
+    }
+}
+
+#[test]
+fn rays_into_a_tiny_blob_from_afar_hit_its_front() {
+    let radius = 1e-4;
+    let blob = mesh_scene(icosphere(Vec3::ZERO, radius, 3));
+    let mut rng = TestRng(3);
+    for _ in 0..4000 {
+        let origin = rng.vec3(-1.0, 1.0).normalize();
+        // Aimed within half the radius of the centre: through the front face, well inside.
+        let target = rng.vec3(-0.5, 0.5) * radius;
+        let ray = Ray::new(origin, (target - origin).normalize());
+        assert_hits(&blob, &ray, None, 0.0, "tiny blob");
+        let hit = blob.intersect(&ray).unwrap();
+        assert!(hit.geometry.geometric_normal.dot(ray.direction) < 0.0, "a back face: the front leaked");
+    }
+}
+
+#[test]
+fn rays_from_the_origin_hit_a_blob_far_from_it() {
+    let centre = Vec3::new(1e5, -2e5, 3e5);
+    let blob = mesh_scene(icosphere(centre, 25.0, 3));
+    let mut rng = TestRng(4);
+    for _ in 0..4000 {
+        let target = centre + rng.vec3(-12.0, 12.0);
+        let ray = Ray::new(Vec3::ZERO, target.normalize());
+        assert_hits(&blob, &ray, None, 0.0, "far blob");
+    }
+}
+
+#[test]
+fn rays_aimed_inside_needles_and_slivers_hit_them_at_the_right_distance() {
+    let mut rng = TestRng(5);
+    for width in [1e-3f32, 1e-4, 1e-5] {
+        // A needle from x = 0 to 1, two triangles, in the plane z = 0 (exact coordinates) and
+        // turned at random (rounded ones), seen from 2.5 in front of it.
+        for turned in [false, true] {
+            let rotation = if turned {
+                glam::Quat::from_axis_angle(rng.vec3(-1.0, 1.0).normalize(), rng.range(0.3, 3.0))
+            } else {
+                glam::Quat::IDENTITY
+            };
+            let local = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, width, 0.0), Vec3::new(0.0, width, 0.0)];
+            let positions = local.iter().map(|p| rotation * *p).collect();
+            let needle = mesh_scene(Mesh { positions, indices: vec![[0, 1, 2], [0, 2, 3]], ..Default::default() });
+            for _ in 0..1000 {
+                let target = rotation * Vec3::new(rng.range(0.05, 0.95), width * rng.range(0.25, 0.75), 0.0);
+                let offset = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), -2.5);
+                let origin = target + rotation * offset;
+                let ray = Ray::new(origin, (target - origin).normalize());
+                let t = (target - origin).length();
+                assert_hits(&needle, &ray, Some(t), 1e-3, &format!("needle {width}, turned {turned}"));
+            }
+        }
+    }
+    // Slivers: a base of 0.1 under a height of 1e-4 to 1e-2, hit in their middles.
+    for height in [1e-4f32, 1e-3, 1e-2] {
+        let positions = vec![Vec3::ZERO, Vec3::new(0.1, 0.0, 0.0), Vec3::new(0.05, height, 0.0)];
+        let cap = mesh_scene(Mesh { positions, indices: vec![[0, 1, 2]], ..Default::default() });
+        for _ in 0..500 {
+            let target = Vec3::new(0.05 + rng.range(-0.01, 0.01), height * rng.range(0.3, 0.5), 0.0);
+            let origin = target + Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), -2.5);
+            let ray = Ray::new(origin, (target - origin).normalize());
+            assert_hits(&cap, &ray, Some((target - origin).length()), 1e-4, &format!("cap {height}"));
+        }
+    }
+}
+
+#[test]
+fn rays_through_the_vertices_of_a_flat_grid_hit_it() {
+    // A 16 × 16 grid of squares of side 1/16, two triangles each, in z = 0: every coordinate
+    // exact, so a ray aimed at a vertex goes exactly through it, where six triangles meet.
+    let n = 16u32;
+    let positions =
+        (0..=n).flat_map(|j| (0..=n).map(move |i| Vec3::new(i as f32 / 16.0, j as f32 / 16.0, 0.0))).collect();
+    let index = |i: u32, j: u32| j * (n + 1) + i;
+    let indices = (0..n)
+        .flat_map(|j| {
+            (0..n).flat_map(move |i| {
+                [
+                    [index(i, j), index(i + 1, j), index(i + 1, j + 1)],
+                    [index(i, j), index(i + 1, j + 1), index(i, j + 1)],
+                ]
+            })
+        })
+        .collect();
+    let grid = mesh_scene(Mesh { positions, indices, ..Default::default() });
+    let mut rng = TestRng(6);
+    for _ in 0..4000 {
+        let (i, j) = (1 + rng.below(n as u64 - 1), 1 + rng.below(n as u64 - 1));
+        let vertex = Vec3::new(i as f32 / 16.0, j as f32 / 16.0, 0.0);
+        // Edge midpoints too: exact in f32 as well.
+        let target = if rng.below(2) == 0 { vertex } else { vertex + Vec3::new(1.0 / 32.0, 0.0, 0.0) };
+        let origin = target + Vec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-3.0, -0.5));
+        let ray = Ray::new(origin, target - origin);
+        assert_hits(&grid, &ray, Some(1.0), 1e-5, "grid vertex");
+    }
+}
