@@ -241,3 +241,20 @@ fn a_polygon_off_its_plane_is_refused() {
     assert_eq!(line_of(&e), 16); // the `vertices` line
     assert!(e.to_string().contains("not planar"), "{e}");
 }
+
+#[test]
+fn a_type_error_in_a_table_points_at_its_key() {
+    let e = error(&GOOD.replace("radius = 1", "radius = \"one\""));
+    assert_eq!(line_of(&e), 16, "{e}");
+    let e = error(&GOOD.replace("radius = 1", "radius = 1\ncenter = [0, 0, true]"));
+    assert_eq!(line_of(&e), 17, "{e}");
+}
+
+#[test]
+fn coordinates_whose_squares_overflow_are_refused() {
+    let e = error(&GOOD.replace("radius = 1", "radius = 1e38"));
+    assert!(e.to_string().contains("at most 1e18"), "{e}");
+    let e = error(&GOOD.replace("position = [0, 0, -5]", "position = [0, 0, -1e38]"));
+    assert_eq!(line_of(&e), 2);
+    assert!(e.to_string().contains("at most 1e18"), "{e}");
+}

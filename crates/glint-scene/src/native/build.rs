@@ -456,6 +456,9 @@ fn build_object(
         ShapeDesc::Sphere { center, radius, .. } => {
             let center = finite(*center).map_err(|m| at("center", m))?;
             positive(*radius).map_err(|m| at("radius", format!("`radius` {m}")))?;
+            if *radius > MAX_COORDINATE {
+                return Err(at("radius", format!("`radius` must be at most {MAX_COORDINATE:e} (its square must fit in 32-bit floats), got {radius:e}")));
+            }
             Shape::Sphere(Sphere::new(center, *radius))
         }
         ShapeDesc::Plane { normal, offset, point, .. } => {
@@ -709,12 +712,20 @@ fn resolve_colour(c: &ColorDesc, textures: &[(String, Texture)]) -> Result<Textu
     }
 }
 
+/// The largest coordinate (or length) a scene may hold: squared, as lengths and the sphere's
+/// quadratic square it, it must stay within f32 (3.4e38), with room for sums of three. A
+/// sphere of radius 1e38 rendered as background only (r² was infinite), a camera at
+/// −1e38 was told its `look_at` equals its `position`.
+const MAX_COORDINATE: f32 = 1e18;
+
 fn finite(v: Vector) -> Result<Vec3, String> {
     let v3 = Vec3::from(v);
-    if v3.is_finite() {
-        Ok(v3)
-    } else {
+    if !v3.is_finite() {
         Err(format!("expected finite numbers, got {v:?}"))
+    } else if v3.abs().max_element() > MAX_COORDINATE {
+        Err(format!("expected numbers of magnitude at most {MAX_COORDINATE:e} (their squares must fit in 32-bit floats), got {v:?}"))
+    } else {
+        Ok(v3)
     }
 }
 

@@ -112,6 +112,7 @@ pub fn parse_scene(
                 // serde reports errors inside a table at the table; point at the key instead.
                 let offset = crate::error::unknown_and_expected(e.message())
                     .and_then(|(key, _)| find_key(text, span.clone(), &key))
+                    .or_else(|| find_wrong_value(text, span.clone(), e.message()))
                     .unwrap_or(span.start);
                 Location::from_offset(text, offset)
             });
@@ -142,6 +143,35 @@ fn strip_json_position(message: &str) -> String {
         Some(i) => message[..i].to_string(),
         None => message.to_string(),
     }
+}
+
+/// For serde's "invalid type: string \"one\", expected f32" inside a table (whose span it
+/// reports): the offset of the one line within `range` that assigns that value, if exactly
+/// one does.
+fn find_wrong_value(text: &str, range: std::ops::Range<usize>, message: &str) -> Option<usize> {
+    let rest = message.strip_prefix("invalid type: ").or_else(|| message.strip_prefix("invalid value: "))?;
+    let (found, _) = rest.split_once(", expected")?;
+    // `string "one"`, `integer `5``, `floating point `1.5``, `boolean `true``.
+    let literal = match found.split_once(' ') {
+        Some(("string", value)) => value.to_string(),
+        _ => found.rsplit_once('`').and_then(|(before, _)| before.rsplit_once('`')).map(|(_, v)| v.to_string())?,
+    };
+    let range = range.start.min(text.len())..range.end.min(text.len());
+    let mut matches = Vec::new();
+    let mut offset = range.start;
+    for line in text[range].split_inclusive('\n') {
+        if let Some((key, value)) = line.split_once('=') {
+            // The value, or an element of an array or inline table there.
+            let mut words = value.split(|c: char| c == ',' || c == '[' || c == ']' || c == '{' || c == '}' || c == '=');
+            let assigns =
+                if literal.starts_with('"') { value.contains(&literal) } else { words.any(|w| w.trim() == literal) };
+            if assigns {
+                matches.push(offset + (key.len() - key.trim_start().len()));
+            }
+        }
+        offset += line.len();
+    }
+    (matches.len() == 1).then(|| matches[0])
 }
 
 /// Byte offset of the line within `range` that assigns `key` (`key = …` in TOML,
