@@ -162,7 +162,7 @@ fn find_wrong_value(text: &str, range: std::ops::Range<usize>, message: &str) ->
     for line in text[range].split_inclusive('\n') {
         if let Some((key, value)) = line.split_once('=') {
             // The value, or an element of an array or inline table there.
-            let mut words = value.split(|c: char| c == ',' || c == '[' || c == ']' || c == '{' || c == '}' || c == '=');
+            let mut words = value.split([',', '[', ']', '{', '}', '=']);
             let assigns =
                 if literal.starts_with('"') { value.contains(&literal) } else { words.any(|w| w.trim() == literal) };
             if assigns {
