@@ -4,7 +4,7 @@
 use glint_core::Rgb;
 
 /// Width, height and linear RGB pixels (row 0 = top) of an image file's bytes.
-pub(crate) fn decode(name: &str, bytes: &[u8]) -> Result<(u32, u32, Vec<Rgb>), String> {
+pub fn decode(name: &str, bytes: &[u8]) -> Result<(u32, u32, Vec<Rgb>), String> {
     let image = image::load_from_memory(bytes).map_err(|e| format!("cannot decode: {e}"))?;
     let lower = name.to_ascii_lowercase();
     let linear_already = lower.ends_with(".exr") || lower.ends_with(".hdr");

@@ -15,6 +15,7 @@ pub mod native;
 mod source;
 
 pub use error::{Location, SceneError};
+pub use image::decode as decode_image;
 pub use limits::set_memory_limit;
 pub use native::{load_scene, load_scene_with, parse_scene, LoadedScene, RenderOptions};
 pub use source::Source;

@@ -90,6 +90,11 @@ mod tests {
         let nan = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n";
         let e = read_mesh("x.ply", nan).unwrap_err();
         assert!(e.contains("line 11") && e.contains("`nan`"), "{e}");
+        // Found by glint-fuzz: a format version that overflows panicked inside ply-rs.
+        let overflow = b"ply\nformat binary_little_endian 99999999999999999999\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n\0\0\0\0\0\0\0\0\0\0\0\0";
+        assert!(read_mesh("x.ply", overflow).unwrap_err().contains("line 2"));
+        let huge = b"ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n";
+        assert!(read_mesh("x.ply", huge).unwrap_err().contains("larger than the file"));
     }
 
     #[test]

@@ -71,6 +71,7 @@ impl PropertyAccess for Face {
 
 /// Faces with more than three vertices are split into fans.
 pub(super) fn read(data: &[u8]) -> Result<Mesh, String> {
+    check_header(data)?;
     let mut reader = BufReader::new(data);
     let vertex_parser = Parser::<Vertex>::new();
     let face_parser = Parser::<Face>::new();
@@ -130,6 +131,42 @@ fn check_ascii_numbers(data: &[u8]) -> Result<(), String> {
     for (index, line) in lines {
         if let Some(word) = line.split_whitespace().find(|w| !w.parse::<f64>().is_ok_and(f64::is_finite)) {
             return Err(format!("line {}: `{word}` is not a finite number", index + 1));
+        }
+    }
+    Ok(())
+}
+
+/// The PLY header's grammar, checked before `ply-rs` reads it: that crate unwraps some of its
+/// own parses (a format version of twenty nines panicked inside it, found by glint-fuzz), and
+/// an element count larger than the file could hold is refused here before anything is read.
+fn check_header(data: &[u8]) -> Result<(), String> {
+    const SCALARS: [&str; 16] = [
+        "char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8", "int16", "uint16",
+        "int32", "uint32", "float32", "float64",
+    ];
+    let end = data.windows(11).position(|w| w == b"end_header\n").ok_or("not a valid PLY header: no end_header")?;
+    let header = std::str::from_utf8(&data[..end]).map_err(|_| "not a valid PLY header: not text")?;
+    let payload = (data.len() - end - 11) as u64;
+    for (index, line) in header.lines().enumerate() {
+        let bad = |why: &str| format!("not a valid PLY header: line {}: {why}", index + 1);
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["ply"] if index == 0 => {}
+            _ if index == 0 => return Err(bad("the file must start with `ply`")),
+            ["format", "ascii" | "binary_little_endian" | "binary_big_endian", "1.0"] => {}
+            ["format", ..] => return Err(bad("expected `format ascii|binary_little_endian|binary_big_endian 1.0`")),
+            ["comment" | "obj_info", ..] | [] => {}
+            ["element", _, count] => {
+                let count: u64 = count.parse().map_err(|_| bad("the element count is not a whole number"))?;
+                // Every element takes at least a byte.
+                if count > payload {
+                    return Err(bad("the element count is larger than the file could hold"));
+                }
+            }
+            ["property", "list", count, item, _] if SCALARS.contains(count) && SCALARS.contains(item) => {}
+            ["property", scalar, _] if SCALARS.contains(scalar) => {}
+            ["property", ..] => return Err(bad("expected `property TYPE NAME` or `property list TYPE TYPE NAME`")),
+            _ => return Err(bad(&format!("unexpected `{line}`"))),
         }
     }
     Ok(())
