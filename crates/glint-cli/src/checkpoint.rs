@@ -89,7 +89,7 @@ pub fn save(path: &Path, film: &Film, spp_done: u32, seed: u64, fingerprint: u64
     bytes.extend_from_slice(state);
     let sum = checksum(&bytes);
     bytes.extend_from_slice(&sum.to_le_bytes());
-    glint_cli::output::write_file_atomically(path, &bytes, "checkpoint")
+    crate::output::write_file_atomically(path, &bytes, "checkpoint")
 }
 
 /// The checksum over a checkpoint's contents.
@@ -99,6 +99,11 @@ fn checksum(bytes: &[u8]) -> u64 {
 
 pub fn load(path: &Path, expected: &Expected) -> Result<Checkpoint, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read the checkpoint `{}`: {e}", path.display()))?;
+    parse(&bytes, path, expected)
+}
+
+/// A checkpoint from its bytes (`path` for messages only).
+pub fn parse(bytes: &[u8], path: &Path, expected: &Expected) -> Result<Checkpoint, String> {
     let refuse = |why: String| format!("the checkpoint `{}` {why}", path.display());
     let damaged = |why: &str| refuse(format!("is damaged or not a glint checkpoint: {why}"));
     if bytes.len() < HEADER {

@@ -2,7 +2,6 @@
 //! scene and `glint-core` for an image, and writes it.
 
 mod bench_rays_command;
-mod checkpoint;
 mod explain_command;
 mod render_command;
 

@@ -10,7 +10,7 @@ use glint_core::render::{render_progressive, PassRenderer, Progressive, RenderSe
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crate::checkpoint;
+use glint_cli::checkpoint;
 use glint_core::lights::TriangleSampling;
 use glint_core::shapes::{BoxMethod, PolygonTest, SphereMethod, TriangleMethod};
 use glint_scene::LoadedScene;

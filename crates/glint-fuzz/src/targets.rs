@@ -1,0 +1,192 @@
+//! The readers fuzzed, each fed one input as a user's file would reach it, and the seed
+//! inputs they start from (`corpus/TARGET/`, committed).
+
+use std::path::{Path, PathBuf};
+
+use clap::ValueEnum;
+use glint_cli::checkpoint::{self, Expected, WeightRule};
+use glint_scene::native::Format;
+use glint_scene::Source;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Target {
+    /// The native scene format, TOML.
+    Toml,
+    /// The native scene format, JSON.
+    Json,
+    /// Mitsuba 3 XML (with its includes, meshes and textures beside it).
+    Xml,
+    Obj,
+    Ply,
+    /// Checkpoints, as `--resume` reads them.
+    Checkpoint,
+    /// Image textures and environment maps (PNG, JPEG, EXR, HDR).
+    Image,
+}
+
+/// A small mesh that the seed scenes' mesh references resolve to.
+const TRIANGLE_OBJ: &[u8] = b"v -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
+
+impl Target {
+    pub fn name(self) -> &'static str {
+        match self {
+            Target::Toml => "toml",
+            Target::Json => "json",
+            Target::Xml => "xml",
+            Target::Obj => "obj",
+            Target::Ply => "ply",
+            Target::Checkpoint => "checkpoint",
+            Target::Image => "image",
+        }
+    }
+
+    /// Words of the format for the mutator to insert.
+    pub fn tokens(self) -> &'static [&'static str] {
+        match self {
+            Target::Toml => &[
+                "[[shapes]]\n",
+                "[materials.x]\n",
+                " = ",
+                "[",
+                "]",
+                "{",
+                "}",
+                "\"",
+                "type = \"mesh\"\n",
+                "transform = [",
+                "\n",
+                "#",
+                "'''",
+                "= inf",
+                "= nan",
+            ],
+            Target::Json => &["{", "}", "[", "]", "\"", ":", ",", "\"type\"", "null", "1e400", "\"shapes\": ["],
+            Target::Xml => &[
+                "<",
+                ">",
+                "</",
+                "/>",
+                "<shape type=\"obj\">",
+                "<include filename=\"",
+                "<default name=\"a\" value=\"$a\"/>",
+                "$",
+                "\"",
+                "<!--",
+                "-->",
+                "<![CDATA[",
+                "&amp;",
+                "<ref id=\"",
+            ],
+            Target::Obj => &[
+                "v ",
+                "vt ",
+                "vn ",
+                "f ",
+                "/",
+                "//",
+                "\n",
+                "-",
+                "nan",
+                "1e38",
+                "o ",
+                "g ",
+                "mtllib x.mtl\n",
+                "usemtl m\n",
+            ],
+            Target::Ply => &[
+                "element vertex ",
+                "element face ",
+                "property float ",
+                "property list uchar int vertex_indices\n",
+                "format binary_little_endian 1.0\n",
+                "format ascii 1.0\n",
+                "end_header\n",
+                "\n",
+                " ",
+            ],
+            Target::Checkpoint | Target::Image => &[],
+        }
+    }
+}
+
+/// Runs inputs of one target; files that a target must read from disk go in `scratch`.
+pub struct Runner {
+    target: Target,
+    scratch: PathBuf,
+    expected: Option<Expected>,
+}
+
+impl Runner {
+    pub fn new(target: Target, scratch: PathBuf) -> Self {
+        if target == Target::Xml {
+            // What the seed scenes refer to, beside the file that is fuzzed.
+            for (name, bytes) in corpus_files("xml-files") {
+                std::fs::write(scratch.join(name), bytes).expect("the XML scenes' files");
+            }
+        }
+        // The checkpoint seeds' own render: width, height, seed and fingerprint from the first.
+        let expected = (target == Target::Checkpoint).then(|| {
+            let seed = &seeds(target)[0];
+            let u32_at = |i: usize| u32::from_le_bytes(seed[i..i + 4].try_into().unwrap());
+            let u64_at = |i: usize| u64::from_le_bytes(seed[i..i + 8].try_into().unwrap());
+            Expected {
+                width: u32_at(8),
+                height: u32_at(12),
+                seed: u64_at(20),
+                fingerprint: u64_at(28),
+                spp: 64,
+                weights: WeightRule::PerPass,
+                nonnegative: true,
+            }
+        });
+        Self { target, scratch, expected }
+    }
+
+    /// Reads one input; `Ok` if the reader accepted it, `Err` with its message if not. A
+    /// panic is what the fuzzer looks for.
+    pub fn run(&self, input: &[u8]) -> Result<(), String> {
+        match self.target {
+            Target::Toml | Target::Json => {
+                let text = std::str::from_utf8(input).map_err(|e| e.to_string())?;
+                let format = if self.target == Target::Toml { Format::Toml } else { Format::Json };
+                let files = [("meshes/torus.obj", TRIANGLE_OBJ), ("meshes/ring.obj", TRIANGLE_OBJ)];
+                let source = Source::embedded(&files);
+                glint_scene::parse_scene(text, format, "fuzz", &source).map(|_| ()).map_err(|e| e.to_string())
+            }
+            Target::Xml => {
+                let path = self.scratch.join("scene.xml");
+                std::fs::write(&path, input).map_err(|e| e.to_string())?;
+                glint_scene::load_scene(&path).map(|_| ()).map_err(|e| e.to_string())
+            }
+            Target::Obj => glint_scene::mesh::read_mesh("fuzz.obj", input).map(|_| ()),
+            Target::Ply => glint_scene::mesh::read_mesh("fuzz.ply", input).map(|_| ()),
+            Target::Checkpoint => {
+                let expected = self.expected.as_ref().expect("made for checkpoints");
+                checkpoint::parse(input, Path::new("fuzz.ckp"), expected).map(|_| ())
+            }
+            Target::Image => glint_scene::decode_image("fuzz", input).map(|_| ()),
+        }
+    }
+}
+
+fn corpus_dir(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("corpus").join(name)
+}
+
+fn corpus_files(name: &str) -> Vec<(String, Vec<u8>)> {
+    let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(corpus_dir(name))
+        .map(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .map(|e| (e.file_name().to_string_lossy().to_string(), std::fs::read(e.path()).unwrap_or_default()))
+                .collect()
+        })
+        .unwrap_or_default();
+    files.sort();
+    files
+}
+
+/// The seed inputs of `target`, in name order.
+pub fn seeds(target: Target) -> Vec<Vec<u8>> {
+    corpus_files(target.name()).into_iter().map(|(_, bytes)| bytes).collect()
+}
