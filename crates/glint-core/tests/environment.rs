@@ -101,8 +101,9 @@ fn particle_integrators_are_lit_by_the_sky() {
 }
 
 /// Light tracing against the analytic ρ·L at the sphere's centre, and the sky seen directly,
-/// with enough particles to see a bias of 1 %: the central 4 × 4 pixels after 32,768 passes
-/// have a noise of about 0.3 %.
+/// with enough particles to see a bias of 0.75 %: the central 4 × 4 pixels after 32,768 passes
+/// have a noise of about 0.24 % (a float64 replica of the estimator: 1.0003 ± 0.0002). The
+/// 1.2 % once suspected (issue 23) was the noise of a 1024-pass test (±1.3 %).
 #[test]
 fn light_tracing_under_a_uniform_sky_is_unbiased() {
     use glint_core::render::render_with;
@@ -119,5 +120,6 @@ fn light_tracing_under_a_uniform_sky_is_unbiased() {
     let img = &img;
     let centre = (6..10).flat_map(|y| (6..10).map(move |x| img[y * 16 + x])).sum::<Rgb>() / 16.0;
     let ratio = centre / (sky * 0.8);
-    assert!((ratio - Rgb::ONE).abs().max_element() < 0.01, "light tracing / analytic = {ratio}");
+    eprintln!("light tracing / analytic = {ratio}");
+    assert!((ratio - Rgb::ONE).abs().max_element() < 0.0075, "light tracing / analytic = {ratio}");
 }

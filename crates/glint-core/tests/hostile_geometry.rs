@@ -129,7 +129,11 @@ fn rays_from_the_origin_hit_a_blob_far_from_it() {
 #[test]
 fn rays_aimed_inside_needles_and_slivers_hit_them_at_the_right_distance() {
     let mut rng = TestRng(5);
-    for width in [1e-3f32, 1e-4, 1e-5] {
+    // At several scales and off the origin too: the test's error bounds are relative, so is
+    // the answer. (The offset stays small enough that 1e-5 is still 40 ulps of it: farther
+    // out, the needle's width is no longer representable.)
+    let placements = [(1.0f32, Vec3::ZERO), (1e-3, Vec3::ZERO), (1e3, Vec3::ZERO), (1.0, Vec3::new(3.0, -2.0, 1.5))];
+    for (width, (scale, offset)) in [1e-3f32, 1e-4, 1e-5].into_iter().flat_map(|w| placements.map(|p| (w, p))) {
         // A needle from x = 0 to 1, two triangles, in the plane z = 0 (exact coordinates) and
         // turned at random (rounded ones), seen from 2.5 in front of it.
         for turned in [false, true] {
@@ -139,15 +143,17 @@ fn rays_aimed_inside_needles_and_slivers_hit_them_at_the_right_distance() {
                 glam::Quat::IDENTITY
             };
             let local = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, width, 0.0), Vec3::new(0.0, width, 0.0)];
-            let positions = local.iter().map(|p| rotation * *p).collect();
+            let place = |p: Vec3| offset + scale * (rotation * p);
+            let positions = local.iter().map(|p| place(*p)).collect();
             let needle = mesh_scene(Mesh { positions, indices: vec![[0, 1, 2], [0, 2, 3]], ..Default::default() });
-            for _ in 0..1000 {
-                let target = rotation * Vec3::new(rng.range(0.05, 0.95), width * rng.range(0.25, 0.75), 0.0);
-                let offset = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), -2.5);
-                let origin = target + rotation * offset;
+            for _ in 0..250 {
+                let local_target = Vec3::new(rng.range(0.05, 0.95), width * rng.range(0.25, 0.75), 0.0);
+                let target = place(local_target);
+                let origin = place(local_target + Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), -2.5));
                 let ray = Ray::new(origin, (target - origin).normalize());
                 let t = (target - origin).length();
-                assert_hits(&needle, &ray, Some(t), 1e-3, &format!("needle {width}, turned {turned}"));
+                let what = format!("needle {width}, turned {turned}, scale {scale}, offset {offset}");
+                assert_hits(&needle, &ray, Some(t), 1e-3, &what);
             }
         }
     }
@@ -169,10 +175,10 @@ fn rays_through_the_vertices_of_a_flat_grid_hit_it() {
     // A 16 × 16 grid of squares of side 1/16, two triangles each, in z = 0: every coordinate
     // exact, so a ray aimed at a vertex goes exactly through it, where six triangles meet.
     let n = 16u32;
-    let positions =
+    let positions: Vec<Vec3> =
         (0..=n).flat_map(|j| (0..=n).map(move |i| Vec3::new(i as f32 / 16.0, j as f32 / 16.0, 0.0))).collect();
     let index = |i: u32, j: u32| j * (n + 1) + i;
-    let indices = (0..n)
+    let indices: Vec<[u32; 3]> = (0..n)
         .flat_map(|j| {
             (0..n).flat_map(move |i| {
                 [
@@ -182,15 +188,21 @@ fn rays_through_the_vertices_of_a_flat_grid_hit_it() {
             })
         })
         .collect();
-    let grid = mesh_scene(Mesh { positions, indices, ..Default::default() });
     let mut rng = TestRng(6);
-    for _ in 0..4000 {
-        let (i, j) = (1 + rng.below(n as u64 - 1), 1 + rng.below(n as u64 - 1));
-        let vertex = Vec3::new(i as f32 / 16.0, j as f32 / 16.0, 0.0);
-        // Edge midpoints too: exact in f32 as well.
-        let target = if rng.below(2) == 0 { vertex } else { vertex + Vec3::new(1.0 / 32.0, 0.0, 0.0) };
-        let origin = target + Vec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-3.0, -0.5));
-        let ray = Ray::new(origin, target - origin);
-        assert_hits(&grid, &ray, Some(1.0), 1e-5, "grid vertex");
+    // Scales by powers of two and whole offsets keep every coordinate exact.
+    for (scale, offset) in
+        [(1.0f32, Vec3::ZERO), (1.0 / 1024.0, Vec3::ZERO), (1024.0, Vec3::ZERO), (1.0, Vec3::new(4096.0, -256.0, 64.0))]
+    {
+        let placed = positions.iter().map(|p| offset + scale * *p).collect();
+        let grid = mesh_scene(Mesh { positions: placed, indices: indices.clone(), ..Default::default() });
+        for _ in 0..1000 {
+            let (i, j) = (1 + rng.below(n as u64 - 1), 1 + rng.below(n as u64 - 1));
+            let vertex = Vec3::new(i as f32 / 16.0, j as f32 / 16.0, 0.0);
+            // Edge midpoints too: exact in f32 as well.
+            let target = if rng.below(2) == 0 { vertex } else { vertex + Vec3::new(1.0 / 32.0, 0.0, 0.0) };
+            let origin = target + Vec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-3.0, -0.5));
+            let ray = Ray::new(offset + scale * origin, scale * (target - origin));
+            assert_hits(&grid, &ray, Some(1.0), 1e-4, &format!("grid vertex, scale {scale}, offset {offset}"));
+        }
     }
 }
