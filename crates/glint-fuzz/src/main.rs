@@ -58,6 +58,9 @@ fn main() -> std::process::ExitCode {
     let target = args.target;
     let scratch = std::env::temp_dir().join(format!("glint-fuzz-{}-{}", target.name(), std::process::id()));
     std::fs::create_dir_all(&scratch).expect("a scratch folder");
+    // The readers' own memory limit, below the allocation bound checked here: an input that
+    // slips past the limit is a finding.
+    glint_scene::set_memory_limit((args.memory_mib << 20) / 4);
     let runner = targets::Runner::new(target, scratch.clone());
     if let Some(path) = &args.replay {
         let input = std::fs::read(path).expect("the input to replay");

@@ -5,6 +5,22 @@ use glint_core::Rgb;
 
 /// Width, height and linear RGB pixels (row 0 = top) of an image file's bytes.
 pub fn decode(name: &str, bytes: &[u8]) -> Result<(u32, u32, Vec<Rgb>), String> {
+    // The size from the header first: a 1.2 KB EXR declaring a large data window decoded to
+    // 1.2 GB (found by glint-fuzz). A pixel takes up to 16 bytes decoded, 12 as RGB f32, and
+    // 12 once ours.
+    let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| format!("cannot decode: {e}"))?;
+    let (w, h) = reader.into_dimensions().map_err(|e| format!("cannot decode: {e}"))?;
+    let needed = u64::from(w) * u64::from(h) * 40;
+    if needed > crate::limits::memory_limit() {
+        return Err(format!(
+            "the image is {w}x{h} pixels; decoding it takes about {}, more than the memory limit of {} ({})",
+            crate::limits::describe(needed),
+            crate::limits::describe(crate::limits::memory_limit()),
+            crate::limits::RAISE
+        ));
+    }
     let image = image::load_from_memory(bytes).map_err(|e| format!("cannot decode: {e}"))?;
     let lower = name.to_ascii_lowercase();
     let linear_already = lower.ends_with(".exr") || lower.ends_with(".hdr");
@@ -36,6 +52,23 @@ pub(crate) fn srgb_to_linear(v: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_image_beyond_the_memory_limit_is_refused_from_its_header() {
+        // A PNG header declaring 60000 x 60000 pixels (and no data to speak of).
+        let mut chunk = b"IHDR".to_vec();
+        chunk.extend_from_slice(&60000u32.to_be_bytes());
+        chunk.extend_from_slice(&60000u32.to_be_bytes());
+        chunk.extend_from_slice(&[8, 2, 0, 0, 0]);
+        let mut crc = flate2::Crc::new();
+        crc.update(&chunk);
+        let mut png = b"\x89PNG\r\n\x1a\n\0\0\0\x0d".to_vec();
+        png.extend_from_slice(&chunk);
+        png.extend_from_slice(&crc.sum().to_be_bytes());
+        png.extend_from_slice(b"\0\0\0\0IDAT\x35\xaf\x06\x1e\0\0\0\0IEND\xae\x42\x60\x82");
+        let e = decode("big.png", &png).unwrap_err();
+        assert!(e.contains("60000x60000") && e.contains("memory limit"), "{e}");
+    }
 
     #[test]
     fn srgb_decoding_by_hand() {
