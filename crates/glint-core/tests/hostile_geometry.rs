@@ -206,3 +206,29 @@ fn rays_through_the_vertices_of_a_flat_grid_hit_it() {
         }
     }
 }
+
+/// Watertight: a ray from outside through a closed mesh's vertex, or through a point on one
+/// of its edges (within the rounding of that point), hits one of the faces there, at every
+/// scale and offset.
+#[test]
+fn rays_through_a_closed_meshs_edges_and_vertices_hit_it() {
+    let mut rng = TestRng(7);
+    for (radius, centre) in
+        [(1.0f32, Vec3::ZERO), (1e-4, Vec3::ZERO), (1e3, Vec3::ZERO), (25.0, Vec3::new(1e3, -2e3, 3e3))]
+    {
+        let mesh = icosphere(centre, radius, 2);
+        let (positions, indices) = (mesh.positions.clone(), mesh.indices.clone());
+        let blob = mesh_scene(mesh);
+        for _ in 0..2000 {
+            let [a, b, _] = indices[rng.below(indices.len() as u64) as usize];
+            let (a, b) = (positions[a as usize], positions[b as usize]);
+            let target = if rng.below(2) == 0 { a } else { a + rng.range(0.0, 1.0) * (b - a) };
+            // From outside, within 30° of the outward direction there, so the ray enters the
+            // blob there (the faces around a vertex are within 10° of it), never grazing it.
+            let out = (target - centre).normalize() + 0.5 * rng.vec3(-1.0, 1.0).normalize_or_zero();
+            let origin = target + 3.0 * radius * out.normalize();
+            let ray = Ray::new(origin, (target - origin).normalize());
+            assert_hits(&blob, &ray, None, 0.0, &format!("edge or vertex of a blob of radius {radius}"));
+        }
+    }
+}
