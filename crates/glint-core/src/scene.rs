@@ -47,7 +47,11 @@ impl Object {
         match &self.transform {
             None => self.shape.surface(prim, ray, hit),
             Some(t) => {
-                let local = self.shape.surface(prim, &t.ray_to_object(ray), hit);
+                let local_ray = t.ray_to_object(ray);
+                let local = match &self.shape {
+                    Shape::AaBox(b) => b.surface_within(local_ray.at(hit.t), t.round_trip_margin(local_ray.at(hit.t))),
+                    shape => shape.surface(prim, &local_ray, hit),
+                };
                 let (point, error) = transform_point_with_error(&t.to_world, local.point, local.error);
                 SurfaceGeometry {
                     point,

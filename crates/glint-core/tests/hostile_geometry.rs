@@ -232,3 +232,41 @@ fn rays_through_a_closed_meshs_edges_and_vertices_hit_it() {
         }
     }
 }
+
+/// A closed mirror box turned, stretched and moved by a transform: rays from inside aimed at
+/// its edges and corners, reflected fifty times off whatever they hit, never leave it. (The
+/// edge margin in the box's own space had not covered the transform's round trip.)
+#[test]
+fn mirror_rays_stay_inside_a_transformed_box() {
+    use glint_core::geometry::{reflect, Transform};
+    use glint_core::shapes::AaBox;
+    let mut rng = TestRng(8);
+    // Turned at three scales, then stretched unevenly far from the origin.
+    let placements = [
+        (1e-3f32, Vec3::splat(1.0), 3.0),
+        (1.0, Vec3::splat(1.0), 3.0),
+        (1e3, Vec3::splat(1.0), 3.0),
+        (1.0, Vec3::new(1.0, 0.3, 2.0), 1e4),
+    ];
+    for (scale, stretch, distance) in placements {
+        let matrix = glam::Mat4::from_translation(Vec3::new(1.0, -0.7, 0.3) * distance * scale)
+            * glam::Mat4::from_quat(glam::Quat::from_axis_angle(Vec3::new(1.0, 2.0, 3.0).normalize(), 0.7))
+            * glam::Mat4::from_scale(stretch * scale);
+        let mut o = object(Shape::AaBox(AaBox::new(Vec3::splat(-2.0), Vec3::splat(2.0))));
+        o.transform = Transform::from_matrix(matrix);
+        let s = scene(vec![o]);
+        for i in 0..500 {
+            let mut corner = rng.vec3(-2.0, 2.0);
+            for k in 0..2 + i % 2 {
+                corner[(i + k) % 3] = if rng.below(2) == 0 { -2.0 } else { 2.0 };
+            }
+            let origin = matrix.transform_point3(rng.vec3(-1.5, 1.5));
+            let mut ray = Ray::new(origin, matrix.transform_point3(corner) - origin);
+            for bounce in 0..50 {
+                let hit =
+                    s.intersect(&ray).unwrap_or_else(|| panic!("scale {scale}: left the box after {bounce} bounces"));
+                ray = hit.spawn_ray(reflect(ray.direction, hit.geometry.geometric_normal));
+            }
+        }
+    }
+}

@@ -96,3 +96,65 @@ fn spawned_rays_never_rehit_their_surface_at_any_scale() {
         }
     }
 }
+
+/// Flat sheets hit at their edges and vertices, where the triangle test's shortcut for
+/// vertices ahead of the origin could matter: needles 1e-3 to 1e-5 wide, a sliver, and a
+/// 1/16 grid hit exactly at its vertices. A ray spawned there on either side, even at a
+/// grazing angle, never meets the sheet again.
+#[test]
+fn rays_spawned_at_edges_and_vertices_of_slivers_never_rehit_them() {
+    let mut rng = TestRng(101);
+    let mut sheets: Vec<(Mesh, Vec<Vec3>)> = Vec::new();
+    for width in [1e-3f32, 1e-4, 1e-5] {
+        let positions = vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, width, 0.0), Vec3::new(0.0, width, 0.0)];
+        let targets = vec![Vec3::ZERO, Vec3::X, Vec3::new(0.5, 0.0, 0.0), Vec3::new(0.5, 0.5 * width, 0.0)];
+        sheets.push((Mesh { positions, indices: vec![[0, 1, 2], [0, 2, 3]], ..Default::default() }, targets));
+    }
+    let sliver = vec![Vec3::ZERO, Vec3::new(0.1, 0.0, 0.0), Vec3::new(0.05, 1e-5, 0.0)];
+    sheets.push((Mesh { positions: sliver.clone(), indices: vec![[0, 1, 2]], ..Default::default() }, sliver));
+    let n = 8u32;
+    let grid: Vec<Vec3> =
+        (0..=n).flat_map(|j| (0..=n).map(move |i| Vec3::new(i as f32, j as f32, 0.0) / 16.0)).collect();
+    let index = |i: u32, j: u32| j * (n + 1) + i;
+    let indices = (0..n)
+        .flat_map(|j| {
+            (0..n).flat_map(move |i| {
+                [
+                    [index(i, j), index(i + 1, j), index(i + 1, j + 1)],
+                    [index(i, j), index(i + 1, j + 1), index(i, j + 1)],
+                ]
+            })
+        })
+        .collect();
+    sheets.push((Mesh { positions: grid.clone(), indices, ..Default::default() }, grid[10..70].to_vec()));
+    let mut spawned = 0;
+    for (mesh, targets) in sheets {
+        let s = scene(vec![object(Shape::Mesh(mesh))]);
+        for target in targets {
+            for _ in 0..20 {
+                let origin = target + Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-2.0, -0.5));
+                let Some(hit) = s.intersect(&Ray::new(origin, target - origin)) else { continue };
+                for _ in 0..20 {
+                    // Any direction, a grazing one now and then.
+                    let mut d = rng.vec3(-1.0, 1.0).normalize_or(Vec3::X);
+                    if rng.below(3) == 0 {
+                        d.z *= 1e-2;
+                    }
+                    if d.z.abs() < 1e-4 {
+                        continue;
+                    }
+                    for d in [d, -d] {
+                        let again = s.intersect(&hit.spawn_ray(d.normalize()));
+                        assert!(
+                            again.is_none(),
+                            "a ray spawned at {} along {d} re-hit the sheet: {again:?}",
+                            hit.geometry.point
+                        );
+                        spawned += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(spawned > 10_000, "{spawned}");
+}

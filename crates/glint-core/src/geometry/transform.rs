@@ -1,3 +1,4 @@
+use super::gamma;
 use glam::{Mat3, Mat4, Vec3};
 
 use super::Ray;
@@ -60,6 +61,22 @@ impl Transform {
             direction: self.to_object.transform_vector3(ray.direction),
             ..*ray
         }
+    }
+
+    /// A bound, per object axis, on how far an object-space point `p` can move by a round
+    /// trip: to world space, off its surface there by its error bound (along the world
+    /// normal, which a non-uniform scale turns off the object's axes), and back to object
+    /// space, where the next ray query starts. Each leg rounds within γ₃ of the magnitudes it
+    /// adds up, the offset is within γ₃ of the world magnitudes, and the inverse matrix is
+    /// itself rounded: γ₁₆ of the magnitudes, four times over, bounds them all with room.
+    pub fn round_trip_margin(&self, p: Vec3) -> Vec3 {
+        let abs = |m: &Mat4| {
+            let c = Mat3::from_mat4(*m).to_cols_array_2d().map(|c| Vec3::from(c).abs());
+            Mat3::from_cols(c[0], c[1], c[2])
+        };
+        let world = abs(&self.to_world) * p.abs() + self.to_world.w_axis.truncate().abs();
+        let back = abs(&self.to_object) * world + self.to_object.w_axis.truncate().abs();
+        4.0 * gamma(16) * back
     }
 
     /// Whether the transform flips handedness (negative determinant): normals defined by

@@ -120,6 +120,13 @@ impl AaBox {
     /// through the adjacent face met it at t = 0, which no ray contains: rays escaped closed
     /// mirror boxes at their edges.
     pub fn surface(&self, point: Vec3) -> SurfaceGeometry {
+        self.surface_within(point, Vec3::ZERO)
+    }
+
+    /// `surface`, with the point kept `margin` further inside the face's edges: what a
+    /// transform's round trip can move a spawned ray's origin by (a box placed by a transform:
+    /// the ray's next query maps the world origin back into the box's space).
+    pub fn surface_within(&self, point: Vec3, margin: Vec3) -> SurfaceGeometry {
         let size = (self.max - self.min).max(Vec3::splat(f32::MIN_POSITIVE));
         let mut point = point.clamp(self.min, self.max);
         let mut best = (f32::INFINITY, 0, 1.0f32);
@@ -141,7 +148,7 @@ impl AaBox {
         let error = gamma(3) * point.abs();
         let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
         for other in [a, b] {
-            point[other] = inside_by(point[other], self.min[other], self.max[other], error[other]);
+            point[other] = inside_by(point[other], self.min[other], self.max[other], error[other] + margin[other]);
         }
         let local = (point - self.min) / size;
         SurfaceGeometry {
