@@ -5,8 +5,9 @@
 //! Format (little-endian): `GLINTCK3`, width u32, height u32, spp_done u32, seed u64,
 //! fingerprint u64, then width·height RGB sums (3 × f32) and width·height weights (f32), then
 //! the integrator's own state: its length u64 and its bytes (empty but for SPPM), then an
-//! FNV-1a checksum u64 of everything before it. `GLINTCK2` (no checksum) and `GLINTCK1` (no
-//! state either) files are still read. Written to a temporary file and renamed, so a crash
+//! FNV-1a checksum u64 of everything before it. `GLINTCK2` and `GLINTCK1` files, from before
+//! the fingerprint covered the scene's files, are refused with that reason. Written to a
+//! temporary file and renamed, so a crash
 //! mid-write never leaves a broken one. A checkpoint is trusted only as far as it checks out:
 //! its header against the render and the file's length, its pixels finite and their weights
 //! what its passes give.
@@ -17,8 +18,10 @@ use glint_core::film::Film;
 use glint_core::Rgb;
 
 const MAGIC: &[u8; 8] = b"GLINTCK3";
-const MAGIC_WITHOUT_CHECKSUM: &[u8; 8] = b"GLINTCK2";
-const MAGIC_WITHOUT_STATE: &[u8; 8] = b"GLINTCK1";
+/// Earlier formats (without a checksum; GLINTCK1 without the integrator's state either):
+/// recognised, to be refused with the reason.
+const OLDER_WITH_STATE: &[u8; 8] = b"GLINTCK2";
+const OLDER_WITHOUT_STATE: &[u8; 8] = b"GLINTCK1";
 
 pub struct Checkpoint {
     pub film: Film,
@@ -110,8 +113,14 @@ pub fn parse(bytes: &[u8], path: &Path, expected: &Expected) -> Result<Checkpoin
         return Err(damaged("it is shorter than its header"));
     }
     let magic = &bytes[..8];
-    if magic != MAGIC && magic != MAGIC_WITHOUT_CHECKSUM && magic != MAGIC_WITHOUT_STATE {
-        return Err(damaged("it does not start with GLINTCK"));
+    if magic == OLDER_WITH_STATE || magic == OLDER_WITHOUT_STATE {
+        return Err(refuse(
+            "was written by an earlier glint, whose fingerprint did not cover the files the scene reads; render again"
+                .into(),
+        ));
+    }
+    if magic != MAGIC {
+        return Err(damaged("it does not start with GLINTCK3"));
     }
     let u32_at = |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
     let u64_at = |i: usize| u64::from(u32_at(i)) | u64::from(u32_at(i + 4)) << 32;
@@ -136,24 +145,19 @@ pub fn parse(bytes: &[u8], path: &Path, expected: &Expected) -> Result<Checkpoin
     let pixels = u64::from(width) * u64::from(height);
     let film_end = (HEADER as u64).checked_add(pixels.checked_mul(16).ok_or_else(|| damaged("its size overflows"))?);
     let film_end = film_end.ok_or_else(|| damaged("its size overflows"))?;
-    let (payload_end, state) = if magic == MAGIC_WITHOUT_STATE {
-        (film_end, 0..0)
-    } else {
-        let length_at = usize::try_from(film_end)
-            .ok()
-            .filter(|&i| i + 8 <= bytes.len())
-            .ok_or_else(|| damaged("it is cut short"))?;
-        let length = u64_at(length_at);
-        let start = film_end + 8;
-        let end = start.checked_add(length).ok_or_else(|| damaged("its size overflows"))?;
-        (end, start as usize..end as usize)
-    };
-    let checksum_length = if magic == MAGIC { 8 } else { 0 };
-    if payload_end.checked_add(checksum_length) != Some(bytes.len() as u64) {
+    let length_at = usize::try_from(film_end)
+        .ok()
+        .filter(|&i| i.checked_add(8).is_some_and(|end| end <= bytes.len()))
+        .ok_or_else(|| damaged("it is cut short"))?;
+    let length = u64_at(length_at);
+    let start = film_end + 8;
+    let payload_end = start.checked_add(length).ok_or_else(|| damaged("its size overflows"))?;
+    if payload_end.checked_add(8) != Some(bytes.len() as u64) {
         return Err(damaged("its length does not match its header"));
     }
+    let state = start as usize..payload_end as usize;
     let payload_end = payload_end as usize;
-    if magic == MAGIC && checksum(&bytes[..payload_end]) != u64_at(payload_end) {
+    if checksum(&bytes[..payload_end]) != u64_at(payload_end) {
         return Err(damaged("its checksum does not match its contents"));
     }
     let n = pixels as usize;

@@ -1,6 +1,15 @@
 //! `glint`: the command-line renderer. Thin: it parses arguments, asks `glint-scene` for a
 //! scene and `glint-core` for an image, and writes it.
 
+/// `eprintln!` that never panics: a terminal that hung up (SIGHUP) or a closed pipe makes
+/// writes to stderr fail, and a render must still write its image.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod bench_rays_command;
 mod explain_command;
 mod render_command;
@@ -20,7 +29,7 @@ struct Cli {
 enum Command {
     /// Render a scene to an image (.png, .exr or .pfm).
     #[command(
-        after_help = "Exit status: 0 when the render ended (its samples done or its --time spent), 1 on an error (nothing is written, or what was written is named), 2 on a usage error, 3 when interrupted by Ctrl-C, SIGTERM or SIGHUP after writing the image (and --checkpoint) of the passes finished, 130 on a second Ctrl-C (quit at once, nothing more written)."
+        after_help = "Exit status: 0 when the render ended (its samples done or its --time spent), 1 on an error (nothing is written, or what was written is named), 2 on a usage error, 3 when interrupted by Ctrl-C, SIGTERM or SIGHUP (the image and --checkpoint of the passes finished are written; if none had finished, nothing is, and the message says so), 130 on a second Ctrl-C (quit at once, nothing more written)."
     )]
     Render(render_command::RenderArgs),
     /// Print the ray tree of one pixel (Whitted's recursion): every ray, what it hit, each
@@ -33,7 +42,7 @@ enum Command {
 
 fn main() -> ExitCode {
     if let Some(message) = missing_cpu_features() {
-        eprintln!("glint: {message}");
+        say!("glint: {message}");
         return ExitCode::FAILURE;
     }
     // A panic is a bug in glint, never the user's fault: say so in one line, without a backtrace.
@@ -43,9 +52,7 @@ fn main() -> ExitCode {
         if info.to_string().contains("Broken pipe") {
             std::process::exit(141);
         }
-        eprintln!(
-            "glint: internal error: {info}\nThis is a bug in glint; please report it with the scene that caused it."
-        );
+        say!("glint: internal error: {info}\nThis is a bug in glint; please report it with the scene that caused it.");
     }));
     let cli = Cli::parse();
     let result = match cli.command {
@@ -59,7 +66,7 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(message) => {
-            eprintln!("error: {message}");
+            say!("error: {message}");
             ExitCode::FAILURE
         }
     }

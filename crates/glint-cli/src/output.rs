@@ -50,6 +50,8 @@ pub fn check_writable_file(path: &Path, what: &str) -> Result<(), String> {
         Ok(m) if !m.is_file() => {
             return Err(cannot(&"it is not a regular file (a FIFO or socket?); glint writes files and devices only"))
         }
+        // Renaming over it would replace it regardless: refuse, as writing into it would.
+        Ok(m) if m.permissions().readonly() => return Err(cannot(&"it is read-only")),
         _ => {}
     }
     // Where the file will really be written: its temporary file goes beside it.

@@ -232,7 +232,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
     .map_err(|e| e.to_string())?;
     let LoadedScene { mut scene, render: options, warnings, inputs } = loaded;
     for w in &warnings {
-        eprintln!("warning: {w}");
+        say!("warning: {w}");
     }
 
     apply_overrides(&args, &mut scene);
@@ -274,8 +274,11 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
     if time_limit.is_some() && args.spp.is_none() {
         settings.spp = u32::MAX; // the time limit decides
     }
+    // The scene's files by content (not by path: the same scene named another way resumes),
+    // read one at a time, and only when a checkpoint is written or read.
     let scene_bytes = match &args.scene {
-        Some(_) => inputs_bytes(&inputs),
+        Some(_) if args.checkpoint.is_some() || args.resume.is_some() => inputs_fingerprint(&inputs),
+        Some(_) => Vec::new(),
         None => b"<built-in default scene>".to_vec(),
     };
     let defines = format!("{:?}", args.define);
@@ -292,7 +295,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
             settings.sampler.name(),
             // A stratified render's strata depend on its sample count.
             if settings.sampler == SamplerKind::Stratified { format!(" {}", settings.spp) } else { String::new() },
-            // Only when not the default, so that earlier checkpoints still resume.
+            // Only when not the default: the default's fingerprint keeps its form.
             if scene.area_lights.triangle_sampling == TriangleSampling::SolidAngle {
                 " solid-angle lights"
             } else {
@@ -330,7 +333,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
             };
             let c = checkpoint::load(path, &expected)?;
             if !args.quiet {
-                eprintln!("resuming from `{}` at {} spp", path.display(), c.spp_done);
+                say!("resuming from `{}` at {} spp", path.display(), c.spp_done);
             }
             Some(c)
         }
@@ -347,7 +350,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
                 std::process::exit(130);
             }
             if !quiet {
-                eprintln!(
+                say!(
                     "\ninterrupted: finishing the passes under way, then writing the image (Ctrl-C again to quit at once)"
                 );
             }
@@ -379,14 +382,14 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
     let started = Instant::now();
     let renderer = pool.install(|| integrator_kind.renderer_until(&integrator_settings, &scene, settings.seed, &stop));
     if stop.load(Ordering::Relaxed) {
-        eprintln!("interrupted before the first pass: nothing written");
+        say!("interrupted before the first pass: nothing written");
         return Ok(Outcome::Interrupted);
     }
     let mut renderer = renderer?;
     let wavefront =
         integrator_kind == IntegratorKind::Path && PathTracer::new(&integrator_settings).runs_as_wavefront(&scene);
     if integrator_kind == IntegratorKind::Photon && !args.quiet {
-        eprintln!("photon maps built in {:.2} s", started.elapsed().as_secs_f64());
+        say!("photon maps built in {:.2} s", started.elapsed().as_secs_f64());
     }
     let resume = match resume {
         Some(c) => {
@@ -415,14 +418,14 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
     });
     progress.finish_and_clear();
     for w in renderer.warnings() {
-        eprintln!("warning: {w}");
+        say!("warning: {w}");
     }
     if let Some(e) = checkpoint_error {
-        eprintln!("warning: {e}");
+        say!("warning: {e}");
     }
     if result.spp_done == 0 {
         if result.stopped_early == Some(StopReason::Interrupted) {
-            eprintln!("interrupted before the first pass: nothing written");
+            say!("interrupted before the first pass: nothing written");
             return Ok(Outcome::Interrupted);
         }
         return Err("the render was stopped before its first pass: nothing to write".into());
@@ -434,7 +437,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
     if heat_png {
         let max = false_colour_heat_map(&mut pixels, width, height);
         exposure = 0.0;
-        eprintln!(
+        say!(
             "bvh-heat: colour = BVH nodes visited + primitives tested per camera ray, from 0 (dark blue) to {max:.0} (red); the bar along the bottom of the image is the scale, ticks at quarters"
         );
     }
@@ -453,7 +456,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
         let g = &scene.geometry;
         let s = g.bvh_stats();
         let r = &result.rays;
-        eprintln!(
+        say!(
             "BVH: {} primitives, built in {:.3} s; binary tree {} nodes, {} leaves, depth {}, SAH cost {:.2}; 8-wide tree {} nodes, {} leaf blocks; {:.1} bytes per primitive",
             g.primitive_count(),
             g.build_time().as_secs_f64(),
@@ -465,7 +468,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
             s.leaf_blocks,
             s.bytes as f64 / g.primitive_count().max(1) as f64
         );
-        eprintln!(
+        say!(
             "rays: {} camera, {} shadow, {} reflection, {} refraction, {} from lights, {} in all",
             r.camera,
             r.shadow,
@@ -479,7 +482,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
         let seconds = result.elapsed.as_secs_f64().max(1e-9);
         // Milliseconds: benchmarks read this line, and a hundredth of a second is about 1 % of
         // the Cornell box's render, the size of the differences they compare.
-        eprintln!(
+        say!(
             "rendered {width}x{height} at {} spp{} with {}{} in {:.3} s: {:.2} M samples/s, {:.2} M rays/s -> {}",
             result.spp_done,
             match result.stopped_early {
@@ -543,7 +546,7 @@ fn memory_needed(kind: IntegratorKind, settings: &IntegratorSettings, width: u32
     bytes += match kind {
         // Each pass: a visible point (~200 bytes with its BSDF) and state (32) per pixel, and
         // as many photons (32 bytes, with the kd-tree's copy).
-        IntegratorKind::Sppm => pixels * 300,
+        IntegratorKind::Sppm => pixels * 300 + u64::from(settings.photons_per_pass) * 96,
         // A pass's splats: a few per pixel.
         IntegratorKind::Light => pixels * 64,
         IntegratorKind::Photon => {
@@ -555,17 +558,13 @@ fn memory_needed(kind: IntegratorKind, settings: &IntegratorSettings, width: u32
     bytes
 }
 
-/// The bytes of every file a scene was read from, for the checkpoint fingerprint (a file that
-/// cannot be read now counts by its name).
-fn inputs_bytes(inputs: &[PathBuf]) -> Vec<u8> {
-    let mut bytes = Vec::new();
-    for path in inputs {
-        bytes.extend_from_slice(path.to_string_lossy().as_bytes());
-        bytes.push(0);
-        bytes.extend(std::fs::read(path).unwrap_or_default());
-        bytes.push(0xFF);
-    }
-    bytes
+/// A fingerprint of each file a scene was read from, in order: its contents' FNV-1a hash (a
+/// file that cannot be read now counts as empty).
+fn inputs_fingerprint(inputs: &[PathBuf]) -> Vec<u8> {
+    inputs
+        .iter()
+        .flat_map(|path| checkpoint::fingerprint(&[&std::fs::read(path).unwrap_or_default()]).to_le_bytes())
+        .collect()
 }
 
 /// `--max-depth` for every command: a count of bounces, or -1 for unbounded (`u32::MAX`).

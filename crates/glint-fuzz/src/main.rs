@@ -17,7 +17,7 @@ mod targets;
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use clap::Parser;
@@ -77,19 +77,21 @@ fn main() -> std::process::ExitCode {
     let limit = args.seconds.map(Duration::from_secs_f64);
     let memory_limit = args.memory_mib << 20;
 
-    // A watchdog: the current input's start, in ms since `started`; a hang ends the process
-    // after writing the input (which the main thread leaves in `current.bin`).
+    // A watchdog: the current input and its start, in ms since `started`; a hang ends the
+    // process after writing that input.
     let input_started = Arc::new(AtomicU64::new(u64::MAX));
+    let current = Arc::new(Mutex::new(Vec::new()));
     {
-        let input_started = input_started.clone();
-        let (hang, findings, scratch) = (args.hang_seconds, args.findings.clone(), scratch.clone());
+        let (input_started, current) = (input_started.clone(), current.clone());
+        let (hang, findings) = (args.hang_seconds, args.findings.clone());
         std::thread::spawn(move || loop {
             std::thread::sleep(Duration::from_millis(200));
             let at = input_started.load(Ordering::Relaxed);
             if at != u64::MAX && started.elapsed().as_millis() as u64 > at + (hang * 1000.0) as u64 {
                 let _ = std::fs::create_dir_all(&findings);
                 let kept = findings.join(format!("{}-hang", target.name()));
-                let _ = std::fs::copy(scratch.join("current.bin"), &kept);
+                // The main thread holds no lock while it runs an input.
+                let _ = std::fs::write(&kept, &*current.lock().unwrap_or_else(|e| e.into_inner()));
                 eprintln!("finding: an input ran longer than {hang} s; written to {}", kept.display());
                 std::process::exit(1);
             }
@@ -101,13 +103,9 @@ fn main() -> std::process::ExitCode {
         if limit.is_some_and(|l| started.elapsed() >= l) || args.execs.is_some_and(|n| execs >= n) {
             break;
         }
-        let input = mutate::mutate(&mut rng, &corpus, target.tokens());
-        // Kept where the watchdog finds it, only for inputs the watchdog may need (1 in 64,
-        // and every long one), since the write costs as much as a small parse.
-        let long = input.len() > 1 << 16;
-        if long || execs % 64 == 0 {
-            let _ = std::fs::write(scratch.join("current.bin"), &input);
-        }
+        let mut input = mutate::mutate(&mut rng, &corpus, target.tokens());
+        target.repair(&mut rng, &mut input);
+        current.lock().unwrap_or_else(|e| e.into_inner()).clone_from(&input);
         allocator::reset_peak();
         input_started.store(started.elapsed().as_millis() as u64, Ordering::Relaxed);
         let outcome = std::panic::catch_unwind(|| runner.run(&input));
@@ -125,6 +123,7 @@ fn main() -> std::process::ExitCode {
             let kept = args.findings.join(format!("{}-{execs}", target.name()));
             std::fs::write(&kept, &input).expect("the finding is written");
             eprintln!("finding after {execs} executions: an input {what}; written to {}", kept.display());
+            let _ = std::fs::remove_dir_all(&scratch);
             return std::process::ExitCode::FAILURE;
         }
         if matches!(outcome, Ok(Ok(()))) {

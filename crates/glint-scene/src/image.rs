@@ -12,7 +12,7 @@ pub fn decode(name: &str, bytes: &[u8]) -> Result<(u32, u32, Vec<Rgb>), String> 
         .with_guessed_format()
         .map_err(|e| format!("cannot decode: {e}"))?;
     let (w, h) = reader.into_dimensions().map_err(|e| format!("cannot decode: {e}"))?;
-    let needed = u64::from(w) * u64::from(h) * 40;
+    let needed = (u64::from(w) * u64::from(h)).saturating_mul(40);
     if needed > crate::limits::memory_limit() {
         return Err(format!(
             "the image is {w}x{h} pixels; decoding it takes about {}, more than the memory limit of {} ({})",

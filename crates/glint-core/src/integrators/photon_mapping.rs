@@ -158,6 +158,10 @@ impl PhotonShooter<'_> {
                 break; // none in a whole round: this scene makes none (no caustics, say)
             }
         }
+        if self.stop.is_some_and(|stop| stop.load(Ordering::Relaxed)) {
+            // Interrupted: the map will not be used, and building it takes a while.
+            photons.clear();
+        }
         (PhotonMap::build(photons, emitted), rays)
     }
 }

@@ -270,16 +270,36 @@ impl PassRenderer for Sppm {
         if word(12) as usize != self.pixels.len() {
             return Err(bad());
         }
-        self.passes = word(0);
-        self.emitted = u64::from(word(4)) | u64::from(word(8)) << 32;
-        let float = |i: usize| f32::from_bits(word(i));
-        for (k, p) in self.pixels.iter_mut().enumerate() {
-            let o = 16 + 32 * k;
-            p.radius = float(o);
-            p.photons = float(o + 4);
-            p.tau = Rgb::new(float(o + 8), float(o + 12), float(o + 16));
-            p.direct = Rgb::new(float(o + 20), float(o + 24), float(o + 28));
+        let (passes, emitted) = (word(0), u64::from(word(4)) | u64::from(word(8)) << 32);
+        // A pass emits at least one photon batch; none before the first pass.
+        if (passes == 0) != (emitted == 0) {
+            return Err(bad());
         }
+        let float = |i: usize| f32::from_bits(word(i));
+        let mut pixels = Vec::with_capacity(self.pixels.len());
+        for k in 0..self.pixels.len() {
+            let o = 16 + 32 * k;
+            let p = PixelState {
+                radius: float(o),
+                photons: float(o + 4),
+                tau: Rgb::new(float(o + 8), float(o + 12), float(o + 16)),
+                direct: Rgb::new(float(o + 20), float(o + 24), float(o + 28)),
+            };
+            // Radii, counts and fluxes are finite and never negative.
+            let values = [p.radius, p.photons, p.tau.min_element(), p.direct.min_element()];
+            if !(values.iter().all(|v| *v >= 0.0)
+                && p.tau.is_finite()
+                && p.direct.is_finite()
+                && p.radius.is_finite()
+                && p.photons.is_finite())
+            {
+                return Err(format!("the checkpoint's SPPM state of pixel {k} is not finite and non-negative"));
+            }
+            pixels.push(p);
+        }
+        self.passes = passes;
+        self.emitted = emitted;
+        self.pixels = pixels;
         Ok(())
     }
 }

@@ -95,6 +95,9 @@ mod tests {
         assert!(read_mesh("x.ply", overflow).unwrap_err().contains("line 2"));
         let huge = b"ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n";
         assert!(read_mesh("x.ply", huge).unwrap_err().contains("larger than the file"));
+        // Windows line ends are a valid header.
+        let crlf = b"ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\nproperty float y\r\nproperty float z\r\nelement face 1\r\nproperty list uchar int vertex_indices\r\nend_header\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n";
+        assert_eq!(read_mesh("x.ply", crlf).map(|m| m.triangle_count()), Ok(1));
     }
 
     #[test]

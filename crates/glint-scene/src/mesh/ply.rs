@@ -144,10 +144,15 @@ fn check_header(data: &[u8]) -> Result<(), String> {
         "char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8", "int16", "uint16",
         "int32", "uint32", "float32", "float64",
     ];
-    let end = data.windows(11).position(|w| w == b"end_header\n").ok_or("not a valid PLY header: no end_header")?;
+    // The header ends at the first line that reads `end_header` (with \n, \r\n or \r).
+    let end = data
+        .windows(10)
+        .enumerate()
+        .position(|(i, w)| w == b"end_header" && (i == 0 || matches!(data[i - 1], b'\n' | b'\r')))
+        .ok_or("not a valid PLY header: no end_header")?;
     let header = std::str::from_utf8(&data[..end]).map_err(|_| "not a valid PLY header: not text")?;
-    let payload = (data.len() - end - 11) as u64;
-    for (index, line) in header.lines().enumerate() {
+    let payload = (data.len() - end - 10) as u64;
+    for (index, line) in header.split(['\n', '\r']).filter(|l| !l.is_empty()).enumerate() {
         let bad = |why: &str| format!("not a valid PLY header: line {}: {why}", index + 1);
         let words: Vec<&str> = line.split_whitespace().collect();
         match words.as_slice() {

@@ -515,8 +515,15 @@ fn build_object(
                 .ok_or_else(|| at("vertices", "the polygon has zero area (its vertices are collinear)".into()))?;
             // The even-odd and winding tests work in the polygon's plane: a vertex off it
             // would be hit somewhere else than where it is drawn.
+            // Beyond 1e-4 of its size, and beyond what rounding coordinates this far from the
+            // origin makes of a flat one.
             let (vertex, off) = polygon.farthest_off_plane();
-            if off > 1e-4 {
+            let magnitude = vertices.iter().map(|v| Vec3::from(*v).abs().max_element()).fold(0.0f32, f32::max);
+            let size = vertices
+                .iter()
+                .map(|v| (Vec3::from(*v) - Vec3::from(vertices[0])).length())
+                .fold(f32::MIN_POSITIVE, f32::max);
+            if off > 1e-4 + 8.0 * f32::EPSILON * magnitude / size {
                 return Err(at(
                     "vertices",
                     format!("the polygon is not planar: vertex {vertex} lies {off:.2e} of the polygon's size off its plane (a polygon must be flat; split it into triangles)"),
