@@ -130,8 +130,7 @@ fn renders_beyond_the_memory_limit_are_refused_with_the_way_to_raise_it() {
     assert!(err.contains("memory limit") && err.contains("--memory-limit"), "{err}");
     let photons = glint(&["render", &scene, "--width", "8", "--integrator", "photon", "--photons", "4294967295"]);
     assert!(assert_clean_failure(&photons).contains("memory limit"));
-    // Raised, the same photon count's estimate passes the check (and is refused elsewhere
-    // only if the machine lacks it): here a small render under a lowered limit.
+    // The limit is the one set: lowered far enough, even a small render is refused.
     let small = glint(&["render", &scene, "--width", "8", "--spp", "1", "--memory-limit", "0.000001", "-o", "s.pfm"]);
     assert!(assert_clean_failure(&small).contains("memory limit"));
 }

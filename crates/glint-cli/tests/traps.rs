@@ -68,6 +68,7 @@ fn render(scene: &str, integrator: &str, spp: &str, extra: &[&str]) -> (Vec<f32>
     args.extend_from_slice(&["-o", out.to_str().unwrap()]);
     let output = glint_within(&args, Duration::from_secs(60));
     let (_, _, pixels) = read_pfm(&out).expect("the image was written");
+    let _ = std::fs::remove_dir_all(out.parent().expect("the image's folder"));
     let pixels = pixels.iter().flat_map(|p| p.to_array()).collect();
     (pixels, String::from_utf8_lossy(&output.stderr).to_string())
 }
@@ -106,6 +107,7 @@ fn whitted_at_any_depth_ends_without_overflowing_the_stack() {
             out.to_str().unwrap(),
         ];
         glint_within(&args, Duration::from_secs(60));
+        let _ = std::fs::remove_dir_all(out.parent().expect("the image's folder"));
     }
 }
 
@@ -148,6 +150,7 @@ fn sppm_stops_at_its_time_limit_in_a_trap() {
         glint_within(&args, Duration::from_secs(30));
         assert!(start.elapsed() < Duration::from_secs(10), "{:?}", start.elapsed());
     }
+    let _ = std::fs::remove_dir_all(out.parent().expect("the image's folder"));
 }
 
 #[test]
