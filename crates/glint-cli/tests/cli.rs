@@ -1,32 +1,11 @@
 //! The `glint` binary end to end: renders, errors, determinism, algorithm flags.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
 use glint_cli::output::read_pfm;
 
-fn glint(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glint")).args(args).output().expect("the glint binary runs")
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("glint-cli-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).to_string()
-}
-
-/// Errors are one clear message and a non-zero exit, never a panic or a backtrace.
-fn assert_clean_failure(o: &Output) -> String {
-    let err = stderr(o);
-    assert!(!o.status.success(), "expected failure, got success: {err}");
-    assert!(!err.contains("panicked") && !err.contains("RUST_BACKTRACE") && !err.contains("internal error"), "{err}");
-    assert!(err.starts_with("error: "), "{err}");
-    err
-}
+mod common;
+use common::{assert_clean_failure, glint, stderr, temp_dir};
 
 const LAMBERT: &str = r#"
 [camera]

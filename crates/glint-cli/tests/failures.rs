@@ -2,36 +2,15 @@
 //! before the render (or fail with a clear message, never a false success), writes are whole
 //! or not at all, crafted checkpoints are refused, and resource limits hold.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::path::Path;
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-fn glint(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glint")).args(args).output().expect("the glint binary runs")
-}
+mod common;
+use common::{assert_clean_failure, glint, stderr, temp_dir};
 
 fn cornell_box() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml").to_string_lossy().to_string()
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("glint-failures-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).to_string()
-}
-
-/// One clear message and exit status 1, never a panic or a backtrace.
-fn assert_clean_failure(o: &Output) -> String {
-    let err = stderr(o);
-    assert_eq!(o.status.code(), Some(1), "expected a clean failure: {err}");
-    assert!(!err.contains("panicked") && !err.contains("internal error"), "{err}");
-    assert!(err.lines().any(|l| l.starts_with("error: ")), "{err}");
-    err
 }
 
 fn files_in(dir: &Path) -> Vec<String> {
