@@ -153,6 +153,17 @@ impl SurfaceHit {
         ray
     }
 
+    /// The geometric normal on the side of `w` (a direction away from the surface): the side
+    /// a photon arrived on, or the viewer's.
+    pub fn geometric_normal_toward(&self, w: Vec3) -> Vec3 {
+        let n = self.geometry.geometric_normal;
+        if n.dot(w) < 0.0 {
+            -n
+        } else {
+            n
+        }
+    }
+
     /// The shading normal turned to the side the ray came from (two-sided shading).
     pub fn facing(&self, ray_direction: Vec3) -> Vec3 {
         if self.geometry.geometric_normal.dot(ray_direction) > 0.0 {

@@ -121,8 +121,7 @@ impl PhotonShooter<'_> {
                     };
                     trace_particle(self.scene, &particle, self.max_depth, &mut rng, &mut rays, |v, _, _| {
                         if keep(v) {
-                            let n = v.hit.geometry.geometric_normal;
-                            let n = if n.dot(v.wo) < 0.0 { -n } else { n };
+                            let n = v.hit.geometric_normal_toward(v.wo);
                             photons.push(Photon::new(v.hit.geometry.point, v.wo, n, v.weight));
                         }
                     });
@@ -277,8 +276,7 @@ impl PhotonMapper {
                 return Rgb::ZERO;
             }
             let r = r2.sqrt();
-            let normal = hit.geometry.geometric_normal;
-            let normal = if normal.dot(wo) < 0.0 { -normal } else { normal };
+            let normal = hit.geometric_normal_toward(wo);
             let mut sum = Rgb::ZERO;
             for (d2, i) in nearest.iter() {
                 let photon = map.photon(i);
@@ -312,8 +310,7 @@ impl PhotonMapper {
                 let bsdf_y = Bsdf::new(&material, wo_y, y.geometry.shading_normal, y.geometry.geometric_normal);
                 let p = bsdf_y.non_delta_probability();
                 if context.sampler.next_f32() < p {
-                    let n = y.geometry.geometric_normal;
-                    let n = if n.dot(wo_y) < 0.0 { -n } else { n };
+                    let n = y.geometric_normal_toward(wo_y);
                     let cached = if bsdf_y.is_lambertian() {
                         self.cached_radiance(&y, n, bsdf_y.diffuse_reflectance())
                     } else {

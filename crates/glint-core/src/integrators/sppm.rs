@@ -141,8 +141,7 @@ impl Sppm {
                 // Photons give the indirect part (paths of two or more scattering events).
                 if depth + 1 < self.max_depth {
                     let point = hit.geometry.point;
-                    let normal = hit.geometry.geometric_normal;
-                    let normal = if normal.dot(wo) < 0.0 { -normal } else { normal };
+                    let normal = hit.geometric_normal_toward(wo);
                     visible = Some(VisiblePoint { point, normal, wo, bsdf, weight: throughput / p, distance });
                 }
                 break;
