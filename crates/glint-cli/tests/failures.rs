@@ -7,7 +7,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 mod common;
-use common::{assert_clean_failure, glint, stderr, temp_dir};
+use common::{assert_clean_failure, glint, stderr, temp_dir, wait_within};
 
 fn cornell_box() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml").to_string_lossy().to_string()
@@ -65,13 +65,7 @@ fn a_full_disk_is_an_error_and_a_fifo_is_refused_without_waiting() {
         .spawn()
         .unwrap();
     let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > Duration::from_secs(20) {
-            let _ = child.kill();
-            panic!("glint waited for a reader of the FIFO");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    wait_within(&mut child, start, Duration::from_secs(20), "glint waited for a reader of the FIFO");
     let err = assert_clean_failure(&child.wait_with_output().unwrap());
     assert!(err.contains("not a regular file"), "{err}");
     std::fs::remove_dir_all(dir).unwrap();
@@ -144,13 +138,7 @@ fn ctrl_c_while_the_photon_maps_are_built_stops_soon() {
     std::thread::sleep(Duration::from_millis(1500));
     let start = Instant::now();
     assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > Duration::from_secs(10) {
-            let _ = child.kill();
-            panic!("Ctrl-C went unnoticed while the photon maps were built");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    wait_within(&mut child, start, Duration::from_secs(10), "Ctrl-C went unnoticed while the photon maps were built");
     let o = child.wait_with_output().unwrap();
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stderr(&o).contains("nothing written"), "{}", stderr(&o));

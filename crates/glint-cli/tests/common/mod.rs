@@ -3,7 +3,8 @@
 #![allow(dead_code)] // each test file uses its own part
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::{Child, Command, Output};
+use std::time::{Duration, Instant};
 
 pub fn glint(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_glint")).args(args).output().expect("the glint binary runs")
@@ -28,4 +29,16 @@ pub fn assert_clean_failure(o: &Output) -> String {
     assert!(!err.contains("panicked") && !err.contains("RUST_BACKTRACE") && !err.contains("internal error"), "{err}");
     assert!(err.starts_with("error: "), "{err}");
     err
+}
+
+/// Waits for `child` to end, killing it and failing the test (`what` says why) if it has not
+/// `limit` after `start`.
+pub fn wait_within(child: &mut Child, start: Instant, limit: Duration, what: &str) {
+    while child.try_wait().expect("the child can be waited for").is_none() {
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            panic!("{what}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }
