@@ -7,7 +7,6 @@ use clap::Args;
 use glint_core::integrators::recorder::{RayRecord, RayTree};
 use glint_core::integrators::whitted::{DEPTH_CEILING, TREE_RAY_LIMIT};
 use glint_core::integrators::{IntegratorSettings, PhotonMapper, SampleContext, Whitted};
-use glint_core::materials::Bsdf;
 use glint_core::photons::NearestPhotons;
 use glint_core::sampling::Rng;
 use glint_core::scene::Scene;
@@ -100,8 +99,8 @@ pub fn explain_photons(
         return Ok(out);
     };
     let wo = -ray.direction.normalize();
-    let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
-    let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+    let material = &scene.materials[hit.material as usize];
+    let bsdf = material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
     let _ = writeln!(
         out,
         "photons near the first hit {} (search radius at most {:.6}, seed {seed}):",

@@ -179,7 +179,7 @@ fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampli
         s
     };
     let textured = room_where(|_, materials| {
-        let Material::Phong(back) = &mut materials[2];
+        let Material::Phong(back) = &mut materials[2] else { unreachable!("the room is Phong") };
         back.diffuse = Texture::Checker(checker);
     });
     let spheres = || {
@@ -212,7 +212,7 @@ fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampli
     // No light at all: nothing for the lanes to choose.
     let dark = room_where(|_, materials| {
         for m in materials.iter_mut() {
-            let Material::Phong(m) = m;
+            let Material::Phong(m) = m else { unreachable!("the room is Phong") };
             m.emission = Rgb::ZERO;
         }
     });
@@ -277,7 +277,7 @@ fn the_wavefront_serves_mirrors_glass_glossy_and_mixed_materials() {
     let with = |materials: Vec<Material>| {
         room_where(move |objects, room_materials| {
             // A half-mirror left wall, then each material on a sphere of its own.
-            let Material::Phong(left) = &mut room_materials[1];
+            let Material::Phong(left) = &mut room_materials[1] else { unreachable!("the room is Phong") };
             left.reflection = Texture::Constant(Rgb::splat(0.5));
             let centres = [Vec3::new(0.45, -0.65, 0.3), Vec3::new(-0.4, -0.6, 0.5), Vec3::new(0.1, 0.3, 0.6)];
             for (j, material) in materials.into_iter().enumerate() {

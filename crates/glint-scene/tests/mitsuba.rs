@@ -74,38 +74,109 @@ fn every_element_maps_onto_glint() {
     let warnings = loaded.warnings.join("\n");
 
     assert!(!warnings.contains("near_clip"), "read, so not reported: {warnings}");
-    // Mappings: gold and a roughconductor (from eta and k, roughness √α) with conductor
-    // Fresnel, BK7 in air, the plastic's diffuse base under a 4 % coat.
+    // Mappings onto the BSDF set, one-sided as Mitsuba's are: gold and a roughconductor (from
+    // eta and k, GGX with the same alpha), BK7 in air, the plastic, the rough dielectric.
     let material = |name: &str| {
         let i = scene.material_names.iter().position(|n| n == name).unwrap_or_else(|| panic!("{name}"));
-        match &scene.materials[i] {
-            Material::Phong(p) => p.clone(),
-        }
+        &scene.materials[i]
     };
     let constant = |t: &Texture| match t {
         Texture::Constant(c) => *c,
         other => panic!("{other:?}"),
     };
-    // Gold: a metal with gold's complex index (conductor Fresnel), untinted.
-    let gold = material("gold");
     let (eta, k) = glint_core::materials::named_metal("Au").unwrap();
-    assert_eq!(gold.fresnel, Fresnel::Conductor { eta, k });
-    assert_eq!(constant(&gold.reflection), Rgb::ONE);
+    match material("gold") {
+        Material::Conductor(gold) => {
+            assert_eq!((gold.eta, gold.k), (eta, k));
+            assert_eq!(constant(&gold.specular), Rgb::ONE);
+        }
+        other => panic!("gold: {other:?}"),
+    }
     let by_line = |line: u32| {
         let name = scene.material_names.iter().find(|n| n.ends_with(&format!("@{line}"))).unwrap();
         material(name)
     };
-    let rough = by_line(40);
-    assert!((rough.roughness - 0.3).abs() < 1e-6);
-    assert_eq!(rough.fresnel, Fresnel::Conductor { eta: Rgb::new(0.2, 0.9, 1.1), k: Rgb::new(3.9, 2.4, 2.2) });
-    let glass = by_line(67);
-    assert!((glass.ior - 1.5046 / 1.000277).abs() < 1e-6);
-    assert_eq!(constant(&glass.transmission), Rgb::ONE);
-    let frosted = by_line(76);
-    assert!((frosted.roughness - 0.2f32.sqrt()).abs() < 1e-6 && constant(&frosted.transmission) == Rgb::ONE);
-    let plastic = by_line(59);
-    assert_eq!(constant(&plastic.diffuse), Rgb::new(0.2, 0.4, 0.8));
-    assert!((constant(&plastic.reflection).x - 0.04).abs() < 1e-3);
+    match by_line(40) {
+        Material::RoughConductor(rough) => {
+            assert_eq!((rough.alpha_u, rough.alpha_v), (0.09, 0.09));
+            assert_eq!((rough.conductor.eta, rough.conductor.k), (Rgb::new(0.2, 0.9, 1.1), Rgb::new(3.9, 2.4, 2.2)));
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(warnings.contains("Beckmann"), "the default distribution is named: {warnings}");
+    match by_line(67) {
+        Material::Dielectric(glass) => {
+            assert!((glass.eta - 1.5046 / 1.000277).abs() < 1e-6);
+            assert_eq!(constant(&glass.specular_transmittance), Rgb::ONE);
+        }
+        other => panic!("{other:?}"),
+    }
+    match by_line(76) {
+        Material::RoughDielectric(frosted) => assert_eq!((frosted.alpha_u, frosted.alpha_v), (0.2, 0.2)),
+        other => panic!("{other:?}"),
+    }
+    match by_line(59) {
+        Material::Plastic(plastic) => {
+            assert_eq!(constant(&plastic.diffuse), Rgb::new(0.2, 0.4, 0.8));
+            assert!((plastic.eta - 1.5 / 1.000277).abs() < 1e-6 && !plastic.nonlinear);
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+/// Mitsuba's wrappers: `twosided` with one or two BSDFs, `blendbsdf`, `mask`, and an area
+/// emitter on a BSDF other than diffuse.
+#[test]
+fn wrappers_map_onto_the_bsdf_set() {
+    let path = scene_file(
+        "wrappers",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<bsdf type="twosided" id="card"><bsdf type="diffuse" id="red"><rgb name="reflectance" value="0.8, 0.1, 0.1"/></bsdf><bsdf type="diffuse" id="blue"><rgb name="reflectance" value="0.1, 0.1, 0.8"/></bsdf></bsdf>
+<bsdf type="blendbsdf" id="worn"><float name="weight" value="0.25"/><bsdf type="conductor"/><ref id="red"/></bsdf>
+<bsdf type="mask" id="leaf"><float name="opacity" value="0.3"/><bsdf type="roughplastic"><float name="alpha" value="0.2"/><string name="distribution" value="ggx"/></bsdf></bsdf>
+<shape type="sphere"><ref id="card"/></shape>
+<shape type="sphere"><ref id="worn"/></shape>
+<shape type="sphere"><ref id="leaf"/></shape>
+<shape type="sphere"><bsdf type="plastic"/><emitter type="area"><rgb name="radiance" value="2, 2, 2"/></emitter></shape>
+</scene>
+"#
+        ),
+    );
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = &loaded.scene;
+    let material = |name: &str| {
+        let i = scene.material_names.iter().position(|n| n == name).unwrap_or_else(|| panic!("{name}"));
+        &scene.materials[i]
+    };
+    match material("card") {
+        Material::TwoSided(t) => {
+            assert!(matches!((&t.front, &t.back), (Material::Diffuse(_), Material::Diffuse(_))) && t.front != t.back)
+        }
+        other => panic!("{other:?}"),
+    }
+    match material("worn") {
+        Material::Blend(b) => {
+            assert!(matches!((&b.first, &b.second), (Material::Conductor(_), Material::Diffuse(_))));
+            assert_eq!(b.weight, Texture::Constant(Rgb::splat(0.25)));
+        }
+        other => panic!("{other:?}"),
+    }
+    match material("leaf") {
+        Material::Mask(m) => {
+            assert!(matches!(m.material, Material::RoughPlastic(_)) && m.opacity == Texture::Constant(Rgb::splat(0.3)))
+        }
+        other => panic!("{other:?}"),
+    }
+    let emitters: Vec<&Material> = scene.materials.iter().filter(|m| matches!(m, Material::Emitter(_))).collect();
+    match emitters.as_slice() {
+        [Material::Emitter(e)] => {
+            assert!(matches!(e.surface, Material::Plastic(_)) && e.radiance == Rgb::splat(2.0) && !e.two_sided)
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(!scene.area_lights.is_empty(), "the emitting plastic is an area light");
 }
 
 #[test]
@@ -331,6 +402,7 @@ fn native_metals_by_name_or_index() {
             assert_eq!(p.fresnel, Fresnel::Conductor { eta, k });
             assert_eq!(p.roughness, 0.2);
         }
+        other => panic!("{other:?}"),
     }
     assert!(write("by-index", "eta = [0.2, 0.9, 1.1]\nk = [3.9, 2.4, 2.2]").is_ok());
     let e = write("typo", "metal = \"Cuu\"").err().unwrap().to_string();

@@ -19,9 +19,9 @@ use crate::Rgb;
 
 /// A particle at a surface whose BSDF has a non-delta part (where a photon is stored or a
 /// camera connection made).
-pub(super) struct ParticleVertex {
+pub(super) struct ParticleVertex<'a> {
     pub hit: SurfaceHit,
-    pub bsdf: Bsdf,
+    pub bsdf: Bsdf<'a>,
     /// Unit direction toward where the particle came from.
     pub wo: Vec3,
     /// Flux carried to this surface.
@@ -62,8 +62,8 @@ pub(super) fn trace_particle(
         rays.light += 1;
         let Some(hit) = scene.intersect(&ray) else { return };
         let wo = -ray.direction.normalize();
-        let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
-        let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+        let material = &scene.materials[hit.material as usize];
+        let bsdf = material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
         if bsdf.has_diffuse() {
             let vertex = ParticleVertex { hit, bsdf, wo, weight, bounces, specular_chain };
             visit(&vertex, rng, rays);

@@ -142,7 +142,7 @@ impl PathTracer {
         context: &mut SampleContext,
     ) -> Option<Ray> {
         let wo = -ray.direction.normalize();
-        let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
+        let material = &scene.materials[hit.material as usize];
         let geometric = hit.geometry.geometric_normal;
         let emitted = material.emitted(wo, geometric);
         if emitted != Rgb::ZERO {
@@ -165,7 +165,7 @@ impl PathTracer {
         if path.depth >= self.max_depth {
             return None;
         }
-        let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, geometric);
+        let bsdf = material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, geometric);
         if bsdf.has_diffuse() {
             path.radiance += path.throughput * sample_lights(scene, hit, &bsdf, wo, Weighting::Mis, context);
         }

@@ -10,7 +10,6 @@ use glam::Vec2;
 use super::path::russian_roulette;
 use super::{Integrator, SampleContext};
 use crate::geometry::Ray;
-use crate::materials::Bsdf;
 use crate::scene::Scene;
 use crate::Rgb;
 
@@ -37,12 +36,13 @@ impl Integrator for NaivePathTracer {
                 break;
             };
             let wo = -ray.direction.normalize();
-            let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
+            let material = &scene.materials[hit.material as usize];
             radiance += throughput * material.emitted(wo, hit.geometry.geometric_normal);
             if depth >= self.max_depth {
                 break;
             }
-            let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+            let bsdf =
+                material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
             let u_lobe = context.sampler.next_f32();
             let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
             let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break };

@@ -306,16 +306,13 @@ impl PhotonMapper {
                 // Light from the environment is direct light, which light sampling counted.
                 let Some(y) = scene.intersect(&ray) else { break };
                 let wo_y = -ray.direction.normalize();
-                let material = scene.materials[y.material as usize].evaluate(&y.texture_query());
-                let bsdf_y = Bsdf::new(&material, wo_y, y.geometry.shading_normal, y.geometry.geometric_normal);
+                let material = &scene.materials[y.material as usize];
+                let bsdf_y =
+                    material.bsdf(&y.texture_query(), wo_y, y.geometry.shading_normal, y.geometry.geometric_normal);
                 let p = bsdf_y.non_delta_probability();
                 if context.sampler.next_f32() < p {
                     let n = y.geometric_normal_toward(wo_y);
-                    let cached = if bsdf_y.is_lambertian() {
-                        self.cached_radiance(&y, n, bsdf_y.diffuse_reflectance())
-                    } else {
-                        None
-                    };
+                    let cached = bsdf_y.lambertian().and_then(|k_d| self.cached_radiance(&y, n, k_d));
                     let radiance = cached.unwrap_or_else(|| self.estimate(&self.global, &y, &bsdf_y, wo_y));
                     sum += weight * radiance / p;
                     break;
@@ -383,12 +380,13 @@ impl Integrator for PhotonMapper {
                 break;
             };
             let wo = -ray.direction.normalize();
-            let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
+            let material = &scene.materials[hit.material as usize];
             radiance += throughput * material.emitted(wo, hit.geometry.geometric_normal);
             if depth >= self.max_depth {
                 break;
             }
-            let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+            let bsdf =
+                material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
             if bsdf.has_diffuse() {
                 let mut local = sample_lights(scene, &hit, &bsdf, wo, Weighting::LightOnly, context);
                 local += self.estimate(&self.caustic, &hit, &bsdf, wo);

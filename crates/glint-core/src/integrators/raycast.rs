@@ -16,7 +16,8 @@ impl Integrator for Raycast {
         let Some(hit) = scene.intersect(ray) else {
             return scene.environment.radiance(ray.direction);
         };
-        let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
+        let outside = ray.direction.dot(hit.geometry.geometric_normal) < 0.0;
+        let material = scene.materials[hit.material as usize].whitted(&hit.texture_query(), outside);
         let normal = hit.facing(ray.direction);
         let wo = -ray.direction.normalize();
         let mut radiance = material.ambient * scene.environment.ambient_light;

@@ -43,14 +43,14 @@ const ALPHA: f32 = 2.0 / 3.0;
 const PHOTON_STREAM: u64 = 0x5350_504D;
 
 /// A pixel's camera sample: its index, the direct light found, and its visible point.
-type CameraSample = (u32, Rgb, Option<VisiblePoint>);
+type CameraSample<'a> = (u32, Rgb, Option<VisiblePoint<'a>>);
 
-struct VisiblePoint {
+struct VisiblePoint<'a> {
     point: Vec3,
     /// The geometric normal on the side of `wo`.
     normal: Vec3,
     wo: Vec3,
-    bsdf: Bsdf,
+    bsdf: Bsdf<'a>,
     /// Camera throughput to the point, over the probability of stopping there.
     weight: Rgb,
     /// Path length from the camera (for the first radius).
@@ -102,14 +102,14 @@ impl Sppm {
     }
 
     /// The camera sample of pixel (x, y): direct light found on the way, and the visible point.
-    fn camera_path(
+    fn camera_path<'s>(
         &self,
-        scene: &Scene,
+        scene: &'s Scene,
         pass: &Pass,
         x: u32,
         y: u32,
         rays: &mut RayCounts,
-    ) -> (Rgb, Option<VisiblePoint>) {
+    ) -> (Rgb, Option<VisiblePoint<'s>>) {
         let pixel_index = y as u64 * scene.camera.width as u64 + x as u64;
         let mut context = SampleContext::new(Rng::for_sample(pass.seed, pixel_index, pass.index as u64));
         let (dx, dy) = (context.sampler.next_f32(), context.sampler.next_f32());
@@ -127,12 +127,13 @@ impl Sppm {
             };
             distance += hit.t * ray.direction.length();
             let wo = -ray.direction.normalize();
-            let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
+            let material = &scene.materials[hit.material as usize];
             direct += throughput * material.emitted(wo, hit.geometry.geometric_normal);
             if depth == self.max_depth {
                 break;
             }
-            let bsdf = Bsdf::new(&material, wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+            let bsdf =
+                material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
             if bsdf.has_diffuse() {
                 direct += throughput * sample_lights(scene, &hit, &bsdf, wo, Weighting::LightOnly, &mut context);
             }

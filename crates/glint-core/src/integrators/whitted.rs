@@ -136,8 +136,9 @@ impl Whitted {
         recorder: &mut R,
         budget: &mut TreeBudget,
     ) -> Rgb {
-        let material = scene.materials[hit.material as usize].evaluate(&hit.texture_query());
         let incident = ray.direction.normalize();
+        let entering = incident.dot(hit.geometry.geometric_normal) < 0.0;
+        let material = scene.materials[hit.material as usize].whitted(&hit.texture_query(), entering);
         let normal = hit.facing(incident);
         let wo = -incident;
 
@@ -177,7 +178,6 @@ impl Whitted {
             return radiance;
         }
         let cos_incident = -incident.dot(normal);
-        let entering = incident.dot(hit.geometry.geometric_normal) < 0.0;
         let eta = if entering { 1.0 / material.ior } else { material.ior };
         let (mut reflection_weight, mut transmission_weight) = material.ray_weights(cos_incident, eta);
         let refracted = if transmission_weight != Rgb::ZERO { refract(incident, normal, eta) } else { None };
@@ -232,7 +232,9 @@ impl Whitted {
             let Some(hit) = scene.intersect(&ray) else {
                 return visibility;
             };
-            let transmission = scene.materials[hit.material as usize].evaluate(&hit.texture_query()).transmission;
+            let outside = ray.direction.dot(hit.geometry.geometric_normal) < 0.0;
+            let transmission =
+                scene.materials[hit.material as usize].whitted(&hit.texture_query(), outside).transmission;
             visibility *= transmission;
             if visibility == Rgb::ZERO {
                 break;

@@ -150,8 +150,9 @@ impl AreaLights {
         let mut emitters = Vec::new();
         let mut object_base = vec![NONE; objects.len()];
         for (o, object) in objects.iter().enumerate() {
-            let Some(Material::Phong(m)) = materials.get(object.material as usize) else { continue };
-            if m.emission == Rgb::ZERO {
+            let Some(material) = materials.get(object.material as usize) else { continue };
+            let (emission, two_sided) = material.emission();
+            if emission == Rgb::ZERO {
                 continue;
             }
             let triangles: Vec<[Vec3; 3]> = match &object.shape {
@@ -161,8 +162,8 @@ impl AreaLights {
                     object_base[o] = emitters.len() as u32;
                     emitters.push(Emitter {
                         shape: EmitterShape::Sphere { center: s.center, radius: s.radius },
-                        radiance: m.emission,
-                        two_sided: m.two_sided_emission,
+                        radiance: emission,
+                        two_sided,
                     });
                     continue;
                 }
@@ -178,8 +179,8 @@ impl AreaLights {
                 let area = 0.5 * cross.length();
                 emitters.push(Emitter {
                     shape: EmitterShape::Triangle { a, b, c, normal: cross.normalize_or(Vec3::Z), area },
-                    radiance: if area > 0.0 { m.emission } else { Rgb::ZERO },
-                    two_sided: m.two_sided_emission,
+                    radiance: if area > 0.0 { emission } else { Rgb::ZERO },
+                    two_sided,
                 });
             }
         }

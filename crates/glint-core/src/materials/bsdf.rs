@@ -1,33 +1,43 @@
-//! The BSDF of a material at a hit, for the Monte Carlo integrators (path tracing, later photon
-//! tracing): the same evaluated material Whitted uses, read as a mixture of lobes.
+//! The one BSDF contract every integrator reads, and the dispatch over the closed set.
 //!
 //! Convention (one place, as Mitsuba's): directions are in world space and point away from
 //! the surface; `eval(wo, wi)` returns f(wo, wi)·|cos θ_i| (the cosine included); `sample`
 //! returns wi with the weight f·|cos θ_i| / pdf, so the caller multiplies its throughput by it;
 //! `pdf(wo, wi)` is the solid-angle density of `sample` for the non-delta part.
 //!
-//! Lobes: Lambert diffuse k_d, reflection k_r (a perfect mirror, or GGX microfacets when the
-//! material has a roughness, see `ggx.rs`) and refraction k_t (smooth, or GGX microfacet
-//! refraction (Walter et al. 2007) when the material has a roughness: rough glass), with
-//! Fresnel splitting k_t as for Whitted; the Fresnel factor is taken at the macro-surface
-//! angle. At each hit one lobe is chosen by roulette with probability
-//! proportional to its weight: the course's mixed material (say 30 % mirror, 20 % refraction,
-//! 50 % diffuse), and exact importance sampling for a single-lobe material. Surfaces are
-//! two-sided: the shading frame is turned to the side `wo` is on.
+//! Lobe choice: `sample(wo, u_lobe, u)` picks a non-delta lobe exactly when `u_lobe` is below
+//! `non_delta_probability()`, so `sample_non_delta` and `sample_delta` (photon mapping follows
+//! the delta lobes and estimates the rest from photons) work for every member, mixtures too.
+//!
+//! A BSDF at a hit is a `Leaf` (one member of the set, evaluated: colours looked up, its frame
+//! turned to `wo`'s side) or a `Mixture` of up to `MAX_LEAVES` weighted leaves (blend and mask
+//! flatten into one), on the stack: nothing allocates per ray.
 
 use glam::{Vec2, Vec3};
 
-use super::{Ggx, PhongPoint};
-use crate::geometry::{orthonormal_basis, reflect, refract};
-use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
+use super::conductor::ConductorBsdf;
+use super::dielectric::DielectricBsdf;
+use super::diffuse::DiffuseBsdf;
+use super::mask::NullBsdf;
+use super::mixed::MixedBsdf;
+use super::plastic::PlasticBsdf;
+use super::rough_conductor::RoughConductorBsdf;
+use super::rough_dielectric::RoughDielectricBsdf;
+use super::rough_plastic::RoughPlasticBsdf;
+use super::thin_dielectric::ThinDielectricBsdf;
+use crate::geometry::orthonormal_basis;
 use crate::Rgb;
+
+/// The most leaves one BSDF flattens into (a blend of blends, masks): the scene builder refuses
+/// materials that need more.
+pub const MAX_LEAVES: usize = 4;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BsdfSample {
     pub wi: Vec3,
     /// f·|cos θ_i| / pdf (for a delta lobe: its weight / its selection probability).
     pub weight: Rgb,
-    /// Solid-angle pdf for the diffuse lobe; the selection probability for a delta lobe.
+    /// Solid-angle pdf for a non-delta lobe; the selection probability for a delta lobe.
     pub pdf: f32,
     /// Mirror or refraction: a direction no light sampling could have produced.
     pub delta: bool,
@@ -35,38 +45,30 @@ pub struct BsdfSample {
     pub eta_squared: f32,
 }
 
-#[derive(Clone, Copy, Debug)]
-pub struct Bsdf {
-    /// Shading normal turned to `wo`'s side, and the tangents completing the frame.
-    normal: Vec3,
-    tangent: Vec3,
-    bitangent: Vec3,
-    /// Geometric normal turned to `wo`'s side (light may not leak through the surface).
-    geometric: Vec3,
-    diffuse: Rgb,
-    reflection: Rgb,
-    transmission: Rgb,
-    /// n_incident / n_transmitted for this side.
-    eta: f32,
-    /// GGX for a rough reflection lobe; `None`: a perfect mirror.
-    glossy: Option<Ggx>,
-    /// Refraction through GGX microfacets (rough glass) rather than a perfect refraction.
-    rough_transmission: bool,
-    /// Lobe selection probabilities: diffuse, reflection, transmission (sum 1, or all 0).
-    p_diffuse: f32,
-    p_reflection: f32,
-    refracted: Option<Vec3>,
-}
-
 /// The weight of a lobe's colour in choosing it (never 0 for a colour that is not black).
 pub(crate) fn luminance(c: Rgb) -> f32 {
     c.dot(Rgb::new(0.2126, 0.7152, 0.0722)).max(c.max_element() * 1e-3)
 }
 
-impl Bsdf {
-    /// The BSDF at a hit: `wo` toward the viewer, `shading_normal` and `geometric_normal` as
+/// The shading frame at a hit, turned to the side `wo` is on.
+#[derive(Clone, Copy, Debug)]
+pub struct Frame {
+    /// Shading normal on `wo`'s side (the geometric normal where the shading normal faces away
+    /// from the viewer), and the tangents completing the frame.
+    pub normal: Vec3,
+    pub tangent: Vec3,
+    pub bitangent: Vec3,
+    /// Geometric normal on `wo`'s side (light may not leak through the surface).
+    pub geometric: Vec3,
+    /// `wo` is on the side the geometric normal points to (as the shape defines it): the
+    /// front of one-sided BSDFs, the outside of dielectrics.
+    pub outside: bool,
+}
+
+impl Frame {
+    /// The frame at a hit: `wo` toward the viewer, `shading_normal` and `geometric_normal` as
     /// the shape defines them (not yet turned).
-    pub fn new(material: &PhongPoint, wo: Vec3, shading_normal: Vec3, geometric_normal: Vec3) -> Self {
+    pub fn new(wo: Vec3, shading_normal: Vec3, geometric_normal: Vec3) -> Self {
         let outside = wo.dot(geometric_normal) >= 0.0;
         let geometric = if outside { geometric_normal } else { -geometric_normal };
         let mut normal = if shading_normal.dot(geometric) >= 0.0 { shading_normal } else { -shading_normal };
@@ -74,120 +76,251 @@ impl Bsdf {
             normal = geometric; // a shading normal facing away from the viewer: fall back
         }
         let (tangent, bitangent) = orthonormal_basis(normal);
-        let eta = if outside { 1.0 / material.ior } else { material.ior };
-        let diffuse = material.diffuse;
-        let (reflection, transmission, refracted, p_diffuse, p_reflection) =
-            if material.reflection == Rgb::ZERO && material.transmission == Rgb::ZERO {
-                // Diffuse alone, the common case: every Fresnel split of zero weights is zero,
-                // and p_d = l_d / l_d = 1 exactly, so skip the arithmetic that would say so.
-                let p_diffuse = if luminance(diffuse) > 0.0 { 1.0 } else { 0.0 };
-                (Rgb::ZERO, Rgb::ZERO, None, p_diffuse, 0.0)
-            } else {
-                let (mut reflection, mut transmission) = material.ray_weights(wo.dot(normal).max(0.0), eta);
-                let refracted = if transmission != Rgb::ZERO { refract(-wo, normal, eta) } else { None };
-                if refracted.is_none() {
-                    reflection += transmission; // total internal reflection
-                    transmission = Rgb::ZERO;
-                }
-                let (ld, lr, lt) = (luminance(diffuse), luminance(reflection), luminance(transmission));
-                let total = ld + lr + lt;
-                let (p_diffuse, p_reflection) = if total > 0.0 { (ld / total, lr / total) } else { (0.0, 0.0) };
-                (reflection, transmission, refracted, p_diffuse, p_reflection)
-            };
-        let glossy =
-            (material.roughness > 0.0).then(|| Ggx { alpha: (material.roughness * material.roughness).max(1e-4) });
-        let rough_transmission = glossy.is_some() && transmission != Rgb::ZERO;
-        Self {
-            rough_transmission,
-            normal,
-            tangent,
-            bitangent,
-            geometric,
-            glossy,
-            diffuse,
-            reflection,
-            transmission,
-            eta,
-            p_diffuse,
-            p_reflection,
-            refracted,
+        Self { normal, tangent, bitangent, geometric, outside }
+    }
+
+    pub fn to_local(&self, w: Vec3) -> Vec3 {
+        Vec3::new(w.dot(self.tangent), w.dot(self.bitangent), w.dot(self.normal))
+    }
+
+    pub fn to_world(&self, v: Vec3) -> Vec3 {
+        v.x * self.tangent + v.y * self.bitangent + v.z * self.normal
+    }
+
+    /// `wi` leaves on the viewer's side of both normals (a reflection, not a leak).
+    pub fn reflects(&self, wi: Vec3) -> bool {
+        wi.dot(self.normal) > 0.0 && wi.dot(self.geometric) > 0.0
+    }
+
+    /// `wi` goes through to the other side of both normals.
+    pub fn transmits(&self, wi: Vec3) -> bool {
+        wi.dot(self.normal) < 0.0 && wi.dot(self.geometric) < 0.0
+    }
+}
+
+/// What each member of the set answers (its file documents its lobes).
+pub(super) trait Lobes {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb;
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32;
+    fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample>;
+    /// The probability that `sample` picks a non-delta lobe (those `u_lobe` below it).
+    fn non_delta_probability(&self) -> f32;
+    /// k_d when the non-delta part is Lambert's lobe alone (photon mapping caches its
+    /// irradiance there); `None` otherwise.
+    fn lambertian(&self) -> Option<Rgb> {
+        None
+    }
+    fn frame(&self) -> &Frame;
+}
+
+/// One member of the set, evaluated at a hit.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Leaf<'a> {
+    Mixed(MixedBsdf),
+    Diffuse(DiffuseBsdf),
+    Conductor(ConductorBsdf),
+    RoughConductor(RoughConductorBsdf),
+    Dielectric(DielectricBsdf),
+    RoughDielectric(RoughDielectricBsdf),
+    ThinDielectric(ThinDielectricBsdf),
+    Plastic(PlasticBsdf),
+    RoughPlastic(RoughPlasticBsdf<'a>),
+    Null(NullBsdf),
+}
+
+macro_rules! dispatch {
+    ($leaf:expr, $b:ident => $call:expr) => {
+        match $leaf {
+            Leaf::Mixed($b) => $call,
+            Leaf::Diffuse($b) => $call,
+            Leaf::Conductor($b) => $call,
+            Leaf::RoughConductor($b) => $call,
+            Leaf::Dielectric($b) => $call,
+            Leaf::RoughDielectric($b) => $call,
+            Leaf::ThinDielectric($b) => $call,
+            Leaf::Plastic($b) => $call,
+            Leaf::RoughPlastic($b) => $call,
+            Leaf::Null($b) => $call,
+        }
+    };
+}
+
+impl Leaf<'_> {
+    #[inline(always)]
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+        dispatch!(self, b => b.eval(wo, wi))
+    }
+    #[inline(always)]
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        dispatch!(self, b => b.pdf(wo, wi))
+    }
+    #[inline(always)]
+    fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        dispatch!(self, b => b.sample(wo, u_lobe, u))
+    }
+    #[inline(always)]
+    fn non_delta_probability(&self) -> f32 {
+        dispatch!(self, b => b.non_delta_probability())
+    }
+    fn lambertian(&self) -> Option<Rgb> {
+        dispatch!(self, b => b.lambertian())
+    }
+    fn frame(&self) -> &Frame {
+        dispatch!(self, b => b.frame())
+    }
+}
+
+/// Weighted leaves (weights summing to 1): Mitsuba's `blendbsdf` and `mask`, flattened.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Mixture<'a> {
+    pub leaves: [Leaf<'a>; MAX_LEAVES],
+    pub weights: [f32; MAX_LEAVES],
+    pub count: usize,
+}
+
+impl<'a> Mixture<'a> {
+    fn parts(&self) -> impl Iterator<Item = (&Leaf<'a>, f32)> {
+        self.leaves[..self.count].iter().zip(self.weights[..self.count].iter().copied())
+    }
+
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+        self.parts().fold(Rgb::ZERO, |sum, (leaf, w)| if w > 0.0 { sum + leaf.eval(wo, wi) * w } else { sum })
+    }
+
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.parts().map(|(leaf, w)| if w > 0.0 { leaf.pdf(wo, wi) * w } else { 0.0 }).sum()
+    }
+
+    fn non_delta_probability(&self) -> f32 {
+        self.parts().map(|(leaf, w)| leaf.non_delta_probability() * w).sum()
+    }
+
+    /// The leaves' non-delta parts come first in `u_lobe`'s range, each `w_i · p_i` wide, then
+    /// their delta parts, each `w_i · (1 − p_i)` wide; the chosen leaf is handed `u_lobe` mapped
+    /// into its own part. A non-delta sample is weighed by the whole mixture (one strategy for
+    /// MIS); a delta one keeps its leaf's weight, its pdf the mixture's selection probability.
+    fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let non_delta = self.non_delta_probability();
+        let (mut start, delta) = if u_lobe < non_delta { (0.0, false) } else { (non_delta, true) };
+        let mut chosen = None;
+        for (i, (leaf, w)) in self.parts().enumerate() {
+            let p = leaf.non_delta_probability();
+            let width = if delta { w * (1.0 - p) } else { w * p };
+            if width > 0.0 && (u_lobe < start + width || i + 1 == self.count) {
+                let t = ((u_lobe - start) / width).clamp(0.0, 1.0 - f32::EPSILON / 2.0);
+                chosen = Some((leaf, w, if delta { p + t * (1.0 - p) } else { t * p }));
+                break;
+            }
+            start += width;
+        }
+        let (leaf, w, u_leaf) = chosen?;
+        let sample = leaf.sample(wo, u_leaf, u)?;
+        if sample.delta {
+            return Some(BsdfSample { pdf: sample.pdf * w, ..sample });
+        }
+        let pdf = self.pdf(wo, sample.wi);
+        if !(pdf > 0.0 && pdf.is_finite()) {
+            return None;
+        }
+        Some(BsdfSample { weight: self.eval(wo, sample.wi) / pdf, pdf, ..sample })
+    }
+
+    fn lambertian(&self) -> Option<Rgb> {
+        let mut sum = Rgb::ZERO;
+        for (leaf, w) in self.parts() {
+            if leaf.non_delta_probability() > 0.0 {
+                sum += leaf.lambertian()? * w;
+            }
+        }
+        Some(sum)
+    }
+}
+
+// The mixture stays on the stack, larger than one leaf: boxing it would allocate per hit.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Copy, Debug)]
+enum Kind<'a> {
+    One(Leaf<'a>),
+    Mixture(Mixture<'a>),
+}
+
+/// The BSDF at a hit, as `Material::bsdf` makes it (borrowing the material's tables).
+#[derive(Clone, Copy, Debug)]
+pub struct Bsdf<'a> {
+    kind: Kind<'a>,
+}
+
+impl<'a> Bsdf<'a> {
+    pub(super) fn leaf(leaf: Leaf<'a>) -> Self {
+        Self { kind: Kind::One(leaf) }
+    }
+
+    pub(super) fn mixture(mixture: Mixture<'a>) -> Self {
+        Self { kind: Kind::Mixture(mixture) }
+    }
+
+    /// f·|cos θ_i| for the non-delta part.
+    #[inline(always)]
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+        match &self.kind {
+            Kind::One(leaf) => leaf.eval(wo, wi),
+            Kind::Mixture(m) => m.eval(wo, wi),
+        }
+    }
+
+    /// The solid-angle density of `sample` for `wi` (its non-delta part).
+    #[inline(always)]
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match &self.kind {
+            Kind::One(leaf) => leaf.pdf(wo, wi),
+            Kind::Mixture(m) => m.pdf(wo, wi),
+        }
+    }
+
+    /// Chooses a lobe with `u_lobe`, then a direction with `u`.
+    #[inline(always)]
+    pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        match &self.kind {
+            Kind::One(leaf) => leaf.sample(wo, u_lobe, u),
+            Kind::Mixture(m) => m.sample(wo, u_lobe, u),
+        }
+    }
+
+    /// The probability that `sample` picks a non-delta lobe (diffuse, glossy, rough).
+    #[inline(always)]
+    pub fn non_delta_probability(&self) -> f32 {
+        match &self.kind {
+            Kind::One(leaf) => leaf.non_delta_probability(),
+            Kind::Mixture(m) => m.non_delta_probability(),
         }
     }
 
     /// Whether light sampling can contribute (a non-delta lobe exists).
+    #[inline(always)]
     pub fn has_diffuse(&self) -> bool {
         self.non_delta_probability() > 0.0
     }
 
-    fn p_transmission(&self) -> f32 {
-        (1.0 - self.p_diffuse - self.p_reflection).max(0.0)
-    }
-
-    fn local_coordinates(&self, w: Vec3) -> Vec3 {
-        Vec3::new(w.dot(self.tangent), w.dot(self.bitangent), w.dot(self.normal))
-    }
-
-    /// f·|cos θ_i| for the non-delta part (Lambert, rough reflection), on the viewer's side.
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        let cos = wi.dot(self.normal);
-        if cos < 0.0 && wi.dot(self.geometric) < 0.0 && self.rough_transmission {
-            if let Some(ggx) = &self.glossy {
-                let local = (self.local_coordinates(wo), self.local_coordinates(wi));
-                return self.transmission * ggx.transmission_eval(local.0, local.1, self.eta);
-            }
+    /// k_d when the non-delta part is Lambert's lobe alone.
+    pub fn lambertian(&self) -> Option<Rgb> {
+        match &self.kind {
+            Kind::One(leaf) => leaf.lambertian(),
+            Kind::Mixture(m) => m.lambertian(),
         }
-        if cos <= 0.0 || wi.dot(self.geometric) <= 0.0 {
-            return Rgb::ZERO;
-        }
-        let mut f = self.diffuse * (cos * std::f32::consts::FRAC_1_PI);
-        if let Some(ggx) = &self.glossy {
-            f += self.reflection * ggx.reflection_eval(self.local_coordinates(wo), self.local_coordinates(wi));
-        }
-        f
-    }
-
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if wi.dot(self.geometric) <= 0.0 {
-            return match (&self.glossy, self.rough_transmission) {
-                (Some(ggx), true) if wi.dot(self.normal) < 0.0 => {
-                    let local = (self.local_coordinates(wo), self.local_coordinates(wi));
-                    self.p_transmission() * ggx.transmission_pdf(local.0, local.1, self.eta)
-                }
-                _ => 0.0,
-            };
-        }
-        let local = self.local_coordinates(wi);
-        let mut pdf = self.p_diffuse * cosine_hemisphere_pdf(local);
-        if let Some(ggx) = &self.glossy {
-            pdf += self.p_reflection * ggx.reflection_pdf(self.local_coordinates(wo), local);
-        }
-        pdf
     }
 
     /// f without the cosine, for photon density estimates (Σ f·Φ / area): the non-delta part.
+    /// Light arriving from below the surface (through it) is not counted.
     pub fn eval_without_cosine(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        let cos = wi.dot(self.normal);
+        let normal = match &self.kind {
+            Kind::One(leaf) => leaf.frame().normal,
+            Kind::Mixture(m) => m.leaves[0].frame().normal,
+        };
+        let cos = wi.dot(normal);
         if cos <= 0.0 {
             return Rgb::ZERO;
         }
         self.eval(wo, wi) / cos.max(1e-4)
-    }
-
-    /// Whether the non-delta part is Lambert alone (no rough reflection).
-    pub fn is_lambertian(&self) -> bool {
-        (self.glossy.is_none() || self.p_reflection == 0.0) && !self.rough_transmission
-    }
-
-    /// The reflectance of the diffuse lobe, k_d.
-    pub fn diffuse_reflectance(&self) -> Rgb {
-        self.diffuse
-    }
-
-    /// The probability that `sample` picks a non-delta lobe (diffuse or rough reflection).
-    pub fn non_delta_probability(&self) -> f32 {
-        let glossy = if self.glossy.is_some() { self.p_reflection } else { 0.0 };
-        let rough = if self.rough_transmission { self.p_transmission() } else { 0.0 };
-        self.p_diffuse + glossy + rough
     }
 
     /// `sample` restricted to the non-delta lobes (final gathering); weight and pdf are those of
@@ -215,220 +348,5 @@ impl Bsdf {
         s.weight *= q;
         s.pdf /= q;
         Some(s)
-    }
-
-    /// A sample of a non-delta lobe, weighted by the whole non-delta BSDF over its whole pdf
-    /// (so diffuse and glossy samples are one consistent strategy for MIS).
-    fn non_delta_sample(&self, wo: Vec3, wi: Vec3) -> Option<BsdfSample> {
-        let pdf = self.pdf(wo, wi);
-        if pdf.is_nan() || pdf <= 0.0 || !pdf.is_finite() {
-            return None;
-        }
-        let through = wi.dot(self.geometric) < 0.0;
-        let eta_squared = if through { 1.0 / (self.eta * self.eta) } else { 1.0 };
-        Some(BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, delta: false, eta_squared })
-    }
-
-    /// Chooses a lobe with `u_lobe`, then a direction with `u` (diffuse only).
-    #[inline(always)]
-    pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        if u_lobe < self.p_diffuse {
-            let local = square_to_cosine_hemisphere(u);
-            let wi = local.x * self.tangent + local.y * self.bitangent + local.z * self.normal;
-            if self.glossy.is_some() {
-                return self.non_delta_sample(wo, wi);
-            }
-            // Diffuse the only non-delta lobe: f·cos/pdf = (k_d/π · cos) / (p_d · cos/π) = k_d / p_d,
-            // without evaluating the whole BSDF (the hot path of every diffuse bounce).
-            if local.z <= 0.0 || wi.dot(self.geometric) <= 0.0 {
-                return None;
-            }
-            let pdf = self.p_diffuse * cosine_hemisphere_pdf(local);
-            return Some(BsdfSample { wi, weight: self.diffuse / self.p_diffuse, pdf, delta: false, eta_squared: 1.0 });
-        }
-        if u_lobe < self.p_diffuse + self.p_reflection {
-            if let Some(ggx) = &self.glossy {
-                let h = ggx.sample_visible_normal(self.local_coordinates(wo), u);
-                let h = h.x * self.tangent + h.y * self.bitangent + h.z * self.normal;
-                return self.non_delta_sample(wo, reflect(-wo, h));
-            }
-            let wi = reflect(-wo, self.normal);
-            return Some(BsdfSample {
-                wi,
-                weight: self.reflection / self.p_reflection,
-                pdf: self.p_reflection,
-                delta: true,
-                eta_squared: 1.0,
-            });
-        }
-        let p_transmission = 1.0 - self.p_diffuse - self.p_reflection;
-        if p_transmission <= 0.0 {
-            return None;
-        }
-        if let (Some(ggx), true) = (&self.glossy, self.rough_transmission) {
-            let h = ggx.sample_visible_normal(self.local_coordinates(wo), u);
-            let h = h.x * self.tangent + h.y * self.bitangent + h.z * self.normal;
-            return self.non_delta_sample(wo, refract(-wo, h, self.eta)?);
-        }
-        let wi = self.refracted?;
-        Some(BsdfSample {
-            wi,
-            weight: self.transmission / p_transmission,
-            pdf: p_transmission,
-            delta: true,
-            eta_squared: 1.0 / (self.eta * self.eta),
-        })
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::materials::{Fresnel, Phong};
-    use crate::sampling::chi2::chi2_test;
-    use crate::textures::TextureQuery;
-
-    fn point(diffuse: f32, reflection: f32, transmission: f32) -> PhongPoint {
-        let mut p = Phong::default().evaluate(&TextureQuery { uv: Vec2::ZERO, point: Vec3::ZERO });
-        p.diffuse = Rgb::splat(diffuse);
-        p.reflection = Rgb::splat(reflection);
-        p.transmission = Rgb::splat(transmission);
-        p
-    }
-
-    #[test]
-    fn lambert_sampling_matches_its_pdf_from_both_sides() {
-        let n = Vec3::new(0.3, 0.2, 0.9).normalize();
-        for wo in [Vec3::new(0.1, 0.4, 1.0).normalize(), Vec3::new(0.2, -0.3, -1.0).normalize()] {
-            let bsdf = Bsdf::new(&point(0.8, 0.0, 0.0), wo, n, n);
-            // Rotate sampled directions into the frame where the chi2 cells sit: world space.
-            let r =
-                chi2_test(|u| bsdf.sample(wo, 0.0, u).map(|s| s.wi), |w| bsdf.pdf(wo, w) as f64, 500_000, 21, 41, 7);
-            assert!(r.p_value > 0.01 / 8.0, "p = {} (wo {wo})", r.p_value);
-        }
-    }
-
-    #[test]
-    fn weights_equal_eval_over_pdf() {
-        let n = Vec3::Z;
-        let wo = Vec3::new(0.3, 0.1, 0.9).normalize();
-        let bsdf = Bsdf::new(&point(0.5, 0.3, 0.0), wo, n, n);
-        let mut rng = crate::sampling::Rng::new(1, 2);
-        for _ in 0..1000 {
-            let u = Vec2::new(rng.next_f32(), rng.next_f32());
-            if let Some(s) = bsdf.sample(wo, rng.next_f32() * bsdf.p_diffuse, u) {
-                let expected = bsdf.eval(wo, s.wi) / s.pdf;
-                assert!((s.weight - expected).abs().max_element() < 1e-4, "{} vs {}", s.weight, expected);
-            }
-        }
-    }
-
-    /// The course's mixed material: lobes chosen in proportion to their weights; each sample's
-    /// weight divided back by its probability keeps the estimate unbiased.
-    #[test]
-    fn mixed_material_roulette() {
-        let n = Vec3::Z;
-        let wo = Vec3::new(0.0, 0.6, 0.8);
-        let bsdf = Bsdf::new(&point(0.5, 0.3, 0.2), wo, n, n);
-        assert!((bsdf.p_diffuse - 0.5).abs() < 1e-6 && (bsdf.p_reflection - 0.3).abs() < 1e-6);
-        let mirror = bsdf.sample(wo, 0.6, Vec2::splat(0.5)).unwrap();
-        assert!(mirror.delta && (mirror.wi - Vec3::new(0.0, -0.6, 0.8)).length() < 1e-6);
-        assert!((mirror.weight - Rgb::ONE).abs().max_element() < 1e-6); // 0.3 / 0.3
-        let glass = bsdf.sample(wo, 0.9, Vec2::splat(0.5)).unwrap();
-        assert!(glass.delta && glass.wi.z < 0.0);
-        let diffuse = bsdf.sample(wo, 0.1, Vec2::new(0.3, 0.7)).unwrap();
-        assert!(!diffuse.delta && (diffuse.weight - Rgb::ONE).abs().max_element() < 1e-6);
-        // 0.5 / 0.5
-    }
-
-    /// Rough reflection mixed with diffuse: sampling matches the mixture pdf, and every
-    /// sample's weight is eval / pdf.
-    #[test]
-    fn rough_reflection_mixture_matches_its_pdf() {
-        let mut p = point(0.3, 0.5, 0.0);
-        p.roughness = 0.5;
-        let n = Vec3::new(0.1, -0.2, 1.0).normalize();
-        let wo = Vec3::new(0.5, 0.3, 0.8).normalize();
-        let bsdf = Bsdf::new(&p, wo, n, n);
-        assert!(bsdf.has_diffuse());
-        let mut rng = crate::sampling::Rng::new(9, 9);
-        sampling_matches_pdf(&bsdf, wo, &mut rng, 13, 1000, 1e-4);
-    }
-
-    /// Sampling `bsdf` from `wo` matches its pdf (chi-square, seed `chi2_seed`), and each of
-    /// `checks` further samples weighs eval / pdf within `tolerance`; returns those samples.
-    fn sampling_matches_pdf(
-        bsdf: &Bsdf,
-        wo: Vec3,
-        rng: &mut crate::sampling::Rng,
-        chi2_seed: u64,
-        checks: usize,
-        tolerance: f32,
-    ) -> Vec<BsdfSample> {
-        let r = chi2_test(
-            |u| bsdf.sample(wo, rng.next_f32(), u).map(|s| s.wi),
-            |w| bsdf.pdf(wo, w) as f64,
-            500_000,
-            21,
-            41,
-            chi2_seed,
-        );
-        assert!(r.p_value > 0.01 / 8.0, "wo {wo}: p = {}", r.p_value);
-        let mut samples = Vec::new();
-        for _ in 0..checks {
-            let u = Vec2::new(rng.next_f32(), rng.next_f32());
-            if let Some(s) = bsdf.sample(wo, rng.next_f32(), u) {
-                let expected = bsdf.eval(wo, s.wi) / bsdf.pdf(wo, s.wi);
-                assert!(!s.delta && (s.weight - expected).abs().max_element() < tolerance, "{s:?} vs {expected}");
-                samples.push(s);
-            }
-        }
-        samples
-    }
-
-    #[test]
-    fn glass_with_fresnel_reflects_by_the_fresnel_factor() {
-        let mut p = point(0.0, 0.0, 1.0);
-        p.fresnel = Fresnel::Exact;
-        let bsdf = Bsdf::new(&p, Vec3::Z, Vec3::Z, Vec3::Z);
-        assert!((bsdf.p_reflection - 0.04).abs() < 1e-4, "{}", bsdf.p_reflection);
-        // Inside glass past the critical angle: everything reflects.
-        let wo = Vec3::new(0.8, 0.0, -0.6);
-        let inside = Bsdf::new(&p, wo, Vec3::Z, Vec3::Z);
-        assert_eq!(inside.p_reflection, 1.0);
-    }
-
-    /// Rough glass (GGX reflection and refraction, exact Fresnel), from outside and from
-    /// inside: sampling matches the pdf over the whole sphere, every sample's weight is
-    /// eval / pdf, and the refracted energy tends to the smooth glass's as the roughness
-    /// vanishes.
-    #[test]
-    fn rough_glass_matches_its_pdf_from_both_sides() {
-        let mut p = point(0.0, 0.0, 1.0);
-        p.fresnel = Fresnel::Exact;
-        p.roughness = 0.4;
-        let n = Vec3::new(0.1, 0.2, 1.0).normalize();
-        for wo in [Vec3::new(0.4, -0.3, 0.8).normalize(), Vec3::new(-0.3, 0.2, -0.9).normalize()] {
-            let bsdf = Bsdf::new(&p, wo, n, n);
-            assert!(bsdf.has_diffuse() && !bsdf.is_lambertian());
-            let mut rng = crate::sampling::Rng::new(4, 4);
-            let samples = sampling_matches_pdf(&bsdf, wo, &mut rng, 17, 2000, 1e-3);
-            let through = samples.iter().filter(|s| s.wi.dot(n) * wo.dot(n) < 0.0).count();
-            assert!(through > 100, "some samples refract ({through})");
-        }
-        // Nearly smooth: the mean refraction weight is the smooth lobe's, k_t (1 − F).
-        p.roughness = 0.02;
-        let wo = Vec3::new(0.3, 0.0, 0.95).normalize();
-        let rough = Bsdf::new(&p, wo, Vec3::Z, Vec3::Z);
-        let mut rng = crate::sampling::Rng::new(6, 6);
-        let (mut sum, n_samples) = (0.0f64, 100_000);
-        for _ in 0..n_samples {
-            let u = Vec2::new(rng.next_f32(), rng.next_f32());
-            if let Some(s) = rough.sample(wo, 0.999, u) {
-                sum += s.weight.x as f64 * rough.p_transmission() as f64;
-            }
-        }
-        let expected = rough.transmission.x as f64;
-        assert!((sum / n_samples as f64 / expected - 1.0).abs() < 0.02, "{} vs {expected}", sum / n_samples as f64);
     }
 }

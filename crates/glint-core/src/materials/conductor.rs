@@ -1,11 +1,83 @@
-//! Metals: the Fresnel reflectance of a conductor, whose index of refraction is complex,
-//! η + ik, per RGB channel (pbrt-v4 §9.3.6), and the indices of common metals.
+//! A smooth metal, Mitsuba's `conductor`: a perfect mirror weighted by the Fresnel reflectance
+//! of a conductor, whose index of refraction is complex, η + ik, per RGB channel (pbrt-v4
+//! §9.3.6); and the indices of common metals. One-sided (black from behind).
+//!
+//! Scene parameters: `metal` (a name from `METAL_NAMES`; default "Al" in the native format,
+//! a perfect mirror, η = 0 and k = 1, in Mitsuba's) or `eta` and `k` (colours);
+//! `specular_reflectance` (colour or texture, a factor, default 1); `two_sided` (native
+//! format, default true).
+//! ```toml
+//! [materials.gold]
+//! type = "conductor"
+//! metal = "Au"
+//! ```
 //!
 //! F(θ) = ½ (|r∥|² + |r⊥|²) with r∥ = (η cos θ − cos θ_t) / (η cos θ + cos θ_t),
 //! r⊥ = (cos θ − η cos θ_t) / (cos θ + η cos θ_t), cos θ_t = √(1 − sin² θ / η²), all complex.
 //! At normal incidence it is ((n − 1)² + k²) / ((n + 1)² + k²); toward grazing it rises to 1.
 
+use glam::{Vec2, Vec3};
+
+use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
+use super::{Fresnel, PhongPoint};
+use crate::geometry::reflect;
+use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Conductor {
+    pub eta: Rgb,
+    pub k: Rgb,
+    pub specular: Texture,
+}
+
+impl Conductor {
+    pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
+        Leaf::Conductor(ConductorBsdf { frame, eta: self.eta, k: self.k, specular: self.specular.evaluate(query) })
+    }
+
+    /// Whitted's view: the mirror ray weighted by the conductor's Fresnel reflectance.
+    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
+        let fresnel = Fresnel::Conductor { eta: self.eta, k: self.k };
+        PhongPoint { reflection: self.specular.evaluate(query), fresnel, ..PhongPoint::BLACK }
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ConductorBsdf {
+    frame: Frame,
+    eta: Rgb,
+    k: Rgb,
+    specular: Rgb,
+}
+
+impl Lobes for ConductorBsdf {
+    fn eval(&self, _wo: Vec3, _wi: Vec3) -> Rgb {
+        Rgb::ZERO
+    }
+
+    fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
+        0.0
+    }
+
+    fn sample(&self, wo: Vec3, _u_lobe: f32, _u: Vec2) -> Option<BsdfSample> {
+        let cos = wo.dot(self.frame.normal);
+        if !self.frame.outside || cos <= 0.0 {
+            return None;
+        }
+        let weight = self.specular * fresnel_conductor(cos, self.eta, self.k);
+        let wi = reflect(-wo, self.frame.normal);
+        Some(BsdfSample { wi, weight, pdf: 1.0, delta: true, eta_squared: 1.0 })
+    }
+
+    fn non_delta_probability(&self) -> f32 {
+        0.0
+    }
+
+    fn frame(&self) -> &Frame {
+        &self.frame
+    }
+}
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Complex {
@@ -123,6 +195,21 @@ mod tests {
             let dielectric = fresnel_dielectric(cos, 1.0 / 1.5);
             assert!((conductor - dielectric).abs() < 1e-5, "cos {cos}: {conductor} vs {dielectric}");
         }
+    }
+
+    #[test]
+    fn the_mirror_is_weighted_by_fresnel_and_black_from_behind() {
+        use crate::materials::testing::{at, frame_toward};
+        let (eta, k) = named_metal("Au").unwrap();
+        let gold = Conductor { eta, k, specular: Texture::Constant(Rgb::ONE) };
+        let wo = Vec3::new(0.6, 0.0, 0.8);
+        let bsdf = at(&gold.bsdf(&Default::default(), frame_toward(wo, Vec3::Z)));
+        let s = bsdf.sample(wo, 0.5, Vec2::splat(0.5)).unwrap();
+        assert!(s.delta && (s.wi - Vec3::new(-0.6, 0.0, 0.8)).length() < 1e-6);
+        assert!((s.weight - fresnel_conductor(0.8, eta, k)).abs().max_element() < 1e-6);
+        assert!(!bsdf.has_diffuse() && bsdf.eval(wo, s.wi) == Rgb::ZERO);
+        let behind = at(&gold.bsdf(&Default::default(), frame_toward(-wo, Vec3::Z)));
+        assert!(behind.sample(-wo, 0.5, Vec2::splat(0.5)).is_none());
     }
 
     #[test]

@@ -1,8 +1,10 @@
 //! The GGX (Trowbridge–Reitz) microfacet distribution for rough reflection (Walter et al.
 //! 2007), with height-correlated Smith masking-shadowing and sampling of the visible normals
 //! (Heitz 2018, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4)). Directions are
-//! in the local frame, where the macro-surface normal is +z. `alpha` is the width: the usual
-//! perceptual `roughness` squared.
+//! in the local frame, where the macro-surface normal is +z. `alpha_x`, `alpha_y` are the widths
+//! along the frame's tangent and bitangent (equal: isotropic; the usual perceptual `roughness`
+//! squared). The isotropic case keeps its own arithmetic, which the course's materials were
+//! measured with.
 
 use std::f32::consts::PI;
 
@@ -10,18 +12,41 @@ use glam::{Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ggx {
-    pub alpha: f32,
+    pub alpha_x: f32,
+    pub alpha_y: f32,
+    /// Masking and shadowing as the product G1(wo)·G1(wi) (Mitsuba's rough BSDFs), rather than
+    /// height-correlated (the course's mixed material).
+    pub separable: bool,
 }
 
 impl Ggx {
+    /// The course's mixed material's lobe: isotropic, height-correlated masking.
+    pub fn isotropic(alpha: f32) -> Self {
+        Self { alpha_x: alpha, alpha_y: alpha, separable: false }
+    }
+
+    /// The rough BSDFs' lobe, as Mitsuba defines it: widths at least 1e-4, separable masking.
+    pub fn separable(alpha_x: f32, alpha_y: f32) -> Self {
+        Self { alpha_x: alpha_x.max(1e-4), alpha_y: alpha_y.max(1e-4), separable: true }
+    }
+
+    fn is_isotropic(&self) -> bool {
+        self.alpha_x == self.alpha_y
+    }
+
     /// D(h): the density of micro-normals, normalised so ∫ D(h) cos θ_h dω_h = 1.
     pub fn d(&self, h: Vec3) -> f32 {
         if h.z <= 0.0 {
             return 0.0;
         }
-        let a2 = self.alpha * self.alpha;
-        let t = (a2 - 1.0) * h.z * h.z + 1.0;
-        a2 / (PI * t * t)
+        if self.is_isotropic() {
+            let a2 = self.alpha_x * self.alpha_x;
+            let t = (a2 - 1.0) * h.z * h.z + 1.0;
+            return a2 / (PI * t * t);
+        }
+        let (x, y) = (h.x / self.alpha_x, h.y / self.alpha_y);
+        let t = x * x + y * y + h.z * h.z;
+        1.0 / (PI * self.alpha_x * self.alpha_y * t * t)
     }
 
     /// Smith's Λ(w).
@@ -30,22 +55,31 @@ impl Ggx {
         if cos2 <= 0.0 {
             return f32::INFINITY;
         }
-        let tan2 = (1.0 - cos2).max(0.0) / cos2;
-        0.5 * (-1.0 + (1.0 + self.alpha * self.alpha * tan2).sqrt())
+        let alpha2_tan2 = if self.is_isotropic() {
+            let tan2 = (1.0 - cos2).max(0.0) / cos2;
+            self.alpha_x * self.alpha_x * tan2
+        } else {
+            let (x, y) = (self.alpha_x * w.x, self.alpha_y * w.y);
+            (x * x + y * y) / cos2
+        };
+        0.5 * (-1.0 + (1.0 + alpha2_tan2).sqrt())
     }
 
     pub fn g1(&self, w: Vec3) -> f32 {
         1.0 / (1.0 + self.lambda(w))
     }
 
-    /// Height-correlated masking-shadowing G2(wo, wi).
+    /// Masking-shadowing G2(wo, wi): height-correlated, or separable (`separable`).
     pub fn g2(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if self.separable {
+            return self.g1(wo) * self.g1(wi);
+        }
         1.0 / (1.0 + self.lambda(wo) + self.lambda(wi))
     }
 
     /// A visible micro-normal for `wo` (wo.z > 0), from two uniform numbers.
     pub fn sample_visible_normal(&self, wo: Vec3, u: Vec2) -> Vec3 {
-        let v = Vec3::new(self.alpha * wo.x, self.alpha * wo.y, wo.z).normalize();
+        let v = Vec3::new(self.alpha_x * wo.x, self.alpha_y * wo.y, wo.z).normalize();
         let length2 = v.x * v.x + v.y * v.y;
         let t1 = if length2 > 0.0 { Vec3::new(-v.y, v.x, 0.0) / length2.sqrt() } else { Vec3::X };
         let t2 = v.cross(t1);
@@ -55,7 +89,7 @@ impl Ggx {
         let s = 0.5 * (1.0 + v.z);
         let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
         let n = p1 * t1 + p2 * t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * v;
-        Vec3::new(self.alpha * n.x, self.alpha * n.y, n.z.max(1e-7)).normalize()
+        Vec3::new(self.alpha_x * n.x, self.alpha_y * n.y, n.z.max(1e-7)).normalize()
     }
 
     /// Density per solid angle of the reflected direction `wi` when `h` is sampled by
@@ -79,7 +113,7 @@ impl Ggx {
     /// The refraction half vector for `wo` (wo.z > 0) and `wi` below the surface (wi.z < 0),
     /// with `eta` = n(wo's side) / n(wi's side): h ∝ −(η_o wo + η_i wi), turned to +z; `None`
     /// if the pair cannot refract through any microfacet.
-    fn refraction_half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<Vec3> {
+    pub(super) fn refraction_half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<Vec3> {
         if wo.z <= 0.0 || wi.z >= 0.0 {
             return None;
         }
@@ -120,7 +154,7 @@ mod tests {
     #[test]
     fn distribution_is_normalised() {
         for alpha in [0.1f32, 0.4, 0.9] {
-            let ggx = Ggx { alpha };
+            let ggx = Ggx::isotropic(alpha);
             // ∫ D(h) cos θ_h dω over the hemisphere, midpoint rule in (cos θ, φ) (D is isotropic).
             let n = 20_000;
             let integral: f32 = (0..n)
@@ -139,7 +173,7 @@ mod tests {
     #[test]
     fn visible_normal_sampling_matches_its_pdf() {
         for (alpha, wo) in [(0.3f32, Vec3::new(0.3, 0.1, 0.9)), (0.7, Vec3::new(-0.8, 0.2, 0.3))] {
-            let ggx = Ggx { alpha };
+            let ggx = Ggx::isotropic(alpha);
             let wo = wo.normalize();
             let r = chi2_test(
                 |u| {
@@ -165,7 +199,7 @@ mod tests {
         let wo = Vec3::new(0.3, 0.0, 0.95).normalize();
         let mut previous = f64::INFINITY;
         for alpha in [0.05f32, 0.2, 0.5, 1.0] {
-            let ggx = Ggx { alpha };
+            let ggx = Ggx::isotropic(alpha);
             let (nt, np) = (600, 600);
             let mut quadrature = 0.0f64;
             for i in 0..nt {

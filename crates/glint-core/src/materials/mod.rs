@@ -1,42 +1,274 @@
-//! Materials: how a surface answers light. The closed set is an enum dispatched per hit; a
-//! material evaluated at a hit is a small value on the stack.
+//! Materials: how a surface answers light. One closed set of BSDFs, a file each (Mitsuba's
+//! plugin layout, dispatched by `match` as pbrt-v4 does), and the wrappers that combine them.
+//! A material evaluated at a hit (`Material::bsdf`) is a small value on the stack, read through
+//! one contract (`bsdf.rs`) by every Monte Carlo integrator; Whitted reads each member's
+//! Whitted terms (`Material::whitted`), the course's local model and child rays.
 //!
 //! Conventions: colours are linear RGB; directions given to a material point *away* from the
-//! surface (`wo` toward the viewer, `wi` toward the light), and the normal has been turned to
-//! the viewer's side by the integrator.
+//! surface (`wo` toward the viewer, `wi` toward the light). One-sided members (diffuse,
+//! conductors, plastics) are black from behind, as Mitsuba's are; `two_sided` turns them.
 
+mod blend;
 mod bsdf;
 mod conductor;
+mod dielectric;
+mod diffuse;
 mod ggx;
+mod mask;
+mod mixed;
 mod phong;
+mod plastic;
+mod rough_conductor;
+mod rough_dielectric;
+mod rough_plastic;
+#[cfg(test)]
+mod testing;
+mod thin_dielectric;
+mod two_sided;
 
+pub use blend::Blend;
 pub(crate) use bsdf::luminance;
-pub use bsdf::{Bsdf, BsdfSample};
-pub use conductor::{fresnel_conductor, named_metal, METAL_NAMES};
+pub use bsdf::{Bsdf, BsdfSample, Frame, MAX_LEAVES};
+pub use conductor::{fresnel_conductor, named_metal, Conductor, METAL_NAMES};
+pub use dielectric::Dielectric;
+pub use diffuse::Diffuse;
 pub use ggx::Ggx;
+pub use mask::Mask;
 pub use phong::{fresnel_dielectric, fresnel_schlick, Fresnel, Phong, PhongPoint};
+pub use plastic::{fresnel_diffuse_reflectance, Plastic};
+pub use rough_conductor::RoughConductor;
+pub use rough_dielectric::RoughDielectric;
+pub use rough_plastic::RoughPlastic;
+pub use thin_dielectric::ThinDielectric;
+pub use two_sided::TwoSided;
 
-use crate::textures::TextureQuery;
+use glam::Vec3;
+
+use self::bsdf::{Leaf, Mixture};
+use self::mask::NullBsdf;
+use self::mixed::MixedBsdf;
+use crate::textures::{Texture, TextureQuery};
+use crate::Rgb;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Material {
+    /// The course's material: Phong's local model for Whitted, its k_d, k_r, k_t as the mixed
+    /// material's lobes for the Monte Carlo integrators; it may emit.
     Phong(Phong),
+    Diffuse(Diffuse),
+    Conductor(Conductor),
+    RoughConductor(RoughConductor),
+    Dielectric(Dielectric),
+    RoughDielectric(RoughDielectric),
+    ThinDielectric(ThinDielectric),
+    Plastic(Plastic),
+    RoughPlastic(RoughPlastic),
+    Blend(Box<Blend>),
+    Mask(Box<Mask>),
+    TwoSided(Box<TwoSided>),
+    /// Any material that also emits: Mitsuba's `area` emitter on a shape.
+    Emitter(Box<Emitter>),
+}
+
+/// Emitted radiance on a surface of any material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Emitter {
+    pub radiance: Rgb,
+    /// Emit from both sides (default: only the side the geometric normal points to).
+    pub two_sided: bool,
+    pub surface: Material,
+}
+
+/// A blend weight or an opacity: a texture's luminance, clamped to [0, 1].
+fn fraction(texture: &Texture, query: &TextureQuery) -> f32 {
+    texture.evaluate(query).dot(Rgb::new(0.2126, 0.7152, 0.0722)).clamp(0.0, 1.0)
 }
 
 impl Material {
-    /// The material's values at a point, for the course's local model and Whitted's recursion.
-    pub fn evaluate(&self, query: &TextureQuery) -> PhongPoint {
+    /// The BSDF at a hit seen from `wo`, with the normals as the shape defines them.
+    #[inline]
+    pub fn bsdf<'a>(
+        &'a self,
+        query: &TextureQuery,
+        wo: Vec3,
+        shading_normal: Vec3,
+        geometric_normal: Vec3,
+    ) -> Bsdf<'a> {
+        if let Material::Phong(p) = self {
+            let frame = Frame::new(wo, shading_normal, geometric_normal);
+            return Bsdf::leaf(Leaf::Mixed(MixedBsdf::new(&p.evaluate(query), wo, frame)));
+        }
+        let unused = Leaf::Null(NullBsdf { frame: Frame::new(wo, shading_normal, geometric_normal) });
+        let mut mixture = Mixture { leaves: [unused; MAX_LEAVES], weights: [0.0; MAX_LEAVES], count: 0 };
+        self.gather(query, wo, shading_normal, geometric_normal, 1.0, &mut mixture);
+        if mixture.count == 1 && mixture.weights[0] == 1.0 {
+            return Bsdf::leaf(mixture.leaves[0]);
+        }
+        Bsdf::mixture(mixture)
+    }
+
+    /// Adds this material's leaves, each weighed by `weight`, to `mixture`.
+    fn gather<'a>(
+        &'a self,
+        query: &TextureQuery,
+        wo: Vec3,
+        shading: Vec3,
+        geometric: Vec3,
+        weight: f32,
+        mixture: &mut Mixture<'a>,
+    ) {
+        let frame = || Frame::new(wo, shading, geometric);
+        let (leaf, weight) = match self {
+            Material::Phong(p) => (Leaf::Mixed(MixedBsdf::new(&p.evaluate(query), wo, frame())), weight),
+            Material::Diffuse(m) => (m.bsdf(query, frame()), weight),
+            Material::Conductor(m) => (m.bsdf(query, frame()), weight),
+            Material::RoughConductor(m) => (m.bsdf(query, frame()), weight),
+            Material::Dielectric(m) => (m.bsdf(query, frame()), weight),
+            Material::RoughDielectric(m) => (m.bsdf(query, frame()), weight),
+            Material::ThinDielectric(m) => (m.bsdf(query, frame()), weight),
+            Material::Plastic(m) => (m.bsdf(query, wo, frame()), weight),
+            Material::RoughPlastic(m) => (m.bsdf(query, wo, frame()), weight),
+            Material::Blend(b) => {
+                let w = fraction(&b.weight, query);
+                if w < 1.0 {
+                    b.first.gather(query, wo, shading, geometric, weight * (1.0 - w), mixture);
+                }
+                if w > 0.0 {
+                    b.second.gather(query, wo, shading, geometric, weight * w, mixture);
+                }
+                return;
+            }
+            Material::Mask(m) => {
+                let opacity = fraction(&m.opacity, query);
+                if opacity > 0.0 {
+                    m.material.gather(query, wo, shading, geometric, weight * opacity, mixture);
+                }
+                if opacity == 1.0 {
+                    return;
+                }
+                (Leaf::Null(NullBsdf { frame: frame() }), weight * (1.0 - opacity))
+            }
+            Material::TwoSided(t) => {
+                if wo.dot(geometric) >= 0.0 {
+                    t.front.gather(query, wo, shading, geometric, weight, mixture);
+                } else {
+                    t.back.gather(query, wo, -shading, -geometric, weight, mixture);
+                }
+                return;
+            }
+            Material::Emitter(e) => return e.surface.gather(query, wo, shading, geometric, weight, mixture),
+        };
+        if mixture.count < MAX_LEAVES {
+            mixture.leaves[mixture.count] = leaf;
+            mixture.weights[mixture.count] = weight;
+            mixture.count += 1;
+        }
+    }
+
+    /// The number of leaves the material's BSDF flattens into, at most (the scene builder
+    /// refuses more than `MAX_LEAVES`).
+    pub fn leaf_count(&self) -> usize {
+        match self {
+            Material::Blend(b) => b.first.leaf_count() + b.second.leaf_count(),
+            Material::Mask(m) => m.material.leaf_count() + 1,
+            Material::TwoSided(t) => t.front.leaf_count().max(t.back.leaf_count()),
+            Material::Emitter(e) => e.surface.leaf_count(),
+            _ => 1,
+        }
+    }
+
+    /// The material's Whitted terms at a point seen from its `outside` (the side its geometric
+    /// normal points to) or not: the course's local model and the weights of its child rays.
+    /// Members that are not the course's material give their nearest course reading, which
+    /// each file documents (rough lobes as their smooth limit: Whitted traces no glossy rays).
+    pub fn whitted(&self, query: &TextureQuery, outside: bool) -> PhongPoint {
         match self {
             Material::Phong(p) => p.evaluate(query),
+            Material::Diffuse(m) => m.whitted(query),
+            Material::Conductor(m) => m.whitted(query),
+            Material::RoughConductor(m) => m.whitted(query),
+            Material::Dielectric(m) => m.whitted(query),
+            Material::RoughDielectric(m) => m.whitted(query),
+            Material::ThinDielectric(m) => m.whitted(query),
+            Material::Plastic(m) => m.whitted(query),
+            Material::RoughPlastic(m) => m.whitted(query),
+            Material::Blend(b) => {
+                let w = fraction(&b.weight, query);
+                let (first, second) = (b.first.whitted(query, outside), b.second.whitted(query, outside));
+                first.blend(&second, w)
+            }
+            Material::Mask(m) => {
+                let opacity = fraction(&m.opacity, query);
+                let inner = m.material.whitted(query, outside);
+                let clear = PhongPoint { transmission: Rgb::ONE, ior: 1.0, ..PhongPoint::BLACK };
+                clear.blend(&inner, opacity)
+            }
+            Material::TwoSided(t) => if outside { &t.front } else { &t.back }.whitted(query, true),
+            Material::Emitter(e) => PhongPoint {
+                emission: e.radiance,
+                two_sided_emission: e.two_sided,
+                ..e.surface.whitted(query, outside)
+            },
+        }
+    }
+
+    /// The radiance the material emits, and whether from both sides.
+    pub fn emission(&self) -> (Rgb, bool) {
+        match self {
+            Material::Phong(p) => (p.emission, p.two_sided_emission),
+            Material::Emitter(e) => (e.radiance, e.two_sided),
+            _ => (Rgb::ZERO, false),
+        }
+    }
+
+    /// Radiance emitted toward `wo` from a surface with geometric normal `geometric_normal`.
+    #[inline]
+    pub fn emitted(&self, wo: Vec3, geometric_normal: Vec3) -> Rgb {
+        let (radiance, two_sided) = self.emission();
+        if two_sided || wo.dot(geometric_normal) > 0.0 {
+            radiance
+        } else {
+            Rgb::ZERO
+        }
+    }
+
+    /// Lambert's reflectance when the material is a two-sided Lambert reflector and nothing
+    /// else (the wavefront's lanes model exactly that), with its emission.
+    pub fn lambert(&self) -> Option<&Texture> {
+        match self {
+            Material::Phong(p) => {
+                // MixedBsdf's own test for a glossy lobe (a NaN roughness has none).
+                let glossy = p.roughness > 0.0;
+                let plain = p.reflection == Texture::Constant(Rgb::ZERO)
+                    && p.transmission == Texture::Constant(Rgb::ZERO)
+                    && !glossy;
+                plain.then_some(&p.diffuse)
+            }
+            Material::TwoSided(t) => match (&t.front, &t.back) {
+                (Material::Diffuse(front), Material::Diffuse(back)) if front == back => Some(&front.reflectance),
+                _ => None,
+            },
+            Material::Emitter(e) => e.surface.lambert(),
+            _ => None,
         }
     }
 
     /// A warning if the material passes on more light than it receives somewhere, per channel:
-    /// k_d + k_r + k_t above 1 (the lobes the Monte Carlo integrators choose among), or
-    /// k_r + k_t above 1 (the weights of Whitted's child rays). The Phong highlight k_s is left
-    /// out: only the local model reads it, and it does not recurse.
+    /// for the course's material, k_d + k_r + k_t above 1 (the lobes the Monte Carlo integrators
+    /// choose among), or k_r + k_t above 1 (the weights of Whitted's child rays). The Phong
+    /// highlight k_s is left out: only the local model reads it, and it does not recurse. For
+    /// the other members, a reflectance or transmittance above 1.
     pub fn energy_warning(&self, name: &str) -> Option<String> {
-        let Material::Phong(p) = self;
+        let p = match self {
+            Material::Phong(p) => p,
+            Material::Emitter(e) => return e.surface.energy_warning(name),
+            _ => {
+                let largest = self.largest_factor();
+                return (largest > 1.0).then(|| format!(
+                    "material `{name}` reflects or transmits more light than it receives (a colour factor of {largest}): every bounce off it adds light and pixel values can grow without bound. Keep colours ≤ 1"
+                ));
+            }
+        };
         let (diffuse, reflection, transmission) =
             (p.diffuse.max_value(), p.reflection.max_value(), p.transmission.max_value());
         let all = (diffuse + reflection + transmission).max_element();
@@ -52,5 +284,111 @@ impl Material {
         Some(format!(
             "material `{name}` passes on more light than it receives (k_d + k_r + k_t = {all} on some channel): the path tracers, light tracing and photon mapping follow it as given, so each bounce off it adds light and pixel values can grow without bound (Russian roulette survives at most 0.95 a bounce); {whitted}. Keep k_d + k_r + k_t ≤ 1 on every channel"
         ))
+    }
+
+    /// The largest colour factor of a member other than the course's material, anywhere.
+    fn largest_factor(&self) -> f32 {
+        let max = |t: &Texture| t.max_value().max_element();
+        match self {
+            Material::Phong(_) => 0.0,
+            Material::Diffuse(m) => max(&m.reflectance),
+            Material::Conductor(m) => max(&m.specular),
+            Material::RoughConductor(m) => max(&m.conductor.specular),
+            Material::Dielectric(m) => max(&m.specular_reflectance).max(max(&m.specular_transmittance)),
+            Material::RoughDielectric(m) => {
+                max(&m.dielectric.specular_reflectance).max(max(&m.dielectric.specular_transmittance))
+            }
+            Material::ThinDielectric(m) => max(&m.sheet.specular_reflectance).max(max(&m.sheet.specular_transmittance)),
+            Material::Plastic(m) => max(&m.diffuse).max(max(&m.specular)),
+            Material::RoughPlastic(m) => max(&m.plastic.diffuse).max(max(&m.plastic.specular)),
+            Material::Blend(b) => b.first.largest_factor().max(b.second.largest_factor()),
+            Material::Mask(m) => m.material.largest_factor(),
+            Material::TwoSided(t) => t.front.largest_factor().max(t.back.largest_factor()),
+            Material::Emitter(e) => e.surface.largest_factor(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec2;
+
+    use super::testing::{albedo, check_sampling};
+    use super::*;
+
+    fn diffuse(r: f32) -> Material {
+        Material::Diffuse(Diffuse { reflectance: Texture::Constant(Rgb::splat(r)) })
+    }
+
+    fn rough_metal() -> Material {
+        let conductor = Conductor { eta: Rgb::ZERO, k: Rgb::ONE, specular: Texture::Constant(Rgb::ONE) };
+        Material::RoughConductor(RoughConductor { conductor, alpha_u: 0.3, alpha_v: 0.3 })
+    }
+
+    const N: Vec3 = Vec3::Z;
+
+    /// A blend evaluates as the weighted sum of its members, samples as their mixture (chi-
+    /// square), and its albedo is the weighted sum of theirs.
+    #[test]
+    fn blend_is_the_weighted_mixture() {
+        let wo = Vec3::new(0.3, 0.2, 0.9).normalize();
+        let q = TextureQuery::default();
+        let blend = |first: Material, second: Material, w: f32| {
+            Material::Blend(Box::new(Blend { weight: Texture::Constant(Rgb::splat(w)), first, second }))
+        };
+        let m = blend(diffuse(0.2), diffuse(0.8), 0.25);
+        let (b, a, c) = (m.bsdf(&q, wo, N, N), diffuse(0.2), diffuse(0.8));
+        let wi = Vec3::new(-0.5, 0.1, 0.86).normalize();
+        let expected = a.bsdf(&q, wo, N, N).eval(wo, wi) * 0.75 + c.bsdf(&q, wo, N, N).eval(wo, wi) * 0.25;
+        assert!((b.eval(wo, wi) - expected).abs().max_element() < 1e-6);
+        let albedo = albedo(&b, wo, 20_000, 4);
+        assert!((albedo.mean - 0.35).abs() < 1e-5, "{albedo:?}");
+        let glossy = blend(diffuse(0.5), rough_metal(), 0.6);
+        check_sampling(&glossy.bsdf(&q, wo, N, N), wo, N, 81);
+        // Its Whitted terms blend too.
+        assert!((m.whitted(&q, true).diffuse - Rgb::splat(0.35)).abs().max_element() < 1e-6);
+    }
+
+    /// A mask passes light straight on with probability 1 − opacity; photon mapping's delta
+    /// sampling finds that null lobe, its non-delta sampling the surface.
+    #[test]
+    fn mask_passes_light_through() {
+        let wo = Vec3::new(0.3, 0.2, 0.9).normalize();
+        let q = TextureQuery::default();
+        let m = Material::Mask(Box::new(Mask { opacity: Texture::Constant(Rgb::splat(0.3)), material: diffuse(0.5) }));
+        let b = m.bsdf(&q, wo, N, N);
+        assert!((b.non_delta_probability() - 0.3).abs() < 1e-6);
+        let through = b.sample_delta(wo, 0.5, Vec2::splat(0.5)).unwrap();
+        assert!(through.delta && through.wi == -wo && (through.weight - Rgb::splat(0.7)).abs().max_element() < 1e-6);
+        let surface = b.sample_non_delta(wo, 0.5, Vec2::splat(0.5)).unwrap();
+        assert!(!surface.delta && (surface.weight - Rgb::splat(0.5 * 0.3)).abs().max_element() < 1e-6);
+        let albedo = albedo(&b, wo, 50_000, 5);
+        assert!((albedo.mean - (0.7 + 0.3 * 0.5)).abs() < 5.0 * albedo.standard_error, "{albedo:?}");
+        assert_eq!(m.leaf_count(), 2);
+    }
+
+    /// Two sides: each side answers with its own material, seen from its front; a one-sided
+    /// member alone is black from behind.
+    #[test]
+    fn two_sided_picks_the_viewers_side() {
+        let q = TextureQuery::default();
+        let card = Material::TwoSided(Box::new(TwoSided { front: diffuse(0.8), back: diffuse(0.2) }));
+        let (front, back) = (Vec3::new(0.2, 0.1, 0.9).normalize(), Vec3::new(0.2, 0.1, -0.9).normalize());
+        let lit = |wo: Vec3| albedo(&card.bsdf(&q, wo, N, N), wo, 1000, 6).mean;
+        assert!((lit(front) - 0.8).abs() < 1e-5 && (lit(back) - 0.2).abs() < 1e-5);
+        let wi = Vec3::new(0.0, 0.0, -1.0);
+        assert!(card.bsdf(&q, back, N, N).eval(back, wi).x > 0.0);
+        assert_eq!(diffuse(0.8).bsdf(&q, back, N, N).eval(back, wi), Rgb::ZERO);
+        assert!(card.lambert().is_none() && diffuse(0.8).lambert().is_none());
+        let both = Material::TwoSided(Box::new(TwoSided { front: diffuse(0.8), back: diffuse(0.8) }));
+        assert!(both.lambert().is_some(), "the wavefront serves a two-sided Lambert reflector");
+    }
+
+    #[test]
+    fn emitters_emit_on_their_side() {
+        let lamp = Material::Emitter(Box::new(Emitter { radiance: Rgb::ONE, two_sided: false, surface: diffuse(0.5) }));
+        assert_eq!(lamp.emitted(N, N), Rgb::ONE);
+        assert_eq!(lamp.emitted(-N, N), Rgb::ZERO);
+        assert_eq!(lamp.emission(), (Rgb::ONE, false));
     }
 }

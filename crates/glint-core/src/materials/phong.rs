@@ -117,6 +117,38 @@ pub struct PhongPoint {
 }
 
 impl PhongPoint {
+    /// Nothing: no light reflected, transmitted or emitted (what a member's Whitted terms
+    /// start from).
+    pub const BLACK: Self = Self {
+        ambient: Rgb::ZERO,
+        diffuse: Rgb::ZERO,
+        specular: Rgb::ZERO,
+        shininess: 32.0,
+        reflection: Rgb::ZERO,
+        transmission: Rgb::ZERO,
+        ior: 1.5,
+        fresnel: Fresnel::None,
+        roughness: 0.0,
+        emission: Rgb::ZERO,
+        two_sided_emission: false,
+    };
+
+    /// (1 − w)·self + w·other for the colours; the index, Fresnel rule and exponent of the one
+    /// weighed more (Whitted's reading of a blend).
+    pub fn blend(&self, other: &Self, w: f32) -> Self {
+        let mix = |a: Rgb, b: Rgb| a * (1.0 - w) + b * w;
+        let major = if w > 0.5 { other } else { self };
+        Self {
+            ambient: mix(self.ambient, other.ambient),
+            diffuse: mix(self.diffuse, other.diffuse),
+            specular: mix(self.specular, other.specular),
+            reflection: mix(self.reflection, other.reflection),
+            transmission: mix(self.transmission, other.transmission),
+            emission: mix(self.emission, other.emission),
+            ..*major
+        }
+    }
+
     /// Radiance emitted toward `wo` from a surface with geometric normal `geometric_normal`.
     pub fn emitted(&self, wo: Vec3, geometric_normal: Vec3) -> Rgb {
         if self.two_sided_emission || wo.dot(geometric_normal) > 0.0 {

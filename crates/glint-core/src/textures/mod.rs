@@ -19,7 +19,7 @@ use glam::{Vec2, Vec3};
 use crate::Rgb;
 
 /// Where a texture is looked up.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TextureQuery {
     pub uv: Vec2,
     /// The hit point in object space (world space for shapes without a transform).

@@ -491,6 +491,7 @@ impl<'a> Translator<'a> {
                 reflectance: Some(ColorDesc::Rgb([0.5; 3])),
                 emission: None,
                 two_sided_emission: false,
+                two_sided: Some(false),
             },
         };
         let base = match bsdf {
@@ -503,8 +504,15 @@ impl<'a> Translator<'a> {
                     MaterialDesc::Diffuse { emission, .. } | MaterialDesc::Phong { emission, .. } => {
                         *emission = Some(e)
                     }
-                    MaterialDesc::Metal { .. } => {
-                        return Err(self.error(at, "an emitting metal is not supported (glint's metals do not emit)"));
+                    _ => {
+                        // Any other BSDF: the surface under its own name, wrapped by the emitter.
+                        let surface = format!("{base}+surface@{}", at.line);
+                        let span = bsdf.and_then(|b| b.position.span.clone());
+                        let surface_desc = std::mem::replace(
+                            &mut desc,
+                            MaterialDesc::Emitter { radiance: e, two_sided: false, material: surface.clone() },
+                        );
+                        self.scene.materials.insert(surface, Located { value: surface_desc, span });
                     }
                 }
                 format!("{base}+emitter@{}", at.line)
@@ -536,42 +544,63 @@ impl<'a> Translator<'a> {
     fn bsdf(&mut self, bsdf: &'a Element) -> Result<MaterialDesc> {
         let kind = bsdf.attribute("type").unwrap_or("");
         let p = self.properties(bsdf);
-        let nested = || bsdf.children.iter().find(|c| c.tag == "bsdf" || c.tag == "ref");
+        let nested: Vec<&'a Element> = bsdf.children.iter().filter(|c| c.tag == "bsdf" || c.tag == "ref").collect();
+        let needs = |t: &Self, n: usize| -> Result<()> {
+            if nested.len() != n {
+                let what = if n == 1 { "one nested <bsdf>".to_string() } else { format!("{n} nested <bsdf>s") };
+                return Err(
+                    t.error(&bsdf.position, format!("{} needs {what}, found {}", bsdf.describe(), nested.len()))
+                );
+            }
+            Ok(())
+        };
+        let one_sided = Some(false);
         let desc = match kind {
-            "twosided" | "bumpmap" | "normalmap" => {
-                let Some(inner) = nested() else {
-                    return Err(self.error(&bsdf.position, format!("{} needs a nested <bsdf>", bsdf.describe())));
-                };
-                let inner = if inner.tag == "ref" { self.resolve(inner)? } else { inner };
-                if kind != "twosided" {
-                    self.warn(&bsdf.position, format!("{}: the bump or normal map is ignored", bsdf.describe()));
-                } else if bsdf.children.iter().filter(|c| c.tag == "bsdf").count() > 1 {
-                    self.warn(&bsdf.position, "twosided with two BSDFs: glint uses the first on both sides");
+            "twosided" => {
+                if nested.is_empty() || nested.len() > 2 {
+                    needs(self, 1)?;
                 }
+                let front = self.nested_material(bsdf, nested[0], "front")?;
+                let back = match nested.get(1) {
+                    Some(b) => Some(self.nested_material(bsdf, b, "back")?),
+                    None => None,
+                };
+                MaterialDesc::TwoSided { front, back }
+            }
+            "bumpmap" | "normalmap" => {
+                needs(self, 1)?;
+                self.warn(&bsdf.position, format!("{}: the bump or normal map is ignored", bsdf.describe()));
+                let inner = if nested[0].tag == "ref" { self.resolve(nested[0])? } else { nested[0] };
                 self.bsdf(inner)?
+            }
+            "blendbsdf" => {
+                needs(self, 2)?;
+                let weight = self.fraction(&p, "weight")?;
+                let first = self.nested_material(bsdf, nested[0], "first")?;
+                let second = self.nested_material(bsdf, nested[1], "second")?;
+                MaterialDesc::Blend { weight, first, second }
+            }
+            "mask" => {
+                needs(self, 1)?;
+                let opacity = self.fraction(&p, "opacity")?;
+                let material = self.nested_material(bsdf, nested[0], "material")?;
+                MaterialDesc::Mask { opacity, material }
             }
             "diffuse" => MaterialDesc::Diffuse {
                 reflectance: Some(p.color(self, "reflectance")?.unwrap_or(ColorDesc::Rgb([0.5; 3]))),
                 emission: None,
                 two_sided_emission: false,
+                two_sided: one_sided,
             },
             "conductor" | "roughconductor" => {
-                let roughness = if kind == "roughconductor" { Some(self.roughness(&p)?) } else { None };
-                let tint = p.color(self, "specular_reflectance")?;
+                let specular_reflectance = p.color(self, "specular_reflectance")?;
                 let eta = p.rgb(self, "eta")?;
                 let k = p.rgb(self, "k")?;
                 let (metal, eta, k) = match eta {
                     Some(eta) => (None, Some(eta), Some(k.unwrap_or([0.0; 3]))),
                     None => match p.string(self, "material")?.as_deref() {
-                        None | Some("none") => {
-                            // Mitsuba's default: a perfect mirror.
-                            let mut desc = phong(None, Some([1.0; 3]), None, None, roughness);
-                            if let (MaterialDesc::Phong { reflection, .. }, Some(t)) = (&mut desc, tint) {
-                                *reflection = Some(t);
-                            }
-                            self.unused(&p);
-                            return Ok(desc);
-                        }
+                        // Mitsuba's default: a perfect mirror (η = 0, k = 1: F = 1).
+                        None | Some("none") => (None, Some([0.0; 3]), Some([1.0; 3])),
                         Some(name) => {
                             if glint_core::materials::named_metal(name).is_none() {
                                 return Err(self.error(
@@ -586,45 +615,85 @@ impl<'a> Translator<'a> {
                         }
                     },
                 };
-                MaterialDesc::Metal { metal, eta, k, tint, roughness }
-            }
-            "dielectric" | "roughdielectric" => {
-                let ior = self.ior_ratio(&p, 1.5046)?;
-                let transmission = p.rgb(self, "specular_transmittance")?.unwrap_or([1.0; 3]);
-                p.rgb(self, "specular_reflectance")?;
-                let roughness = if kind == "roughdielectric" { Some(self.roughness(&p)?) } else { None };
-                phong(None, None, Some(transmission), Some(ior), roughness)
-            }
-            "thindielectric" => {
-                // A thin slab: reflectance R + T²R / (1 − R²) = 2R / (1 + R) at normal
-                // incidence, the rest passing straight through (no bending).
-                let eta = self.ior_ratio(&p, 1.5046)?;
-                let r = ((eta - 1.0) / (eta + 1.0)).powi(2);
-                let reflected = 2.0 * r / (1.0 + r);
-                let mut desc = phong(None, Some([reflected; 3]), Some([1.0 - reflected; 3]), Some(1.0), None);
-                if let MaterialDesc::Phong { fresnel, .. } = &mut desc {
-                    *fresnel = FresnelDesc::None;
+                if kind == "conductor" {
+                    MaterialDesc::Conductor { metal, eta, k, specular_reflectance, two_sided: one_sided }
+                } else {
+                    let (alpha, alpha_u, alpha_v) = self.alphas(&p)?;
+                    MaterialDesc::RoughConductor {
+                        metal,
+                        eta,
+                        k,
+                        specular_reflectance,
+                        alpha,
+                        alpha_u,
+                        alpha_v,
+                        two_sided: one_sided,
+                    }
                 }
-                desc
+            }
+            "dielectric" | "roughdielectric" | "thindielectric" => {
+                let int_ior = Some(self.ior_ratio(&p, 1.5046)?);
+                let ext_ior = Some(1.0);
+                let specular_reflectance = p.color(self, "specular_reflectance")?;
+                let specular_transmittance = p.color(self, "specular_transmittance")?;
+                match kind {
+                    "dielectric" => {
+                        MaterialDesc::Dielectric { int_ior, ext_ior, specular_reflectance, specular_transmittance }
+                    }
+                    "thindielectric" => {
+                        MaterialDesc::ThinDielectric { int_ior, ext_ior, specular_reflectance, specular_transmittance }
+                    }
+                    _ => {
+                        let (alpha, alpha_u, alpha_v) = self.alphas(&p)?;
+                        MaterialDesc::RoughDielectric {
+                            int_ior,
+                            ext_ior,
+                            specular_reflectance,
+                            specular_transmittance,
+                            alpha,
+                            alpha_u,
+                            alpha_v,
+                        }
+                    }
+                }
             }
             "plastic" | "roughplastic" => {
-                let diffuse = p.color(self, "diffuse_reflectance")?.unwrap_or(ColorDesc::Rgb([0.5; 3]));
-                let eta = self.ior_ratio(&p, 1.49)?;
-                let f0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
-                p.boolean(self, "nonlinear")?;
-                p.rgb(self, "specular_reflectance")?;
-                let roughness = if kind == "roughplastic" { Some(self.roughness(&p)?) } else { None };
-                let mut desc = phong(Some(diffuse), Some([f0; 3]), None, None, roughness);
-                if let MaterialDesc::Phong { fresnel, .. } = &mut desc {
-                    *fresnel = FresnelDesc::None;
+                let diffuse_reflectance = Some(p.color(self, "diffuse_reflectance")?.unwrap_or(ColorDesc::Rgb([0.5; 3])));
+                let specular_reflectance = p.color(self, "specular_reflectance")?;
+                let int_ior = Some(self.ior_ratio(&p, 1.49)?);
+                let ext_ior = Some(1.0);
+                let nonlinear = p.boolean(self, "nonlinear")?.unwrap_or(false);
+                if kind == "plastic" {
+                    MaterialDesc::Plastic {
+                        diffuse_reflectance,
+                        specular_reflectance,
+                        int_ior,
+                        ext_ior,
+                        nonlinear,
+                        two_sided: one_sided,
+                    }
+                } else {
+                    let (alpha, alpha_u, alpha_v) = self.alphas(&p)?;
+                    if alpha_u.is_some() {
+                        return Err(self.error(&bsdf.position, "roughplastic is isotropic: give `alpha`, not `alpha_u`/`alpha_v` (as Mitsuba requires)"));
+                    }
+                    let _ = alpha_v;
+                    MaterialDesc::RoughPlastic {
+                        diffuse_reflectance,
+                        specular_reflectance,
+                        int_ior,
+                        ext_ior,
+                        nonlinear,
+                        alpha,
+                        two_sided: one_sided,
+                    }
                 }
-                desc
             }
             _ => {
                 return Err(self.error(
                     &bsdf.position,
                     format!(
-                        "<bsdf type=\"{kind}\"> is not supported; glint reads diffuse, conductor, roughconductor, dielectric, thindielectric, roughdielectric, plastic, roughplastic and twosided"
+                        "<bsdf type=\"{kind}\"> is not supported; glint reads diffuse, conductor, roughconductor, dielectric, thindielectric, roughdielectric, plastic, roughplastic, twosided, blendbsdf and mask (bumpmap and normalmap with a warning)"
                     ),
                 ))
             }
@@ -633,34 +702,51 @@ impl<'a> Translator<'a> {
         Ok(desc)
     }
 
-    /// GGX roughness (glint's α = roughness²) from Mitsuba's `alpha` (default 0.1).
-    fn roughness(&mut self, p: &Properties) -> Result<f32> {
-        if let Some(d) = p.string(self, "distribution")? {
-            if d != "ggx" {
-                self.warn(&p.element.position, format!("microfacet distribution `{d}`: glint uses GGX"));
-            }
+    /// A nested <bsdf> (or a <ref> to one) as a named material of its own, for a wrapper.
+    fn nested_material(&mut self, parent: &'a Element, child: &'a Element, role: &str) -> Result<String> {
+        let element = if child.tag == "ref" { self.resolve(child)? } else { child };
+        let key = (element.position.file, element.position.line, element.position.column);
+        if let Some(name) = self.materials_by_element.get(&key) {
+            return Ok(name.clone());
+        }
+        let name = match element.attribute("id") {
+            Some(id) => id.to_string(),
+            None => format!("bsdf@{}/{role}", parent.position.line),
+        };
+        let desc = self.bsdf(element)?;
+        self.scene.materials.insert(name.clone(), Located { value: desc, span: element.position.span.clone() });
+        self.materials_by_element.insert(key, name.clone());
+        Ok(name)
+    }
+
+    /// A blend weight or an opacity: a number or a texture (default: unset, glint's 0.5).
+    fn fraction(&mut self, p: &Properties<'a>, name: &str) -> Result<Option<FractionDesc>> {
+        Ok(match p.color(self, name)? {
+            None => None,
+            Some(ColorDesc::Texture(t)) => Some(FractionDesc::Texture(t)),
+            Some(ColorDesc::Rgb(c)) => Some(FractionDesc::Number(((c[0] + c[1] + c[2]) / 3.0).clamp(0.0, 1.0))),
+        })
+    }
+
+    /// Mitsuba's roughness: `alpha`, or `alpha_u` and `alpha_v` (GGX in glint).
+    fn alphas(&mut self, p: &Properties) -> Result<(Option<f32>, Option<f32>, Option<f32>)> {
+        let distribution = p.string(self, "distribution")?.unwrap_or_else(|| "beckmann".into());
+        if distribution != "ggx" {
+            self.warn(
+                &p.element.position,
+                format!("microfacet distribution `{distribution}` (Mitsuba's default is Beckmann): glint uses GGX with the same alpha"),
+            );
         }
         p.boolean(self, "sample_visible")?;
-        let alpha = match p.float(self, "alpha")? {
-            Some(a) => a,
-            None => {
-                let u = p.float(self, "alpha_u")?;
-                let v = p.float(self, "alpha_v")?;
-                match (u, v) {
-                    (Some(u), Some(v)) => {
-                        if (u - v).abs() > 1e-6 {
-                            self.warn(
-                                &p.element.position,
-                                "anisotropic roughness: glint uses the mean of alpha_u and alpha_v",
-                            );
-                        }
-                        0.5 * (u + v)
-                    }
-                    _ => 0.1,
-                }
-            }
-        };
-        Ok(alpha.max(0.0).sqrt())
+        let alpha = p.float(self, "alpha")?;
+        let (u, v) = (p.float(self, "alpha_u")?, p.float(self, "alpha_v")?);
+        if alpha.is_some() && (u.is_some() || v.is_some()) {
+            return Err(self.error(&p.element.position, "give `alpha`, or `alpha_u` and `alpha_v`, not both"));
+        }
+        if u.is_some() != v.is_some() {
+            return Err(self.error(&p.element.position, "`alpha_u` and `alpha_v` go together"));
+        }
+        Ok((alpha, u, v))
     }
 
     /// int_ior / ext_ior, each a number or a named material.
@@ -859,28 +945,6 @@ fn collect_ids<'a>(element: &'a Element, ids: &mut HashMap<String, &'a Element>,
         collect_ids(child, ids, files)?;
     }
     Ok(())
-}
-
-fn phong(
-    diffuse: Option<ColorDesc>,
-    reflection: Option<[f32; 3]>,
-    transmission: Option<[f32; 3]>,
-    ior: Option<f32>,
-    roughness: Option<f32>,
-) -> MaterialDesc {
-    MaterialDesc::Phong {
-        diffuse: Some(diffuse.unwrap_or(ColorDesc::Rgb([0.0; 3]))),
-        ambient: Some(ColorDesc::Rgb([0.0; 3])),
-        specular: None,
-        shininess: None,
-        reflection: reflection.map(ColorDesc::Rgb),
-        transmission: transmission.map(ColorDesc::Rgb),
-        ior,
-        fresnel: if transmission.is_some() { FresnelDesc::Exact } else { FresnelDesc::None },
-        roughness,
-        emission: None,
-        two_sided_emission: false,
-    }
 }
 
 /// The vertical field of view for `fov` degrees along `axis` of an image of this aspect ratio.

@@ -12,7 +12,7 @@ use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings, PhotonSettings};
 use glint_core::lights::TriangleSampling;
 use glint_core::lights::{DirectionalLight, EnvironmentMap, Falloff, Light, PointLight, SpotLight};
-use glint_core::materials::{named_metal, Fresnel, Material, Phong, METAL_NAMES};
+use glint_core::materials::Material;
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::{Environment, Geometry, Object, Scene};
 use glint_core::shapes::{
@@ -20,7 +20,6 @@ use glint_core::shapes::{
     Triangle, TriangleMethod,
 };
 use glint_core::textures::{Checker, ImageTexture, Marble, SolidChecker, Texture, Wood, Wrap};
-use glint_core::Rgb;
 
 use super::schema::*;
 use super::{find_key, LoadedScene, RenderOptions};
@@ -29,14 +28,14 @@ use crate::located::Located;
 use crate::source::Source;
 
 /// Error context: the file's text and name, to turn spans into locations.
-struct Context<'a> {
+pub(super) struct Context<'a> {
     text: &'a str,
     file: &'a Path,
 }
 
 impl Context<'_> {
     /// An error at `span` (the element), pointing at `key` inside it when given and found.
-    fn error(&self, span: &Option<Range<usize>>, key: Option<&str>, message: String) -> SceneError {
+    pub(super) fn error(&self, span: &Option<Range<usize>>, key: Option<&str>, message: String) -> SceneError {
         let location = span.as_ref().map(|span| {
             let offset = key.and_then(|k| find_key(self.text, span.clone(), k)).unwrap_or(span.start);
             Location::from_offset(self.text, offset)
@@ -89,114 +88,7 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         textures.push((name.clone(), texture));
     }
 
-    let mut materials = Vec::new();
-    for (name, entry) in &file.materials {
-        let at = |key: &str, m: String| cx.error(&entry.span, Some(key), format!("material `{name}`: {m}"));
-        let colour = |key: &str, c: &ColorDesc| resolve_colour(c, &textures).map_err(|m| at(key, m));
-        let material = match &entry.value {
-            MaterialDesc::Metal { metal, eta, k, tint, roughness } => {
-                let (eta, k) = match (metal, eta, k) {
-                    (Some(m), None, None) => named_metal(m).ok_or_else(|| {
-                        let hint = did_you_mean(m, METAL_NAMES);
-                        at("metal", format!("unknown metal `{m}`, expected one of {}{hint}", quoted(&METAL_NAMES)))
-                    })?,
-                    (None, Some(eta), Some(k)) => (
-                        positive_vector(*eta).map_err(|m| at("eta", format!("`eta` {m}")))?,
-                        non_negative(*k).map_err(|m| at("k", format!("`k` {m}")))?,
-                    ),
-                    _ => {
-                        return Err(at(
-                            "metal",
-                            "a metal needs either `metal` (a name) or both `eta` and `k`, not both".into(),
-                        ))
-                    }
-                };
-                let roughness = roughness.unwrap_or(0.0);
-                if !(0.0..=1.0).contains(&roughness) {
-                    return Err(at("roughness", format!("`roughness` must be between 0 and 1, got {roughness}")));
-                }
-                Material::Phong(Phong {
-                    diffuse: Texture::Constant(Rgb::ZERO),
-                    ambient: Some(Texture::Constant(Rgb::ZERO)),
-                    reflection: match tint {
-                        Some(c) => colour("tint", c)?,
-                        None => Texture::Constant(Rgb::ONE),
-                    },
-                    fresnel: Fresnel::Conductor { eta, k },
-                    roughness,
-                    ..Phong::default()
-                })
-            }
-            MaterialDesc::Diffuse { reflectance, emission, two_sided_emission } => {
-                let mut phong = Phong { ambient: Some(Texture::Constant(Rgb::ZERO)), ..Phong::default() };
-                if let Some(c) = reflectance {
-                    phong.diffuse = colour("reflectance", c)?;
-                }
-                if let Some(e) = emission {
-                    phong.emission = non_negative(*e).map_err(|m| at("emission", m))?;
-                }
-                phong.two_sided_emission = *two_sided_emission;
-                Material::Phong(phong)
-            }
-            MaterialDesc::Phong {
-                diffuse,
-                ambient,
-                specular,
-                shininess,
-                reflection,
-                transmission,
-                ior,
-                fresnel,
-                roughness,
-                emission,
-                two_sided_emission,
-            } => {
-                let mut phong = Phong::default();
-                if let Some(r) = roughness {
-                    if !(0.0..=1.0).contains(r) {
-                        return Err(at("roughness", format!("`roughness` must be between 0 and 1, got {r}")));
-                    }
-                    phong.roughness = *r;
-                }
-                if let Some(e) = emission {
-                    phong.emission = non_negative(*e).map_err(|m| at("emission", m))?;
-                }
-                phong.two_sided_emission = *two_sided_emission;
-                if let Some(c) = diffuse {
-                    phong.diffuse = colour("diffuse", c)?;
-                }
-                if let Some(c) = ambient {
-                    phong.ambient = Some(colour("ambient", c)?);
-                }
-                if let Some(c) = specular {
-                    phong.specular = colour("specular", c)?;
-                }
-                if let Some(c) = reflection {
-                    phong.reflection = colour("reflection", c)?;
-                }
-                if let Some(c) = transmission {
-                    phong.transmission = colour("transmission", c)?;
-                }
-                if let Some(n) = shininess {
-                    if !(n.is_finite() && *n >= 0.0) {
-                        return Err(at("shininess", format!("`shininess` must be a finite number ≥ 0, got {n}")));
-                    }
-                    phong.shininess = *n;
-                }
-                if let Some(eta) = ior {
-                    positive(*eta).map_err(|m| at("ior", format!("`ior` {m}")))?;
-                    phong.ior = *eta;
-                }
-                phong.fresnel = match fresnel {
-                    FresnelDesc::None => Fresnel::None,
-                    FresnelDesc::Schlick => Fresnel::Schlick,
-                    FresnelDesc::Exact => Fresnel::Exact,
-                };
-                Material::Phong(phong)
-            }
-        };
-        materials.push((name.clone(), material));
-    }
+    let materials = super::materials::build_materials(&cx, &file.materials, &textures)?;
 
     let lights = file.lights.iter().enumerate().map(|(i, l)| build_light(&cx, i, l)).collect::<Result<_, _>>()?;
 
@@ -709,7 +601,7 @@ fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'stat
     })
 }
 
-fn resolve_colour(c: &ColorDesc, textures: &[(String, Texture)]) -> Result<Texture, String> {
+pub(super) fn resolve_colour(c: &ColorDesc, textures: &[(String, Texture)]) -> Result<Texture, String> {
     match c {
         ColorDesc::Rgb(v) => Ok(Texture::Constant(non_negative(*v)?)),
         ColorDesc::Texture(name) => textures.iter().find(|(n, _)| n == name).map(|(_, t)| t.clone()).ok_or_else(|| {
@@ -736,7 +628,7 @@ fn finite(v: Vector) -> Result<Vec3, String> {
     }
 }
 
-fn non_negative(v: Vector) -> Result<Vec3, String> {
+pub(super) fn non_negative(v: Vector) -> Result<Vec3, String> {
     let v3 = finite(v)?;
     if v3.min_element() < 0.0 {
         return Err(format!("colours must be ≥ 0, got {v:?}"));
@@ -744,15 +636,7 @@ fn non_negative(v: Vector) -> Result<Vec3, String> {
     Ok(v3)
 }
 
-fn positive_vector(v: Vector) -> Result<Vec3, String> {
-    let v3 = finite(v)?;
-    if v3.min_element() <= 0.0 {
-        return Err(format!("must be > 0 on every channel, got {v:?}"));
-    }
-    Ok(v3)
-}
-
-fn positive(x: f32) -> Result<(), String> {
+pub(super) fn positive(x: f32) -> Result<(), String> {
     if x.is_finite() && x > 0.0 {
         Ok(())
     } else {
@@ -781,6 +665,6 @@ fn by_name<T>(
     })
 }
 
-fn quoted(names: &[&str]) -> String {
+pub(super) fn quoted(names: &[&str]) -> String {
     names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ")
 }

@@ -2,6 +2,7 @@
 //! Field by field in docs/scene-format.md.
 
 mod build;
+mod materials;
 pub(crate) mod schema;
 
 pub(crate) use build::environment_rotation;

@@ -261,13 +261,99 @@ pub enum MaterialDesc {
         tint: Option<ColorDesc>,
         roughness: Option<f32>,
     },
-    /// A Lambertian surface (the path tracer's plain diffuse material).
+    /// A Lambertian surface (Mitsuba's `diffuse`), two-sided unless `two_sided = false`.
     Diffuse {
         reflectance: Option<ColorDesc>,
         emission: Option<Vector>,
         #[serde(default)]
         two_sided_emission: bool,
+        two_sided: Option<bool>,
     },
+    /// A smooth metal (Mitsuba's `conductor`): `metal` (a name) or `eta` and `k`.
+    Conductor {
+        metal: Option<String>,
+        eta: Option<Vector>,
+        k: Option<Vector>,
+        specular_reflectance: Option<ColorDesc>,
+        two_sided: Option<bool>,
+    },
+    /// A rough metal (Mitsuba's `roughconductor`, GGX): `alpha`, or `alpha_u` and `alpha_v`.
+    RoughConductor {
+        metal: Option<String>,
+        eta: Option<Vector>,
+        k: Option<Vector>,
+        specular_reflectance: Option<ColorDesc>,
+        alpha: Option<f32>,
+        alpha_u: Option<f32>,
+        alpha_v: Option<f32>,
+        two_sided: Option<bool>,
+    },
+    /// Smooth glass (Mitsuba's `dielectric`).
+    Dielectric {
+        int_ior: Option<f32>,
+        ext_ior: Option<f32>,
+        specular_reflectance: Option<ColorDesc>,
+        specular_transmittance: Option<ColorDesc>,
+    },
+    /// Rough glass (Mitsuba's `roughdielectric`, GGX).
+    RoughDielectric {
+        int_ior: Option<f32>,
+        ext_ior: Option<f32>,
+        specular_reflectance: Option<ColorDesc>,
+        specular_transmittance: Option<ColorDesc>,
+        alpha: Option<f32>,
+        alpha_u: Option<f32>,
+        alpha_v: Option<f32>,
+    },
+    /// A thin pane (Mitsuba's `thindielectric`).
+    ThinDielectric {
+        int_ior: Option<f32>,
+        ext_ior: Option<f32>,
+        specular_reflectance: Option<ColorDesc>,
+        specular_transmittance: Option<ColorDesc>,
+    },
+    /// A diffuse base under a smooth coat (Mitsuba's `plastic`).
+    Plastic {
+        diffuse_reflectance: Option<ColorDesc>,
+        specular_reflectance: Option<ColorDesc>,
+        int_ior: Option<f32>,
+        ext_ior: Option<f32>,
+        #[serde(default)]
+        nonlinear: bool,
+        two_sided: Option<bool>,
+    },
+    /// A diffuse base under a rough coat (Mitsuba's `roughplastic`, GGX).
+    RoughPlastic {
+        diffuse_reflectance: Option<ColorDesc>,
+        specular_reflectance: Option<ColorDesc>,
+        int_ior: Option<f32>,
+        ext_ior: Option<f32>,
+        #[serde(default)]
+        nonlinear: bool,
+        alpha: Option<f32>,
+        two_sided: Option<bool>,
+    },
+    /// (1 − weight)·first + weight·second (Mitsuba's `blendbsdf`); materials by name.
+    Blend { weight: Option<FractionDesc>, first: String, second: String },
+    /// `material` where the surface is, passed through elsewhere (Mitsuba's `mask`).
+    Mask { opacity: Option<FractionDesc>, material: String },
+    /// One material per side (Mitsuba's `twosided` with two BSDFs); `back` defaults to `front`.
+    TwoSided { front: String, back: Option<String> },
+    /// `material` emitting `radiance` (Mitsuba's `area` emitter on a shape).
+    Emitter {
+        radiance: Vector,
+        #[serde(default)]
+        two_sided: bool,
+        material: String,
+    },
+}
+
+/// A fraction in [0, 1]: a number, or the name of a texture (its luminance).
+#[derive(Deserialize, Debug, Clone)]
+#[serde(untagged)]
+pub enum FractionDesc {
+    Number(f32),
+    Texture(String),
 }
 
 /// A colour, or the name of a texture in `[textures]`.

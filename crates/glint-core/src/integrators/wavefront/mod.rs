@@ -33,10 +33,10 @@ use super::path::{PathState, PathTracer, Scatter};
 use super::{RayCounts, SampleContext};
 use crate::geometry::Ray;
 use crate::lights::{TriangleEmitter, TriangleSampling};
-use crate::materials::{luminance, Material, PhongPoint};
+use crate::materials::{luminance, Material};
 use crate::sampling::Sampler;
 use crate::scene::{PrimitiveHit, Scene, SHADOW_EPSILON};
-use crate::textures::Texture;
+use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
 /// A bounce's numbers, in the scalar path tracer's order: the light's selection and the point
@@ -74,26 +74,25 @@ impl LaneMaterial {
         Self { diffuse, reflects: luminance(diffuse) > 0.0, emission, two_sided }
     }
 
-    /// An evaluated material.
-    fn at(point: &PhongPoint) -> Self {
-        Self::new(point.diffuse, point.emission, point.two_sided_emission)
+    /// A Lambert material evaluated at a point (black for any other: the lanes never read one).
+    fn at(material: &Material, query: &TextureQuery) -> Self {
+        let Some(diffuse) = material.lambert() else { return Self::BLACK };
+        let (emission, two_sided) = material.emission();
+        Self::new(diffuse.evaluate(query), emission, two_sided)
     }
 
-    /// A material with constant colours, evaluated once.
+    /// A Lambert material with a constant colour, evaluated once.
     fn constant(material: &Material) -> Option<Self> {
-        let Material::Phong(m) = material;
-        let Texture::Constant(diffuse) = m.diffuse else { return None };
-        Some(Self::new(diffuse, m.emission, m.two_sided_emission))
+        let Texture::Constant(diffuse) = material.lambert()? else { return None };
+        let (emission, two_sided) = material.emission();
+        Some(Self::new(*diffuse, emission, two_sided))
     }
 }
 
 /// Whether a material is diffuse and nothing else wherever it is evaluated (its BSDF is
-/// Lambert's alone, Bsdf::new's fast case).
+/// Lambert's alone, two-sided: what the lanes model).
 fn diffuse_only(material: &Material) -> bool {
-    let Material::Phong(m) = material;
-    // Bsdf::new's own test for a glossy lobe (a NaN roughness has none).
-    let glossy = m.roughness > 0.0;
-    m.reflection == Texture::Constant(Rgb::ZERO) && m.transmission == Texture::Constant(Rgb::ZERO) && !glossy
+    material.lambert().is_some()
 }
 
 /// The path tracer's wavefront over one scene.
@@ -542,7 +541,7 @@ impl<'a> Wavefront<'a> {
             geometric: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.geometric_normal)),
             shading: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.shading_normal)),
             material: std::array::from_fn(|k| match &hits[k] {
-                Some(h) => LaneMaterial::at(&scene.materials[h.material as usize].evaluate(&h.texture_query())),
+                Some(h) => LaneMaterial::at(&scene.materials[h.material as usize], &h.texture_query()),
                 None => LaneMaterial::BLACK,
             }),
         }

@@ -1,0 +1,125 @@
+//! Lambert's diffuse reflector, one-sided (black from behind), as Mitsuba's `diffuse`; the
+//! native format wraps it in `two_sided` unless told otherwise.
+//!
+//! Scene parameters: `reflectance` (colour or texture, default [0.5, 0.5, 0.5]).
+//! ```toml
+//! [materials.wall]
+//! type = "diffuse"
+//! reflectance = [0.7, 0.2, 0.2]
+//! ```
+//! f = reflectance / π; sampled by the cosine-weighted hemisphere, weight = reflectance.
+
+use glam::{Vec2, Vec3};
+
+use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
+use super::PhongPoint;
+use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
+use crate::textures::{Texture, TextureQuery};
+use crate::Rgb;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diffuse {
+    pub reflectance: Texture,
+}
+
+impl Diffuse {
+    pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
+        Leaf::Diffuse(DiffuseBsdf { frame, reflectance: self.reflectance.evaluate(query) })
+    }
+
+    /// Whitted's view: the course's Lambert term with k_a = k_d.
+    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
+        let k_d = self.reflectance.evaluate(query);
+        PhongPoint { ambient: k_d, diffuse: k_d, ..PhongPoint::BLACK }
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+pub(super) struct DiffuseBsdf {
+    frame: Frame,
+    reflectance: Rgb,
+}
+
+impl DiffuseBsdf {
+    fn lit(&self) -> bool {
+        self.frame.outside && self.reflectance != Rgb::ZERO
+    }
+}
+
+impl Lobes for DiffuseBsdf {
+    fn eval(&self, _wo: Vec3, wi: Vec3) -> Rgb {
+        if !self.lit() || !self.frame.reflects(wi) {
+            return Rgb::ZERO;
+        }
+        self.reflectance * (wi.dot(self.frame.normal) * std::f32::consts::FRAC_1_PI)
+    }
+
+    fn pdf(&self, _wo: Vec3, wi: Vec3) -> f32 {
+        if !self.lit() || !self.frame.reflects(wi) {
+            return 0.0;
+        }
+        cosine_hemisphere_pdf(self.frame.to_local(wi))
+    }
+
+    fn sample(&self, _wo: Vec3, _u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        if !self.lit() {
+            return None;
+        }
+        let local = square_to_cosine_hemisphere(u);
+        let wi = self.frame.to_world(local);
+        if local.z <= 0.0 || wi.dot(self.frame.geometric) <= 0.0 {
+            return None;
+        }
+        let pdf = cosine_hemisphere_pdf(local);
+        Some(BsdfSample { wi, weight: self.reflectance, pdf, delta: false, eta_squared: 1.0 })
+    }
+
+    fn non_delta_probability(&self) -> f32 {
+        if self.lit() {
+            1.0
+        } else {
+            0.0
+        }
+    }
+
+    fn lambertian(&self) -> Option<Rgb> {
+        Some(if self.frame.outside { self.reflectance } else { Rgb::ZERO })
+    }
+
+    fn frame(&self) -> &Frame {
+        &self.frame
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::materials::testing::{albedo, at, check_sampling, frame_toward};
+
+    fn diffuse(r: f32) -> Diffuse {
+        Diffuse { reflectance: Texture::Constant(Rgb::splat(r)) }
+    }
+
+    #[test]
+    fn lambert_by_hand_and_black_from_behind() {
+        let wo = Vec3::new(0.2, 0.1, 0.9).normalize();
+        let wi = Vec3::new(0.6, 0.0, 0.8);
+        let bsdf = at(&diffuse(0.5).bsdf(&Default::default(), frame_toward(wo, Vec3::Z)));
+        assert!((bsdf.eval(wo, wi) - Rgb::splat(0.5 * 0.8 / std::f32::consts::PI)).abs().max_element() < 1e-6);
+        assert!((bsdf.pdf(wo, wi) - 0.8 / std::f32::consts::PI).abs() < 1e-6);
+        assert_eq!(bsdf.eval(wo, -wi), Rgb::ZERO);
+        let behind = at(&diffuse(0.5).bsdf(&Default::default(), frame_toward(-wo, Vec3::Z)));
+        assert_eq!(behind.eval(-wo, -wi), Rgb::ZERO);
+        assert!(behind.sample(-wo, 0.5, Vec2::splat(0.3)).is_none() && !behind.has_diffuse());
+    }
+
+    #[test]
+    fn sampling_matches_pdf_and_white_furnace() {
+        let n = Vec3::new(0.2, -0.3, 0.9).normalize();
+        let wo = Vec3::new(0.5, 0.1, 0.7).normalize();
+        let bsdf = at(&diffuse(1.0).bsdf(&Default::default(), frame_toward(wo, n)));
+        check_sampling(&bsdf, wo, n, 31);
+        let a = albedo(&bsdf, wo, 20_000, 3);
+        assert!((a.mean - 1.0).abs() < 1e-5, "a white Lambertian reflects everything: {a:?}");
+    }
+}

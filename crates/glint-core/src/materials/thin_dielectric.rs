@@ -1,0 +1,118 @@
+//! A thin sheet of glass (a window pane), Mitsuba's `thindielectric`: light reflects, or passes
+//! straight through (no displacement, no bending), the reflectance summed over the sheet's
+//! internal reflections, R' = R + T²R / (1 − R²) = 2R / (1 + R) with R = F(cos θ). Two-sided.
+//!
+//! Scene parameters: `int_ior` (default 1.5046), `ext_ior` (default 1.000277),
+//! `specular_reflectance`, `specular_transmittance` (factors, default 1).
+//! ```toml
+//! [materials.window]
+//! type = "thin-dielectric"
+//! ```
+
+use glam::{Vec2, Vec3};
+
+use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
+use super::{fresnel_dielectric, Dielectric, PhongPoint};
+use crate::geometry::reflect;
+use crate::textures::TextureQuery;
+use crate::Rgb;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThinDielectric {
+    pub sheet: Dielectric,
+}
+
+impl ThinDielectric {
+    pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
+        Leaf::ThinDielectric(ThinDielectricBsdf {
+            frame,
+            eta: 1.0 / self.sheet.eta,
+            reflectance: self.sheet.specular_reflectance.evaluate(query),
+            transmittance: self.sheet.specular_transmittance.evaluate(query),
+        })
+    }
+
+    /// Whitted's view: the sheet's reflectance at normal incidence as a mirror weight, the rest
+    /// passed straight on (index 1).
+    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
+        let r = sheet_reflectance(1.0, 1.0 / self.sheet.eta);
+        PhongPoint {
+            reflection: self.sheet.specular_reflectance.evaluate(query) * r,
+            transmission: self.sheet.specular_transmittance.evaluate(query) * (1.0 - r),
+            ior: 1.0,
+            ..PhongPoint::BLACK
+        }
+    }
+}
+
+/// R' = 2R / (1 + R): the sheet's reflectance with its internal reflections.
+fn sheet_reflectance(cos: f32, eta: f32) -> f32 {
+    let r = fresnel_dielectric(cos, eta);
+    if r < 1.0 {
+        2.0 * r / (1.0 + r)
+    } else {
+        1.0
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ThinDielectricBsdf {
+    frame: Frame,
+    /// n_ext / n_int.
+    eta: f32,
+    reflectance: Rgb,
+    transmittance: Rgb,
+}
+
+impl Lobes for ThinDielectricBsdf {
+    fn eval(&self, _wo: Vec3, _wi: Vec3) -> Rgb {
+        Rgb::ZERO
+    }
+
+    fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
+        0.0
+    }
+
+    fn sample(&self, wo: Vec3, u_lobe: f32, _u: Vec2) -> Option<BsdfSample> {
+        let r = sheet_reflectance(wo.dot(self.frame.normal).max(0.0), self.eta);
+        if u_lobe < r {
+            let wi = reflect(-wo, self.frame.normal);
+            return Some(BsdfSample { wi, weight: self.reflectance, pdf: r, delta: true, eta_squared: 1.0 });
+        }
+        Some(BsdfSample { wi: -wo, weight: self.transmittance, pdf: 1.0 - r, delta: true, eta_squared: 1.0 })
+    }
+
+    fn non_delta_probability(&self) -> f32 {
+        0.0
+    }
+
+    fn frame(&self) -> &Frame {
+        &self.frame
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::materials::testing::{albedo, at, frame_toward};
+    use crate::textures::Texture;
+
+    #[test]
+    fn interreflection_sum_and_straight_transmission() {
+        // R = 0.04 at normal incidence on n = 1.5: R' = 0.08 / 1.04.
+        assert!((sheet_reflectance(1.0, 1.0 / 1.5) - 0.08 / 1.04).abs() < 1e-6);
+        let pane = ThinDielectric {
+            sheet: Dielectric {
+                eta: 1.5,
+                specular_reflectance: Texture::Constant(Rgb::ONE),
+                specular_transmittance: Texture::Constant(Rgb::ONE),
+            },
+        };
+        let wo = Vec3::new(0.0, 0.6, -0.8);
+        let bsdf = at(&pane.bsdf(&Default::default(), frame_toward(wo, Vec3::Z)));
+        let through = bsdf.sample(wo, 0.999, Vec2::ZERO).unwrap();
+        assert!(through.delta && through.wi == -wo && through.eta_squared == 1.0);
+        let a = albedo(&bsdf, wo, 10_000, 2);
+        assert!((a.mean - 1.0).abs() < 1e-6, "white furnace: {a:?}");
+    }
+}

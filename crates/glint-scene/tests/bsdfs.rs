@@ -1,0 +1,147 @@
+//! The native format's BSDF set: every type builds onto its member, the wrappers resolve their
+//! names in any order, and bad references, cycles and over-deep mixtures are clear errors.
+
+use glint_core::materials::Material;
+use glint_core::textures::Texture;
+use glint_core::Rgb;
+use glint_scene::native::Format;
+use glint_scene::{parse_scene, LoadedScene, SceneError, Source};
+
+const HEAD: &str = r#"[camera]
+position = [0, 0, -5]
+look_at = [0, 0, 0]
+resolution = [16, 16]
+
+[[shapes]]
+type = "sphere"
+radius = 1
+material = "a"
+"#;
+
+fn parse(materials: &str) -> Result<LoadedScene, SceneError> {
+    let text = format!("{HEAD}\n{materials}");
+    parse_scene(&text, Format::Toml, "bsdfs.toml", &Source::directory(std::env::temp_dir()))
+}
+
+fn material<'a>(loaded: &'a LoadedScene, name: &str) -> &'a Material {
+    let i = loaded.scene.material_names.iter().position(|n| n == name).unwrap_or_else(|| panic!("{name}"));
+    &loaded.scene.materials[i]
+}
+
+#[test]
+fn every_type_builds_onto_its_member() {
+    let loaded = parse(
+        r#"
+[materials.a]
+type = "blend"
+weight = 0.25
+first = "metal"
+second = "coat"
+
+[materials.metal]
+type = "rough-conductor"
+metal = "Au"
+alpha_u = 0.1
+alpha_v = 0.4
+
+[materials.coat]
+type = "rough-plastic"
+diffuse_reflectance = [0.2, 0.3, 0.4]
+alpha = 0.2
+two_sided = false
+
+[materials.glass]
+type = "dielectric"
+int_ior = 1.5
+
+[materials.frost]
+type = "rough-dielectric"
+
+[materials.pane]
+type = "thin-dielectric"
+
+[materials.shiny]
+type = "plastic"
+
+[materials.mirror]
+type = "conductor"
+
+[materials.leaf]
+type = "mask"
+opacity = 0.4
+material = "paper"
+
+[materials.paper]
+type = "diffuse"
+reflectance = [0.9, 0.9, 0.9]
+emission = [1, 1, 1]
+
+[materials.card]
+type = "two-sided"
+front = "paper"
+back = "mirror"
+
+[materials.lamp]
+type = "emitter"
+radiance = [5, 5, 5]
+material = "shiny"
+"#,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    match material(&loaded, "a") {
+        Material::Blend(b) => {
+            assert_eq!(b.weight, Texture::Constant(Rgb::splat(0.25)));
+            match (&b.first, &b.second) {
+                (Material::TwoSided(metal), Material::RoughPlastic(coat)) => {
+                    assert!(
+                        matches!(&metal.front, Material::RoughConductor(m) if (m.alpha_u, m.alpha_v) == (0.1, 0.4))
+                    );
+                    assert_eq!(coat.alpha, 0.2);
+                }
+                other => panic!("{other:?}"),
+            }
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(material(&loaded, "glass"), Material::Dielectric(g) if g.eta == 1.5 / 1.000277));
+    assert!(matches!(material(&loaded, "frost"), Material::RoughDielectric(f) if f.alpha_u == 0.1));
+    assert!(matches!(material(&loaded, "pane"), Material::ThinDielectric(_)));
+    assert!(matches!(material(&loaded, "leaf"), Material::Mask(m) if matches!(m.material, Material::Emitter(_))));
+    assert!(matches!(material(&loaded, "paper"), Material::Emitter(e) if e.radiance == Rgb::ONE));
+    assert!(matches!(material(&loaded, "lamp"), Material::Emitter(e) if matches!(e.surface, Material::TwoSided(_))));
+    assert!(matches!(material(&loaded, "card"), Material::TwoSided(t) if t.front != t.back));
+}
+
+#[test]
+fn references_cycles_and_depth_are_errors_at_their_line() {
+    let e = parse("[materials.a]\ntype = \"mask\"\nmaterial = \"papr\"\n\n[materials.paper]\ntype = \"diffuse\"\n")
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("bsdfs.toml:") && e.contains("unknown material `papr`") && e.contains("paper"), "{e}");
+    let e = parse(
+        "[materials.a]\ntype = \"two-sided\"\nfront = \"b\"\n\n[materials.b]\ntype = \"mask\"\nmaterial = \"a\"\n",
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("cycle") && e.contains("a → b → a"), "{e}");
+    let blend = |name: &str, first: &str, second: &str| {
+        format!("[materials.{name}]\ntype = \"blend\"\nfirst = \"{first}\"\nsecond = \"{second}\"\n\n")
+    };
+    let deep = format!(
+        "{}{}{}[materials.d]\ntype = \"diffuse\"\n",
+        blend("a", "b", "c"),
+        blend("b", "d", "c"),
+        blend("c", "d", "d")
+    );
+    let e = parse(&deep).err().unwrap().to_string();
+    assert!(e.contains("at most 4"), "{e}");
+    let e = parse("[materials.a]\ntype = \"rough-conductor\"\nalpha_u = 0.1\n").err().unwrap().to_string();
+    assert!(e.contains("`alpha_u` and `alpha_v`"), "{e}");
+    let e = parse("[materials.a]\ntype = \"blend\"\nweight = 2\nfirst = \"a\"\nsecond = \"a\"\n")
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("between 0 and 1"), "{e}");
+}
