@@ -335,3 +335,39 @@ fn other_scenes_fall_back_to_one_path_at_a_time() {
     off.wavefront = true;
     assert!(off.runs_as_wavefront(&room()));
 }
+
+/// Mitsuba's one-sided `diffuse` in the lanes: the room's materials turned into it, and some
+/// walls facing away from the room, so paths land on their black backs; also as a two-sided
+/// pair and inside an emitter. Bit for bit as the scalar code.
+#[test]
+fn the_wavefront_serves_one_sided_and_two_sided_diffuse() {
+    use glint_core::materials::{Diffuse, Emitter, TwoSided};
+    let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 3, wavefront: true };
+    let scene = room_where(|objects, materials| {
+        for m in materials.iter_mut() {
+            let Material::Phong(p) = m.clone() else { unreachable!("the room is Phong") };
+            let lambert = Material::Diffuse(Diffuse { reflectance: p.diffuse.clone() });
+            *m = if p.emission != Rgb::ZERO {
+                let two_sided = Material::TwoSided(Box::new(TwoSided { front: lambert.clone(), back: lambert }));
+                Material::Emitter(Box::new(Emitter {
+                    radiance: p.emission,
+                    two_sided: p.two_sided_emission,
+                    surface: two_sided,
+                }))
+            } else {
+                lambert
+            };
+        }
+        // Turn the first two walls' triangles inside out: the room sees their backs.
+        for object in objects.iter_mut().take(4) {
+            if let Shape::Triangle(t) = &object.shape {
+                let [a, b, c] = t.vertices;
+                object.shape = Shape::Triangle(Triangle::new(a, c, b));
+            }
+        }
+    });
+    assert!(tracer.runs_as_wavefront(&scene));
+    for (seed, index) in [(0, 0), (5, 2), (9, 17)] {
+        assert_same(&scene, &tracer, SamplerKind::Sobol, seed, index);
+    }
+}

@@ -232,9 +232,9 @@ impl Material {
         }
     }
 
-    /// Lambert's reflectance when the material is a two-sided Lambert reflector and nothing
-    /// else (the wavefront's lanes model exactly that), with its emission.
-    pub fn lambert(&self) -> Option<&Texture> {
+    /// Lambert's reflectance when the material is a Lambert reflector and nothing else (what
+    /// the wavefront's lanes model), and whether it is one-sided (black from behind).
+    pub fn lambert(&self) -> Option<(&Texture, bool)> {
         match self {
             Material::Phong(p) => {
                 // MixedBsdf's own test for a glossy lobe (a NaN roughness has none).
@@ -242,10 +242,13 @@ impl Material {
                 let plain = p.reflection == Texture::Constant(Rgb::ZERO)
                     && p.transmission == Texture::Constant(Rgb::ZERO)
                     && !glossy;
-                plain.then_some(&p.diffuse)
+                plain.then_some((&p.diffuse, false))
             }
+            Material::Diffuse(d) => Some((&d.reflectance, true)),
             Material::TwoSided(t) => match (&t.front, &t.back) {
-                (Material::Diffuse(front), Material::Diffuse(back)) if front == back => Some(&front.reflectance),
+                (Material::Diffuse(front), Material::Diffuse(back)) if front == back => {
+                    Some((&front.reflectance, false))
+                }
                 _ => None,
             },
             Material::Emitter(e) => e.surface.lambert(),
@@ -379,9 +382,9 @@ mod tests {
         let wi = Vec3::new(0.0, 0.0, -1.0);
         assert!(card.bsdf(&q, back, N, N).eval(back, wi).x > 0.0);
         assert_eq!(diffuse(0.8).bsdf(&q, back, N, N).eval(back, wi), Rgb::ZERO);
-        assert!(card.lambert().is_none() && diffuse(0.8).lambert().is_none());
+        assert!(card.lambert().is_none() && diffuse(0.8).lambert().is_some_and(|(_, one_sided)| one_sided));
         let both = Material::TwoSided(Box::new(TwoSided { front: diffuse(0.8), back: diffuse(0.8) }));
-        assert!(both.lambert().is_some(), "the wavefront serves a two-sided Lambert reflector");
+        assert!(both.lambert().is_some_and(|(_, one_sided)| !one_sided), "the wavefront serves both");
     }
 
     #[test]

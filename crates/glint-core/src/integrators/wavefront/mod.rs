@@ -62,35 +62,41 @@ struct LaneMaterial {
     diffuse: Rgb,
     /// The BSDF has a lobe (p_diffuse = 1); a black one ends the path.
     reflects: bool,
+    /// Black from behind (Mitsuba's `diffuse`): the path ends on the back.
+    one_sided: bool,
     emission: Rgb,
     two_sided: bool,
 }
 
 impl LaneMaterial {
     /// What lanes without a hit read.
-    const BLACK: Self = Self { diffuse: Rgb::ZERO, reflects: false, emission: Rgb::ZERO, two_sided: false };
+    const BLACK: Self =
+        Self { diffuse: Rgb::ZERO, reflects: false, one_sided: false, emission: Rgb::ZERO, two_sided: false };
 
-    fn new(diffuse: Rgb, emission: Rgb, two_sided: bool) -> Self {
-        Self { diffuse, reflects: luminance(diffuse) > 0.0, emission, two_sided }
+    fn new(diffuse: Rgb, one_sided: bool, emission: Rgb, two_sided: bool) -> Self {
+        Self { diffuse, reflects: luminance(diffuse) > 0.0, one_sided, emission, two_sided }
     }
 
     /// A Lambert material evaluated at a point (black for any other: the lanes never read one).
     fn at(material: &Material, query: &TextureQuery) -> Self {
-        let Some(diffuse) = material.lambert() else { return Self::BLACK };
+        let Some((diffuse, one_sided)) = material.lambert() else { return Self::BLACK };
         let (emission, two_sided) = material.emission();
-        Self::new(diffuse.evaluate(query), emission, two_sided)
+        Self::new(diffuse.evaluate(query), one_sided, emission, two_sided)
     }
 
-    /// A Lambert material with a constant colour, evaluated once.
+    /// A Lambert material with a constant colour, evaluated once; black for any other material
+    /// (its bounces are the scalar code's, so the lanes never read it); `None` for a textured
+    /// Lambert material.
     fn constant(material: &Material) -> Option<Self> {
-        let Texture::Constant(diffuse) = material.lambert()? else { return None };
+        let Some(lambert) = material.lambert() else { return Some(Self::BLACK) };
+        let (Texture::Constant(diffuse), one_sided) = lambert else { return None };
         let (emission, two_sided) = material.emission();
-        Some(Self::new(*diffuse, emission, two_sided))
+        Some(Self::new(*diffuse, one_sided, emission, two_sided))
     }
 }
 
 /// Whether a material is diffuse and nothing else wherever it is evaluated (its BSDF is
-/// Lambert's alone, two-sided: what the lanes model).
+/// Lambert's alone, on one side or both: what the lanes model).
 fn diffuse_only(material: &Material) -> bool {
     material.lambert().is_some()
 }
@@ -333,9 +339,13 @@ impl<'a> Wavefront<'a> {
             radiance = Vec3x8::select(found, radiance + throughput.mul_lanes(emitted) * weight, radiance);
         }
 
-        // Paths at the maximum depth, and on black surfaces, end here.
-        let goes_on: [bool; LANES] =
-            std::array::from_fn(|k| k < n && depth < self.tracer.max_depth && material[k].reflects);
+        // Paths at the maximum depth, on black surfaces and on the backs of one-sided ones end here
+        // (the frame's `outside` is wo·n ≥ 0).
+        let behind = wo_dot_n.cmp_lt(zero).move_mask();
+        let goes_on: [bool; LANES] = std::array::from_fn(|k| {
+            let lit = material[k].reflects && !(material[k].one_sided && behind & (1 << k) != 0);
+            k < n && depth < self.tracer.max_depth && lit
+        });
         // draws[j]: draw j of each lane.
         let mut draws = [f32x8::ZERO; DRAWS];
         let roulette_comes = depth + 1 >= self.tracer.rr_depth;
