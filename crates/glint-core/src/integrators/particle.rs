@@ -21,7 +21,7 @@ use crate::Rgb;
 /// camera connection made).
 pub(super) struct ParticleVertex<'a> {
     pub hit: SurfaceHit,
-    pub bsdf: Bsdf<'a>,
+    pub bsdf: &'a Bsdf<'a>,
     /// Unit direction toward where the particle came from.
     pub wo: Vec3,
     /// Flux carried to this surface.
@@ -65,7 +65,7 @@ pub(super) fn trace_particle(
         let material = &scene.materials[hit.material as usize];
         let bsdf = material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
         if bsdf.has_diffuse() {
-            let vertex = ParticleVertex { hit, bsdf, wo, weight, bounces, specular_chain };
+            let vertex = ParticleVertex { hit, bsdf: &bsdf, wo, weight, bounces, specular_chain };
             visit(&vertex, rng, rays);
         }
         if bounces + 1 >= max_depth {
