@@ -111,6 +111,16 @@ pub(super) trait Lobes {
         None
     }
     fn frame(&self) -> &Frame;
+
+    /// `wi`, drawn by a non-delta lobe, as a sample of the whole non-delta part: its pdf and
+    /// the weight eval / pdf (`None` where the pdf vanishes).
+    fn weighed(&self, wo: Vec3, wi: Vec3, eta_squared: f32) -> Option<BsdfSample> {
+        let pdf = self.pdf(wo, wi);
+        if !(pdf > 0.0 && pdf.is_finite()) {
+            return None;
+        }
+        Some(BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, delta: false, eta_squared })
+    }
 }
 
 /// One member of the set, evaluated at a hit.

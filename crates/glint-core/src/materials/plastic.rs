@@ -132,12 +132,7 @@ impl Lobes for PlasticBsdf {
             return None;
         }
         if u_lobe < self.p_diffuse {
-            let wi = self.frame.to_world(square_to_cosine_hemisphere(u));
-            let pdf = self.pdf(wo, wi);
-            if pdf.is_nan() || pdf <= 0.0 {
-                return None;
-            }
-            return Some(BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, delta: false, eta_squared: 1.0 });
+            return self.weighed(wo, self.frame.to_world(square_to_cosine_hemisphere(u)), 1.0);
         }
         let p_specular = 1.0 - self.p_diffuse;
         let wi = reflect(-wo, self.frame.normal);

@@ -97,12 +97,8 @@ impl Lobes for RoughDielectricBsdf {
         if reflected && !self.frame.reflects(wi) || !reflected && !self.frame.transmits(wi) {
             return None;
         }
-        let pdf = self.pdf(wo, wi);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
         let eta_squared = if self.frame.transmits(wi) { 1.0 / (self.eta * self.eta) } else { 1.0 };
-        Some(BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, delta: false, eta_squared })
+        self.weighed(wo, wi, eta_squared)
     }
 
     fn non_delta_probability(&self) -> f32 {

@@ -202,11 +202,7 @@ impl Lobes for RoughPlasticBsdf<'_> {
         } else {
             self.frame.to_world(square_to_cosine_hemisphere(u))
         };
-        let pdf = self.pdf(wo, wi);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
-        Some(BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, delta: false, eta_squared: 1.0 })
+        self.weighed(wo, wi, 1.0)
     }
 
     fn non_delta_probability(&self) -> f32 {

@@ -139,6 +139,22 @@ impl Builder<'_> {
             (None, Some(_), Some(_)) => Ok((alpha("alpha_u", *u)?, alpha("alpha_v", *v)?)),
             _ => Err(at("alpha", "give `alpha`, or both `alpha_u` and `alpha_v`".into())),
         };
+        let dielectric =
+            |int_ior: &Option<f32>, ext_ior: &Option<f32>, r: &Option<ColorDesc>, t: &Option<ColorDesc>| {
+                Ok::<_, SceneError>(Dielectric {
+                    eta: ior(int_ior, ext_ior, GLASS_IOR)?,
+                    specular_reflectance: colour("specular_reflectance", r, 1.0)?,
+                    specular_transmittance: colour("specular_transmittance", t, 1.0)?,
+                })
+            };
+        let plastic = |d: &Option<ColorDesc>, s: &Option<ColorDesc>, int_ior, ext_ior, nonlinear: bool| {
+            Ok::<_, SceneError>(Plastic {
+                diffuse: colour("diffuse_reflectance", d, 0.5)?,
+                specular: colour("specular_reflectance", s, 1.0)?,
+                eta: ior(int_ior, ext_ior, PLASTIC_IOR)?,
+                nonlinear,
+            })
+        };
         let sided = |material: Material, two_sided: &Option<bool>| {
             if two_sided.unwrap_or(true) {
                 Material::TwoSided(Box::new(TwoSided { front: material.clone(), back: material }))
@@ -197,11 +213,7 @@ impl Builder<'_> {
                 sided(Material::RoughConductor(RoughConductor { conductor, alpha_u, alpha_v }), two_sided)
             }
             MaterialDesc::Dielectric { int_ior, ext_ior, specular_reflectance, specular_transmittance } => {
-                Material::Dielectric(Dielectric {
-                    eta: ior(int_ior, ext_ior, GLASS_IOR)?,
-                    specular_reflectance: colour("specular_reflectance", specular_reflectance, 1.0)?,
-                    specular_transmittance: colour("specular_transmittance", specular_transmittance, 1.0)?,
-                })
+                Material::Dielectric(dielectric(int_ior, ext_ior, specular_reflectance, specular_transmittance)?)
             }
             MaterialDesc::RoughDielectric {
                 int_ior,
@@ -212,22 +224,13 @@ impl Builder<'_> {
                 alpha_u,
                 alpha_v,
             } => {
-                let dielectric = Dielectric {
-                    eta: ior(int_ior, ext_ior, GLASS_IOR)?,
-                    specular_reflectance: colour("specular_reflectance", specular_reflectance, 1.0)?,
-                    specular_transmittance: colour("specular_transmittance", specular_transmittance, 1.0)?,
-                };
+                let dielectric = dielectric(int_ior, ext_ior, specular_reflectance, specular_transmittance)?;
                 let (alpha_u, alpha_v) = widths(alpha, alpha_u, alpha_v)?;
                 Material::RoughDielectric(RoughDielectric { dielectric, alpha_u, alpha_v })
             }
             MaterialDesc::ThinDielectric { int_ior, ext_ior, specular_reflectance, specular_transmittance } => {
-                Material::ThinDielectric(ThinDielectric {
-                    sheet: Dielectric {
-                        eta: ior(int_ior, ext_ior, GLASS_IOR)?,
-                        specular_reflectance: colour("specular_reflectance", specular_reflectance, 1.0)?,
-                        specular_transmittance: colour("specular_transmittance", specular_transmittance, 1.0)?,
-                    },
-                })
+                let sheet = dielectric(int_ior, ext_ior, specular_reflectance, specular_transmittance)?;
+                Material::ThinDielectric(ThinDielectric { sheet })
             }
             MaterialDesc::Plastic {
                 diffuse_reflectance,
@@ -237,12 +240,7 @@ impl Builder<'_> {
                 nonlinear,
                 two_sided,
             } => {
-                let plastic = Plastic {
-                    diffuse: colour("diffuse_reflectance", diffuse_reflectance, 0.5)?,
-                    specular: colour("specular_reflectance", specular_reflectance, 1.0)?,
-                    eta: ior(int_ior, ext_ior, PLASTIC_IOR)?,
-                    nonlinear: *nonlinear,
-                };
+                let plastic = plastic(diffuse_reflectance, specular_reflectance, int_ior, ext_ior, *nonlinear)?;
                 sided(Material::Plastic(plastic), two_sided)
             }
             MaterialDesc::RoughPlastic {
@@ -254,12 +252,7 @@ impl Builder<'_> {
                 alpha: a,
                 two_sided,
             } => {
-                let plastic = Plastic {
-                    diffuse: colour("diffuse_reflectance", diffuse_reflectance, 0.5)?,
-                    specular: colour("specular_reflectance", specular_reflectance, 1.0)?,
-                    eta: ior(int_ior, ext_ior, PLASTIC_IOR)?,
-                    nonlinear: *nonlinear,
-                };
+                let plastic = plastic(diffuse_reflectance, specular_reflectance, int_ior, ext_ior, *nonlinear)?;
                 if (plastic.eta - 1.0).abs() < 1e-6 {
                     return Err(at(
                         "int_ior",
