@@ -92,6 +92,16 @@ impl Frame {
         wi.dot(self.normal) > 0.0 && wi.dot(self.geometric) > 0.0
     }
 
+    /// The probability a one-sided member's sampling picks its non-delta lobes when they are
+    /// all it has: 1 from the front, 0 from behind (where it is black).
+    pub fn front_only(&self) -> f32 {
+        if self.outside {
+            1.0
+        } else {
+            0.0
+        }
+    }
+
     /// `wi` goes through to the other side of both normals.
     pub fn transmits(&self, wi: Vec3) -> bool {
         wi.dot(self.normal) < 0.0 && wi.dot(self.geometric) < 0.0

@@ -92,11 +92,7 @@ impl Lobes for RoughConductorBsdf {
     }
 
     fn non_delta_probability(&self) -> f32 {
-        if self.frame.outside {
-            1.0
-        } else {
-            0.0
-        }
+        self.frame.front_only()
     }
 
     fn frame(&self) -> &Frame {
