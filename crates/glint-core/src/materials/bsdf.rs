@@ -109,12 +109,20 @@ impl Frame {
 }
 
 /// What each member of the set answers (its file documents its lobes).
+/// The defaults of `eval`, `pdf` and `non_delta_probability` are those of a member with delta
+/// lobes only (mirrors, smooth refraction, the null lobe).
 pub(super) trait Lobes {
-    fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb;
-    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32;
+    fn eval(&self, _wo: Vec3, _wi: Vec3) -> Rgb {
+        Rgb::ZERO
+    }
+    fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
+        0.0
+    }
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample>;
     /// The probability that `sample` picks a non-delta lobe (those `u_lobe` below it).
-    fn non_delta_probability(&self) -> f32;
+    fn non_delta_probability(&self) -> f32 {
+        0.0
+    }
     /// k_d when the non-delta part is Lambert's lobe alone (photon mapping caches its
     /// irradiance there); `None` otherwise.
     fn lambertian(&self) -> Option<Rgb> {

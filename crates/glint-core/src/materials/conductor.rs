@@ -52,14 +52,6 @@ pub(super) struct ConductorBsdf {
 }
 
 impl Lobes for ConductorBsdf {
-    fn eval(&self, _wo: Vec3, _wi: Vec3) -> Rgb {
-        Rgb::ZERO
-    }
-
-    fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
-        0.0
-    }
-
     fn sample(&self, wo: Vec3, _u_lobe: f32, _u: Vec2) -> Option<BsdfSample> {
         let cos = wo.dot(self.frame.normal);
         if !self.frame.outside || cos <= 0.0 {
@@ -68,10 +60,6 @@ impl Lobes for ConductorBsdf {
         let weight = self.specular * fresnel_conductor(cos, self.eta, self.k);
         let wi = reflect(-wo, self.frame.normal);
         Some(BsdfSample { wi, weight, pdf: 1.0, delta: true, eta_squared: 1.0 })
-    }
-
-    fn non_delta_probability(&self) -> f32 {
-        0.0
     }
 
     fn frame(&self) -> &Frame {

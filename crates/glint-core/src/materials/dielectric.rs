@@ -68,14 +68,6 @@ pub(super) struct DielectricBsdf {
 }
 
 impl Lobes for DielectricBsdf {
-    fn eval(&self, _wo: Vec3, _wi: Vec3) -> Rgb {
-        Rgb::ZERO
-    }
-
-    fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
-        0.0
-    }
-
     fn sample(&self, wo: Vec3, u_lobe: f32, _u: Vec2) -> Option<BsdfSample> {
         let cos = wo.dot(self.frame.normal).max(0.0);
         let f = fresnel_dielectric(cos, self.eta);
@@ -87,10 +79,6 @@ impl Lobes for DielectricBsdf {
         };
         let eta_squared = 1.0 / (self.eta * self.eta);
         Some(BsdfSample { wi, weight: self.transmittance, pdf: 1.0 - f, delta: true, eta_squared })
-    }
-
-    fn non_delta_probability(&self) -> f32 {
-        0.0
     }
 
     fn frame(&self) -> &Frame {

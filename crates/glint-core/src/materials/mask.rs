@@ -33,20 +33,8 @@ pub(super) struct NullBsdf {
 }
 
 impl Lobes for NullBsdf {
-    fn eval(&self, _wo: Vec3, _wi: Vec3) -> Rgb {
-        Rgb::ZERO
-    }
-
-    fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
-        0.0
-    }
-
     fn sample(&self, wo: Vec3, _u_lobe: f32, _u: Vec2) -> Option<BsdfSample> {
         Some(BsdfSample { wi: -wo, weight: Rgb::ONE, pdf: 1.0, delta: true, eta_squared: 1.0 })
-    }
-
-    fn non_delta_probability(&self) -> f32 {
-        0.0
     }
 
     fn frame(&self) -> &Frame {

@@ -19,7 +19,7 @@ use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
 use super::conductor::fresnel_conductor;
-use super::{Conductor, Fresnel, Ggx, PhongPoint};
+use super::{Conductor, Ggx, PhongPoint};
 use crate::geometry::reflect;
 use crate::textures::TextureQuery;
 use crate::Rgb;
@@ -46,9 +46,7 @@ impl RoughConductor {
     /// Whitted's view: the mirror, weighted by the conductor's Fresnel reflectance (Whitted
     /// traces no glossy lobes).
     pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
-        let c = &self.conductor;
-        let fresnel = Fresnel::Conductor { eta: c.eta, k: c.k };
-        PhongPoint { reflection: c.specular.evaluate(query), fresnel, ..PhongPoint::BLACK }
+        self.conductor.whitted(query)
     }
 }
 

@@ -65,14 +65,6 @@ pub(super) struct ThinDielectricBsdf {
 }
 
 impl Lobes for ThinDielectricBsdf {
-    fn eval(&self, _wo: Vec3, _wi: Vec3) -> Rgb {
-        Rgb::ZERO
-    }
-
-    fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
-        0.0
-    }
-
     fn sample(&self, wo: Vec3, u_lobe: f32, _u: Vec2) -> Option<BsdfSample> {
         let r = sheet_reflectance(wo.dot(self.frame.normal).max(0.0), self.eta);
         if u_lobe < r {
@@ -80,10 +72,6 @@ impl Lobes for ThinDielectricBsdf {
             return Some(BsdfSample { wi, weight: self.reflectance, pdf: r, delta: true, eta_squared: 1.0 });
         }
         Some(BsdfSample { wi: -wo, weight: self.transmittance, pdf: 1.0 - r, delta: true, eta_squared: 1.0 })
-    }
-
-    fn non_delta_probability(&self) -> f32 {
-        0.0
     }
 
     fn frame(&self) -> &Frame {
