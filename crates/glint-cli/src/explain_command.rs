@@ -99,7 +99,7 @@ pub fn explain_photons(
         return Ok(out);
     };
     let wo = -ray.direction.normalize();
-    let material = &scene.materials[hit.material as usize];
+    let material = &scene.materials()[hit.material as usize];
     let bsdf = material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
     let _ = writeln!(
         out,
@@ -197,7 +197,7 @@ fn write_record(out: &mut String, scene: &Scene, r: &RayRecord) {
         "{pad}  hit `{}` ({}) with material `{}` at t = {:.5}: point {}, normal {}, uv ({:.4}, {:.4})",
         object.name,
         object.shape.kind(),
-        scene.material_names[hit.material as usize],
+        scene.material_names()[hit.material as usize],
         hit.t,
         v(hit.geometry.point),
         v(hit.geometry.shading_normal),
@@ -206,7 +206,7 @@ fn write_record(out: &mut String, scene: &Scene, r: &RayRecord) {
     );
     let _ = writeln!(out, "{pad}  ambient {}", v(r.ambient));
     for l in &r.lights {
-        let kind = scene.lights[l.index].kind();
+        let kind = scene.lights().all()[l.index].kind();
         let state = if !l.facing {
             "behind the surface".to_string()
         } else if l.visibility == Rgb::ZERO {

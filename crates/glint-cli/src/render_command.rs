@@ -296,11 +296,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
             // A stratified render's strata depend on its sample count.
             if settings.sampler == SamplerKind::Stratified { format!(" {}", settings.spp) } else { String::new() },
             // Only when not the default: the default's fingerprint keeps its form.
-            if scene.area_lights.triangle_sampling == TriangleSampling::SolidAngle {
-                " solid-angle lights"
-            } else {
-                ""
-            }
+            if scene.lights().triangle_sampling() == TriangleSampling::SolidAngle { " solid-angle lights" } else { "" }
         )
         .as_bytes(),
     ]);
@@ -666,9 +662,9 @@ fn apply_overrides(args: &RenderArgs, scene: &mut glint_core::scene::Scene) {
         };
     }
     if let Some(l) = args.light_sampling {
-        scene.area_lights.triangle_sampling = match l {
+        scene.set_triangle_sampling(match l {
             LightSamplingArg::Area => TriangleSampling::Area,
             LightSamplingArg::SolidAngle => TriangleSampling::SolidAngle,
-        };
+        });
     }
 }

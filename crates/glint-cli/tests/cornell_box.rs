@@ -213,7 +213,7 @@ fn solid_angle_light_sampling_matches_the_mitsuba_reference() {
     let Some(reference) = reference() else { return };
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
     let path = render_configured_with_variance(&scene, IntegratorKind::Path, 3, SPP, |s| {
-        s.area_lights.triangle_sampling = TriangleSampling::SolidAngle;
+        s.set_triangle_sampling(TriangleSampling::SolidAngle);
     });
     check_against("path (solid-angle light sampling) vs Mitsuba", &path, &reference, 4, true);
 }

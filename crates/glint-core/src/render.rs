@@ -433,7 +433,7 @@ fn camera_samples(
 mod tests {
     use super::*;
     use crate::camera::{Camera, Lens};
-    use crate::scene::Environment;
+    use crate::lights::Environment;
     use crate::shapes::IntersectMethods;
     use crate::Vec3;
 

@@ -9,13 +9,12 @@ use crate::accel::{
 use crate::camera::Camera;
 use crate::geometry::lanes::Vec3x8;
 use crate::geometry::{offset_ray_origin, transform_point_with_error, Aabb, Ray, Transform};
-use crate::lights::{AreaLights, Light};
+use crate::lights::{Environment, Light, LightEnd, LightSample, Lights, TriangleSampling};
 use crate::materials::Material;
 use crate::shapes::{
     intersect_cramer, moller_trumbore_edges, IntersectMethods, PrimHit, Shape, SurfaceGeometry, TriangleMethod,
 };
 use crate::textures::TextureQuery;
-use crate::Rgb;
 
 /// A shape placed in the scene with a material and, optionally, a transform (object → world).
 #[derive(Clone, Debug)]
@@ -123,34 +122,24 @@ impl SurfaceHit {
     /// A ray leaving the surface in `direction`, from an origin just past the point's error
     /// bound on that side, so it cannot hit this surface again at t ≈ 0.
     pub fn spawn_ray(&self, direction: Vec3) -> Ray {
-        let g = &self.geometry;
-        Ray::new(offset_ray_origin(g.point, g.error, g.geometric_normal, direction), direction)
+        Spawn::from(&self.geometry).ray(direction)
     }
 
     /// A ray toward `target` over t ∈ (0, 1) (a shadow ray to a point light, say); the
     /// direction is not normalised, so t = 1 is the target.
     pub fn spawn_ray_to(&self, target: Vec3) -> Ray {
-        let g = &self.geometry;
-        let origin = offset_ray_origin(g.point, g.error, g.geometric_normal, target - g.point);
-        Ray::with_range(origin, target - origin, 0.0, 1.0)
+        Spawn::from(&self.geometry).ray_to(target)
     }
 
     /// A shadow ray toward `target`, a point sampled on another surface (a light) with that
-    /// surface's error bound and normal. The far end is offset off that surface as an origin
-    /// would be, and the ray stops 10⁻⁴ of the way short of it besides, pbrt-v4's and
-    /// Mitsuba 3's shadow epsilon: the surface's own intersection routine may still place it a
-    /// few ulps of the distance early. A sphere's quadratic did so for 2 % of the shadow rays
-    /// toward a sphere light of radius 0.5 two units away, darkening the floor below by 0.5 %
-    /// (tests/analytic_lights.rs).
+    /// surface's error bound and normal (`Spawn::ray_to_surface`).
     pub fn spawn_ray_to_surface(&self, target: Vec3, target_error: Vec3, target_normal: Vec3) -> Ray {
-        // Each end offset toward the other's true point (as pbrt-v4 does), so neither waits on
-        // the other's offset; against the far end's offset point the origin's side could differ
-        // only for a light point within that offset of the receiver's plane.
-        let end = offset_ray_origin(target, target_error, target_normal, self.geometry.point - target);
-        let mut ray = self.spawn_ray_to(target);
-        ray.direction = end - ray.origin;
-        ray.t_max = 1.0 - SHADOW_EPSILON;
-        ray
+        Spawn::from(&self.geometry).ray_to_surface(target, target_error, target_normal)
+    }
+
+    /// The shadow ray toward a sampled light.
+    pub fn spawn_shadow_ray(&self, light: &LightSample) -> Ray {
+        Spawn::from(&self.geometry).shadow_ray(light)
     }
 
     /// The geometric normal on the side of `w` (a direction away from the surface): the side
@@ -174,61 +163,54 @@ impl SurfaceHit {
     }
 }
 
-/// Scene-wide values that are not objects.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Environment {
-    /// Radiance seen by rays that leave the scene (when there is no map).
-    pub background: Rgb,
-    /// The course's ambient light level I_a.
-    pub ambient_light: Rgb,
-    /// An environment map: radiance by direction, importance-sampled by the path tracer.
-    pub map: Option<std::sync::Arc<crate::lights::EnvironmentMap>>,
+/// Where rays leave a surface point: the point, its error bound and its geometric normal (the
+/// wavefront's lanes build one per lane to spawn exactly the scalar code's rays).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Spawn {
+    pub point: Vec3,
+    pub error: Vec3,
+    pub normal: Vec3,
 }
 
-impl Environment {
-    /// Radiance seen looking along `direction` out of the scene.
-    pub fn radiance(&self, direction: Vec3) -> Rgb {
-        match &self.map {
-            Some(map) => map.radiance(direction),
-            None => self.background,
-        }
+impl From<&SurfaceGeometry> for Spawn {
+    fn from(g: &SurfaceGeometry) -> Self {
+        Self { point: g.point, error: g.error, normal: g.geometric_normal }
+    }
+}
+
+impl Spawn {
+    pub fn ray(&self, direction: Vec3) -> Ray {
+        Ray::new(offset_ray_origin(self.point, self.error, self.normal, direction), direction)
     }
 
-    /// Whether light arrives from outside the scene (a map, or a background that is not black):
-    /// then it is a light like the others, sampled and emitting particles.
-    pub fn emits(&self) -> bool {
-        self.map.is_some() || self.background != Rgb::ZERO
+    pub fn ray_to(&self, target: Vec3) -> Ray {
+        let origin = offset_ray_origin(self.point, self.error, self.normal, target - self.point);
+        Ray::with_range(origin, target - origin, 0.0, 1.0)
     }
 
-    /// A direction toward the environment: by the map's brightness, or uniform over the sphere
-    /// for a constant background. `None` if nothing comes from outside.
-    pub fn sample(&self, u: glam::Vec2) -> Option<crate::lights::EnvironmentSample> {
-        match &self.map {
-            Some(map) => map.sample(u),
-            None if self.background != Rgb::ZERO => Some(crate::lights::EnvironmentSample {
-                direction: crate::sampling::warp::square_to_uniform_sphere(u),
-                radiance: self.background,
-                pdf: crate::sampling::warp::UNIFORM_SPHERE_PDF,
-            }),
-            None => None,
-        }
+    /// The far end is offset off the target's surface as an origin would be, and the ray stops
+    /// 10⁻⁴ of the way short of it besides, pbrt-v4's and Mitsuba 3's shadow epsilon: the
+    /// surface's own intersection routine may still place it a few ulps of the distance early.
+    /// A sphere's quadratic did so for 2 % of the shadow rays toward a sphere light of radius
+    /// 0.5 two units away, darkening the floor below by 0.5 % (tests/analytic_lights.rs).
+    pub fn ray_to_surface(&self, target: Vec3, target_error: Vec3, target_normal: Vec3) -> Ray {
+        // Each end offset toward the other's true point (as pbrt-v4 does), so neither waits on
+        // the other's offset; against the far end's offset point the origin's side could differ
+        // only for a light point within that offset of the receiver's plane.
+        let end = offset_ray_origin(target, target_error, target_normal, self.point - target);
+        let mut ray = self.ray_to(target);
+        ray.direction = end - ray.origin;
+        ray.t_max = 1.0 - SHADOW_EPSILON;
+        ray
     }
 
-    /// The solid-angle density of `sample` for `direction`.
-    pub fn pdf(&self, direction: Vec3) -> f32 {
-        match &self.map {
-            Some(map) => map.pdf(direction),
-            None if self.background != Rgb::ZERO => crate::sampling::warp::UNIFORM_SPHERE_PDF,
-            None => 0.0,
-        }
-    }
-
-    /// ∫ L dω over the sphere (mean over RGB): the power per unit area it sends across a
-    /// plane, summed over directions.
-    pub fn radiance_integral(&self) -> f32 {
-        match &self.map {
-            Some(map) => map.radiance_integral(),
-            None => 4.0 * std::f32::consts::PI * self.background.dot(Rgb::splat(1.0 / 3.0)),
+    /// The shadow ray toward a sampled light: to the point on its surface, to its position, or
+    /// out of the scene along its direction.
+    pub fn shadow_ray(&self, light: &LightSample) -> Ray {
+        match light.end {
+            LightEnd::Surface { point, normal, error } => self.ray_to_surface(point, error, normal),
+            LightEnd::Point(position) => self.ray_to(position),
+            LightEnd::Infinite => self.ray(light.direction),
         }
     }
 }
@@ -667,19 +649,20 @@ impl Geometry {
     }
 }
 
-/// Everything a render needs: geometry, materials, lights, camera and environment.
+/// Everything a render needs: geometry, materials, lights, camera and environment. The lights
+/// are derived from the rest (emitting materials make area lights, the environment one more),
+/// so what they depend on changes only through the setters, which derive them again.
 pub struct Scene {
     pub camera: Camera,
     pub geometry: Geometry,
-    pub materials: Vec<Material>,
-    pub material_names: Vec<String>,
-    pub lights: Vec<Light>,
-    /// Emissive primitives, for light sampling.
-    pub area_lights: AreaLights,
-    pub environment: Environment,
+    materials: Vec<Material>,
+    material_names: Vec<String>,
+    lights: Lights,
+    environment: Environment,
 }
 
 impl Scene {
+    /// `lights` are the scene's listed lights: point, spot and directional.
     pub fn new(
         camera: Camera,
         objects: Vec<Object>,
@@ -689,20 +672,86 @@ impl Scene {
         methods: IntersectMethods,
     ) -> Self {
         let (material_names, materials): (Vec<String>, Vec<Material>) = materials.into_iter().unzip();
-        let area_lights = AreaLights::new(&objects, &materials);
-        Self {
-            camera,
-            geometry: Geometry::new(objects, methods),
-            materials,
-            material_names,
-            lights,
-            area_lights,
-            environment,
-        }
+        let geometry = Geometry::new(objects, methods);
+        let lights = Lights::new(lights, &environment, &geometry.objects, &materials, geometry.bounds());
+        Self { camera, geometry, materials, material_names, lights, environment }
     }
 
     pub fn objects(&self) -> &[Object] {
         &self.geometry.objects
+    }
+
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    pub fn material_names(&self) -> &[String] {
+        &self.material_names
+    }
+
+    /// Every light, as one distribution by power.
+    pub fn lights(&self) -> &Lights {
+        &self.lights
+    }
+
+    pub fn environment(&self) -> &Environment {
+        &self.environment
+    }
+
+    /// New materials (the names kept where there are as many), and the lights they make.
+    pub fn set_materials(&mut self, materials: Vec<Material>) {
+        if materials.len() != self.material_names.len() {
+            self.material_names = (1..=materials.len()).map(|i| format!("material {i}")).collect();
+        }
+        self.materials = materials;
+        self.relight();
+    }
+
+    /// New materials with their names, and the lights they make.
+    pub fn set_named_materials(&mut self, materials: Vec<(String, Material)>) {
+        (self.material_names, self.materials) = materials.into_iter().unzip();
+        self.relight();
+    }
+
+    /// One material replaced, and the lights it makes.
+    pub fn set_material(&mut self, index: usize, material: Material) {
+        self.materials[index] = material;
+        self.relight();
+    }
+
+    /// New listed lights (point, spot and directional).
+    pub fn set_lights(&mut self, listed: Vec<Light>) {
+        let strategy = self.lights.triangle_sampling();
+        self.lights =
+            Lights::new(listed, &self.environment, &self.geometry.objects, &self.materials, self.geometry.bounds());
+        self.lights.set_triangle_sampling(strategy);
+    }
+
+    /// One more listed light.
+    pub fn add_light(&mut self, light: Light) {
+        let mut listed: Vec<Light> = self.listed_lights().cloned().collect();
+        listed.push(light);
+        self.set_lights(listed);
+    }
+
+    /// The point, spot and directional lights, in the scene's order.
+    pub fn listed_lights(&self) -> impl Iterator<Item = &Light> {
+        self.lights.all().iter().filter(|l| l.is_delta())
+    }
+
+    pub fn set_environment(&mut self, environment: Environment) {
+        self.environment = environment;
+        self.relight();
+    }
+
+    /// How triangle lights are sampled (`--light-sampling`).
+    pub fn set_triangle_sampling(&mut self, strategy: TriangleSampling) {
+        self.lights.set_triangle_sampling(strategy);
+    }
+
+    /// The lights derived again from what they depend on.
+    fn relight(&mut self) {
+        self.set_lights(self.listed_lights().cloned().collect());
     }
 
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceHit> {

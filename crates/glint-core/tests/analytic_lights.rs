@@ -19,7 +19,7 @@ mod common;
 use common::{object_with, scene};
 use glint_core::camera::Camera;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
-use glint_core::lights::{AreaLights, DirectionalLight, Falloff, Light, PointLight, SpotLight, TriangleSampling};
+use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight, SpotLight, TriangleSampling};
 use glint_core::materials::{Material, Phong};
 use glint_core::render::{render_with, RenderSettings};
 use glint_core::scene::Scene;
@@ -34,8 +34,7 @@ fn a_floor_under_a_spherical_light_has_the_analytic_radiance() {
         object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0),
         object_with(Shape::Sphere(Sphere::new(Vec3::new(0.0, height, 0.0), radius)), 1),
     ]);
-    s.materials = vec![material(albedo, 0.0), material(0.0, radiance)];
-    s.area_lights = AreaLights::new(s.objects(), &s.materials);
+    s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance)]);
     // A narrow view of the floor point below the centre, from the side, under the sphere.
     s.camera = Camera::new(Vec3::new(0.0, 1.0, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
     let expected = (albedo * radiance * radius * radius / (height * height)) as f64;
@@ -57,8 +56,7 @@ fn a_floor_under_a_quad_light_matches_lamberts_formula() {
         object_with(Shape::Triangle(Triangle::new(quad[0], quad[1], quad[2])), 1),
         object_with(Shape::Triangle(Triangle::new(quad[0], quad[2], quad[3])), 1),
     ]);
-    s.materials = vec![material(albedo, 0.0), material(0.0, radiance)];
-    s.area_lights = AreaLights::new(s.objects(), &s.materials);
+    s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance)]);
     s.camera = Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
     // Lambert (1760): E = (L/2) Σ θᵢ (n · γᵢ), θᵢ the angle the edge i subtends at the point
     // and γᵢ the unit normal of the plane through the point and the edge.
@@ -72,7 +70,7 @@ fn a_floor_under_a_quad_light_matches_lamberts_formula() {
     let irradiance = radiance as f64 / 2.0 * sum.abs();
     let expected = albedo as f64 / std::f64::consts::PI * irradiance;
     for strategy in [TriangleSampling::Area, TriangleSampling::SolidAngle] {
-        s.area_lights.triangle_sampling = strategy;
+        s.set_triangle_sampling(strategy);
         check_image_mean(&s, IntegratorKind::Path, 64, expected, None, &format!("quad light, path, {strategy:?}"));
     }
     check_image_mean(&s, IntegratorKind::PathNaive, 1024, expected, None, "quad light, path-naive");
@@ -102,8 +100,8 @@ fn a_floor_under_delta_lights_gets_their_analytic_irradiance() {
     ];
     for (name, light, irradiance) in lights {
         let mut s = scene(vec![object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0)]);
-        s.materials = vec![material(albedo, 0.0)];
-        s.lights = vec![light];
+        s.set_materials(vec![material(albedo, 0.0)]);
+        s.set_lights(vec![light]);
         s.camera = Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
         let expected = albedo as f64 / std::f64::consts::PI * irradiance;
         check_image_mean(&s, IntegratorKind::Path, 16, expected, None, &format!("{name} light, path"));
@@ -117,8 +115,7 @@ fn particle_integrators_light_the_floor_beside_a_sphere_light_as_expected() {
         object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0),
         object_with(Shape::Sphere(Sphere::new(centre, radius)), 1),
     ]);
-    s.materials = vec![material(albedo, 0.0), material(0.0, radiance)];
-    s.area_lights = AreaLights::new(s.objects(), &s.materials);
+    s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance)]);
     // The floor from 0.5 to 2 beside the sphere, the sphere itself out of view.
     s.camera = Camera::new(Vec3::new(1.2, 2.5, -2.0), Vec3::new(1.2, 0.0, 0.6), Vec3::Y, 20.0, 24, 24).unwrap();
     // Per pixel, the radiance at the floor point through its centre (the irradiance varies

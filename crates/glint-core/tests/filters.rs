@@ -8,7 +8,7 @@ use common::{object_with, scene};
 use glint_core::film::Film;
 use glint_core::filter::Filter;
 use glint_core::integrators::Raycast;
-use glint_core::lights::{Falloff, Light, PointLight};
+use glint_core::lights::{Environment, Falloff, Light, PointLight};
 use glint_core::materials::{Material, Phong};
 use glint_core::render::{render, CameraPasses, Pass, PassRenderer, RenderSettings};
 use glint_core::sampling::SamplerKind;
@@ -19,13 +19,12 @@ use glint_core::{Rgb, Vec3};
 /// A white, ambient-lit square covering the right half of the view, black background.
 fn half_white() -> glint_core::scene::Scene {
     let mut s = scene(vec![object_with(Shape::Polygon(half_white_quad()), 0)]);
-    s.materials = vec![Material::Phong(Phong {
+    s.set_materials(vec![Material::Phong(Phong {
         ambient: Some(Texture::Constant(Rgb::ONE)),
         diffuse: Texture::Constant(Rgb::ZERO),
         ..Phong::default()
-    })];
-    s.environment.ambient_light = Rgb::ONE;
-    s.environment.background = Rgb::ZERO;
+    })]);
+    s.set_environment(Environment { ambient_light: Rgb::ONE, background: Rgb::ZERO, ..s.environment().clone() });
     s
 }
 
@@ -47,7 +46,7 @@ fn image(s: &glint_core::scene::Scene, filter: Filter) -> Vec<Rgb> {
 #[test]
 fn flat_regions_are_exact_under_every_filter() {
     let mut s = half_white();
-    s.environment.background = Rgb::splat(0.25);
+    s.set_environment(Environment { background: Rgb::splat(0.25), ..s.environment().clone() });
     s.geometry = glint_core::scene::Geometry::new(Vec::new(), Default::default());
     for f in Filter::ALL {
         for p in image(&s, f) {
@@ -92,9 +91,10 @@ fn passes_in_groups_equal_passes_one_at_a_time() {
         ],
         Default::default(),
     );
-    s.materials
-        .push(Material::Phong(Phong { diffuse: Texture::Constant(Rgb::new(0.8, 0.5, 0.3)), ..Phong::default() }));
-    s.lights.push(Light::Point(PointLight {
+    let mut materials = s.materials().to_vec();
+    materials.push(Material::Phong(Phong { diffuse: Texture::Constant(Rgb::new(0.8, 0.5, 0.3)), ..Phong::default() }));
+    s.set_materials(materials);
+    s.add_light(Light::Point(PointLight {
         position: Vec3::new(1.0, 2.0, -4.0),
         intensity: Rgb::splat(20.0),
         falloff: Falloff::InverseSquare,

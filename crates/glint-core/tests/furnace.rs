@@ -9,7 +9,6 @@ mod common;
 
 use common::{object_with, scene};
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
-use glint_core::lights::AreaLights;
 use glint_core::materials::{Material, Phong};
 use glint_core::render::{render_with, RenderSettings};
 use glint_core::sampling::SamplerKind;
@@ -19,14 +18,13 @@ use glint_core::{Rgb, Vec3};
 
 fn furnace(albedo: f32, emission: f32) -> glint_core::scene::Scene {
     let mut s = scene(vec![object_with(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)), 0)]);
-    s.materials = vec![Material::Phong(Phong {
+    s.set_materials(vec![Material::Phong(Phong {
         diffuse: Texture::Constant(Rgb::splat(albedo)),
         ambient: Some(Texture::Constant(Rgb::ZERO)),
         emission: Rgb::splat(emission),
         two_sided_emission: true,
         ..Phong::default()
-    })];
-    s.area_lights = AreaLights::new(s.objects(), &s.materials);
+    })]);
     s.camera =
         glint_core::camera::Camera::new(Vec3::new(0.1, -0.2, 0.05), Vec3::new(1.0, 0.3, 0.7), Vec3::Y, 70.0, 24, 24)
             .unwrap();
@@ -37,7 +35,7 @@ fn furnace(albedo: f32, emission: f32) -> glint_core::scene::Scene {
 fn every_path_integrator_matches_the_analytic_furnace() {
     for (albedo, emission) in [(0.5f32, 1.0f32), (0.8, 0.25)] {
         let s = furnace(albedo, emission);
-        assert!(!s.area_lights.is_empty(), "the emitting sphere must be sampled as a light");
+        assert!(s.lights().area_count() > 0, "the emitting sphere must be sampled as a light");
         let expected = emission / (1.0 - albedo);
         // Every camera integrator with every sampler; the particle integrators draw their own
         // streams.

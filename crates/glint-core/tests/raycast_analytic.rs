@@ -4,7 +4,7 @@ mod common;
 
 use common::{object, scene};
 use glint_core::integrators::{IntegratorKind, Raycast};
-use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight};
+use glint_core::lights::{DirectionalLight, Environment, Falloff, Light, PointLight};
 use glint_core::materials::{Material, Phong};
 use glint_core::render::{render, RenderSettings};
 use glint_core::shapes::{Shape, Sphere};
@@ -17,12 +17,15 @@ fn lambert_sphere_under_a_directional_light() {
     let mut s = scene(vec![object(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)))]);
     let kd = Rgb::new(0.5, 0.25, 0.8);
     let ka = Rgb::new(0.1, 0.2, 0.3);
-    s.materials[0] = Material::Phong(Phong { ambient: Some(ka.into()), diffuse: kd.into(), ..Phong::default() });
-    s.environment.ambient_light = Rgb::splat(0.5);
-    s.environment.background = Rgb::new(0.0, 0.0, 1.0);
+    s.set_material(0, Material::Phong(Phong { ambient: Some(ka.into()), diffuse: kd.into(), ..Phong::default() }));
+    s.set_environment(Environment {
+        ambient_light: Rgb::splat(0.5),
+        background: Rgb::new(0.0, 0.0, 1.0),
+        ..s.environment().clone()
+    });
     // The light travels along (1, 0, 2)/√5: toward the sphere's −z side from the front-left.
     let travel = Vec3::new(1.0, 0.0, 2.0).normalize();
-    s.lights = vec![Light::Directional(DirectionalLight { direction: travel, intensity: Rgb::splat(2.0) })];
+    s.set_lights(vec![Light::Directional(DirectionalLight { direction: travel, intensity: Rgb::splat(2.0) })]);
     // 16×16 at 45°: pixel (8, 8)'s centre is at film (8.5, 8.5), a little off the axis. Use an
     // odd size so one pixel centre lies exactly on the axis.
     s.camera = s.camera.with_resolution(15, 15);
@@ -45,11 +48,11 @@ fn ray_casting_casts_no_shadows() {
         object(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0))),
         object(Shape::Sphere(Sphere::new(Vec3::new(0.0, 0.0, -3.0), 0.5))),
     ]);
-    s.lights = vec![Light::Point(PointLight {
+    s.set_lights(vec![Light::Point(PointLight {
         position: Vec3::new(0.0, 0.0, -2.0),
         intensity: Rgb::ONE,
         falloff: Falloff::None,
-    })];
+    })]);
     let ray = glint_core::geometry::Ray::new(Vec3::new(0.0, 0.0, -1.4), Vec3::Z);
     let mut context = glint_core::integrators::SampleContext::new(glint_core::sampling::Rng::new(0, 0));
     use glint_core::integrators::Integrator;
@@ -60,7 +63,7 @@ fn ray_casting_casts_no_shadows() {
 #[test]
 fn same_seed_same_image_at_any_thread_count() {
     let mut s = scene(vec![object(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)))]);
-    s.lights = vec![Light::Directional(DirectionalLight { direction: Vec3::Z, intensity: Rgb::ONE })];
+    s.set_lights(vec![Light::Directional(DirectionalLight { direction: Vec3::Z, intensity: Rgb::ONE })]);
     s.camera = s.camera.with_resolution(40, 30);
     let settings = RenderSettings { spp: 8, seed: 7, ..Default::default() };
     let integrator = IntegratorKind::Raycast.create(&Default::default()).expect("a camera integrator");

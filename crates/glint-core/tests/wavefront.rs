@@ -10,7 +10,7 @@ use common::{object_with, scene};
 use glint_core::camera::Camera;
 use glint_core::geometry::Ray;
 use glint_core::integrators::{Integrator, PathTracer, SampleContext};
-use glint_core::lights::{AreaLights, Falloff, Light, PointLight, TriangleSampling};
+use glint_core::lights::{Environment, Falloff, Light, PointLight, TriangleSampling};
 use glint_core::materials::{Fresnel, Material, Phong};
 use glint_core::sampling::{Sampler, SamplerKind};
 use glint_core::scene::{Object, Scene};
@@ -74,15 +74,14 @@ fn room() -> Scene {
     };
     objects.push(object_with(Shape::Mesh(mesh), 0));
     let mut s = scene(objects);
-    s.materials = vec![
+    s.set_materials(vec![
         diffuse(Rgb::new(0.8, 0.75, 0.7), Rgb::ZERO, false),
         diffuse(Rgb::new(0.6, 0.05, 0.05), Rgb::ZERO, false),
         diffuse(Rgb::new(0.1, 0.5, 0.1), Rgb::ZERO, false),
         diffuse(Rgb::splat(0.7), Rgb::new(12.0, 10.0, 7.0), false),
         diffuse(Rgb::splat(0.5), Rgb::new(2.0, 3.0, 4.0), true),
         diffuse(Rgb::ZERO, Rgb::ZERO, false),
-    ];
-    s.area_lights = AreaLights::new(s.objects(), &s.materials);
+    ]);
     s.camera = Camera::new(Vec3::new(0.0, 0.0, -0.95), Vec3::new(0.0, -0.1, 0.0), Vec3::Y, 70.0, SIZE, SIZE).unwrap();
     s
 }
@@ -157,11 +156,11 @@ fn the_wavefront_ends_paths_as_the_path_tracer_does() {
 /// The room with one change, for the lanes' other paths.
 fn room_where(change: impl FnOnce(&mut Vec<Object>, &mut Vec<Material>)) -> Scene {
     let room = room();
-    let (mut objects, mut materials) = (room.objects().to_vec(), room.materials.clone());
+    let (mut objects, mut materials) = (room.objects().to_vec(), room.materials().to_vec());
     change(&mut objects, &mut materials);
     let mut s = scene(objects);
-    (s.materials, s.camera) = (materials, room.camera);
-    s.area_lights = AreaLights::new(s.objects(), &s.materials);
+    s.set_materials(materials);
+    s.camera = room.camera;
     s
 }
 
@@ -175,7 +174,7 @@ fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampli
     let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
     let checker = Checker { even: Rgb::new(0.8, 0.7, 0.2), odd: Rgb::new(0.2, 0.3, 0.7), scale: Vec2::splat(4.0) };
     let solid_angle = |mut s: Scene| {
-        s.area_lights.triangle_sampling = TriangleSampling::SolidAngle;
+        s.set_triangle_sampling(TriangleSampling::SolidAngle);
         s
     };
     let textured = room_where(|_, materials| {
@@ -207,8 +206,8 @@ fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampli
         })
     };
     let (many_lights, sixteen_lights) = (lamp_of(48), lamp_of(16));
-    assert!(many_lights.area_lights.len() > 48, "the lamp's triangles are lights");
-    assert!((17..=32).contains(&sixteen_lights.area_lights.len()));
+    assert!(many_lights.lights().area_count() > 48, "the lamp's triangles are lights");
+    assert!((17..=32).contains(&sixteen_lights.lights().area_count()));
     // No light at all: nothing for the lanes to choose.
     let dark = room_where(|_, materials| {
         for m in materials.iter_mut() {
@@ -216,7 +215,7 @@ fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampli
             m.emission = Rgb::ZERO;
         }
     });
-    assert!(dark.area_lights.is_empty());
+    assert_eq!(dark.lights().area_count(), 0);
     let scenes = [
         (solid_angle(room()), "solid-angle sampling", true),
         (textured, "a textured wall", true),
@@ -314,26 +313,71 @@ fn the_wavefront_serves_mirrors_glass_glossy_and_mixed_materials() {
     }
 }
 
-/// Scenes the lanes do not serve go path by path, with the same result as ever.
+/// Every kind of light in the lanes (sampled by the scalar code lane by lane, its shadow ray
+/// spawned as the scalar code spawns it): point, spot and directional lights, a constant
+/// environment and a map, a sphere light, and all of them with the room's triangle lights,
+/// bit for bit as one path at a time.
 #[test]
-fn other_scenes_fall_back_to_one_path_at_a_time() {
+fn the_wavefront_serves_every_kind_of_light() {
+    use glint_core::lights::{DirectionalLight, EnvironmentMap, SpotLight};
     let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
-    let mut lamp = room();
-    lamp.lights.push(Light::Point(PointLight {
+    let point = Light::Point(PointLight {
         position: Vec3::new(0.2, 0.5, 0.1),
         intensity: Rgb::splat(0.5),
         falloff: Falloff::InverseSquare,
-    }));
-    let mut sky = room();
-    sky.environment.background = Rgb::splat(0.2);
-    for (scene, what) in [(lamp, "a point light"), (sky, "an environment light")] {
-        assert!(!tracer.runs_as_wavefront(&scene), "{what} is not in the lanes");
-        assert_same(&scene, &tracer, SamplerKind::Sobol, 1, 0);
+    });
+    let spot = Light::Spot(SpotLight::new(
+        Vec3::new(-0.3, 0.8, 0.2),
+        Vec3::new(0.2, -1.0, 0.3),
+        Rgb::splat(2.0),
+        Falloff::InverseSquare,
+        30.0,
+        8.0,
+    ));
+    // Through a hole: the room's front wall is gone in the scenes lit from outside.
+    let sun =
+        Light::Directional(DirectionalLight { direction: Vec3::new(0.1, -0.3, 1.0).normalize(), intensity: Rgb::ONE });
+    let open_room = || room_where(|objects, _| drop(objects.drain(10..12)));
+    let map = EnvironmentMap::new(
+        8,
+        4,
+        (0..32).map(|i| Rgb::new(0.2 + 0.1 * (i % 8) as f32, 0.3, 0.1 * (i / 8) as f32)).collect(),
+        1.0,
+        glam::Mat3::IDENTITY,
+    );
+    let mut scenes: Vec<(Scene, &str)> = Vec::new();
+    for (light, what) in [(point.clone(), "a point light"), (spot.clone(), "a spot light")] {
+        let mut s = room();
+        s.add_light(light);
+        scenes.push((s, what));
     }
-    let mut off = PathTracer { wavefront: false, ..tracer };
+    let mut s = open_room();
+    s.add_light(sun.clone());
+    scenes.push((s, "a directional light"));
+    let mut s = open_room();
+    s.set_environment(Environment { background: Rgb::splat(0.2), ..s.environment().clone() });
+    scenes.push((s, "a constant environment"));
+    let mut s = open_room();
+    s.set_environment(Environment { map: Some(std::sync::Arc::new(map)), ..s.environment().clone() });
+    s.set_lights(vec![point, spot, sun]);
+    scenes.push((s, "a map and three delta lights"));
+    let sphere_light = room_where(|objects, materials| {
+        materials.push(diffuse(Rgb::ZERO, Rgb::new(3.0, 2.0, 1.0), false));
+        let id = materials.len() as u32 - 1;
+        objects.push(object_with(Shape::Sphere(Sphere::new(Vec3::new(0.4, 0.3, 0.5), 0.15)), id));
+    });
+    scenes.push((sphere_light, "a sphere light"));
+    for (scene, what) in &scenes {
+        assert!(tracer.runs_as_wavefront(scene), "{what}: a wavefront scene");
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in [(1, 0), (8, 3)] {
+                let lit = assert_same(scene, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+            }
+        }
+    }
+    let off = PathTracer { wavefront: false, ..tracer };
     assert!(!off.runs_as_wavefront(&room()), "the wavefront turned off");
-    off.wavefront = true;
-    assert!(off.runs_as_wavefront(&room()));
 }
 
 /// Mitsuba's one-sided `diffuse` in the lanes: the room's materials turned into it, and some

@@ -6,7 +6,7 @@ use common::{object_with, scene};
 use glint_core::geometry::Ray;
 use glint_core::integrators::recorder::{RayKind, RayTree};
 use glint_core::integrators::{SampleContext, Whitted};
-use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight};
+use glint_core::lights::{DirectionalLight, Environment, Falloff, Light, PointLight};
 use glint_core::materials::{Fresnel, Material, Phong};
 use glint_core::sampling::Rng;
 use glint_core::scene::Scene;
@@ -51,13 +51,15 @@ fn mirror_returns_the_wall_colour_times_kr() {
         object_with(square(Vec3::new(0.0, 0.0, 5.0), 1.0, 2), 0), // mirror at z = 5
         object_with(square(Vec3::new(0.0, 0.0, -5.0), 50.0, 2), 1), // wall behind the eye
     ]);
-    s.materials = vec![
-        Material::Phong(Phong { reflection: Texture::Constant(Rgb::splat(0.6)), ..phong(Rgb::ZERO) }),
+    s.set_named_materials(vec![
+        (
+            "mirror".into(),
+            Material::Phong(Phong { reflection: Texture::Constant(Rgb::splat(0.6)), ..phong(Rgb::ZERO) }),
+        ),
         // Ambient-only wall: k_a = wall colour, I_a = 1, no lights: its radiance is its colour.
-        Material::Phong(Phong { ambient: Some(Texture::Constant(wall_colour)), ..phong(Rgb::ONE) }),
-    ];
-    s.material_names = vec!["mirror".into(), "wall".into()];
-    s.environment.ambient_light = Rgb::ONE;
+        ("wall".into(), Material::Phong(Phong { ambient: Some(Texture::Constant(wall_colour)), ..phong(Rgb::ONE) })),
+    ]);
+    s.set_environment(Environment { ambient_light: Rgb::ONE, ..s.environment().clone() });
     let (c, tree) = trace(&whitted(3), &s, &Ray::new(Vec3::ZERO, Vec3::new(0.1, 0.05, 1.0).normalize()));
     assert!((c - 0.6 * wall_colour).abs().max_element() < 1e-6, "{c}");
     assert_eq!(tree.rays.iter().map(|r| r.kind).collect::<Vec<_>>(), [RayKind::Camera, RayKind::Reflection]);
@@ -76,7 +78,7 @@ fn glass_slab_displaces_a_ray_by_snells_law() {
         Shape::AaBox(AaBox::new(Vec3::new(-100.0, -100.0, 0.0), Vec3::new(100.0, 100.0, thickness))),
         0,
     )]);
-    s.materials = vec![glass()];
+    s.set_materials(vec![glass()]);
     let theta = 40f32.to_radians();
     let incident = Vec3::new(theta.sin(), 0.0, theta.cos());
     let (_, tree) = trace(&whitted(4), &s, &Ray::new(Vec3::new(0.0, 0.0, -1.0), incident));
@@ -101,7 +103,7 @@ fn total_internal_reflection_past_the_critical_angle() {
         Shape::AaBox(AaBox::new(Vec3::new(-100.0, -100.0, -100.0), Vec3::new(100.0, 100.0, 0.0))),
         0,
     )]);
-    s.materials = vec![glass()];
+    s.set_materials(vec![glass()]);
     for (degrees, tir) in [(45.0f32, true), (60.0, true), (38.0, false)] {
         let theta = degrees.to_radians();
         let ray = Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::new(theta.sin(), 0.0, theta.cos()));
@@ -120,18 +122,18 @@ fn lit_floor_with_blocker(blocker_transmission: f32, transparent_shadows: bool) 
         object_with(square(Vec3::ZERO, 10.0, 1), 0),              // floor y = 0
         object_with(square(Vec3::new(0.0, 2.0, 0.0), 0.5, 1), 1), // blocker above the origin
     ]);
-    s.materials = vec![
+    s.set_materials(vec![
         Material::Phong(phong(Rgb::splat(0.5))),
         Material::Phong(Phong {
             transmission: Texture::Constant(Rgb::splat(blocker_transmission)),
             ..phong(Rgb::ZERO)
         }),
-    ];
-    s.lights = vec![Light::Point(PointLight {
+    ]);
+    s.set_lights(vec![Light::Point(PointLight {
         position: Vec3::new(0.0, 4.0, 0.0),
         intensity: Rgb::ONE,
         falloff: Falloff::None,
-    })];
+    })]);
     let w = Whitted::new(0, 0.0, transparent_shadows);
     // Look straight down at the origin, from below the blocker.
     trace(&w, &s, &Ray::new(Vec3::new(0.0, 1.0, 0.0), -Vec3::Y)).0
@@ -160,8 +162,10 @@ fn contribution_threshold_stops_at_the_predicted_depth() {
         object_with(square(Vec3::new(0.0, 0.0, -1.0), 100.0, 2), 0),
         object_with(square(Vec3::new(0.0, 0.0, 1.0), 100.0, 2), 0),
     ]);
-    s.materials =
-        vec![Material::Phong(Phong { reflection: Texture::Constant(Rgb::splat(0.5)), ..phong(Rgb::splat(0.2)) })];
+    s.set_materials(vec![Material::Phong(Phong {
+        reflection: Texture::Constant(Rgb::splat(0.5)),
+        ..phong(Rgb::splat(0.2))
+    })]);
     let ray = Ray::new(Vec3::ZERO, Vec3::new(0.05, 0.0, 1.0).normalize());
     let w = Whitted::new(100, 0.1, false);
     let (_, tree) = trace(&w, &s, &ray);
@@ -176,17 +180,17 @@ fn contribution_threshold_stops_at_the_predicted_depth() {
 #[test]
 fn fresnel_weights_follow_the_angle() {
     let mut s = scene(vec![object_with(Shape::Sphere(Sphere::new(Vec3::new(0.0, 0.0, 5.0), 1.0)), 0)]);
-    s.materials = vec![Material::Phong(Phong {
+    s.set_materials(vec![Material::Phong(Phong {
         transmission: Texture::Constant(Rgb::ONE),
         fresnel: Fresnel::Exact,
         ..phong(Rgb::ZERO)
-    })];
+    })]);
     let (_, tree) = trace(&whitted(1), &s, &Ray::new(Vec3::ZERO, Vec3::Z));
     // Head-on: 4 % reflected, 96 % transmitted.
     let w: Vec<_> = tree.rays[1..].iter().map(|r| (r.kind, r.weight.x)).collect();
     assert_eq!(w.len(), 2);
     assert!((w[0].1 - 0.04).abs() < 1e-5 && (w[1].1 - 0.96).abs() < 1e-5, "{w:?}");
     // A directional light adds nothing here: the glass has no diffuse or specular term.
-    s.lights = vec![Light::Directional(DirectionalLight { direction: Vec3::Z, intensity: Rgb::ONE })];
+    s.set_lights(vec![Light::Directional(DirectionalLight { direction: Vec3::Z, intensity: Rgb::ONE })]);
     assert_eq!(trace(&whitted(0), &s, &Ray::new(Vec3::ZERO, Vec3::Z)).0, Rgb::ZERO);
 }

@@ -24,8 +24,8 @@ fn parse(materials: &str) -> Result<LoadedScene, SceneError> {
 }
 
 fn material<'a>(loaded: &'a LoadedScene, name: &str) -> &'a Material {
-    let i = loaded.scene.material_names.iter().position(|n| n == name).unwrap_or_else(|| panic!("{name}"));
-    &loaded.scene.materials[i]
+    let i = loaded.scene.material_names().iter().position(|n| n == name).unwrap_or_else(|| panic!("{name}"));
+    &loaded.scene.materials()[i]
 }
 
 #[test]

@@ -164,8 +164,8 @@ fn json_and_toml_read_the_same_scene() {
     let a = parse_scene(json, Format::Json, "s.json", &Source::directory(".".into())).unwrap();
     let b = parse(GOOD).unwrap();
     assert_eq!(a.scene.camera, b.scene.camera);
-    assert_eq!(a.scene.materials, b.scene.materials);
-    assert_eq!(a.scene.lights, b.scene.lights);
+    assert_eq!(a.scene.materials(), b.scene.materials());
+    assert_eq!(a.scene.lights().all(), b.scene.lights().all());
     assert_eq!(a.render, b.render);
     // JSON errors about an element name its path, as JSON has no spans to give.
     let bad = json.replace("\"material\": \"green\"", "\"material\": \"gren\"");
@@ -222,8 +222,8 @@ fn light_sampling_is_read_and_checked() {
     use glint_core::lights::TriangleSampling;
     let with = |value: &str| format!("[render]\nlight_sampling = \"{value}\"\n\n{GOOD}");
     let loaded = parse(&with("solid-angle")).unwrap();
-    assert_eq!(loaded.scene.area_lights.triangle_sampling, TriangleSampling::SolidAngle);
-    assert_eq!(parse(GOOD).unwrap().scene.area_lights.triangle_sampling, TriangleSampling::Area);
+    assert_eq!(loaded.scene.lights().triangle_sampling(), TriangleSampling::SolidAngle);
+    assert_eq!(parse(GOOD).unwrap().scene.lights().triangle_sampling(), TriangleSampling::Area);
     let e = error(&with("solid-angel"));
     assert!(e.to_string().contains("did you mean `solid-angle`?"), "{e}");
     assert_eq!(line_of(&e), 2);

@@ -54,11 +54,11 @@ fn every_element_maps_onto_glint() {
     assert!(((corner - centre).length() - 0.5 * 3f32.sqrt()).abs() < 1e-5);
     // Lights: point, spot, directional; the constant emitter is the background; the disk
     // emits (an area light of 128 triangles).
-    let kinds: Vec<&str> = scene.lights.iter().map(Light::kind).collect();
+    let kinds: Vec<&str> = scene.listed_lights().map(Light::kind).collect();
     assert_eq!(kinds, ["point", "spot", "directional"]);
-    assert_eq!(scene.environment.background, Rgb::new(0.1, 0.2, 0.3));
-    assert!(!scene.area_lights.is_empty());
-    if let Light::Spot(spot) = &scene.lights[1] {
+    assert_eq!(scene.environment().background, Rgb::new(0.1, 0.2, 0.3));
+    assert!(scene.lights().area_count() > 0);
+    if let Light::Spot(spot) = &scene.lights().all()[1] {
         assert!((spot.direction - -Vec3::Y).length() < 1e-6);
         assert!((spot.cos_cone - 30f32.to_radians().cos()).abs() < 1e-6);
         assert!((spot.cos_full - 20f32.to_radians().cos()).abs() < 1e-6);
@@ -67,7 +67,7 @@ fn every_element_maps_onto_glint() {
     }
     // Materials: the gold conductor, plastic, dielectric and the textured ones are there.
     for name in ["gold", "checkered"] {
-        assert!(scene.material_names.iter().any(|n| n == name), "{name}: {:?}", scene.material_names);
+        assert!(scene.material_names().iter().any(|n| n == name), "{name}: {:?}", scene.material_names());
     }
     // The stratified sampler maps to glint's; the rough dielectric to rough glass.
     assert_eq!(loaded.render.sampler, glint_core::sampling::SamplerKind::Stratified);
@@ -77,8 +77,8 @@ fn every_element_maps_onto_glint() {
     // Mappings onto the BSDF set, one-sided as Mitsuba's are: gold and a roughconductor (from
     // eta and k, GGX with the same alpha), BK7 in air, the plastic, the rough dielectric.
     let material = |name: &str| {
-        let i = scene.material_names.iter().position(|n| n == name).unwrap_or_else(|| panic!("{name}"));
-        &scene.materials[i]
+        let i = scene.material_names().iter().position(|n| n == name).unwrap_or_else(|| panic!("{name}"));
+        &scene.materials()[i]
     };
     let constant = |t: &Texture| match t {
         Texture::Constant(c) => *c,
@@ -93,7 +93,7 @@ fn every_element_maps_onto_glint() {
         other => panic!("gold: {other:?}"),
     }
     let by_line = |line: u32| {
-        let name = scene.material_names.iter().find(|n| n.ends_with(&format!("@{line}"))).unwrap();
+        let name = scene.material_names().iter().find(|n| n.ends_with(&format!("@{line}"))).unwrap();
         material(name)
     };
     match by_line(40) {
@@ -147,8 +147,8 @@ fn wrappers_map_onto_the_bsdf_set() {
     let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
     let scene = &loaded.scene;
     let material = |name: &str| {
-        let i = scene.material_names.iter().position(|n| n == name).unwrap_or_else(|| panic!("{name}"));
-        &scene.materials[i]
+        let i = scene.material_names().iter().position(|n| n == name).unwrap_or_else(|| panic!("{name}"));
+        &scene.materials()[i]
     };
     match material("card") {
         Material::TwoSided(t) => {
@@ -169,14 +169,14 @@ fn wrappers_map_onto_the_bsdf_set() {
         }
         other => panic!("{other:?}"),
     }
-    let emitters: Vec<&Material> = scene.materials.iter().filter(|m| matches!(m, Material::Emitter(_))).collect();
+    let emitters: Vec<&Material> = scene.materials().iter().filter(|m| matches!(m, Material::Emitter(_))).collect();
     match emitters.as_slice() {
         [Material::Emitter(e)] => {
             assert!(matches!(e.surface, Material::Plastic(_)) && e.radiance == Rgb::splat(2.0) && !e.two_sided)
         }
         other => panic!("{other:?}"),
     }
-    assert!(!scene.area_lights.is_empty(), "the emitting plastic is an area light");
+    assert!(scene.lights().area_count() > 0, "the emitting plastic is an area light");
 }
 
 #[test]
@@ -324,7 +324,7 @@ fn sensor_sampler_integrator_and_emitter_variants() {
 <emitter type="directional"><transform name="to_world"><lookat origin="0,0,0" target="0,-1,0" up="0,0,1"/></transform></emitter>"#,
     )
     .unwrap();
-    match (&lights.scene.lights[0], &lights.scene.lights[1]) {
+    match (&lights.scene.lights().all()[0], &lights.scene.lights().all()[1]) {
         (Light::Point(p), Light::Directional(d)) => {
             assert_eq!(p.position, Vec3::new(1.0, 2.0, 3.0));
             assert!((d.direction - -Vec3::Y).length() < 1e-6);
@@ -355,7 +355,7 @@ fn environment_maps_from_mitsuba_and_native_scenes() {
     );
     write_sky(xml.parent().unwrap());
     let loaded = load_scene(&xml).unwrap_or_else(|e| panic!("{e}"));
-    let env = &loaded.scene.environment;
+    let env = &loaded.scene.environment();
     assert!(env.map.is_some());
     // Up is the warm half, scaled by 2; down the dark one.
     assert_eq!(env.radiance(Vec3::Y), Rgb::new(4.0, 3.0, 2.0));
@@ -379,7 +379,7 @@ fn environment_maps_from_mitsuba_and_native_scenes() {
     .unwrap();
     let native = load_scene(&toml).unwrap_or_else(|e| panic!("{e}"));
     // Turned upside down: the warm half is below.
-    assert_eq!(native.scene.environment.radiance(-Vec3::Y), Rgb::new(1.0, 0.75, 0.5));
+    assert_eq!(native.scene.environment().radiance(-Vec3::Y), Rgb::new(1.0, 0.75, 0.5));
 }
 
 /// The native `metal` material: by name or by η and k, with clear errors.
@@ -396,7 +396,7 @@ fn native_metals_by_name_or_index() {
         load_scene(&path)
     };
     let copper = write("copper", "metal = \"Cu\"\nroughness = 0.2").unwrap();
-    match &copper.scene.materials[0] {
+    match &copper.scene.materials()[0] {
         Material::Phong(p) => {
             let (eta, k) = glint_core::materials::named_metal("Cu").unwrap();
             assert_eq!(p.fresnel, Fresnel::Conductor { eta, k });

@@ -23,7 +23,7 @@ use super::particle::{shading_correction, trace_particle, ParticleVertex};
 use super::RayCounts;
 use crate::film::Film;
 use crate::geometry::{offset_ray_origin, Ray};
-use crate::lights::{AreaEmission, ParticleSource};
+use crate::lights::AreaEmission;
 use crate::render::{par_tiles, Pass, PassRenderer};
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -31,7 +31,6 @@ use crate::Rgb;
 
 pub struct LightTracer {
     pub max_depth: u32,
-    source: ParticleSource,
 }
 
 /// A particle's contribution to one pixel.
@@ -45,7 +44,8 @@ impl LightTracer {
                     .into(),
             );
         }
-        Ok(Self { max_depth, source: ParticleSource::new(scene)? })
+        scene.lights().check_particles()?;
+        Ok(Self { max_depth })
     }
 
     /// Traces the particle of stream `index` and collects its splats (unscaled: the caller
@@ -54,7 +54,7 @@ impl LightTracer {
         let u_select = rng.next_f32();
         let u_point = Vec2::new(rng.next_f32(), rng.next_f32());
         let u_direction = Vec2::new(rng.next_f32(), rng.next_f32());
-        let Some(particle) = self.source.sample(scene, u_select, u_point, u_direction) else { return };
+        let Some(particle) = scene.lights().sample_le(u_select, u_point, u_direction) else { return };
         if let Some(emission) = &particle.area {
             connect_emission(scene, emission, splats, rays);
         }
@@ -119,7 +119,7 @@ fn see_environment(scene: &Scene, (x, y): (u32, u32), rng: &mut Rng, splats: &mu
     let ray = scene.camera.generate_ray(x as f32 + rng.next_f32(), y as f32 + rng.next_f32());
     rays.camera += 1;
     if scene.intersect(&ray).is_none() {
-        splats.push((x, y, scene.environment.radiance(ray.direction)));
+        splats.push((x, y, scene.environment().radiance(ray.direction)));
     }
 }
 
@@ -136,7 +136,7 @@ impl PassRenderer for LightTracer {
                         let index = y as u64 * width as u64 + x as u64;
                         let mut rng = Rng::for_sample(pass.seed ^ PARTICLE_STREAM, index, pass.index as u64);
                         self.trace(scene, &mut rng, &mut splats, &mut rays);
-                        if scene.environment.emits() {
+                        if scene.lights().has_environment() {
                             let mut rng = Rng::for_sample(pass.seed ^ SKY_STREAM, index, pass.index as u64);
                             see_environment(scene, (x, y), &mut rng, &mut splats, &mut rays);
                         }

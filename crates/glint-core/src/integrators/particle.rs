@@ -62,7 +62,7 @@ pub(super) fn trace_particle(
         rays.light += 1;
         let Some(hit) = scene.intersect(&ray) else { return };
         let wo = -ray.direction.normalize();
-        let material = &scene.materials[hit.material as usize];
+        let material = &scene.materials()[hit.material as usize];
         let bsdf = material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
         if bsdf.has_diffuse() {
             let vertex = ParticleVertex { hit, bsdf: &bsdf, wo, weight, bounces, specular_chain };

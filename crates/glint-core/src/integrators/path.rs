@@ -1,10 +1,11 @@
 //! Path tracing with next-event estimation and multiple importance sampling
 //! (`--integrator path`; Veach 1997, pbrt-v4's `PathIntegrator`).
 //!
-//! At every hit: light sampling (an area light chosen by power: a sphere by the cone it
-//! subtends, a triangle by area or by solid angle as `light_sampling` says; every point, spot
-//! and directional light) and BSDF sampling, combined by the power heuristic, so both
-//! small bright lights and glossy reflections converge well. Emission seen directly or through
+//! At every hit: light sampling (one light chosen by power among all of them: an area light's
+//! point, a sphere by the cone it subtends, a triangle by area or by solid angle as
+//! `light_sampling` says; a point, spot or directional light; a direction toward the
+//! environment) and BSDF sampling, combined by the power heuristic, so both small bright
+//! lights and glossy reflections converge well. Emission seen directly or through
 //! delta (mirror, glass) bounces counts in full. Russian roulette from `rr_depth` bounces on,
 //! with survival min(max throughput · η², 0.95) as Mitsuba does. `max_depth` counts scattering
 //! events (0 = emitters only, 1 = direct lighting); unbounded by default in path-tracing
@@ -38,13 +39,9 @@ impl PathTracer {
         self.wavefront_for(scene).is_some()
     }
 
-    /// The wavefront over `scene`, if it is on and serves the scene.
+    /// The wavefront over `scene`, if it is on.
     fn wavefront_for<'a>(&self, scene: &'a Scene) -> Option<Wavefront<'a>> {
-        if self.wavefront {
-            Wavefront::new(self, scene)
-        } else {
-            None
-        }
+        self.wavefront.then(|| Wavefront::new(self, scene))
     }
 }
 
@@ -111,12 +108,12 @@ impl Integrator for PathTracer {
             let Some(hit) = scene.intersect(&ray) else {
                 // The environment is light-sampled too: weigh this BSDF sample against that.
                 let weight = match path.previous {
-                    Some(from) if !from.delta && scene.environment.emits() => {
-                        power_heuristic(from.pdf, scene.environment.pdf(ray.direction))
+                    Some(from) if !from.delta && scene.lights().has_environment() => {
+                        power_heuristic(from.pdf, scene.lights().pdf_environment(ray.direction))
                     }
                     _ => 1.0,
                 };
-                path.radiance += path.throughput * scene.environment.radiance(ray.direction) * weight;
+                path.radiance += path.throughput * scene.environment().radiance(ray.direction) * weight;
                 break;
             };
             match self.bounce(scene, &ray, &hit, &mut path, context) {
@@ -142,13 +139,13 @@ impl PathTracer {
         context: &mut SampleContext,
     ) -> Option<Ray> {
         let wo = -ray.direction.normalize();
-        let material = &scene.materials[hit.material as usize];
+        let material = &scene.materials()[hit.material as usize];
         let geometric = hit.geometry.geometric_normal;
         let emitted = material.emitted(wo, geometric);
         if emitted != Rgb::ZERO {
             let weight = match path.previous {
                 Some(from) if !from.delta => {
-                    let light_pdf = scene.area_lights.pdf(
+                    let light_pdf = scene.lights().pdf_area(
                         from.point,
                         Some(from.shading_normal),
                         hit.object,
@@ -203,7 +200,8 @@ pub(super) fn russian_roulette(throughput: &mut Rgb, eta_scale: f32, context: &m
     true
 }
 
-/// How next-event estimation weighs its area-light sample.
+/// How next-event estimation weighs its sample of a light that BSDF sampling can also find
+/// (an area light, the environment; a delta light counts in full).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Weighting {
     /// Against BSDF sampling by the power heuristic (the caller counts BSDF-sampled emission
@@ -214,9 +212,9 @@ pub(super) enum Weighting {
     LightOnly,
 }
 
-/// Next-event estimation at a hit: one area-light sample, one environment sample (map or
-/// constant background), and
-/// every delta light (point, spot, directional), which only light sampling can find.
+/// Next-event estimation at a hit: one light chosen by power, one sample of it (a point on an
+/// area light, a direction toward the environment, or a delta light, which only light sampling
+/// can find), its shadow ray, and the BSDF there.
 pub(super) fn sample_lights(
     scene: &Scene,
     hit: &SurfaceHit,
@@ -225,57 +223,25 @@ pub(super) fn sample_lights(
     weighting: Weighting,
     context: &mut SampleContext,
 ) -> Rgb {
-    let mut radiance = Rgb::ZERO;
     let p = hit.geometry.point;
     let u_select = context.sampler.next_f32();
     let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
     let receiver = Some(hit.geometry.shading_normal);
-    if let Some(light) = scene.area_lights.sample(p, receiver, u_select, u) {
-        let wi = (light.point - p).normalize();
-        let f = bsdf.eval(wo, wi);
-        if light.radiance != Rgb::ZERO && f != Rgb::ZERO && light.pdf > 0.0 {
-            context.rays.shadow += 1;
-            if !scene.occluded(&hit.spawn_ray_to_surface(light.point, light.error, light.normal)) {
-                let weight = match weighting {
-                    Weighting::Mis => power_heuristic(light.pdf, bsdf.pdf(wo, wi)),
-                    Weighting::LightOnly => 1.0,
-                };
-                radiance += f * light.radiance * (weight / light.pdf);
-            }
-        }
+    let Some(light) = scene.lights().sample_li(p, receiver, u_select, u) else { return Rgb::ZERO };
+    let f = bsdf.eval(wo, light.direction);
+    let carries_light = light.radiance != Rgb::ZERO && f != Rgb::ZERO && light.pdf > 0.0;
+    if !carries_light {
+        return Rgb::ZERO;
     }
-    if scene.environment.emits() {
-        let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
-        if let Some(sample) = scene.environment.sample(u) {
-            let f = bsdf.eval(wo, sample.direction);
-            if f != Rgb::ZERO {
-                context.rays.shadow += 1;
-                if !scene.occluded(&hit.spawn_ray(sample.direction)) {
-                    let weight = match weighting {
-                        Weighting::Mis => power_heuristic(sample.pdf, bsdf.pdf(wo, sample.direction)),
-                        Weighting::LightOnly => 1.0,
-                    };
-                    radiance += f * sample.radiance * (weight / sample.pdf);
-                }
-            }
-        }
+    context.rays.shadow += 1;
+    if scene.occluded(&hit.spawn_shadow_ray(&light)) {
+        return Rgb::ZERO;
     }
-    for light in &scene.lights {
-        let illumination = light.illuminate(p);
-        let f = bsdf.eval(wo, illumination.direction);
-        if f == Rgb::ZERO || illumination.intensity == Rgb::ZERO {
-            continue;
-        }
-        let shadow = match light.position() {
-            Some(position) => hit.spawn_ray_to(position),
-            None => hit.spawn_ray(illumination.direction),
-        };
-        context.rays.shadow += 1;
-        if !scene.occluded(&shadow) {
-            radiance += f * illumination.intensity;
-        }
-    }
-    radiance
+    let weight = match weighting {
+        Weighting::Mis if !light.delta => power_heuristic(light.pdf, bsdf.pdf(wo, light.direction)),
+        _ => 1.0,
+    };
+    f * light.radiance * (weight / light.pdf)
 }
 
 #[cfg(test)]

@@ -32,11 +32,11 @@ impl Integrator for NaivePathTracer {
                 context.rays.reflection += 1;
             }
             let Some(hit) = scene.intersect(&ray) else {
-                radiance += throughput * scene.environment.radiance(ray.direction);
+                radiance += throughput * scene.environment().radiance(ray.direction);
                 break;
             };
             let wo = -ray.direction.normalize();
-            let material = &scene.materials[hit.material as usize];
+            let material = &scene.materials()[hit.material as usize];
             radiance += throughput * material.emitted(wo, hit.geometry.geometric_normal);
             if depth >= self.max_depth {
                 break;

@@ -36,7 +36,6 @@ use super::particle::{trace_particle, ParticleVertex};
 use super::path::{russian_roulette, sample_lights, Weighting};
 use super::{Integrator, RayCounts, SampleContext};
 use crate::geometry::Ray;
-use crate::lights::ParticleSource;
 use crate::materials::Bsdf;
 use crate::photons::{NearestPhotons, Photon, PhotonMap};
 use crate::sampling::Rng;
@@ -86,11 +85,10 @@ const CONE_K: f32 = 1.1;
 const GLOBAL_STREAM: u64 = 0x474C_4F42;
 const CAUSTIC_STREAM: u64 = 0x4341_5553;
 
-/// What shooting photons needs: the scene, its lights as particle sources, the path-length
-/// limit and the render's seed.
+/// What shooting photons needs: the scene (its lights checked as particle sources, by
+/// `Lights::check_particles`), the path-length limit and the render's seed.
 pub(super) struct PhotonShooter<'a> {
     pub scene: &'a Scene,
-    pub source: &'a ParticleSource,
     pub max_depth: u32,
     pub seed: u64,
     /// Raised (Ctrl-C): `fill_map` stops after the round under way.
@@ -116,7 +114,7 @@ impl PhotonShooter<'_> {
                     let u_select = rng.next_f32();
                     let u_point = Vec2::new(rng.next_f32(), rng.next_f32());
                     let u_direction = Vec2::new(rng.next_f32(), rng.next_f32());
-                    let Some(particle) = self.source.sample(self.scene, u_select, u_point, u_direction) else {
+                    let Some(particle) = self.scene.lights().sample_le(u_select, u_point, u_direction) else {
                         continue;
                     };
                     trace_particle(self.scene, &particle, self.max_depth, &mut rng, &mut rays, |v, _, _| {
@@ -204,8 +202,8 @@ impl PhotonMapper {
         seed: u64,
         stop: &AtomicBool,
     ) -> Result<Self, String> {
-        let source = ParticleSource::new(scene)?;
-        let shooter = PhotonShooter { scene, source: &source, max_depth, seed, stop: Some(stop) };
+        scene.lights().check_particles()?;
+        let shooter = PhotonShooter { scene, max_depth, seed, stop: Some(stop) };
         let (global, mut photon_rays) = shooter.fill_map(
             GLOBAL_STREAM,
             settings.global_photons as u64,
@@ -306,7 +304,7 @@ impl PhotonMapper {
                 // Light from the environment is direct light, which light sampling counted.
                 let Some(y) = scene.intersect(&ray) else { break };
                 let wo_y = -ray.direction.normalize();
-                let material = &scene.materials[y.material as usize];
+                let material = &scene.materials()[y.material as usize];
                 let bsdf_y =
                     material.bsdf(&y.texture_query(), wo_y, y.geometry.shading_normal, y.geometry.geometric_normal);
                 let p = bsdf_y.non_delta_probability();
@@ -376,11 +374,11 @@ impl Integrator for PhotonMapper {
                 context.rays.refraction += 1;
             }
             let Some(hit) = scene.intersect(&ray) else {
-                radiance += throughput * scene.environment.radiance(ray.direction);
+                radiance += throughput * scene.environment().radiance(ray.direction);
                 break;
             };
             let wo = -ray.direction.normalize();
-            let material = &scene.materials[hit.material as usize];
+            let material = &scene.materials()[hit.material as usize];
             radiance += throughput * material.emitted(wo, hit.geometry.geometric_normal);
             if depth >= self.max_depth {
                 break;
@@ -416,9 +414,9 @@ impl Integrator for PhotonMapper {
 mod tests {
     use super::*;
     use crate::camera::Camera;
-    use crate::lights::{Falloff, Light, PointLight, SpotLight};
+    use crate::lights::{Environment, Falloff, Light, PointLight, SpotLight};
     use crate::materials::{Material, Phong};
-    use crate::scene::{Environment, Object};
+    use crate::scene::Object;
     use crate::shapes::{IntersectMethods, Shape, Sphere, Triangle};
     use crate::textures::Texture;
     use glam::Vec3;
@@ -463,8 +461,8 @@ mod tests {
             Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None },
             IntersectMethods::default(),
         );
-        let source = ParticleSource::new(&scene).unwrap();
-        let shooter = PhotonShooter { scene: &scene, source: &source, max_depth: 1, seed: 9, stop: None };
+        scene.lights().check_particles().unwrap();
+        let shooter = PhotonShooter { scene: &scene, max_depth: 1, seed: 9, stop: None };
         let (photons, emitted, _) = shooter.shoot(1, 0..400, &|v| v.bounces == 0);
         // Summed in f64: 400,000 values of f32 drift by a percent.
         let sum = photons.iter().fold(glam::DVec3::ZERO, |acc, p| acc + p.power.as_dvec3());

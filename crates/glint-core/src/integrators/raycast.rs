@@ -14,15 +14,14 @@ impl Integrator for Raycast {
     fn radiance(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Rgb {
         context.rays.camera += 1;
         let Some(hit) = scene.intersect(ray) else {
-            return scene.environment.radiance(ray.direction);
+            return scene.environment().radiance(ray.direction);
         };
         let outside = ray.direction.dot(hit.geometry.geometric_normal) < 0.0;
-        let material = scene.materials[hit.material as usize].whitted(&hit.texture_query(), outside);
+        let material = scene.materials()[hit.material as usize].whitted(&hit.texture_query(), outside);
         let normal = hit.facing(ray.direction);
         let wo = -ray.direction.normalize();
-        let mut radiance = material.ambient * scene.environment.ambient_light;
-        for light in &scene.lights {
-            let illumination = light.illuminate(hit.geometry.point);
+        let mut radiance = material.ambient * scene.environment().ambient_light;
+        for illumination in scene.lights().all().iter().filter_map(|l| l.illuminate(hit.geometry.point)) {
             radiance += material.local(normal, wo, illumination.direction, illumination.intensity);
         }
         radiance

@@ -30,7 +30,6 @@ use super::path::{russian_roulette, sample_lights, Weighting};
 use super::photon_mapping::{PhotonShooter, BATCH};
 use super::{RayCounts, SampleContext};
 use crate::film::Film;
-use crate::lights::ParticleSource;
 use crate::materials::Bsdf;
 use crate::photons::PhotonMap;
 use crate::render::{par_tiles, Pass, PassRenderer};
@@ -74,7 +73,6 @@ pub struct Sppm {
     pub initial_radius: f32,
     /// Photons per pass; 0: the pixel count.
     pub photons_per_pass: u32,
-    source: ParticleSource,
     pixels: Vec<PixelState>,
     passes: u32,
     emitted: u64,
@@ -88,13 +86,13 @@ impl Sppm {
         initial_radius: f32,
         photons_per_pass: u32,
     ) -> Result<Self, String> {
+        scene.lights().check_particles()?;
         let n = scene.camera.width as usize * scene.camera.height as usize;
         Ok(Self {
             max_depth,
             rr_depth,
             initial_radius,
             photons_per_pass,
-            source: ParticleSource::new(scene)?,
             pixels: vec![PixelState::default(); n],
             passes: 0,
             emitted: 0,
@@ -122,12 +120,12 @@ impl Sppm {
         for depth in 0..=self.max_depth {
             context.rays.camera += 1;
             let Some(hit) = scene.intersect(&ray) else {
-                direct += throughput * scene.environment.radiance(ray.direction);
+                direct += throughput * scene.environment().radiance(ray.direction);
                 break;
             };
             distance += hit.t * ray.direction.length();
             let wo = -ray.direction.normalize();
-            let material = &scene.materials[hit.material as usize];
+            let material = &scene.materials()[hit.material as usize];
             direct += throughput * material.emitted(wo, hit.geometry.geometric_normal);
             if depth == self.max_depth {
                 break;
@@ -196,8 +194,7 @@ impl PassRenderer for Sppm {
         let wanted = if self.photons_per_pass > 0 { self.photons_per_pass as u64 } else { self.pixels.len() as u64 };
         let batches = wanted.div_ceil(BATCH);
         let first = pass.index as u64 * batches;
-        let shooter =
-            PhotonShooter { scene, source: &self.source, max_depth: self.max_depth, seed: pass.seed, stop: None };
+        let shooter = PhotonShooter { scene, max_depth: self.max_depth, seed: pass.seed, stop: None };
         let (photons, emitted, photon_rays) = shooter.shoot(PHOTON_STREAM, first..first + batches, &|v| v.bounces > 0);
         rays.add(&photon_rays);
         let map = PhotonMap::build(photons, emitted);

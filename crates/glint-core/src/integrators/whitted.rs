@@ -114,7 +114,7 @@ impl Whitted {
         }
         recorder.begin_ray(kind, depth, ray, weight);
         let Some(hit) = scene.intersect(ray) else {
-            let background = scene.environment.radiance(ray.direction);
+            let background = scene.environment().radiance(ray.direction);
             recorder.miss(background);
             return background;
         };
@@ -138,15 +138,16 @@ impl Whitted {
     ) -> Rgb {
         let incident = ray.direction.normalize();
         let entering = incident.dot(hit.geometry.geometric_normal) < 0.0;
-        let material = scene.materials[hit.material as usize].whitted(&hit.texture_query(), entering);
+        let material = scene.materials()[hit.material as usize].whitted(&hit.texture_query(), entering);
         let normal = hit.facing(incident);
         let wo = -incident;
 
-        let ambient = material.ambient * scene.environment.ambient_light;
+        let ambient = material.ambient * scene.environment().ambient_light;
         let mut radiance = ambient;
         recorder.ambient(ambient);
-        for (index, light) in scene.lights.iter().enumerate() {
-            let illumination = light.illuminate(hit.geometry.point);
+        for (index, light) in scene.lights().all().iter().enumerate() {
+            // The course's local shading reads the delta lights alone.
+            let Some(illumination) = light.illuminate(hit.geometry.point) else { continue };
             let wi = illumination.direction;
             // A light behind the surface (as seen from the viewer's side) cannot light it.
             if normal.dot(wi) <= 0.0 {
@@ -234,7 +235,7 @@ impl Whitted {
             };
             let outside = ray.direction.dot(hit.geometry.geometric_normal) < 0.0;
             let transmission =
-                scene.materials[hit.material as usize].whitted(&hit.texture_query(), outside).transmission;
+                scene.materials()[hit.material as usize].whitted(&hit.texture_query(), outside).transmission;
             visibility *= transmission;
             if visibility == Rgb::ZERO {
                 break;

@@ -1,9 +1,9 @@
-//! Area lights: every primitive whose material emits (`emission` on a material). They are
-//! sampled for next-event estimation from a shading point: an emitter chosen in proportion to
-//! its power, then a point on it:
+//! Area lights: every primitive whose material emits (`emission` on a material, Mitsuba's
+//! `area`). From a shading point, a point on one is sampled for next-event estimation:
 //!
 //! * spheres by the cone of directions they subtend (uniform in solid angle; by area from
-//!   inside);
+//!   inside), under any similarity transform; under another affine transform (an ellipsoid)
+//!   by area;
 //! * triangles uniformly on their area by default, the density converted to solid angle
 //!   (pdf_ω = pdf_A · d² / |cos θ_light|), or, with `TriangleSampling::SolidAngle`, uniformly
 //!   in the spherical triangle they subtend (Arvo 1995), warped by the receiver's cos θ when
@@ -13,35 +13,75 @@
 //!   equal samples and took 10–24 % longer (docs/performance.md), so area is the default.
 //!
 //! Sampled: triangles (triangle shapes, mesh triangles, quads; any transform, taken in world
-//! space) and spheres without a transform. Other emissive shapes still emit: a path finds them
-//! by BSDF sampling, whose multiple-importance weight is then 1 since their light pdf is 0, so
-//! the estimate stays unbiased, only noisier.
+//! space) and spheres. The geometry of each sampling routine lives in its shape's file. Other
+//! emissive shapes (planes, polygons, boxes, instances) still emit: a path finds them by BSDF
+//! sampling, whose multiple-importance weight is then 1 since their light pdf is 0, so the
+//! estimate stays unbiased, only noisier.
 
 use glam::{Vec2, Vec3};
 
+use super::{Asked, LightEnd, LightSample};
 use crate::geometry::orthonormal_basis;
 use crate::materials::Material;
-use crate::sampling::spherical::{SphericalCap, SphericalTriangle};
-use crate::sampling::warp::{
-    cosine_hemisphere_pdf, square_to_cosine_hemisphere, square_to_triangle, square_to_uniform_sphere,
-};
+use crate::sampling::spherical::SphericalTriangle;
+use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::scene::Object;
-use crate::shapes::{barycentric_point, sphere_point, Shape};
+use crate::shapes::{
+    sample_sphere, sample_sphere_seen_from, sample_triangle, sphere_solid_angle_from, triangle_point_along, Ellipsoid,
+    Shape,
+};
 use crate::Rgb;
 
+/// The surface of an area light, in world space.
 #[derive(Clone, Debug, PartialEq)]
-enum EmitterShape {
-    Triangle { a: Vec3, b: Vec3, c: Vec3, normal: Vec3, area: f32 },
-    Sphere { center: Vec3, radius: f32 },
+pub(crate) enum EmitterShape {
+    Triangle {
+        a: Vec3,
+        b: Vec3,
+        c: Vec3,
+        normal: Vec3,
+        area: f32,
+    },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    /// A sphere under a transform that is not a similarity.
+    Ellipsoid(Ellipsoid),
 }
 
 impl EmitterShape {
     fn area(&self) -> f32 {
-        match *self {
-            EmitterShape::Triangle { area, .. } => area,
+        match self {
+            EmitterShape::Triangle { area, .. } => *area,
             EmitterShape::Sphere { radius, .. } => 4.0 * std::f32::consts::PI * radius * radius,
+            EmitterShape::Ellipsoid(e) => e.area,
         }
     }
+
+    /// A point by area: (point, normal, error bound, area density).
+    #[inline]
+    fn sample_area(&self, u: Vec2) -> (Vec3, Vec3, Vec3, f32) {
+        match self {
+            EmitterShape::Triangle { a, b, c, normal, area } => {
+                let (point, error) = sample_triangle([*a, *b, *c], u);
+                (point, *normal, error, 1.0 / area)
+            }
+            EmitterShape::Sphere { center, radius } => {
+                let (point, normal, error) = sample_sphere(*center, *radius, u);
+                (point, normal, error, 1.0 / self.area())
+            }
+            EmitterShape::Ellipsoid(e) => e.sample(u),
+        }
+    }
+}
+
+/// One emitting primitive.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AreaLight {
+    pub(crate) shape: EmitterShape,
+    pub radiance: Rgb,
+    pub two_sided: bool,
 }
 
 /// A point sampled on an emitter, before its radiance toward the shading point is known.
@@ -53,28 +93,8 @@ struct PointSample {
     pdf: f32,
 }
 
-#[derive(Clone, Debug, PartialEq)]
-struct Emitter {
-    shape: EmitterShape,
-    radiance: Rgb,
-    two_sided: bool,
-}
-
-/// A point sampled on a light, seen from a shading point.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LightSample {
-    pub point: Vec3,
-    pub normal: Vec3,
-    /// Error bound of `point`, to offset the shadow ray's far end.
-    pub error: Vec3,
-    /// Radiance leaving the light toward the shading point (0 from an emitter's back).
-    pub radiance: Rgb,
-    /// Solid-angle density at the shading point, including the emitter's selection probability.
-    pub pdf: f32,
-}
-
 /// How a triangle light is sampled from a shading point.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum TriangleSampling {
     /// A point uniform on its area.
     #[default]
@@ -99,22 +119,7 @@ impl TriangleSampling {
     }
 }
 
-#[derive(Clone, Debug, Default)]
-pub struct AreaLights {
-    pub triangle_sampling: TriangleSampling,
-    emitters: Vec<Emitter>,
-    /// Cumulative selection probabilities (by power), last = 1.
-    cdf: Vec<f32>,
-    /// Per object: index of its first emitter (its primitive p is `base + p`), or `NONE`.
-    object_base: Vec<u32>,
-    /// Emitted power (flux, mean over RGB): Σ L_e · π · area · sides.
-    total_power: f32,
-    /// Every emitter as a triangle, in order, then a black one no `choose_index` picks (for
-    /// lanes without a light); `None` if some emitter is a sphere. For the path tracer's lanes.
-    triangle_table: Option<Vec<TriangleEmitter>>,
-}
-
-/// A triangle emitter as the path tracer's SIMD lanes read it (`AreaLights::triangle_table`).
+/// A triangle emitter as the path tracer's SIMD lanes read it (`Lights::triangle_table`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct TriangleEmitter {
     pub corners: [Vec3; 3],
@@ -124,6 +129,18 @@ pub(crate) struct TriangleEmitter {
     pub two_sided: bool,
     /// The probability of choosing this emitter.
     pub selection: f32,
+}
+
+impl TriangleEmitter {
+    /// What lanes without a light read: black, never chosen.
+    pub const NONE: Self = Self {
+        corners: [Vec3::ZERO; 3],
+        normal: Vec3::Z,
+        area: 1.0,
+        radiance: Rgb::ZERO,
+        two_sided: false,
+        selection: 0.0,
+    };
 }
 
 /// A particle leaving an area light (for light tracing and photon mapping).
@@ -143,100 +160,171 @@ pub struct AreaEmission {
     pub pdf_direction: f32,
 }
 
-const NONE: u32 = u32::MAX;
-
-impl AreaLights {
-    pub fn new(objects: &[Object], materials: &[Material]) -> Self {
-        let mut emitters = Vec::new();
-        let mut object_base = vec![NONE; objects.len()];
-        for (o, object) in objects.iter().enumerate() {
-            let Some(material) = materials.get(object.material as usize) else { continue };
-            let (emission, two_sided) = material.emission();
-            if emission == Rgb::ZERO {
+/// The area lights of `objects`: each object whose material emits, as its primitives' lights
+/// in order, with the object's index. Shapes without a sampling routine are left out (found by
+/// BSDF sampling only).
+pub(crate) fn area_lights(objects: &[Object], materials: &[Material]) -> Vec<(usize, Vec<AreaLight>)> {
+    let mut found = Vec::new();
+    for (o, object) in objects.iter().enumerate() {
+        let Some(material) = materials.get(object.material as usize) else { continue };
+        let (radiance, two_sided) = material.emission();
+        if radiance == Rgb::ZERO {
+            continue;
+        }
+        let light = |shape: EmitterShape| AreaLight { shape, radiance, two_sided };
+        let triangles: Vec<[Vec3; 3]> = match &object.shape {
+            Shape::Mesh(mesh) => (0..mesh.triangle_count()).map(|i| mesh.triangle_vertices(i)).collect(),
+            Shape::Triangle(t) => vec![t.vertices],
+            Shape::Sphere(s) => {
+                let shape = match &object.transform {
+                    None => EmitterShape::Sphere { center: s.center, radius: s.radius },
+                    Some(t) => match similarity_scale(t) {
+                        Some(scale) => EmitterShape::Sphere { center: t.point(s.center), radius: s.radius * scale },
+                        None => EmitterShape::Ellipsoid(Ellipsoid::new(s.center, s.radius, *t)),
+                    },
+                };
+                found.push((o, vec![light(shape)]));
                 continue;
             }
-            let triangles: Vec<[Vec3; 3]> = match &object.shape {
-                Shape::Mesh(mesh) => (0..mesh.triangle_count()).map(|i| mesh.triangle_vertices(i)).collect(),
-                Shape::Triangle(t) => vec![t.vertices],
-                Shape::Sphere(s) if object.transform.is_none() => {
-                    object_base[o] = emitters.len() as u32;
-                    emitters.push(Emitter {
-                        shape: EmitterShape::Sphere { center: s.center, radius: s.radius },
-                        radiance: emission,
-                        two_sided,
-                    });
-                    continue;
-                }
-                _ => continue, // found by BSDF sampling only
-            };
-            object_base[o] = emitters.len() as u32;
-            for [a, b, c] in triangles {
+            _ => continue,
+        };
+        let lights = triangles
+            .into_iter()
+            .map(|[a, b, c]| {
                 let (a, b, c) = match &object.transform {
                     Some(t) => (t.point(a), t.point(b), t.point(c)),
                     None => (a, b, c),
                 };
                 let cross = (b - a).cross(c - a);
                 let area = 0.5 * cross.length();
-                emitters.push(Emitter {
+                AreaLight {
                     shape: EmitterShape::Triangle { a, b, c, normal: cross.normalize_or(Vec3::Z), area },
-                    radiance: if area > 0.0 { emission } else { Rgb::ZERO },
+                    radiance: if area > 0.0 { radiance } else { Rgb::ZERO },
                     two_sided,
-                });
-            }
-        }
-        let powers: Vec<f32> = emitters
-            .iter()
-            .map(|e| {
-                let sides = if e.two_sided { 2.0 } else { 1.0 };
-                e.radiance.dot(Rgb::splat(1.0 / 3.0)) * e.shape.area() * sides
+                }
             })
             .collect();
-        let total: f32 = powers.iter().sum();
-        let mut cdf = Vec::with_capacity(powers.len());
-        let mut acc = 0.0;
-        for p in &powers {
-            acc += p / total;
-            cdf.push(acc);
-        }
-        if let Some(last) = cdf.last_mut() {
-            *last = 1.0;
-        }
-        if total <= 0.0 {
-            return Self::default_for(objects.len());
-        }
-        Self {
-            triangle_table: triangle_table(&emitters, &cdf),
-            cdf,
-            object_base,
-            total_power: total * std::f32::consts::PI,
-            triangle_sampling: TriangleSampling::default(),
-            emitters,
-        }
+        found.push((o, lights));
+    }
+    found
+}
+
+/// The scale s of a transform whose linear part is s times a rotation (or reflection), to
+/// within 10⁻⁵: a sphere stays a sphere under it.
+fn similarity_scale(t: &crate::geometry::Transform) -> Option<f32> {
+    let m = glam::Mat3::from_mat4(t.to_world);
+    let gram = m.transpose() * m;
+    let s2 = gram.x_axis.x;
+    let expected = glam::Mat3::from_diagonal(Vec3::splat(s2));
+    let close = (0..3).all(|i| (gram.col(i) - expected.col(i)).abs().max_element() <= 1e-5 * s2);
+    (s2 > 0.0 && close).then(|| s2.sqrt())
+}
+
+impl AreaLight {
+    /// L·A·sides: the emitter's power over π (mean over RGB).
+    pub(super) fn power_over_pi(&self) -> f32 {
+        let sides = if self.two_sided { 2.0 } else { 1.0 };
+        self.radiance.dot(Rgb::splat(1.0 / 3.0)) * self.shape.area() * sides
     }
 
-    fn default_for(object_count: usize) -> Self {
-        Self { object_base: vec![NONE; object_count], triangle_table: triangle_table(&[], &[]), ..Self::default() }
+    /// A point on the light for the shading point `from`: spheres sampled by the solid angle
+    /// they subtend, triangles by area or, with `TriangleSampling::SolidAngle`, by solid angle
+    /// where that is accurate, then also following the receiver's |cos θ| when its normal is
+    /// given (`SphericalTriangle::sample_toward`).
+    pub(super) fn sample_li(&self, from: Vec3, receiver: Option<Vec3>, u: Vec2, asked: Asked) -> Option<LightSample> {
+        let selection = asked.selection;
+        if let EmitterShape::Triangle { a, b, c, normal, .. } = self.shape {
+            // A one-sided triangle sends nothing to a point behind its plane (the ceiling above
+            // the Cornell box's lamp): no point to sample. Every corner is asked, so only a
+            // point within rounding of the plane, whose light would arrive edge on, can be
+            // dropped that the sample below would have kept.
+            let behind = |corner: Vec3| normal.dot(corner - from) > 0.0;
+            if !self.two_sided && behind(a) && behind(b) && behind(c) {
+                return None;
+            }
+        }
+        let PointSample { point, normal, error, pdf } = match self.shape {
+            EmitterShape::Triangle { a, b, c, normal, .. } => {
+                match spherical_triangle(asked.triangle_sampling, from, [a, b, c]) {
+                    Some(spherical) => {
+                        let (direction, pdf) = spherical.sample_toward(u, receiver);
+                        let (point, error) = triangle_point_along(from, direction, [a, b, c])?;
+                        PointSample { point, normal, error, pdf: selection * pdf }
+                    }
+                    None => self.sample_by_area(selection, from, u)?,
+                }
+            }
+            EmitterShape::Sphere { center, radius } => match sample_sphere_seen_from(center, radius, from, u) {
+                Some((point, normal, error, solid_angle)) => {
+                    PointSample { point, normal, error, pdf: selection / solid_angle }
+                }
+                None => self.sample_by_area(selection, from, u)?,
+            },
+            EmitterShape::Ellipsoid(_) => self.sample_by_area(selection, from, u)?,
+        };
+        let cos_light = -normal.dot(point - from);
+        if !(pdf > 0.0 && pdf.is_finite()) || cos_light == 0.0 {
+            return None;
+        }
+        let radiance = if self.two_sided || cos_light > 0.0 { self.radiance } else { Rgb::ZERO };
+        Some(LightSample {
+            direction: (point - from).normalize(),
+            end: LightEnd::Surface { point, normal, error },
+            radiance,
+            pdf,
+            delta: false,
+        })
     }
 
-    /// Total emitted flux (mean over RGB), for choosing between area and other lights.
-    pub fn total_power(&self) -> f32 {
-        self.total_power
+    /// A point by area, with its density converted to solid angle (pdf_ω = pdf_A · d² /
+    /// |cos θ_light|).
+    fn sample_by_area(&self, selection: f32, from: Vec3, u: Vec2) -> Option<PointSample> {
+        let (point, normal, error, pdf_area) = self.shape.sample_area(u);
+        if !(pdf_area > 0.0 && pdf_area.is_finite()) {
+            return None;
+        }
+        let pdf = match self.shape {
+            // The triangle's and sphere's density as it always was: selection / area.
+            EmitterShape::Ellipsoid(_) => area_to_solid_angle(selection * pdf_area, 1.0, from, point, normal)?,
+            _ => area_to_solid_angle(selection, self.shape.area(), from, point, normal)?,
+        };
+        Some(PointSample { point, normal, error, pdf })
     }
 
-    /// A particle leaving some emitter: the emitter chosen by power, a point uniform on its
-    /// area, a direction cosine-weighted about the normal (on a side chosen at random if it
-    /// emits from both), so the particle's weight L_e·cos / (pdf_area · pdf_direction) is the
-    /// same for every particle of an emitter.
-    pub fn sample_emission(&self, u_select: f32, u_point: Vec2, u_direction: Vec2) -> Option<AreaEmission> {
-        let (i, emitter) = self.choose(u_select)?;
-        let (point, normal, area, error) = self.point_on(emitter, u_point);
-        if area <= 0.0 || emitter.radiance == Rgb::ZERO {
+    /// The solid-angle density with which `sample_li` from `from` (chosen with probability
+    /// `selection`) would have produced `point` (geometric normal `normal`) on this light.
+    pub(super) fn pdf_li(&self, from: Vec3, receiver: Option<Vec3>, point: Vec3, normal: Vec3, asked: Asked) -> f32 {
+        let selection = asked.selection;
+        match self.shape {
+            EmitterShape::Triangle { a, b, c, .. } => {
+                if let Some(spherical) = spherical_triangle(asked.triangle_sampling, from, [a, b, c]) {
+                    return selection * spherical.pdf((point - from).normalize(), receiver);
+                }
+            }
+            EmitterShape::Sphere { center, radius } => {
+                if let Some(solid_angle) = sphere_solid_angle_from(center, radius, from) {
+                    return selection / solid_angle;
+                }
+            }
+            EmitterShape::Ellipsoid(e) => {
+                return area_to_solid_angle(selection * e.pdf_area(point), 1.0, from, point, normal).unwrap_or(0.0);
+            }
+        }
+        area_to_solid_angle(selection, self.shape.area(), from, point, normal).unwrap_or(0.0)
+    }
+
+    /// A particle leaving the light: a point by area, a direction cosine-weighted about the
+    /// normal (on a side chosen at random if it emits from both), so the particle's weight
+    /// L_e·cos / (pdf_area · pdf_direction) is the same for every particle of an emitter.
+    pub(super) fn sample_le(&self, selection: f32, u_point: Vec2, u_direction: Vec2) -> Option<AreaEmission> {
+        let (point, normal, error, pdf_area) = self.shape.sample_area(u_point);
+        if !(pdf_area > 0.0 && pdf_area.is_finite()) || self.radiance == Rgb::ZERO {
             return None;
         }
         let mut u = u_direction;
         let mut normal = normal;
         let mut side_probability = 1.0;
-        if emitter.two_sided {
+        if self.two_sided {
             side_probability = 0.5;
             if u.x < 0.5 {
                 u.x *= 2.0;
@@ -252,210 +340,48 @@ impl AreaLights {
         if pdf_direction <= 0.0 {
             return None;
         }
+        let pdf_area = match self.shape {
+            EmitterShape::Ellipsoid(_) => selection * pdf_area,
+            // As it always was: selection / area.
+            _ => selection / self.shape.area(),
+        };
         Some(AreaEmission {
             point,
             normal,
             error,
             direction,
-            radiance: emitter.radiance,
-            two_sided: emitter.two_sided,
-            pdf_area: self.selection_probability(i) / area,
+            radiance: self.radiance,
+            two_sided: self.two_sided,
+            pdf_area,
             pdf_direction,
         })
     }
 
-    /// A point uniform on an emitter: (point, normal, area, error bound).
-    #[inline]
-    fn point_on(&self, emitter: &Emitter, u: Vec2) -> (Vec3, Vec3, f32, Vec3) {
-        match emitter.shape {
-            EmitterShape::Triangle { a, b, c, normal, area } => {
-                let bary = square_to_triangle(u);
-                let (point, error) = barycentric_point([a, b, c], bary.x, bary.y);
-                (point, normal, area, error)
-            }
-            EmitterShape::Sphere { center, radius } => {
-                let n = square_to_uniform_sphere(u);
-                let (point, error) = sphere_point(center, radius, n);
-                (point, n, emitter.shape.area(), error)
-            }
-        }
-    }
-
-    /// The number of emitters (each triangle of an emissive mesh is one).
-    pub fn len(&self) -> usize {
-        self.emitters.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.emitters.is_empty()
-    }
-
-    /// The emitter `u_select` picks, in proportion to power, and its index.
-    fn choose(&self, u_select: f32) -> Option<(usize, &Emitter)> {
-        if self.emitters.is_empty() {
-            return None;
-        }
-        let i = self.cdf.partition_point(|&c| c <= u_select).min(self.emitters.len() - 1);
-        Some((i, &self.emitters[i]))
-    }
-
-    fn selection_probability(&self, i: usize) -> f32 {
-        probability_of(&self.cdf, i)
-    }
-
-    /// Every emitter as a triangle, then a black one that is never chosen (its index is the
-    /// number of emitters); `None` if some emitter is a sphere.
-    pub(crate) fn triangle_table(&self) -> Option<&[TriangleEmitter]> {
-        self.triangle_table.as_deref()
-    }
-
-    /// The index of the emitter `u_select` picks (by power), as `sample` picks it.
-    #[inline]
-    pub(crate) fn choose_index(&self, u_select: f32) -> Option<usize> {
-        self.choose(u_select).map(|(i, _)| i)
-    }
-
-    /// The cumulative probabilities by which `choose_index` picks an emitter.
-    pub(crate) fn selection_cdf(&self) -> &[f32] {
-        &self.cdf
-    }
-
-    /// The emitter that primitive `prim` of `object` is, if it is one (as `pdf` finds it).
-    #[inline]
-    pub(crate) fn emitter_index(&self, object: u32, prim: u32) -> Option<usize> {
-        let base = self.object_base.get(object as usize).copied().unwrap_or(NONE);
-        (base != NONE).then_some((base + prim) as usize)
-    }
-
-    /// A point on some light for the shading point `from`: spheres sampled by the solid angle
-    /// they subtend, triangles by area or, with `TriangleSampling::SolidAngle`, by solid angle
-    /// where that is accurate, then also following the receiver's |cos θ| when its normal is
-    /// given (`SphericalTriangle::sample_toward`).
-    pub fn sample(&self, from: Vec3, receiver_normal: Option<Vec3>, u_select: f32, u: Vec2) -> Option<LightSample> {
-        let (i, emitter) = self.choose(u_select)?;
-        if let EmitterShape::Triangle { a, b, c, normal, .. } = emitter.shape {
-            // A one-sided triangle sends nothing to a point behind its plane (the ceiling above
-            // the Cornell box's lamp): no point to sample. Every corner is asked, so only a
-            // point within rounding of the plane, whose light would arrive edge on, can be
-            // dropped that the sample below would have kept.
-            let behind = |corner: Vec3| normal.dot(corner - from) > 0.0;
-            if !emitter.two_sided && behind(a) && behind(b) && behind(c) {
-                return None;
-            }
-        }
-        let selection = self.selection_probability(i);
-        let PointSample { point, normal, error, pdf } = match emitter.shape {
-            EmitterShape::Triangle { a, b, c, normal, .. } => match self.spherical_triangle(from, [a, b, c]) {
-                Some(spherical) => {
-                    let (direction, pdf) = spherical.sample_toward(u, receiver_normal);
-                    let (point, error) = point_along(from, direction, [a, b, c])?;
-                    PointSample { point, normal, error, pdf: selection * pdf }
-                }
-                None => self.sample_by_area(emitter, selection, from, u)?,
-            },
-            EmitterShape::Sphere { center, radius } => match SphericalCap::new(from, center, radius) {
-                Some(cap) => {
-                    let normal = cap.sample_normal(u);
-                    let (point, error) = sphere_point(center, radius, normal);
-                    PointSample { point, normal, error, pdf: selection / cap.solid_angle() }
-                }
-                None => self.sample_by_area(emitter, selection, from, u)?,
-            },
-        };
-        let cos_light = -normal.dot(point - from);
-        if !(pdf > 0.0 && pdf.is_finite()) || cos_light == 0.0 {
-            return None;
-        }
-        let radiance = if emitter.two_sided || cos_light > 0.0 { emitter.radiance } else { Rgb::ZERO };
-        Some(LightSample { point, normal, error, radiance, pdf })
-    }
-
-    /// The triangle as seen from `from`, when it is sampled by solid angle and that is
-    /// accurate (pbrt-v4's bounds): below 3·10⁻⁴ sr the corners' directions nearly coincide
-    /// and the construction loses precision, while the area density hardly varies across so
-    /// small a triangle anyway; above 6.22 sr `from` nearly lies in its plane.
-    fn spherical_triangle(&self, from: Vec3, corners: [Vec3; 3]) -> Option<SphericalTriangle> {
-        if self.triangle_sampling == TriangleSampling::Area {
-            return None;
-        }
-        SphericalTriangle::new(from, corners).filter(|t| (3e-4..=6.22).contains(&t.solid_angle()))
-    }
-
-    /// A point uniform on the emitter's area, with its density converted to solid angle
-    /// (pdf_ω = pdf_A · d² / |cos θ_light|).
-    fn sample_by_area(&self, emitter: &Emitter, selection: f32, from: Vec3, u: Vec2) -> Option<PointSample> {
-        let (point, normal, area, error) = self.point_on(emitter, u);
-        if area <= 0.0 {
-            return None;
-        }
-        let pdf = area_to_solid_angle(selection, area, from, point, normal)?;
-        Some(PointSample { point, normal, error, pdf })
-    }
-
-    /// The solid-angle density with which `sample` from `from` would have produced the point
-    /// `point` (with geometric normal `normal`) on primitive `prim` of object `object`; 0 if that
-    /// primitive is not a sampled light. For multiple importance sampling of BSDF-sampled hits.
-    /// `receiver_normal` as given to `sample`.
-    pub fn pdf(
-        &self,
-        from: Vec3,
-        receiver_normal: Option<Vec3>,
-        object: u32,
-        prim: u32,
-        point: Vec3,
-        normal: Vec3,
-    ) -> f32 {
-        let Some(i) = self.emitter_index(object, prim) else { return 0.0 };
-        let selection = self.selection_probability(i);
-        let shape = &self.emitters[i].shape;
-        match *shape {
-            EmitterShape::Triangle { a, b, c, .. } => {
-                if let Some(spherical) = self.spherical_triangle(from, [a, b, c]) {
-                    return selection * spherical.pdf((point - from).normalize(), receiver_normal);
-                }
-            }
-            EmitterShape::Sphere { center, radius } => {
-                if let Some(cap) = SphericalCap::new(from, center, radius) {
-                    return selection / cap.solid_angle();
-                }
-            }
-        }
-        area_to_solid_angle(selection, shape.area(), from, point, normal).unwrap_or(0.0)
-    }
-}
-
-/// The probability of entry `i` of a discrete distribution from its cumulative `cdf`.
-fn probability_of(cdf: &[f32], i: usize) -> f32 {
-    cdf[i] - if i == 0 { 0.0 } else { cdf[i - 1] }
-}
-
-/// `AreaLights::triangle_table` of `emitters` with cumulative selection probabilities `cdf`.
-fn triangle_table(emitters: &[Emitter], cdf: &[f32]) -> Option<Vec<TriangleEmitter>> {
-    let mut table: Vec<TriangleEmitter> = emitters
-        .iter()
-        .enumerate()
-        .map(|(i, e)| match e.shape {
+    /// The light as the lanes read a triangle, if it is one.
+    pub(super) fn as_triangle(&self, selection: f32) -> Option<TriangleEmitter> {
+        match self.shape {
             EmitterShape::Triangle { a, b, c, normal, area } => Some(TriangleEmitter {
                 corners: [a, b, c],
                 normal,
                 area,
-                radiance: e.radiance,
-                two_sided: e.two_sided,
-                selection: probability_of(cdf, i),
+                radiance: self.radiance,
+                two_sided: self.two_sided,
+                selection,
             }),
-            EmitterShape::Sphere { .. } => None,
-        })
-        .collect::<Option<_>>()?;
-    let none = TriangleEmitter {
-        corners: [Vec3::ZERO; 3],
-        normal: Vec3::Z,
-        area: 1.0,
-        radiance: Rgb::ZERO,
-        two_sided: false,
-        selection: 0.0,
-    };
-    table.push(none);
-    Some(table)
+            _ => None,
+        }
+    }
+}
+
+/// The triangle as seen from `from`, when it is sampled by solid angle and that is accurate
+/// (pbrt-v4's bounds): below 3·10⁻⁴ sr the corners' directions nearly coincide and the
+/// construction loses precision, while the area density hardly varies across so small a
+/// triangle anyway; above 6.22 sr `from` nearly lies in its plane.
+fn spherical_triangle(strategy: TriangleSampling, from: Vec3, corners: [Vec3; 3]) -> Option<SphericalTriangle> {
+    if strategy == TriangleSampling::Area {
+        return None;
+    }
+    SphericalTriangle::new(from, corners).filter(|t| (3e-4..=6.22).contains(&t.solid_angle()))
 }
 
 /// The density `selection / area` of a point uniform on an emitter's area, at `point` (normal
@@ -469,33 +395,31 @@ pub(crate) fn area_to_solid_angle(selection: f32, area: f32, from: Vec3, point: 
     (projected > 0.0).then(|| selection * distance_squared * distance_squared.sqrt() / (projected * area))
 }
 
-/// Where the ray from `from` along `w` meets the triangle `[a, b, c]`, as barycentric
-/// interpolation of the corners (so it lies on the triangle), with its error bound.
-fn point_along(from: Vec3, w: Vec3, [a, b, c]: [Vec3; 3]) -> Option<(Vec3, Vec3)> {
-    let (e1, e2) = (b - a, c - a);
-    let s1 = w.cross(e2);
-    let divisor = s1.dot(e1);
-    // Also refuses a NaN direction, which the clamps below would turn into corner a.
-    if divisor == 0.0 || !divisor.is_finite() {
-        return None;
-    }
-    let s = from - a;
-    let b1 = (s.dot(s1) / divisor).max(0.0);
-    let b2 = (w.dot(s.cross(e1)) / divisor).max(0.0);
-    let (b1, b2) = if b1 + b2 > 1.0 { (b1 / (b1 + b2), b2 / (b1 + b2)) } else { (b1, b2) };
-    Some(barycentric_point([a, b, c], b1, b2))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Aabb;
+    use crate::lights::{Environment, Lights};
     use crate::materials::Phong;
     use crate::sampling::chi2::chi2_test_with_resolution;
     use crate::shapes::test_util::ray_meets_triangle;
     use crate::shapes::{Sphere, Triangle};
 
+    /// The area lights of `objects` alone.
+    fn lights_of(objects: &[Object], materials: &[Material]) -> Lights {
+        Lights::new(Vec::new(), &Environment::BLACK, objects, materials, Aabb::EMPTY)
+    }
+
+    /// The point a sample of an area light lies at.
+    fn point(s: &LightSample) -> Vec3 {
+        match s.end {
+            LightEnd::Surface { point, .. } => point,
+            _ => panic!("an area light's sample ends on its surface"),
+        }
+    }
+
     /// A triangle and a sphere that emit, seen from a point outside both.
-    fn lights() -> (AreaLights, [Vec3; 3], (Vec3, f32)) {
+    fn lights() -> (Lights, [Vec3; 3], (Vec3, f32)) {
         let tri = [Vec3::new(1.0, -0.5, 2.0), Vec3::new(2.0, 0.5, 2.5), Vec3::new(0.5, 1.0, 1.5)];
         let sphere = (Vec3::new(-1.5, 0.3, 1.0), 0.6);
         let emitting =
@@ -514,7 +438,7 @@ mod tests {
                 material: 1,
             },
         ];
-        (AreaLights::new(&objects, &[emitting(3.0), emitting(1.0)]), tri, sphere)
+        (lights_of(&objects, &[emitting(3.0), emitting(1.0)]), tri, sphere)
     }
 
     /// The triangle's light sampling from a point in front of it, as directions, against the
@@ -531,13 +455,13 @@ mod tests {
             (TriangleSampling::SolidAngle, None),
             (TriangleSampling::SolidAngle, Some(tilted)),
         ] {
-            lights.triangle_sampling = strategy;
+            lights.set_triangle_sampling(strategy);
             // u_select = 0 always picks the triangle: its pdf is the full pdf over p_triangle.
-            let sample = |u: Vec2| lights.sample(from, receiver, 0.0, u).map(|s| (s.point - from).normalize());
+            let sample = |u: Vec2| lights.sample_li(from, receiver, 0.0, u).map(|s| (point(&s) - from).normalize());
             let pdf = |w: Vec3| match ray_meets_triangle(from, w, tri) {
                 Some(p) => {
                     let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
-                    lights.pdf(from, receiver, 0, 0, p, n) as f64 / p_triangle
+                    lights.pdf_area(from, receiver, 0, 0, p, n) as f64 / p_triangle
                 }
                 None => 0.0,
             };
@@ -560,13 +484,13 @@ mod tests {
                 transform: None,
                 material: 0,
             };
-            let mut lights = AreaLights::new(&[object], &[material]);
+            let mut lights = lights_of(&[object], &[material]);
             for strategy in TriangleSampling::ALL {
-                lights.triangle_sampling = strategy;
+                lights.set_triangle_sampling(strategy);
                 let u = Vec2::new(0.3, 0.6);
-                let front = lights.sample(Vec3::new(0.2, 0.2, 1.0), None, 0.5, u).unwrap();
+                let front = lights.sample_li(Vec3::new(0.2, 0.2, 1.0), None, 0.5, u).unwrap();
                 assert!(front.radiance == Rgb::ONE && front.pdf > 0.0, "{strategy:?}");
-                let back = lights.sample(Vec3::new(0.2, 0.2, -1.0), None, 0.5, u);
+                let back = lights.sample_li(Vec3::new(0.2, 0.2, -1.0), None, 0.5, u);
                 match two_sided {
                     false => assert_eq!(back, None, "{strategy:?}"),
                     true => assert!(back.is_some_and(|s| s.radiance == Rgb::ONE), "{strategy:?}"),
@@ -580,16 +504,16 @@ mod tests {
     #[test]
     fn solid_angle_sampling_puts_points_on_the_triangle() {
         let (mut lights, tri, _) = lights();
-        lights.triangle_sampling = TriangleSampling::SolidAngle;
+        lights.set_triangle_sampling(TriangleSampling::SolidAngle);
         let from = Vec3::new(1.1, 0.35, 2.05);
         let spherical = SphericalTriangle::new(from, tri).unwrap();
         let omega = crate::sampling::spherical::girard_solid_angle(from, tri);
         let p_triangle = lights.selection_probability(0) as f64;
         for i in 0..100 {
             let u = Vec2::new((i % 10) as f32 / 10.0 + 0.05, (i / 10) as f32 / 10.0 + 0.05);
-            let s = lights.sample(from, None, 0.0, u).unwrap();
+            let s = lights.sample_li(from, None, 0.0, u).unwrap();
             let w = spherical.sample(u);
-            assert!((s.point - from).normalize().dot(w) > 1.0 - 1e-6, "{} is not along {w}", s.point);
+            assert!((point(&s) - from).normalize().dot(w) > 1.0 - 1e-6, "{} is not along {w}", point(&s));
             assert!((s.pdf as f64 / p_triangle * omega - 1.0).abs() < 1e-4);
         }
     }
@@ -608,16 +532,16 @@ mod tests {
             material: 0,
         };
         let emitting = Material::Phong(Phong { emission: Rgb::ONE, two_sided_emission: true, ..Phong::default() });
-        let mut lights = AreaLights::new(&[light], &[emitting]);
-        lights.triangle_sampling = TriangleSampling::SolidAngle;
+        let mut lights = lights_of(&[light], &[emitting]);
+        lights.set_triangle_sampling(TriangleSampling::SolidAngle);
         let (p, n) = (Vec3::new(-0.05, 0.9, 0.0), Vec3::X);
         let estimate = |receiver: Option<Vec3>| {
             let mut rng = crate::sampling::Rng::new(1, 1);
             let k = 100_000;
             let (mut sum, mut sum2) = (0.0f64, 0.0f64);
             for _ in 0..k {
-                let s = lights.sample(p, receiver, 0.0, Vec2::new(rng.next_f32(), rng.next_f32())).unwrap();
-                let x = (n.dot((s.point - p).normalize()).max(0.0) / s.pdf) as f64;
+                let s = lights.sample_li(p, receiver, 0.0, Vec2::new(rng.next_f32(), rng.next_f32())).unwrap();
+                let x = (n.dot((point(&s) - p).normalize()).max(0.0) / s.pdf) as f64;
                 sum += x;
                 sum2 += x * x;
             }
@@ -644,9 +568,9 @@ mod tests {
             (disc >= 0.0 && t > 0.0).then(|| from + t * w)
         };
         // u_select near 1 always picks the sphere.
-        let sample = |u: Vec2| lights.sample(from, None, 0.9999, u).map(|s| (s.point - from).normalize());
+        let sample = |u: Vec2| lights.sample_li(from, None, 0.9999, u).map(|s| (point(&s) - from).normalize());
         let pdf = |w: Vec3| match first_hit(w) {
-            Some(p) => lights.pdf(from, None, 1, 0, p, (p - centre) / radius) as f64 / p_sphere,
+            Some(p) => lights.pdf_area(from, None, 1, 0, p, (p - centre) / radius) as f64 / p_sphere,
             None => 0.0,
         };
         let r = chi2_test_with_resolution(sample, pdf, 500_000, 21, 41, 5, 64);
@@ -656,8 +580,9 @@ mod tests {
         let n = 100_000;
         let spheres = (0..n)
             .filter(|_| {
-                let s = lights.sample(from, None, rng.next_f32(), Vec2::new(rng.next_f32(), rng.next_f32())).unwrap();
-                (s.point - centre).length() < radius * 1.001
+                let s =
+                    lights.sample_li(from, None, rng.next_f32(), Vec2::new(rng.next_f32(), rng.next_f32())).unwrap();
+                (point(&s) - centre).length() < radius * 1.001
             })
             .count() as f64;
         // The sphere chosen with its power share (binomial, 4σ).

@@ -1,3 +1,7 @@
+//! The environment: what rays that leave the scene see (a constant background or a map), and
+//! the course's ambient light level. When light arrives from outside it is a light like the
+//! others (`Light::Environment`).
+//!
 //! An environment map: radiance arriving from infinitely far away, by direction, stored as a
 //! latitude-longitude (equirectangular) image in Mitsuba's convention: +y is up (the image's
 //! top row), and a direction d (in the map's own frame) is at u = atan2(d.x, −d.z) / 2π
@@ -11,7 +15,70 @@
 use glam::{Mat3, Vec2, Vec3};
 
 use crate::sampling::distribution::Distribution2D;
+use crate::sampling::warp::{square_to_uniform_sphere, UNIFORM_SPHERE_PDF};
 use crate::Rgb;
+
+/// Scene-wide values that are not objects.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Environment {
+    /// Radiance seen by rays that leave the scene (when there is no map).
+    pub background: Rgb,
+    /// The course's ambient light level I_a.
+    pub ambient_light: Rgb,
+    /// An environment map: radiance by direction, importance-sampled by the path tracer.
+    pub map: Option<std::sync::Arc<EnvironmentMap>>,
+}
+
+impl Environment {
+    /// No light from outside, no ambient light.
+    pub const BLACK: Self = Self { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None };
+
+    /// Radiance seen looking along `direction` out of the scene.
+    pub fn radiance(&self, direction: Vec3) -> Rgb {
+        match &self.map {
+            Some(map) => map.radiance(direction),
+            None => self.background,
+        }
+    }
+
+    /// Whether light arrives from outside the scene (a map, or a background that is not black):
+    /// then it is a light like the others, sampled and emitting particles.
+    pub fn emits(&self) -> bool {
+        self.map.is_some() || self.background != Rgb::ZERO
+    }
+
+    /// A direction toward the environment: by the map's brightness, or uniform over the sphere
+    /// for a constant background. `None` if nothing comes from outside.
+    pub fn sample(&self, u: Vec2) -> Option<EnvironmentSample> {
+        match &self.map {
+            Some(map) => map.sample(u),
+            None if self.background != Rgb::ZERO => Some(EnvironmentSample {
+                direction: square_to_uniform_sphere(u),
+                radiance: self.background,
+                pdf: UNIFORM_SPHERE_PDF,
+            }),
+            None => None,
+        }
+    }
+
+    /// The solid-angle density of `sample` for `direction`.
+    pub fn pdf(&self, direction: Vec3) -> f32 {
+        match &self.map {
+            Some(map) => map.pdf(direction),
+            None if self.background != Rgb::ZERO => UNIFORM_SPHERE_PDF,
+            None => 0.0,
+        }
+    }
+
+    /// ∫ L dω over the sphere (mean over RGB): the power per unit area it sends across a
+    /// plane, summed over directions.
+    pub fn radiance_integral(&self) -> f32 {
+        match &self.map {
+            Some(map) => map.radiance_integral(),
+            None => 4.0 * std::f32::consts::PI * self.background.dot(Rgb::splat(1.0 / 3.0)),
+        }
+    }
+}
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvironmentMap {

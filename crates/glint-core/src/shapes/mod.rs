@@ -24,10 +24,12 @@ pub use instance::Instance;
 pub use mesh::Mesh;
 pub use plane::Plane;
 pub use polygon::{inverse_bilinear, Polygon, PolygonTest};
-pub(crate) use sphere::sphere_point;
+pub(crate) use sphere::{sample_sphere, sample_sphere_seen_from, sphere_solid_angle_from, Ellipsoid};
 pub use sphere::{Sphere, SphereMethod};
+#[cfg(test)]
 pub(crate) use triangle::barycentric_point;
 pub use triangle::{intersect_cramer, moller_trumbore_edges, Triangle, TriangleMethod, WatertightRay};
+pub(crate) use triangle::{sample_triangle, triangle_point_along};
 
 use glam::{Vec2, Vec3};
 

@@ -20,7 +20,9 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::{first_in_range, solve_quadratic, SurfaceGeometry};
-use crate::geometry::{gamma, Aabb, Ray};
+use crate::geometry::{gamma, Aabb, Ray, Transform};
+use crate::sampling::spherical::SphericalCap;
+use crate::sampling::warp::square_to_uniform_sphere;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SphereMethod {
@@ -104,6 +106,93 @@ impl Sphere {
 /// from the normal leaves a few roundings of the centre and the radius.
 pub(crate) fn sphere_point(center: Vec3, radius: f32, normal: Vec3) -> (Vec3, Vec3) {
     (center + normal * radius, gamma(6) * (center.abs() + (normal * radius).abs()))
+}
+
+/// A point on a sphere light, sampled from the shading point `from` in the cone of directions
+/// the sphere subtends (uniform in solid angle): (point, outward normal, error bound, the
+/// cone's solid angle). `None` from inside the sphere or on it, where the caller samples by
+/// area instead.
+pub(crate) fn sample_sphere_seen_from(
+    center: Vec3,
+    radius: f32,
+    from: Vec3,
+    u: Vec2,
+) -> Option<(Vec3, Vec3, Vec3, f32)> {
+    let cap = SphericalCap::new(from, center, radius)?;
+    let normal = cap.sample_normal(u);
+    let (point, error) = sphere_point(center, radius, normal);
+    Some((point, normal, error, cap.solid_angle()))
+}
+
+/// The solid angle of the cone `sample_sphere_seen_from` samples from `from`; `None` where it
+/// samples none.
+pub(crate) fn sphere_solid_angle_from(center: Vec3, radius: f32, from: Vec3) -> Option<f32> {
+    SphericalCap::new(from, center, radius).map(|cap| cap.solid_angle())
+}
+
+/// A point uniform on the sphere's area: (point, outward normal, error bound).
+pub(crate) fn sample_sphere(center: Vec3, radius: f32, u: Vec2) -> (Vec3, Vec3, Vec3) {
+    let normal = square_to_uniform_sphere(u);
+    let (point, error) = sphere_point(center, radius, normal);
+    (point, normal, error)
+}
+
+/// A sphere under an affine transform that is not a similarity (an ellipsoid), sampled by
+/// area: a point uniform on the object's sphere, mapped to world space. A linear map M scales
+/// the area around a point of object normal n by J = |det M| · |M⁻ᵀ n|, so the world density
+/// there is 1 / (4π r² J).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Ellipsoid {
+    pub center: Vec3,
+    pub radius: f32,
+    pub transform: Transform,
+    /// The world area, ∫ J dA over the object's sphere (by quadrature).
+    pub area: f32,
+}
+
+impl Ellipsoid {
+    pub fn new(center: Vec3, radius: f32, transform: Transform) -> Self {
+        // Midpoint rule in (cos θ, φ), where the sphere's area element is uniform: J is
+        // smooth, so 64 × 128 cells leave an error far below f32's.
+        let (rows, columns) = (64, 128);
+        let mut sum = 0.0f64;
+        for i in 0..rows {
+            for j in 0..columns {
+                let u = Vec2::new((i as f32 + 0.5) / rows as f32, (j as f32 + 0.5) / columns as f32);
+                sum += Self::jacobian(&transform, square_to_uniform_sphere(u)) as f64;
+            }
+        }
+        let sphere_area = 4.0 * PI as f64 * (radius as f64).powi(2);
+        Self { center, radius, transform, area: (sum / (rows * columns) as f64 * sphere_area) as f32 }
+    }
+
+    /// The area scale J at object normal `n`.
+    fn jacobian(transform: &Transform, n: Vec3) -> f32 {
+        let m = glam::Mat3::from_mat4(transform.to_world);
+        m.determinant().abs() * (m.inverse().transpose() * n).length()
+    }
+
+    /// A point by area on the object's sphere, in world space: (point, world normal, error
+    /// bound, world area density).
+    pub fn sample(&self, u: Vec2) -> (Vec3, Vec3, Vec3, f32) {
+        let (object_point, n, error) = sample_sphere(self.center, self.radius, u);
+        let point = self.transform.point(object_point);
+        // The object point's error carried through the map, plus the map's own roundings.
+        let m = glam::Mat4::to_cols_array_2d(&self.transform.to_world).map(|c| Vec3::new(c[0], c[1], c[2]).abs());
+        let linear = glam::Mat3::from_cols(m[0], m[1], m[2]);
+        let error = linear * error + gamma(4) * (linear * object_point.abs() + m[3].abs());
+        (point, self.transform.normal(n), error, self.pdf_area_at_normal(n))
+    }
+
+    /// The world area density of `sample` at the world point `point` on the surface.
+    pub fn pdf_area(&self, point: Vec3) -> f32 {
+        let n = (self.transform.to_object.transform_point3(point) - self.center).normalize_or(Vec3::Z);
+        self.pdf_area_at_normal(n)
+    }
+
+    fn pdf_area_at_normal(&self, n: Vec3) -> f32 {
+        1.0 / (4.0 * PI * self.radius * self.radius * Self::jacobian(&self.transform, n))
+    }
 }
 
 #[cfg(test)]

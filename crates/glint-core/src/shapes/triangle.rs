@@ -249,6 +249,33 @@ pub(crate) fn barycentric_point([a, b, c]: [Vec3; 3], b1: f32, b2: f32) -> (Vec3
     (point, gamma(7) * ((b0 * a).abs() + (b1 * b).abs() + (b2 * c).abs()))
 }
 
+/// A point uniform on the triangle's area, for sampling it as a light: `u` warped to
+/// barycentric weights (`square_to_triangle`; the wavefront's lanes repeat that warp), and
+/// the point's error bound.
+pub(crate) fn sample_triangle(corners: [Vec3; 3], u: Vec2) -> (Vec3, Vec3) {
+    let b = crate::sampling::warp::square_to_triangle(u);
+    barycentric_point(corners, b.x, b.y)
+}
+
+/// Where the ray from `from` along `w` meets the triangle, as barycentric interpolation of
+/// the corners (so the point lies on the triangle even where rounding put the ray a hair
+/// outside an edge), with its error bound: a direction sampled in the triangle's solid angle
+/// turned into its point.
+pub(crate) fn triangle_point_along(from: Vec3, w: Vec3, [a, b, c]: [Vec3; 3]) -> Option<(Vec3, Vec3)> {
+    let (e1, e2) = (b - a, c - a);
+    let s1 = w.cross(e2);
+    let divisor = s1.dot(e1);
+    // Also refuses a NaN direction, which the clamps below would turn into corner a.
+    if divisor == 0.0 || !divisor.is_finite() {
+        return None;
+    }
+    let s = from - a;
+    let b1 = (s.dot(s1) / divisor).max(0.0);
+    let b2 = (w.dot(s.cross(e1)) / divisor).max(0.0);
+    let (b1, b2) = if b1 + b2 > 1.0 { (b1 / (b1 + b2), b2 / (b1 + b2)) } else { (b1, b2) };
+    Some(barycentric_point([a, b, c], b1, b2))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

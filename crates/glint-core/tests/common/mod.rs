@@ -2,8 +2,9 @@
 #![allow(dead_code)]
 
 use glint_core::camera::Camera;
+use glint_core::lights::Environment;
 use glint_core::materials::{Material, Phong};
-use glint_core::scene::{Environment, Object, Scene};
+use glint_core::scene::{Object, Scene};
 use glint_core::shapes::{IntersectMethods, Shape};
 use glint_core::{Rgb, Vec3};
 

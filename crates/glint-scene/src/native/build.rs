@@ -11,10 +11,10 @@ use glint_core::filter::Filter;
 use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings, PhotonSettings};
 use glint_core::lights::TriangleSampling;
-use glint_core::lights::{DirectionalLight, EnvironmentMap, Falloff, Light, PointLight, SpotLight};
+use glint_core::lights::{DirectionalLight, Environment, EnvironmentMap, Falloff, Light, PointLight, SpotLight};
 use glint_core::materials::Material;
 use glint_core::sampling::SamplerKind;
-use glint_core::scene::{Environment, Geometry, Object, Scene};
+use glint_core::scene::{Geometry, Object, Scene};
 use glint_core::shapes::{
     AaBox, BoxMethod, Instance, IntersectMethods, Mesh, Plane, Polygon, PolygonTest, Shape, Sphere, SphereMethod,
     Triangle, TriangleMethod,
@@ -100,7 +100,7 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
 
     warnings.extend(materials.iter().filter_map(|(name, m)| m.energy_warning(name)));
     let mut scene = Scene::new(camera, objects, materials, lights, environment, methods);
-    scene.area_lights.triangle_sampling = render.light_sampling;
+    scene.set_triangle_sampling(render.light_sampling);
     let inputs = std::iter::once(path.to_path_buf()).chain(source.files_read()).collect();
     Ok(LoadedScene { scene, render, warnings, inputs })
 }

@@ -1,15 +1,15 @@
 //! The path tracer as a wavefront: a tile's paths advance together, one bounce at a time, and
 //! the stages between the ray queries run eight paths at once in SIMD lanes (`lanes.rs`).
 //!
-//! It serves the scenes lit by area lights alone (no environment light, no point, spot or
-//! directional light): any geometry, any material. Where the scene allows, the lanes do
-//! everything: the surface of flat or smooth triangles with constant colours, and triangle
-//! lights sampled by area (the Cornell box). Otherwise each lane asks the scalar code for what
-//! differs (the surface of a sphere or a textured mesh, a point on a sphere light or by solid
+//! It serves every scene: any geometry, any material, every kind of light. Where the scene
+//! allows, the lanes do everything: the surface of flat or smooth triangles with constant
+//! colours, and lights that are all triangles sampled by area (the Cornell box). Otherwise
+//! each lane asks the scalar code for what differs (the surface of a sphere or a textured
+//! mesh; the light sample, `Lights::sample_li`, and its shadow ray, when some light is a
+//! point, spot, directional, environment or sphere light, or triangles are sampled by solid
 //! angle) and the rest stays in lanes. A path that hits a surface whose BSDF is more than
 //! Lambert's lobe (mirror, glass, glossy, the course's mixed material) takes that bounce from
-//! the scalar code, `PathTracer::bounce`, while the others take theirs in lanes. Other scenes
-//! go path by path through `PathTracer::radiance`.
+//! the scalar code, `PathTracer::bounce`, while the others take theirs in lanes.
 //!
 //! It is that same estimator, operation for operation: each lane computes the bits the scalar
 //! code computes and, while its path goes on, draws the same numbers in the same order (a path
@@ -32,10 +32,10 @@ use self::lanes::{
 use super::path::{PathState, PathTracer, Scatter};
 use super::{RayCounts, SampleContext};
 use crate::geometry::Ray;
-use crate::lights::{TriangleEmitter, TriangleSampling};
+use crate::lights::{LightSample, TriangleEmitter, TriangleSampling};
 use crate::materials::{luminance, Material};
 use crate::sampling::Sampler;
-use crate::scene::{PrimitiveHit, Scene, SHADOW_EPSILON};
+use crate::scene::{PrimitiveHit, Scene, Spawn, SHADOW_EPSILON};
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
@@ -107,7 +107,7 @@ pub(super) struct Wavefront<'a> {
     /// Every material, when all are constant and every primitive is a triangle in world space:
     /// then the lanes compute the surfaces themselves.
     flat: Option<Vec<LaneMaterial>>,
-    /// The area lights as triangles, then a black one for lanes without a light, when all are
+    /// The lights as triangles, then a black one for lanes without a light, when all are
     /// triangles sampled by area: then the lanes sample them themselves.
     emitters: Option<&'a [TriangleEmitter]>,
     /// The lights' CDF, when the lanes choose among them by counting: at most `SHORT_CDF`
@@ -169,37 +169,34 @@ struct Surfaces {
     material: [LaneMaterial; LANES],
 }
 
-/// Points the lanes sampled on lights, as `LightSample` has them.
+/// The lights the lanes sampled, as `LightSample` has them, and the shadow rays toward them.
 struct LightPoints {
-    /// Lanes with a point (`AreaLights::sample` gave one).
+    /// Lanes with a sample (`Lights::sample_li` gave one).
     sampled: f32x8,
-    point: Vec3x8,
-    normal: Vec3x8,
-    error: Vec3x8,
+    direction: Vec3x8,
     radiance: Vec3x8,
     pdf: f32x8,
+    /// Lanes whose light is a delta light: not weighed against BSDF sampling.
+    delta: f32x8,
+    shadow_rays: [Ray; LANES],
 }
 
 impl<'a> Wavefront<'a> {
-    /// The wavefront for `scene`, if it serves it: lit by area lights only. It runs once per
-    /// tile, so it looks at the materials but not at every object.
-    pub fn new(tracer: &PathTracer, scene: &'a Scene) -> Option<Self> {
-        let served = scene.lights.is_empty() && !scene.environment.emits();
-        if !served {
-            return None;
-        }
-        let beyond_lambert: Vec<bool> = scene.materials.iter().map(|m| !diffuse_only(m)).collect();
+    /// The wavefront for `scene`. It runs once per tile, so it looks at the materials but not
+    /// at every object.
+    pub fn new(tracer: &PathTracer, scene: &'a Scene) -> Self {
+        let beyond_lambert: Vec<bool> = scene.materials().iter().map(|m| !diffuse_only(m)).collect();
         let beyond_lambert = beyond_lambert.contains(&true).then_some(beyond_lambert);
         let flat = if scene.geometry.all_triangles() {
-            scene.materials.iter().map(LaneMaterial::constant).collect::<Option<Vec<_>>>()
+            scene.materials().iter().map(LaneMaterial::constant).collect::<Option<Vec<_>>>()
         } else {
             None
         };
-        let lights = &scene.area_lights;
-        let emitters = lights.triangle_table().filter(|_| lights.triangle_sampling == TriangleSampling::Area);
+        let lights = scene.lights();
+        let emitters = lights.triangle_table().filter(|_| lights.triangle_sampling() == TriangleSampling::Area);
         let cdf = lights.selection_cdf();
-        let counted_cdf = (!lights.is_empty() && cdf.len() <= SHORT_CDF && cdf.is_sorted()).then_some(cdf);
-        Some(Self { scene, flat, emitters, counted_cdf, beyond_lambert, tracer: *tracer })
+        let counted_cdf = (!cdf.is_empty() && cdf.len() <= SHORT_CDF && cdf.is_sorted()).then_some(cdf);
+        Self { scene, flat, emitters, counted_cdf, beyond_lambert, tracer: *tracer }
     }
 
     /// The radiance along each camera ray, `out[i]` for `rays[i]` drawing from `contexts[i]`.
@@ -233,8 +230,16 @@ impl<'a> Wavefront<'a> {
                 if self.scene.geometry.closest_primitive_into(&mut path.ray, &mut path.hit) {
                     hits.push(i);
                 } else {
-                    // Weight 1: the environment emits nothing, so it is not light-sampled.
-                    path.radiance += path.throughput * self.scene.environment.radiance(path.ray.direction);
+                    // Weighed against light sampling from the last bounce, as the scalar code
+                    // weighs it (a delta bounce's density is infinite).
+                    let lights = self.scene.lights();
+                    let direction = path.ray.direction;
+                    let weight = if path.depth > 0 && path.last_pdf != f32::INFINITY && lights.has_environment() {
+                        super::path::power_heuristic(path.last_pdf, lights.pdf_environment(direction))
+                    } else {
+                        1.0
+                    };
+                    path.radiance += path.throughput * self.scene.environment().radiance(direction) * weight;
                 }
             }
             active.clear();
@@ -310,7 +315,7 @@ impl<'a> Wavefront<'a> {
                         let none = emitters.len() - 1;
                         let emitter: [&TriangleEmitter; LANES] = std::array::from_fn(|k| {
                             &emitters
-                                [scene.area_lights.emitter_index(path(k).hit.object, path(k).hit.prim).unwrap_or(none)]
+                                [scene.lights().emitter_index(path(k).hit.object, path(k).hit.prim).unwrap_or(none)]
                         });
                         let to_light = point - Vec3x8::from_fn(|k| path(k).last_point);
                         let (pdf, seen) = area_to_solid_angle(
@@ -324,7 +329,7 @@ impl<'a> Wavefront<'a> {
                     None => per_lane(|k| {
                         let p = path(k);
                         let (hit_point, hit_normal) = (point.lane(k), geometric.lane(k));
-                        scene.area_lights.pdf(
+                        scene.lights().pdf_area(
                             p.last_point,
                             Some(p.last_normal),
                             p.hit.object,
@@ -379,43 +384,23 @@ impl<'a> Wavefront<'a> {
         let normal = Vec3x8::select(normal.dot(wo).cmp_le(zero), facing, normal);
         let diffuse = Vec3x8::from_fn(|k| material[k].diffuse);
 
-        // Next-event estimation: one point on a light chosen by power.
+        // Next-event estimation: one light chosen by power.
         let light = match self.emitters {
-            Some(emitters) => self.triangle_light_points(emitters, &goes_on, &draws, point),
-            None => self.light_points(&goes_on, &draws, point, shading),
+            Some(emitters) => self.triangle_light_points(emitters, &goes_on, &draws, point, error, geometric),
+            None => self.light_points(&goes_on, &draws, [point, error, geometric], shading),
         };
         let mut direct = Vec3x8::ZERO;
         let mut shadow_rays_traced = 0;
-        if let Some(LightPoints {
-            sampled,
-            point: light_point,
-            normal: light_normal,
-            error: light_error,
-            radiance: light_radiance,
-            pdf,
-        }) = light
-        {
-            let to_light = light_point - point;
-            let wi = to_light.normalize();
+        if let Some(LightPoints { sampled, direction: wi, radiance: light_radiance, pdf, delta, shadow_rays }) = light {
             let (cos, above) = (wi.dot(normal), wi.dot(facing));
             let f = Vec3x8::select(
                 cos.cmp_le(zero) | above.cmp_le(zero),
                 Vec3x8::ZERO,
                 diffuse * (cos * f32x8::splat(FRAC_1_PI)),
             );
-            let traced = sampled & light_radiance.nonzero() & f.nonzero() & pdf.cmp_gt(zero);
-            // The shadow ray, each end offset off its surface toward the other.
-            let origin = offset_ray_origin(point, error, geometric, to_light);
-            let end = offset_ray_origin(light_point, light_error, light_normal, point - light_point);
-            let toward = end - origin;
-            let traced = traced.move_mask();
-            // All eight written before the first is traced: a query that loads a ray as vectors
-            // while its fields' stores are still on their way to the cache stalls until they
-            // arrive (store forwarding fails).
-            let shadow_rays: [Ray; LANES] =
-                std::array::from_fn(|k| Ray::with_range(origin.lane(k), toward.lane(k), 0.0, 1.0 - SHADOW_EPSILON));
+            let traced = (sampled & light_radiance.nonzero() & f.nonzero() & pdf.cmp_gt(zero)).move_mask();
             let bsdf_pdf = (above.cmp_gt(zero) & cos.cmp_gt(zero)).blend(cos * f32x8::splat(FRAC_1_PI), zero);
-            let weight = power_heuristic(pdf, bsdf_pdf);
+            let weight = delta.blend(f32x8::ONE, power_heuristic(pdf, bsdf_pdf));
             let contribution = Vec3x8::ZERO + f.mul_lanes(light_radiance) * (weight / pdf);
             shadow_rays_traced = traced.count_ones();
             let unoccluded = mask(|k| traced & (1 << k) != 0 && !scene.occluded(&shadow_rays[k]));
@@ -551,14 +536,15 @@ impl<'a> Wavefront<'a> {
             geometric: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.geometric_normal)),
             shading: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.shading_normal)),
             material: std::array::from_fn(|k| match &hits[k] {
-                Some(h) => LaneMaterial::at(&scene.materials[h.material as usize], &h.texture_query()),
+                Some(h) => LaneMaterial::at(&scene.materials()[h.material as usize], &h.texture_query()),
                 None => LaneMaterial::BLACK,
             }),
         }
     }
 
     /// Points uniform on triangle lights chosen by power, sampled in the lanes
-    /// (AreaLights::sample by area); `None` if no lane chose one.
+    /// (`Lights::sample_li` by area), and the shadow rays from `from` toward them; `None` if
+    /// no lane chose one.
     #[inline(always)]
     fn triangle_light_points(
         &self,
@@ -566,10 +552,12 @@ impl<'a> Wavefront<'a> {
         goes_on: &[bool; LANES],
         draws: &[f32x8; DRAWS],
         from: Vec3x8,
+        from_error: Vec3x8,
+        from_normal: Vec3x8,
     ) -> Option<LightPoints> {
         let zero = f32x8::ZERO;
         let none = emitters.len() - 1;
-        let lights = &self.scene.area_lights;
+        let lights = self.scene.lights();
         let on = bytemuck::cast::<f32x8, i32x8>(mask(|k| goes_on[k]));
         // Each lane's emitter (`none` where the path ends).
         let chosen: i32x8 = if let Some(cdf) = self.counted_cdf {
@@ -609,35 +597,49 @@ impl<'a> Wavefront<'a> {
             & pdf.is_finite()
             & !cos_light.cmp_eq(zero);
         let radiance = Vec3x8::select(two_sided | cos_light.cmp_gt(zero), radiance, Vec3x8::ZERO);
-        Some(LightPoints { sampled, point, normal, error, radiance, pdf })
+        // The shadow ray, each end offset off its surface toward the other (`Spawn::ray_to_surface`).
+        let origin = offset_ray_origin(from, from_error, from_normal, to_light);
+        let end = offset_ray_origin(point, error, normal, from - point);
+        let toward = end - origin;
+        // All eight written before the first is traced: a query that loads a ray as vectors
+        // while its fields' stores are still on their way to the cache stalls until they
+        // arrive (store forwarding fails).
+        let shadow_rays =
+            std::array::from_fn(|k| Ray::with_range(origin.lane(k), toward.lane(k), 0.0, 1.0 - SHADOW_EPSILON));
+        Some(LightPoints { sampled, direction: to_light.normalize(), radiance, pdf, delta: zero, shadow_rays })
     }
 
-    /// Points on any area lights, from `AreaLights::sample` lane by lane; `None` if no lane
-    /// got one.
+    /// Any lights, from `Lights::sample_li` lane by lane, and the shadow rays toward them from
+    /// the surfaces at `[point, error, geometric normal]`, as the scalar code spawns them;
+    /// `None` if no lane got one.
     fn light_points(
         &self,
         goes_on: &[bool; LANES],
         draws: &[f32x8; DRAWS],
-        from: Vec3x8,
+        [from, from_error, from_normal]: [Vec3x8; 3],
         shading: Vec3x8,
     ) -> Option<LightPoints> {
-        let samples: [Option<crate::lights::LightSample>; LANES] = std::array::from_fn(|k| {
+        let samples: [Option<LightSample>; LANES] = std::array::from_fn(|k| {
             let draw = |j: usize| draws[j].as_array_ref()[k];
             let u = Vec2::new(draw(LIGHT_POINT), draw(LIGHT_POINT + 1));
-            goes_on[k].then(|| self.scene.area_lights.sample(from.lane(k), Some(shading.lane(k)), draw(LIGHT), u))?
+            goes_on[k].then(|| self.scene.lights().sample_li(from.lane(k), Some(shading.lane(k)), draw(LIGHT), u))?
         });
         if samples.iter().all(Option::is_none) {
             return None;
         }
-        let field =
-            |f: fn(&crate::lights::LightSample) -> Vec3| Vec3x8::from_fn(|k| samples[k].as_ref().map_or(Vec3::Z, f));
+        let shadow_rays = std::array::from_fn(|k| match &samples[k] {
+            Some(sample) => {
+                Spawn { point: from.lane(k), error: from_error.lane(k), normal: from_normal.lane(k) }.shadow_ray(sample)
+            }
+            None => Ray::new(Vec3::ZERO, Vec3::Z),
+        });
         Some(LightPoints {
             sampled: mask(|k| samples[k].is_some()),
-            point: field(|s| s.point),
-            normal: field(|s| s.normal),
-            error: field(|s| s.error),
+            direction: Vec3x8::from_fn(|k| samples[k].map_or(Vec3::Z, |s| s.direction)),
             radiance: Vec3x8::from_fn(|k| samples[k].map_or(Rgb::ZERO, |s| s.radiance)),
             pdf: per_lane(|k| samples[k].map_or(0.0, |s| s.pdf)),
+            delta: mask(|k| samples[k].is_some_and(|s| s.delta)),
+            shadow_rays,
         })
     }
 }
