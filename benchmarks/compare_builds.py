@@ -4,6 +4,9 @@
     benchmarks/compare_builds.py --before /tmp/old-target/release/glint --after target/release/glint \
         --scene ../shared/scenes/cbox.xml --spp 256 --rounds 3
 
+Or one build two ways: the same binary for both, `--before-args=--no-wavefront`; `--args` go to
+both (`--args="--integrator path"`).
+
 Prints each render's wall time (load, render and write, 2 threads) and the median ratio
 after/before per scene, and whether the two images are byte-identical (the same seed).
 """
@@ -16,10 +19,10 @@ import time
 from pathlib import Path
 
 
-def render(binary: str, scene: str, spp: int, out: Path) -> float:
+def render(binary: str, extra: list[str], scene: str, spp: int, out: Path) -> float:
     start = time.perf_counter()
     subprocess.run(
-        [binary, "render", scene, "--spp", str(spp), "--seed", "1", "--threads", "2", "-o", str(out)],
+        [binary, "render", scene, "--spp", str(spp), "--seed", "1", "--threads", "2", "-o", str(out), *extra],
         check=True,
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
@@ -34,14 +37,18 @@ def main() -> None:
     parser.add_argument("--scene", action="append", required=True)
     parser.add_argument("--spp", type=int, default=256)
     parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--args", default="", help="extra render arguments for both builds")
+    parser.add_argument("--before-args", default="", help="extra render arguments for the first")
+    parser.add_argument("--after-args", default="", help="extra render arguments for the second")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         for scene in args.scene:
             times = {"before": [], "after": []}
             images = {k: Path(tmp) / f"{k}.pfm" for k in times}
             for _ in range(args.rounds):
-                for which, binary in (("before", args.before), ("after", args.after)):
-                    times[which].append(render(binary, scene, args.spp, images[which]))
+                for which, binary, own in (("before", args.before, args.before_args), ("after", args.after, args.after_args)):
+                    extra = args.args.split() + own.split()
+                    times[which].append(render(binary, extra, scene, args.spp, images[which]))
             same = filecmp.cmp(images["before"], images["after"], shallow=False)
             b, a = statistics.median(times["before"]), statistics.median(times["after"])
             print(f"{scene}: before {b:.3f} s, after {a:.3f} s, after/before {a / b:.3f}, images identical: {same}")

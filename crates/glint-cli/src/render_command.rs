@@ -83,7 +83,7 @@ pub struct RenderArgs {
     #[arg(long, value_enum)]
     light_sampling: Option<LightSamplingArg>,
     /// Path tracing: trace one path at a time instead of a tile's paths eight at a time in
-    /// SIMD lanes (which scenes lit by area lights alone, such as the Cornell boxes, get). The
+    /// SIMD lanes (which every scene gets). The
     /// image is the same bit for bit; for comparing the speed of the two.
     #[arg(long)]
     no_wavefront: bool,

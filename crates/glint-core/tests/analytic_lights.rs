@@ -10,6 +10,8 @@
 //!   E = (L/2) Σ θᵢ (n · γᵢ) over its edges, for both triangle-light sampling strategies.
 //! * Point, spot and directional lights, off to the side: E = I cos θ / d², and E⊥ cos θ for
 //!   the directional one (the path tracer only: no path can hit them).
+//! * All of these at once, the sphere placed by a transform: the sum, though next-event
+//!   estimation now samples one light per bounce, chosen by power.
 //! * The floor beside a sphere light, for the particle integrators, which start at the light:
 //!   a sphere fully above a plane lights it as a point would, E = π L r² cos θ / D², D the
 //!   distance to its centre.
@@ -17,7 +19,9 @@
 mod common;
 
 use common::{object_with, scene};
+use glam::Mat4;
 use glint_core::camera::Camera;
+use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
 use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight, SpotLight, TriangleSampling};
 use glint_core::materials::{Material, Phong};
@@ -106,6 +110,31 @@ fn a_floor_under_delta_lights_gets_their_analytic_irradiance() {
         let expected = albedo as f64 / std::f64::consts::PI * irradiance;
         check_image_mean(&s, IntegratorKind::Path, 16, expected, None, &format!("{name} light, path"));
     }
+}
+
+#[test]
+fn a_floor_under_every_kind_of_light_at_once_gets_the_sum() {
+    let (intensity, albedo, at) = (2.0f32, 0.5f32, Vec3::new(0.6, 1.5, 0.3));
+    let (d2, cos) = (at.length_squared() as f64, at.normalize().y as f64);
+    let point = PointLight { position: at, intensity: Rgb::splat(intensity), falloff: Falloff::InverseSquare };
+    let spot = SpotLight::new(at, -at, point.intensity, Falloff::InverseSquare, 30.0, 5.0);
+    let sun = DirectionalLight { direction: -at.normalize(), intensity: point.intensity };
+    // A sphere of radius 0.25 scaled to 0.5 and lifted to height 2: E = π L r² / h². The
+    // delta lights' shadow rays pass it 0.8 from its centre.
+    let (radiance, radius, height) = (4.0f64, 0.5f64, 2.0f64);
+    let lifted =
+        Transform::from_matrix(Mat4::from_translation(Vec3::new(0.0, 2.0, 0.0)) * Mat4::from_scale(Vec3::splat(2.0)));
+    let mut sphere = object_with(Shape::Sphere(Sphere::new(Vec3::ZERO, 0.25)), 1);
+    sphere.transform = lifted;
+    let mut s = scene(vec![object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0), sphere]);
+    s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance as f32)]);
+    s.set_lights(vec![Light::Point(point), Light::Spot(spot), Light::Directional(sun)]);
+    s.camera = Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
+    let irradiance = 2.0 * intensity as f64 * cos / d2
+        + intensity as f64 * cos
+        + std::f64::consts::PI * radiance * radius * radius / (height * height);
+    let expected = albedo as f64 / std::f64::consts::PI * irradiance;
+    check_image_mean(&s, IntegratorKind::Path, 256, expected, None, "every kind of light, path");
 }
 
 #[test]

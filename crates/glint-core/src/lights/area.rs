@@ -46,8 +46,9 @@ pub(crate) enum EmitterShape {
         center: Vec3,
         radius: f32,
     },
-    /// A sphere under a transform that is not a similarity.
-    Ellipsoid(Ellipsoid),
+    /// A sphere under a transform that is not a similarity (boxed: its transform is three
+    /// times a triangle's size, and a mesh light is a vector of lights).
+    Ellipsoid(Box<Ellipsoid>),
 }
 
 impl EmitterShape {
@@ -180,7 +181,7 @@ pub(crate) fn area_lights(objects: &[Object], materials: &[Material]) -> Vec<(us
                     None => EmitterShape::Sphere { center: s.center, radius: s.radius },
                     Some(t) => match similarity_scale(t) {
                         Some(scale) => EmitterShape::Sphere { center: t.point(s.center), radius: s.radius * scale },
-                        None => EmitterShape::Ellipsoid(Ellipsoid::new(s.center, s.radius, *t)),
+                        None => EmitterShape::Ellipsoid(Box::new(Ellipsoid::new(s.center, s.radius, *t))),
                     },
                 };
                 found.push((o, vec![light(shape)]));
@@ -306,7 +307,7 @@ impl AreaLight {
                     return selection / solid_angle;
                 }
             }
-            EmitterShape::Ellipsoid(e) => {
+            EmitterShape::Ellipsoid(ref e) => {
                 return area_to_solid_angle(selection * e.pdf_area(point), 1.0, from, point, normal).unwrap_or(0.0);
             }
         }

@@ -242,3 +242,158 @@ impl Lights {
 fn probability_of(cdf: &[f32], i: usize) -> f32 {
     cdf[i] - if i == 0 { 0.0 } else { cdf[i - 1] }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::Mat4;
+
+    use super::super::area::EmitterShape;
+    use super::super::{LightEnd, PointLight};
+    use super::*;
+    use crate::geometry::Transform;
+    use crate::lights::Falloff;
+    use crate::materials::Phong;
+    use crate::shapes::{Shape, Sphere, Triangle};
+    use crate::Rgb;
+
+    fn emitting(radiance: f32) -> Material {
+        Material::Phong(Phong { emission: Rgb::splat(radiance), ..Phong::default() })
+    }
+
+    fn object(shape: Shape, transform: Option<Transform>) -> Object {
+        Object { name: "o".into(), shape, transform, material: 0 }
+    }
+
+    /// A point light (power/π 4·I = 4), a constant sky (R²·4π·L/π = 6 in a box of radius √3)
+    /// and a one-sided triangle (L·A = 0.5): chosen 4 : 6 : 0.5, in the scene's order, and each
+    /// sample says what it is.
+    #[test]
+    fn lights_of_every_kind_are_chosen_by_power() {
+        let point = Light::Point(PointLight {
+            position: Vec3::new(0.0, 0.5, 0.0),
+            intensity: Rgb::ONE,
+            falloff: Falloff::InverseSquare,
+        });
+        let sky = Environment { background: Rgb::splat(0.5), ..Environment::BLACK };
+        let triangle = object(Shape::Triangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)), None);
+        let bounds = Aabb::new(Vec3::splat(-1.0), Vec3::ONE);
+        let lights = Lights::new(vec![point], &sky, &[triangle], &[emitting(1.0)], bounds);
+        let kinds: Vec<&str> = lights.all().iter().map(Light::kind).collect();
+        assert_eq!(kinds, ["point", "environment", "area"]);
+        for (i, share) in [4.0, 6.0, 0.5].into_iter().enumerate() {
+            let p = lights.selection_probability(i);
+            assert!((p - share / 10.5).abs() < 1e-6, "light {i}: {p}");
+        }
+        assert!((lights.total_power() - 10.5 * std::f32::consts::PI).abs() < 1e-4);
+        let from = Vec3::new(0.2, 0.2, 1.0);
+        let u = Vec2::new(0.3, 0.7);
+        let s = lights.sample_li(from, None, 0.1, u).unwrap();
+        assert!(s.delta && s.end == LightEnd::Point(Vec3::new(0.0, 0.5, 0.0)));
+        assert!((s.pdf - 4.0 / 10.5).abs() < 1e-6);
+        let s = lights.sample_li(from, None, 0.5, u).unwrap();
+        assert!(!s.delta && s.end == LightEnd::Infinite);
+        assert!((s.pdf - lights.pdf_environment(s.direction)).abs() < 1e-7);
+        assert!((lights.pdf_environment(Vec3::X) - 6.0 / 10.5 / (4.0 * std::f32::consts::PI)).abs() < 1e-6);
+        let s = lights.sample_li(from, None, 0.99, u).unwrap();
+        let LightEnd::Surface { point, normal, .. } = s.end else { panic!("the triangle is sampled on its surface") };
+        assert_eq!(s.pdf, lights.pdf_area(from, None, 0, 0, point, normal));
+        assert!(lights.has_environment() && lights.triangle_table().is_none());
+    }
+
+    /// A scene lit by triangles alone keeps the selection it always had (L·A·sides over the
+    /// sum), and the lanes' table of them.
+    #[test]
+    fn triangle_lights_alone_keep_their_selection_and_table() {
+        let objects = [
+            object(Shape::Triangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)), None),
+            object(Shape::Triangle(Triangle::new(Vec3::ZERO, 2.0 * Vec3::X, 3.0 * Vec3::Y)), None),
+        ];
+        let lights = Lights::new(Vec::new(), &Environment::BLACK, &objects, &[emitting(2.0)], Aabb::EMPTY);
+        let (a, b) = (2.0f32 * 0.5, 2.0f32 * 3.0);
+        assert_eq!(lights.selection_cdf(), &[a / (a + b), 1.0]);
+        let table = lights.triangle_table().expect("every light is a triangle");
+        assert_eq!(table.len(), 3);
+        assert_eq!(table[1].selection, 1.0 - a / (a + b));
+    }
+
+    /// A sphere under a similarity transform is sampled as the world sphere it is (by its
+    /// cone, tested in area.rs); under a non-uniform scale (an ellipsoid), by area with the
+    /// map's Jacobian. Either way light sampling finds the solid angle the light subtends
+    /// (its estimate of ∫ L dω with L = 1 from the emitting outside): against directions
+    /// uniform on the sphere counted where they meet it. And the ellipsoid's area against the
+    /// prolate spheroid's formula.
+    #[test]
+    fn transformed_sphere_lights_are_sampled_without_bias() {
+        let similar = Transform::from_matrix(
+            Mat4::from_translation(Vec3::new(3.0, 0.2, 0.5))
+                * Mat4::from_rotation_y(0.7)
+                * Mat4::from_scale(Vec3::splat(1.5)),
+        )
+        .unwrap();
+        let stretched = Transform::from_matrix(
+            Mat4::from_translation(Vec3::new(4.0, -0.2, 0.3))
+                * Mat4::from_rotation_z(0.4)
+                * Mat4::from_scale(Vec3::new(2.0, 1.0, 1.0)),
+        )
+        .unwrap();
+        let from = Vec3::new(0.1, 0.3, -0.5);
+        for (transform, by_area) in [(similar, false), (stretched, true)] {
+            let sphere = object(Shape::Sphere(Sphere::new(Vec3::ZERO, 0.8)), Some(transform));
+            let lights = Lights::new(Vec::new(), &Environment::BLACK, &[sphere], &[emitting(1.0)], Aabb::EMPTY);
+            let Light::Area(light) = &lights.all()[0] else { panic!("an area light") };
+            match (&light.shape, by_area) {
+                (EmitterShape::Sphere { center, radius }, false) => {
+                    assert!((*center - Vec3::new(3.0, 0.2, 0.5)).length() < 1e-6 && (radius - 1.2).abs() < 1e-6);
+                }
+                (EmitterShape::Ellipsoid(e), true) => {
+                    // Semi-axes 2·0.8 and 0.8: 2πb²(1 + a·asin(e)/(b·e)), e = √(1 − b²/a²).
+                    let (a, b) = (1.6f64, 0.8f64);
+                    let ecc = (1.0 - b * b / (a * a)).sqrt();
+                    let area = 2.0 * std::f64::consts::PI * b * b * (1.0 + a * ecc.asin() / (b * ecc));
+                    assert!((e.area as f64 / area - 1.0).abs() < 1e-4, "{} vs {area}", e.area);
+                }
+                (shape, _) => panic!("unexpected {shape:?}"),
+            }
+            let mut rng = crate::sampling::Rng::new(7, 3);
+            let n = 400_000;
+            let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+            for _ in 0..n {
+                let u = Vec2::new(rng.next_f32(), rng.next_f32());
+                let x = lights.sample_li(from, None, 0.5, u).map_or(0.0, |s| (s.radiance.x / s.pdf) as f64);
+                sum += x;
+                sum2 += x * x;
+            }
+            let (mean, error) = (sum / n as f64, ((sum2 / n as f64 - (sum / n as f64).powi(2)) / n as f64).sqrt());
+            let m = 2_000_000;
+            let seen = (0..m)
+                .filter(|_| {
+                    let w = crate::sampling::warp::square_to_uniform_sphere(Vec2::new(rng.next_f32(), rng.next_f32()));
+                    meets_sphere(from, w, 0.8, &transform)
+                })
+                .count() as f64;
+            let p = seen / m as f64;
+            let omega = 4.0 * std::f64::consts::PI * p;
+            let omega_error = 4.0 * std::f64::consts::PI * (p * (1.0 - p) / m as f64).sqrt();
+            assert!(
+                (mean - omega).abs() < 4.0 * (error + omega_error),
+                "by area {by_area}: light sampling {mean} ± {error} against {omega} ± {omega_error} sr"
+            );
+        }
+    }
+
+    /// Whether the ray from `from` along `w` meets a sphere of `radius` about the origin under
+    /// `transform`.
+    fn meets_sphere(from: Vec3, w: Vec3, radius: f32, transform: &Transform) -> bool {
+        let (o, d) = (transform.to_object.transform_point3(from), transform.to_object.transform_vector3(w));
+        let (o, d) = (o.as_dvec3(), d.as_dvec3());
+        let (a, b, c) = (d.dot(d), o.dot(d), o.dot(o) - (radius as f64).powi(2));
+        b * b - a * c >= 0.0 && (-b + (b * b - a * c).sqrt()) > 0.0
+    }
+
+    /// A light stays about a triangle's size: a mesh light is a vector of them, one read per
+    /// light sample.
+    #[test]
+    fn a_light_is_small() {
+        assert!(std::mem::size_of::<Light>() <= 80, "{} bytes", std::mem::size_of::<Light>());
+    }
+}

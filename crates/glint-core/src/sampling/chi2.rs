@@ -10,6 +10,7 @@ use glam::{Vec2, Vec3};
 
 use super::Rng;
 
+#[derive(Debug)]
 pub struct Chi2Result {
     pub p_value: f64,
     pub statistic: f64,
