@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use glint_core::filter::Filter;
-use glint_core::integrators::{IntegratorKind, IntegratorSettings, PathTracer};
+use glint_core::integrators::{IntegratorKind, IntegratorSettings};
 use glint_core::render::{render_progressive, PassRenderer, Progressive, RenderSettings, StopReason};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -83,7 +83,7 @@ pub struct RenderArgs {
     #[arg(long, value_enum)]
     light_sampling: Option<LightSamplingArg>,
     /// Path tracing: trace one path at a time instead of a tile's paths eight at a time in
-    /// SIMD lanes (which every scene gets). The
+    /// SIMD lanes. The
     /// image is the same bit for bit; for comparing the speed of the two.
     #[arg(long)]
     no_wavefront: bool,
@@ -382,8 +382,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
         return Ok(Outcome::Interrupted);
     }
     let mut renderer = renderer?;
-    let wavefront =
-        integrator_kind == IntegratorKind::Path && PathTracer::new(&integrator_settings).runs_as_wavefront(&scene);
+    let wavefront = integrator_kind == IntegratorKind::Path && integrator_settings.wavefront;
     if integrator_kind == IntegratorKind::Photon && !args.quiet {
         say!("photon maps built in {:.2} s", started.elapsed().as_secs_f64());
     }

@@ -9,7 +9,7 @@ mod common;
 use common::{object_with, scene};
 use glint_core::camera::Camera;
 use glint_core::geometry::Ray;
-use glint_core::integrators::{Integrator, PathTracer, SampleContext};
+use glint_core::integrators::{Integrator, PathTracer, SampleContext, WavefrontPathTracer};
 use glint_core::lights::{Environment, Falloff, Light, PointLight, TriangleSampling};
 use glint_core::materials::{Fresnel, Material, Phong};
 use glint_core::sampling::{Sampler, SamplerKind};
@@ -99,11 +99,14 @@ fn camera_samples(scene: &Scene, sampler: SamplerKind, seed: u64, index: u32) ->
 }
 
 /// Sample `index` of every pixel both ways, asserted equal; returns how many pixels saw light.
-fn assert_same(scene: &Scene, tracer: &PathTracer, sampler: SamplerKind, seed: u64, index: u32) -> usize {
+fn assert_same(scene: &Scene, tracer: &WavefrontPathTracer, sampler: SamplerKind, seed: u64, index: u32) -> usize {
     let (rays, contexts) = camera_samples(scene, sampler, seed, index);
     let mut one_by_one = contexts.clone();
-    let expected: Vec<Rgb> =
-        rays.iter().zip(one_by_one.iter_mut()).map(|(ray, context)| tracer.radiance(scene, ray, context)).collect();
+    let expected: Vec<Rgb> = rays
+        .iter()
+        .zip(one_by_one.iter_mut())
+        .map(|(ray, context)| tracer.tracer.radiance(scene, ray, context))
+        .collect();
     let mut together = contexts;
     let mut got = vec![Rgb::ZERO; rays.len()];
     // In tile-sized batches, as the render loop hands them over (the last one short).
@@ -131,8 +134,7 @@ fn assert_same(scene: &Scene, tracer: &PathTracer, sampler: SamplerKind, seed: u
 #[test]
 fn the_wavefront_renders_a_room_bit_for_bit_as_the_path_tracer() {
     let scene = room();
-    let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
-    assert!(tracer.runs_as_wavefront(&scene), "a room of diffuse triangles is a wavefront scene");
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
     for sampler in SamplerKind::ALL {
         for (seed, index) in [(0, 0), (7, 3), (123, 41)] {
             let lit = assert_same(&scene, &tracer, sampler, seed, index);
@@ -146,7 +148,7 @@ fn the_wavefront_renders_a_room_bit_for_bit_as_the_path_tracer() {
 fn the_wavefront_ends_paths_as_the_path_tracer_does() {
     let scene = room();
     for (max_depth, rr_depth) in [(0, 5), (1, 5), (2, 1), (u32::MAX, 1), (6, 3), (u32::MAX, 0)] {
-        let tracer = PathTracer { max_depth, rr_depth, wavefront: true };
+        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
         for seed in 0..3 {
             assert_same(&scene, &tracer, SamplerKind::Sobol, seed, seed as u32);
         }
@@ -171,7 +173,7 @@ fn room_where(change: impl FnOnce(&mut Vec<Object>, &mut Vec<Material>)) -> Scen
 /// room without its back wall, where paths leave the scene.
 #[test]
 fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampling() {
-    let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
     let checker = Checker { even: Rgb::new(0.8, 0.7, 0.2), odd: Rgb::new(0.2, 0.3, 0.7), scale: Vec2::splat(4.0) };
     let solid_angle = |mut s: Scene| {
         s.set_triangle_sampling(TriangleSampling::SolidAngle);
@@ -227,7 +229,6 @@ fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampli
         (dark, "no lights", false),
     ];
     for (scene, what, closed) in scenes {
-        assert!(tracer.runs_as_wavefront(&scene), "{what}: a wavefront scene");
         for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
             for (seed, index) in [(2, 0), (11, 9)] {
                 let lit = assert_same(&scene, &tracer, sampler, seed, index);
@@ -295,8 +296,7 @@ fn the_wavefront_serves_mirrors_glass_glossy_and_mixed_materials() {
         (with(vec![glass, mixed, rough_metal]), "all together"),
     ];
     for (scene, what) in &scenes {
-        let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
-        assert!(tracer.runs_as_wavefront(scene), "{what}: a wavefront scene");
+        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
         for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
             for (seed, index) in [(3, 0), (17, 5)] {
                 let lit = assert_same(scene, &tracer, sampler, seed, index);
@@ -306,7 +306,7 @@ fn the_wavefront_serves_mirrors_glass_glossy_and_mixed_materials() {
     }
     let all = &scenes[4].0;
     for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 1), (5, 0)] {
-        let tracer = PathTracer { max_depth, rr_depth, wavefront: true };
+        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
         for seed in 0..2 {
             assert_same(all, &tracer, SamplerKind::Sobol, seed, seed as u32);
         }
@@ -320,7 +320,7 @@ fn the_wavefront_serves_mirrors_glass_glossy_and_mixed_materials() {
 #[test]
 fn the_wavefront_serves_every_kind_of_light() {
     use glint_core::lights::{DirectionalLight, EnvironmentMap, SpotLight};
-    let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 5, wavefront: true };
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
     let point = Light::Point(PointLight {
         position: Vec3::new(0.2, 0.5, 0.1),
         intensity: Rgb::splat(0.5),
@@ -368,7 +368,6 @@ fn the_wavefront_serves_every_kind_of_light() {
     });
     scenes.push((sphere_light, "a sphere light"));
     for (scene, what) in &scenes {
-        assert!(tracer.runs_as_wavefront(scene), "{what}: a wavefront scene");
         for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
             for (seed, index) in [(1, 0), (8, 3)] {
                 let lit = assert_same(scene, &tracer, sampler, seed, index);
@@ -376,8 +375,6 @@ fn the_wavefront_serves_every_kind_of_light() {
             }
         }
     }
-    let off = PathTracer { wavefront: false, ..tracer };
-    assert!(!off.runs_as_wavefront(&room()), "the wavefront turned off");
 }
 
 /// Mitsuba's one-sided `diffuse` in the lanes: the room's materials turned into it, and some
@@ -386,7 +383,7 @@ fn the_wavefront_serves_every_kind_of_light() {
 #[test]
 fn the_wavefront_serves_one_sided_and_two_sided_diffuse() {
     use glint_core::materials::{Diffuse, Emitter, TwoSided};
-    let tracer = PathTracer { max_depth: u32::MAX, rr_depth: 3, wavefront: true };
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 3 } };
     let scene = room_where(|objects, materials| {
         for m in materials.iter_mut() {
             let Material::Phong(p) = m.clone() else { unreachable!("the room is Phong") };
@@ -410,7 +407,6 @@ fn the_wavefront_serves_one_sided_and_two_sided_diffuse() {
             }
         }
     });
-    assert!(tracer.runs_as_wavefront(&scene));
     for (seed, index) in [(0, 0), (5, 2), (9, 17)] {
         assert_same(&scene, &tracer, SamplerKind::Sobol, seed, index);
     }

@@ -20,11 +20,11 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::particle::{shading_correction, trace_particle, ParticleVertex};
+use super::passes::{par_tiles, Pass, PassRenderer};
 use super::RayCounts;
 use crate::film::Film;
 use crate::geometry::{offset_ray_origin, Ray};
 use crate::lights::AreaEmission;
-use crate::render::{par_tiles, Pass, PassRenderer};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use crate::Rgb;

@@ -6,6 +6,7 @@
 mod bvh_heat;
 mod light;
 mod particle;
+pub mod passes;
 mod path;
 mod path_naive;
 mod photon_mapping;
@@ -22,11 +23,12 @@ pub use path_naive::NaivePathTracer;
 pub use photon_mapping::{PhotonMapper, PhotonSettings};
 pub use raycast::Raycast;
 pub use sppm::Sppm;
+pub use wavefront::WavefrontPathTracer;
 pub use whitted::Whitted;
 
 use std::sync::atomic::AtomicBool;
 
-use crate::render::{CameraPasses, PassRenderer};
+use self::passes::{CameraPasses, PassRenderer};
 
 use crate::geometry::Ray;
 use crate::sampling::{Rng, Sampler};
@@ -147,8 +149,8 @@ pub struct IntegratorSettings {
     pub sppm_radius: f32,
     /// SPPM: photons per pass (0: as many as the image has pixels).
     pub photons_per_pass: u32,
-    /// Path tracing: run a tile's paths together, eight at a time in SIMD lanes, where the
-    /// scene allows (the same image, faster); false: one path at a time.
+    /// Path tracing: run a tile's paths together, eight at a time in SIMD lanes
+    /// (`WavefrontPathTracer`: the same image, faster); false: one path at a time.
     pub wavefront: bool,
 }
 
@@ -207,6 +209,9 @@ impl IntegratorKind {
         Some(match self {
             IntegratorKind::Raycast => Box::new(Raycast),
             IntegratorKind::BvhHeat => Box::new(BvhHeat),
+            IntegratorKind::Path if settings.wavefront => {
+                Box::new(WavefrontPathTracer { tracer: PathTracer::new(settings) })
+            }
             IntegratorKind::Path => Box::new(PathTracer::new(settings)),
             IntegratorKind::PathNaive => {
                 Box::new(NaivePathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth })

@@ -13,35 +13,61 @@
 
 use glam::{Vec2, Vec3};
 
-use super::wavefront::Wavefront;
-use super::{radiance_each, Integrator, IntegratorSettings, SampleContext};
+use super::{Integrator, IntegratorSettings, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
+use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceHit};
 use crate::Rgb;
 
+/// The path tracer, one path at a time. `WavefrontPathTracer` runs a tile's paths together
+/// with the same estimator (`--integrator path` unless `--no-wavefront`).
 #[derive(Clone, Copy, Debug)]
 pub struct PathTracer {
     pub max_depth: u32,
     pub rr_depth: u32,
-    /// Run a tile's paths as a wavefront where the scene allows (`wavefront`); false: one
-    /// path at a time. The image is the same.
-    pub wavefront: bool,
 }
 
 impl PathTracer {
     pub fn new(settings: &IntegratorSettings) -> Self {
-        Self { max_depth: settings.max_depth, rr_depth: settings.rr_depth, wavefront: settings.wavefront }
+        Self { max_depth: settings.max_depth, rr_depth: settings.rr_depth }
+    }
+}
+
+/// The random numbers of one bounce, in the order they are drawn: which light and the point
+/// on it (next-event estimation, at surfaces with a non-delta lobe), the BSDF's lobe and
+/// direction, and Russian roulette's from `rr_depth` bounces on. The scalar code draws them
+/// through these functions; the wavefront's lanes draw the same numbers at these offsets, so
+/// the two compute the same image.
+pub(super) struct BounceDraws;
+
+impl BounceDraws {
+    pub const LIGHT: usize = 0;
+    /// Two numbers.
+    pub const LIGHT_POINT: usize = 1;
+    pub const LOBE: usize = 3;
+    /// Two numbers.
+    pub const DIRECTION: usize = 4;
+    pub const ROULETTE: usize = 6;
+    pub const COUNT: usize = 7;
+
+    /// The light's choice and the point on it.
+    #[inline]
+    pub fn light(sampler: &mut Sampler) -> (f32, Vec2) {
+        let u_select = sampler.next_f32();
+        (u_select, Vec2::new(sampler.next_f32(), sampler.next_f32()))
     }
 
-    /// Whether a render of `scene` runs as a wavefront in SIMD lanes (see `wavefront`).
-    pub fn runs_as_wavefront(&self, scene: &Scene) -> bool {
-        self.wavefront_for(scene).is_some()
+    /// The BSDF's lobe and direction.
+    #[inline]
+    pub fn scatter(sampler: &mut Sampler) -> (f32, Vec2) {
+        let u_lobe = sampler.next_f32();
+        (u_lobe, Vec2::new(sampler.next_f32(), sampler.next_f32()))
     }
 
-    /// The wavefront over `scene`, if it is on.
-    fn wavefront_for<'a>(&self, scene: &'a Scene) -> Option<Wavefront<'a>> {
-        self.wavefront.then(|| Wavefront::new(self, scene))
+    #[inline]
+    pub fn roulette(sampler: &mut Sampler) -> f32 {
+        sampler.next_f32()
     }
 }
 
@@ -87,15 +113,6 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
 }
 
 impl Integrator for PathTracer {
-    /// A tile's paths as a wavefront in SIMD lanes where the scene allows (`wavefront`), with
-    /// the same result as one by one.
-    fn radiance_tile(&self, scene: &Scene, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
-        match self.wavefront_for(scene) {
-            Some(wavefront) => wavefront.radiance_tile(rays, contexts, out),
-            None => radiance_each(self, scene, rays, contexts, out),
-        }
-    }
-
     fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
         let mut path = PathState::CAMERA;
         let mut ray = *camera_ray;
@@ -166,8 +183,7 @@ impl PathTracer {
         if bsdf.has_diffuse() {
             path.radiance += path.throughput * sample_lights(scene, hit, &bsdf, wo, Weighting::Mis, context);
         }
-        let u_lobe = context.sampler.next_f32();
-        let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
+        let (u_lobe, u) = BounceDraws::scatter(&mut context.sampler);
         let sample = bsdf.sample(wo, u_lobe, u)?;
         path.throughput *= sample.weight;
         path.eta_scale *= sample.eta_squared;
@@ -193,7 +209,7 @@ impl PathTracer {
 /// which keeps the estimate unbiased. Returns whether the path goes on.
 pub(super) fn russian_roulette(throughput: &mut Rgb, eta_scale: f32, context: &mut SampleContext) -> bool {
     let survival = (throughput.max_element() * eta_scale).min(0.95);
-    if survival <= 0.0 || context.sampler.next_f32() >= survival {
+    if survival <= 0.0 || BounceDraws::roulette(&mut context.sampler) >= survival {
         return false;
     }
     *throughput /= survival;
@@ -224,8 +240,7 @@ pub(super) fn sample_lights(
     context: &mut SampleContext,
 ) -> Rgb {
     let p = hit.geometry.point;
-    let u_select = context.sampler.next_f32();
-    let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
+    let (u_select, u) = BounceDraws::light(&mut context.sampler);
     let receiver = Some(hit.geometry.shading_normal);
     let Some(light) = scene.lights().sample_li(p, receiver, u_select, u) else { return Rgb::ZERO };
     let f = bsdf.eval(wo, light.direction);
@@ -247,6 +262,24 @@ pub(super) fn sample_lights(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The draw functions take the numbers at the offsets the wavefront's lanes read.
+    #[test]
+    fn bounce_draws_come_in_their_written_order() {
+        let fresh = || Sampler::independent(crate::sampling::Rng::new(3, 9));
+        let mut plain = fresh();
+        let numbers: Vec<f32> = (0..BounceDraws::COUNT).map(|_| plain.next_f32()).collect();
+        let mut sampler = fresh();
+        let (u_select, u_point) = BounceDraws::light(&mut sampler);
+        let (u_lobe, u_direction) = BounceDraws::scatter(&mut sampler);
+        let u_roulette = BounceDraws::roulette(&mut sampler);
+        assert_eq!(u_select, numbers[BounceDraws::LIGHT]);
+        assert_eq!(u_point.to_array(), numbers[BounceDraws::LIGHT_POINT..][..2]);
+        assert_eq!(u_lobe, numbers[BounceDraws::LOBE]);
+        assert_eq!(u_direction.to_array(), numbers[BounceDraws::DIRECTION..][..2]);
+        assert_eq!(u_roulette, numbers[BounceDraws::ROULETTE]);
+        assert_eq!(BounceDraws::ROULETTE + 1, BounceDraws::COUNT);
+    }
 
     #[test]
     fn power_heuristic_by_hand() {

@@ -26,13 +26,13 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
+use super::passes::{par_tiles, Pass, PassRenderer};
 use super::path::{russian_roulette, sample_lights, Weighting};
 use super::photon_mapping::{PhotonShooter, BATCH};
 use super::{RayCounts, SampleContext};
 use crate::film::Film;
 use crate::materials::Bsdf;
 use crate::photons::PhotonMap;
-use crate::render::{par_tiles, Pass, PassRenderer};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use crate::Rgb;

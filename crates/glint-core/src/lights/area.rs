@@ -21,11 +21,11 @@
 use glam::{Vec2, Vec3};
 
 use super::{Asked, LightEnd, LightSample};
+use crate::accel::Object;
 use crate::geometry::orthonormal_basis;
 use crate::materials::Material;
 use crate::sampling::spherical::SphericalTriangle;
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
-use crate::scene::Object;
 use crate::shapes::{
     sample_sphere, sample_sphere_seen_from, sample_triangle, sphere_solid_angle_from, triangle_point_along, Ellipsoid,
     Shape,

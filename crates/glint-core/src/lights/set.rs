@@ -13,9 +13,9 @@ use glam::{Vec2, Vec3};
 
 use super::area::area_lights;
 use super::{Asked, Environment, Light, LightSample, TriangleEmitter, TriangleSampling};
+use crate::accel::Object;
 use crate::geometry::Aabb;
 use crate::materials::Material;
-use crate::scene::Object;
 
 const NONE: u32 = u32::MAX;
 

@@ -15,11 +15,20 @@ use std::sync::Arc;
 
 use super::{PrimHit, SurfaceGeometry};
 use crate::geometry::{Aabb, Ray};
-use crate::scene::Geometry;
+
+/// What an instance places: a geometry with its own acceleration structure (the scene's
+/// aggregate, `accel::Geometry`, implements it).
+pub trait InstancedGeometry: Send + Sync {
+    fn bounds(&self) -> Aabb;
+    /// The closest primitive along the ray, which it narrows: (object, primitive) and the hit.
+    fn closest_primitive(&self, ray: &mut Ray) -> Option<((u32, u32), PrimHit)>;
+    fn primitive_surface(&self, object: u32, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry;
+    fn primitive_count(&self) -> usize;
+}
 
 #[derive(Clone)]
 pub struct Instance {
-    pub geometry: Arc<Geometry>,
+    pub geometry: Arc<dyn InstancedGeometry>,
 }
 
 impl std::fmt::Debug for Instance {

@@ -20,7 +20,7 @@ mod sphere;
 mod triangle;
 
 pub use aabox::{AaBox, BoxMethod};
-pub use instance::Instance;
+pub use instance::{Instance, InstancedGeometry};
 pub use mesh::Mesh;
 pub use plane::Plane;
 pub use polygon::{inverse_bilinear, Polygon, PolygonTest};

@@ -29,8 +29,8 @@ use self::lanes::{
     area_to_solid_angle, barycentric_point, negate, offset_ray_origin, orthonormal_basis, power_heuristic,
     square_to_cosine_hemisphere, Vec3x8, LANES,
 };
-use super::path::{PathState, PathTracer, Scatter};
-use super::{RayCounts, SampleContext};
+use super::path::{BounceDraws, PathState, PathTracer, Scatter};
+use super::{Integrator, RayCounts, SampleContext};
 use crate::geometry::Ray;
 use crate::lights::{LightSample, TriangleEmitter, TriangleSampling};
 use crate::materials::{luminance, Material};
@@ -39,15 +39,13 @@ use crate::scene::{PrimitiveHit, Scene, Spawn, SHADOW_EPSILON};
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
-/// A bounce's numbers, in the scalar path tracer's order: the light's selection and the point
-/// on it (next-event estimation), the BSDF lobe and direction, and the roulette number from
-/// `rr_depth` bounces on.
-const LIGHT: usize = 0;
-const LIGHT_POINT: usize = 1;
-const LOBE: usize = 3;
-const DIRECTION: usize = 4;
-const ROULETTE: usize = 6;
-const DRAWS: usize = 7;
+/// A bounce's numbers, at the scalar path tracer's offsets (`BounceDraws`).
+const LIGHT: usize = BounceDraws::LIGHT;
+const LIGHT_POINT: usize = BounceDraws::LIGHT_POINT;
+const LOBE: usize = BounceDraws::LOBE;
+const DIRECTION: usize = BounceDraws::DIRECTION;
+const ROULETTE: usize = BounceDraws::ROULETTE;
+const DRAWS: usize = BounceDraws::COUNT;
 
 /// Lights up to this many are chosen in the lanes by counting, more (or a CDF that is not
 /// sorted, from negative powers) by binary search.
@@ -101,8 +99,26 @@ fn diffuse_only(material: &Material) -> bool {
     material.lambert().is_some()
 }
 
+/// The path tracer, a tile's paths at a time as a wavefront (`--integrator path`): the same
+/// image as `PathTracer` one path at a time, bit for bit.
+#[derive(Clone, Copy, Debug)]
+pub struct WavefrontPathTracer {
+    pub tracer: PathTracer,
+}
+
+impl Integrator for WavefrontPathTracer {
+    /// One path, by the scalar code.
+    fn radiance(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Rgb {
+        self.tracer.radiance(scene, ray, context)
+    }
+
+    fn radiance_tile(&self, scene: &Scene, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
+        Wavefront::new(&self.tracer, scene).radiance_tile(rays, contexts, out);
+    }
+}
+
 /// The path tracer's wavefront over one scene.
-pub(super) struct Wavefront<'a> {
+struct Wavefront<'a> {
     scene: &'a Scene,
     /// Every material, when all are constant and every primitive is a triangle in world space:
     /// then the lanes compute the surfaces themselves.
@@ -184,7 +200,7 @@ struct LightPoints {
 impl<'a> Wavefront<'a> {
     /// The wavefront for `scene`. It runs once per tile, so it looks at the materials but not
     /// at every object.
-    pub fn new(tracer: &PathTracer, scene: &'a Scene) -> Self {
+    fn new(tracer: &PathTracer, scene: &'a Scene) -> Self {
         let beyond_lambert: Vec<bool> = scene.materials().iter().map(|m| !diffuse_only(m)).collect();
         let beyond_lambert = beyond_lambert.contains(&true).then_some(beyond_lambert);
         let flat = if scene.geometry.all_triangles() {
@@ -200,7 +216,7 @@ impl<'a> Wavefront<'a> {
     }
 
     /// The radiance along each camera ray, `out[i]` for `rays[i]` drawing from `contexts[i]`.
-    pub fn radiance_tile(&self, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
+    fn radiance_tile(&self, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
         // Each path's ray written into a fresh path in place: a path built whole and then
         // moved into the vector was copied with loads wider than the stores that had just
         // built it, a stall (store forwarding fails) per camera sample.

@@ -1,20 +1,18 @@
-//! The scene and its query interface: closest hit and any hit. Integrators reach geometry only
-//! through these, so every integrator runs on every scene whichever reader built it.
+//! The scene's objects and the acceleration structure over them: the closest-primitive and
+//! any-hit queries on which every integrator's rays run (`scene::hit` turns a closest
+//! primitive into the surface record integrators shade).
 
 use glam::Vec3;
 
-use crate::accel::{
+use super::{
     Bvh, Bvh8, BvhStats, NoCounter, TraversalCounter, TraversalCounts, Triangle8, WatertightRay8, EMPTY, GENERIC, LANES,
 };
-use crate::camera::Camera;
 use crate::geometry::lanes::Vec3x8;
-use crate::geometry::{offset_ray_origin, transform_point_with_error, Aabb, Ray, Transform};
-use crate::lights::{Environment, Light, LightEnd, LightSample, Lights, TriangleSampling};
-use crate::materials::Material;
+use crate::geometry::{transform_point_with_error, Aabb, Ray, Transform};
 use crate::shapes::{
-    intersect_cramer, moller_trumbore_edges, IntersectMethods, PrimHit, Shape, SurfaceGeometry, TriangleMethod,
+    intersect_cramer, moller_trumbore_edges, InstancedGeometry, IntersectMethods, PrimHit, Shape, SurfaceGeometry,
+    TriangleMethod,
 };
-use crate::textures::TextureQuery;
 
 /// A shape placed in the scene with a material and, optionally, a transform (object → world).
 #[derive(Clone, Debug)]
@@ -35,14 +33,14 @@ impl Object {
     }
 
     #[inline]
-    fn intersect(&self, prim: u32, ray: &Ray, methods: &IntersectMethods) -> Option<PrimHit> {
+    pub(crate) fn intersect(&self, prim: u32, ray: &Ray, methods: &IntersectMethods) -> Option<PrimHit> {
         match &self.transform {
             None => self.shape.intersect(prim, ray, methods),
             Some(t) => self.shape.intersect(prim, &t.ray_to_object(ray), methods),
         }
     }
 
-    fn surface(&self, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry {
+    pub(crate) fn surface(&self, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry {
         match &self.transform {
             None => self.shape.surface(prim, ray, hit),
             Some(t) => {
@@ -86,9 +84,6 @@ fn world_normals(object: &Object, prim: u32) -> Option<[Vec3; 3]> {
     }
 }
 
-/// How far short of a target surface a shadow ray stops, as a fraction of its length.
-pub(crate) const SHADOW_EPSILON: f32 = 1e-4;
-
 /// Which primitive a ray hit (primitive `prim` of object `object`) and where on it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PrimitiveHit {
@@ -100,119 +95,6 @@ pub struct PrimitiveHit {
 impl PrimitiveHit {
     /// A placeholder before a query.
     pub const NONE: Self = Self { object: u32::MAX, prim: u32::MAX, at: PrimHit { t: 0.0, u: 0.0, v: 0.0, inner: 0 } };
-}
-
-/// One intersected surface point, everything an integrator needs to shade it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SurfaceHit {
-    pub t: f32,
-    pub geometry: SurfaceGeometry,
-    pub object: u32,
-    pub prim: u32,
-    pub material: u32,
-    /// The hit point in the object's own space (for solid textures).
-    pub object_point: Vec3,
-}
-
-impl SurfaceHit {
-    pub fn texture_query(&self) -> TextureQuery {
-        TextureQuery { uv: self.geometry.uv, point: self.object_point }
-    }
-
-    /// A ray leaving the surface in `direction`, from an origin just past the point's error
-    /// bound on that side, so it cannot hit this surface again at t ≈ 0.
-    pub fn spawn_ray(&self, direction: Vec3) -> Ray {
-        Spawn::from(&self.geometry).ray(direction)
-    }
-
-    /// A ray toward `target` over t ∈ (0, 1) (a shadow ray to a point light, say); the
-    /// direction is not normalised, so t = 1 is the target.
-    pub fn spawn_ray_to(&self, target: Vec3) -> Ray {
-        Spawn::from(&self.geometry).ray_to(target)
-    }
-
-    /// A shadow ray toward `target`, a point sampled on another surface (a light) with that
-    /// surface's error bound and normal (`Spawn::ray_to_surface`).
-    pub fn spawn_ray_to_surface(&self, target: Vec3, target_error: Vec3, target_normal: Vec3) -> Ray {
-        Spawn::from(&self.geometry).ray_to_surface(target, target_error, target_normal)
-    }
-
-    /// The shadow ray toward a sampled light.
-    pub fn spawn_shadow_ray(&self, light: &LightSample) -> Ray {
-        Spawn::from(&self.geometry).shadow_ray(light)
-    }
-
-    /// The geometric normal on the side of `w` (a direction away from the surface): the side
-    /// a photon arrived on, or the viewer's.
-    pub fn geometric_normal_toward(&self, w: Vec3) -> Vec3 {
-        let n = self.geometry.geometric_normal;
-        if n.dot(w) < 0.0 {
-            -n
-        } else {
-            n
-        }
-    }
-
-    /// The shading normal turned to the side the ray came from (two-sided shading).
-    pub fn facing(&self, ray_direction: Vec3) -> Vec3 {
-        if self.geometry.geometric_normal.dot(ray_direction) > 0.0 {
-            -self.geometry.shading_normal
-        } else {
-            self.geometry.shading_normal
-        }
-    }
-}
-
-/// Where rays leave a surface point: the point, its error bound and its geometric normal (the
-/// wavefront's lanes build one per lane to spawn exactly the scalar code's rays).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Spawn {
-    pub point: Vec3,
-    pub error: Vec3,
-    pub normal: Vec3,
-}
-
-impl From<&SurfaceGeometry> for Spawn {
-    fn from(g: &SurfaceGeometry) -> Self {
-        Self { point: g.point, error: g.error, normal: g.geometric_normal }
-    }
-}
-
-impl Spawn {
-    pub fn ray(&self, direction: Vec3) -> Ray {
-        Ray::new(offset_ray_origin(self.point, self.error, self.normal, direction), direction)
-    }
-
-    pub fn ray_to(&self, target: Vec3) -> Ray {
-        let origin = offset_ray_origin(self.point, self.error, self.normal, target - self.point);
-        Ray::with_range(origin, target - origin, 0.0, 1.0)
-    }
-
-    /// The far end is offset off the target's surface as an origin would be, and the ray stops
-    /// 10⁻⁴ of the way short of it besides, pbrt-v4's and Mitsuba 3's shadow epsilon: the
-    /// surface's own intersection routine may still place it a few ulps of the distance early.
-    /// A sphere's quadratic did so for 2 % of the shadow rays toward a sphere light of radius
-    /// 0.5 two units away, darkening the floor below by 0.5 % (tests/analytic_lights.rs).
-    pub fn ray_to_surface(&self, target: Vec3, target_error: Vec3, target_normal: Vec3) -> Ray {
-        // Each end offset toward the other's true point (as pbrt-v4 does), so neither waits on
-        // the other's offset; against the far end's offset point the origin's side could differ
-        // only for a light point within that offset of the receiver's plane.
-        let end = offset_ray_origin(target, target_error, target_normal, self.point - target);
-        let mut ray = self.ray_to(target);
-        ray.direction = end - ray.origin;
-        ray.t_max = 1.0 - SHADOW_EPSILON;
-        ray
-    }
-
-    /// The shadow ray toward a sampled light: to the point on its surface, to its position, or
-    /// out of the scene along its direction.
-    pub fn shadow_ray(&self, light: &LightSample) -> Ray {
-        match light.end {
-            LightEnd::Surface { point, normal, error } => self.ray_to_surface(point, error, normal),
-            LightEnd::Point(position) => self.ray_to(position),
-            LightEnd::Infinite => self.ray(light.direction),
-        }
-    }
 }
 
 /// Objects and the acceleration structure over them: the closest-hit and any-hit queries.
@@ -376,12 +258,6 @@ impl Geometry {
     /// Time taken to gather primitive bounds, build the BVH and lay out the leaves.
     pub fn build_time(&self) -> std::time::Duration {
         self.build_time
-    }
-
-    /// The nearest surface along the ray within `(t_min, t_max)`.
-    pub fn intersect(&self, ray: &Ray) -> Option<SurfaceHit> {
-        let mut ray = *ray;
-        self.closest_primitive(&mut ray).map(|(id, hit)| self.surface_hit(id, &ray, &hit))
     }
 
     /// Whether every primitive is a triangle in world space (mesh triangles and triangle
@@ -618,151 +494,25 @@ impl Geometry {
         let prepared = WatertightRay8::for_ray(ray);
         self.bvh.any::<false>(ray, |b, ray| self.any_in_block(b, ray, &prepared))
     }
-
-    /// Closest hit by testing every primitive: the reference the BVH is checked against.
-    pub fn intersect_brute_force(&self, ray: &Ray) -> Option<SurfaceHit> {
-        let mut ray = *ray;
-        let mut best = None;
-        let all = self
-            .objects
-            .iter()
-            .enumerate()
-            .flat_map(|(o, object)| (0..object.shape.primitive_count()).map(move |p| (o as u32, p)));
-        for (o, p) in all {
-            if let Some(h) = self.objects[o as usize].intersect(p, &ray, &self.methods) {
-                ray.t_max = h.t;
-                best = Some(((o, p), h));
-            }
-        }
-        best.map(|(id, hit)| self.surface_hit(id, &ray, &hit))
-    }
-
-    pub(crate) fn surface_hit(&self, (o, p): (u32, u32), ray: &Ray, hit: &PrimHit) -> SurfaceHit {
-        let object = &self.objects[o as usize];
-        let geometry = object.surface(p, ray, hit);
-        let object_point = match (&object.transform, &object.shape) {
-            (Some(t), _) => t.to_object.transform_point3(geometry.point),
-            (None, Shape::Mesh(m)) => m.object_point(geometry.point),
-            (None, _) => geometry.point,
-        };
-        SurfaceHit { t: hit.t, geometry, object: o, prim: p, material: object.material, object_point }
-    }
 }
 
-/// Everything a render needs: geometry, materials, lights, camera and environment. The lights
-/// are derived from the rest (emitting materials make area lights, the environment one more),
-/// so what they depend on changes only through the setters, which derive them again.
-pub struct Scene {
-    pub camera: Camera,
-    pub geometry: Geometry,
-    materials: Vec<Material>,
-    material_names: Vec<String>,
-    lights: Lights,
-    environment: Environment,
-}
-
-impl Scene {
-    /// `lights` are the scene's listed lights: point, spot and directional.
-    pub fn new(
-        camera: Camera,
-        objects: Vec<Object>,
-        materials: Vec<(String, Material)>,
-        lights: Vec<Light>,
-        environment: Environment,
-        methods: IntersectMethods,
-    ) -> Self {
-        let (material_names, materials): (Vec<String>, Vec<Material>) = materials.into_iter().unzip();
-        let geometry = Geometry::new(objects, methods);
-        let lights = Lights::new(lights, &environment, &geometry.objects, &materials, geometry.bounds());
-        Self { camera, geometry, materials, material_names, lights, environment }
+/// What an instance places (`shapes::Instance`): the aggregate seen through the shapes' own
+/// interface, so the shapes need not know it.
+impl InstancedGeometry for Geometry {
+    fn bounds(&self) -> Aabb {
+        Geometry::bounds(self)
     }
 
-    pub fn objects(&self) -> &[Object] {
-        &self.geometry.objects
+    #[inline]
+    fn closest_primitive(&self, ray: &mut Ray) -> Option<((u32, u32), PrimHit)> {
+        Geometry::closest_primitive(self, ray)
     }
 
-    pub fn materials(&self) -> &[Material] {
-        &self.materials
+    fn primitive_surface(&self, object: u32, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry {
+        Geometry::primitive_surface(self, object, prim, ray, hit)
     }
 
-    pub fn material_names(&self) -> &[String] {
-        &self.material_names
-    }
-
-    /// Every light, as one distribution by power.
-    pub fn lights(&self) -> &Lights {
-        &self.lights
-    }
-
-    pub fn environment(&self) -> &Environment {
-        &self.environment
-    }
-
-    /// New materials (the names kept where there are as many), and the lights they make.
-    pub fn set_materials(&mut self, materials: Vec<Material>) {
-        if materials.len() != self.material_names.len() {
-            self.material_names = (1..=materials.len()).map(|i| format!("material {i}")).collect();
-        }
-        self.materials = materials;
-        self.relight();
-    }
-
-    /// New materials with their names, and the lights they make.
-    pub fn set_named_materials(&mut self, materials: Vec<(String, Material)>) {
-        (self.material_names, self.materials) = materials.into_iter().unzip();
-        self.relight();
-    }
-
-    /// One material replaced, and the lights it makes.
-    pub fn set_material(&mut self, index: usize, material: Material) {
-        self.materials[index] = material;
-        self.relight();
-    }
-
-    /// New listed lights (point, spot and directional).
-    pub fn set_lights(&mut self, listed: Vec<Light>) {
-        let strategy = self.lights.triangle_sampling();
-        self.lights =
-            Lights::new(listed, &self.environment, &self.geometry.objects, &self.materials, self.geometry.bounds());
-        self.lights.set_triangle_sampling(strategy);
-    }
-
-    /// One more listed light.
-    pub fn add_light(&mut self, light: Light) {
-        let mut listed: Vec<Light> = self.listed_lights().cloned().collect();
-        listed.push(light);
-        self.set_lights(listed);
-    }
-
-    /// The point, spot and directional lights, in the scene's order.
-    pub fn listed_lights(&self) -> impl Iterator<Item = &Light> {
-        self.lights.all().iter().filter(|l| l.is_delta())
-    }
-
-    pub fn set_environment(&mut self, environment: Environment) {
-        self.environment = environment;
-        self.relight();
-    }
-
-    /// How triangle lights are sampled (`--light-sampling`).
-    pub fn set_triangle_sampling(&mut self, strategy: TriangleSampling) {
-        self.lights.set_triangle_sampling(strategy);
-    }
-
-    /// The lights derived again from what they depend on.
-    fn relight(&mut self) {
-        self.set_lights(self.listed_lights().cloned().collect());
-    }
-
-    pub fn intersect(&self, ray: &Ray) -> Option<SurfaceHit> {
-        self.geometry.intersect(ray)
-    }
-
-    pub fn occluded(&self, ray: &Ray) -> bool {
-        self.geometry.occluded(ray)
-    }
-
-    pub fn intersect_brute_force(&self, ray: &Ray) -> Option<SurfaceHit> {
-        self.geometry.intersect_brute_force(ray)
+    fn primitive_count(&self) -> usize {
+        Geometry::primitive_count(self)
     }
 }
