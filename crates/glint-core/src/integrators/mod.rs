@@ -13,6 +13,7 @@ mod photon_mapping;
 mod raycast;
 pub mod recorder;
 mod sppm;
+mod vertex;
 mod wavefront;
 pub mod whitted;
 

@@ -9,6 +9,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::vertex::Vertex;
 use super::RayCounts;
 use crate::geometry::Ray;
 use crate::lights::Particle;
@@ -60,10 +61,9 @@ pub(super) fn trace_particle(
     let mut specular_chain = true;
     while bounces < max_depth {
         rays.light += 1;
-        let Some(hit) = scene.intersect(&ray) else { return };
-        let wo = -ray.direction.normalize();
-        let material = &scene.materials()[hit.material as usize];
-        let bsdf = material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+        let Some(vertex) = Vertex::trace(scene, &ray) else { return };
+        let bsdf = vertex.bsdf();
+        let Vertex { hit, wo, .. } = vertex;
         if bsdf.has_diffuse() {
             let vertex = ParticleVertex { hit, bsdf: &bsdf, wo, weight, bounces, specular_chain };
             visit(&vertex, rng, rays);

@@ -223,7 +223,7 @@ pub fn splat(film: &mut Film, filter: Filter, fx: f32, fy: f32, radiance: Rgb) {
 
 /// Camera sample `pass.index` of every pixel of a tile (x0, y0, x1, y1), row by row: the
 /// film positions, the rays, and the contexts the samples draw the rest of their numbers from.
-fn camera_samples(
+pub(super) fn camera_samples(
     scene: &Scene,
     pass: &Pass,
     (x0, y0, x1, y1): (u32, u32, u32, u32),

@@ -13,6 +13,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::vertex::Vertex;
 use super::{Integrator, IntegratorSettings, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
@@ -155,10 +156,9 @@ impl PathTracer {
         path: &mut PathState,
         context: &mut SampleContext,
     ) -> Option<Ray> {
-        let wo = -ray.direction.normalize();
-        let material = &scene.materials()[hit.material as usize];
-        let geometric = hit.geometry.geometric_normal;
-        let emitted = material.emitted(wo, geometric);
+        let vertex = Vertex::at(scene, ray, *hit);
+        let (wo, geometric) = (vertex.wo, hit.geometry.geometric_normal);
+        let emitted = vertex.emitted();
         if emitted != Rgb::ZERO {
             let weight = match path.previous {
                 Some(from) if !from.delta => {
@@ -179,7 +179,7 @@ impl PathTracer {
         if path.depth >= self.max_depth {
             return None;
         }
-        let bsdf = material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, geometric);
+        let bsdf = vertex.bsdf();
         if bsdf.has_diffuse() {
             path.radiance += path.throughput * sample_lights(scene, hit, &bsdf, wo, Weighting::Mis, context);
         }

@@ -8,6 +8,7 @@
 use glam::Vec2;
 
 use super::path::russian_roulette;
+use super::vertex::trace_seeing_light;
 use super::{Integrator, SampleContext};
 use crate::geometry::Ray;
 use crate::scene::Scene;
@@ -31,28 +32,21 @@ impl Integrator for NaivePathTracer {
             } else {
                 context.rays.reflection += 1;
             }
-            let Some(hit) = scene.intersect(&ray) else {
-                radiance += throughput * scene.environment().radiance(ray.direction);
-                break;
-            };
-            let wo = -ray.direction.normalize();
-            let material = &scene.materials()[hit.material as usize];
-            radiance += throughput * material.emitted(wo, hit.geometry.geometric_normal);
+            let Some(vertex) = trace_seeing_light(scene, &ray, throughput, &mut radiance) else { break };
             if depth >= self.max_depth {
                 break;
             }
-            let bsdf =
-                material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+            let bsdf = vertex.bsdf();
             let u_lobe = context.sampler.next_f32();
             let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
-            let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break };
+            let Some(sample) = bsdf.sample(vertex.wo, u_lobe, u) else { break };
             throughput *= sample.weight;
             eta_scale *= sample.eta_squared;
             depth += 1;
             if depth >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context) {
                 break;
             }
-            ray = hit.spawn_ray(sample.wi);
+            ray = vertex.hit.spawn_ray(sample.wi);
         }
         radiance
     }

@@ -34,6 +34,7 @@ use rayon::prelude::*;
 
 use super::particle::{trace_particle, ParticleVertex};
 use super::path::{russian_roulette, sample_lights, Weighting};
+use super::vertex::{trace_seeing_light, Vertex};
 use super::{Integrator, RayCounts, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
@@ -302,16 +303,13 @@ impl PhotonMapper {
             for _ in 0..GATHER_SPECULAR_DEPTH {
                 context.rays.reflection += 1;
                 // Light from the environment is direct light, which light sampling counted.
-                let Some(y) = scene.intersect(&ray) else { break };
-                let wo_y = -ray.direction.normalize();
-                let material = &scene.materials()[y.material as usize];
-                let bsdf_y =
-                    material.bsdf(&y.texture_query(), wo_y, y.geometry.shading_normal, y.geometry.geometric_normal);
+                let Some(vertex) = Vertex::trace(scene, &ray) else { break };
+                let (y, wo_y, bsdf_y) = (&vertex.hit, vertex.wo, vertex.bsdf());
                 let p = bsdf_y.non_delta_probability();
                 if context.sampler.next_f32() < p {
                     let n = y.geometric_normal_toward(wo_y);
-                    let cached = bsdf_y.lambertian().and_then(|k_d| self.cached_radiance(&y, n, k_d));
-                    let radiance = cached.unwrap_or_else(|| self.estimate(&self.global, &y, &bsdf_y, wo_y));
+                    let cached = bsdf_y.lambertian().and_then(|k_d| self.cached_radiance(y, n, k_d));
+                    let radiance = cached.unwrap_or_else(|| self.estimate(&self.global, y, &bsdf_y, wo_y));
                     sum += weight * radiance / p;
                     break;
                 }
@@ -373,23 +371,17 @@ impl Integrator for PhotonMapper {
             } else {
                 context.rays.refraction += 1;
             }
-            let Some(hit) = scene.intersect(&ray) else {
-                radiance += throughput * scene.environment().radiance(ray.direction);
-                break;
-            };
-            let wo = -ray.direction.normalize();
-            let material = &scene.materials()[hit.material as usize];
-            radiance += throughput * material.emitted(wo, hit.geometry.geometric_normal);
+            let Some(vertex) = trace_seeing_light(scene, &ray, throughput, &mut radiance) else { break };
             if depth >= self.max_depth {
                 break;
             }
-            let bsdf =
-                material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+            let bsdf = vertex.bsdf();
+            let (hit, wo) = (&vertex.hit, vertex.wo);
             if bsdf.has_diffuse() {
-                let mut local = sample_lights(scene, &hit, &bsdf, wo, Weighting::LightOnly, context);
-                local += self.estimate(&self.caustic, &hit, &bsdf, wo);
+                let mut local = sample_lights(scene, hit, &bsdf, wo, Weighting::LightOnly, context);
+                local += self.estimate(&self.caustic, hit, &bsdf, wo);
                 if depth + 1 < self.max_depth {
-                    local += self.gather(scene, &hit, &bsdf, wo, context);
+                    local += self.gather(scene, hit, &bsdf, wo, context);
                 }
                 radiance += throughput * local;
             }

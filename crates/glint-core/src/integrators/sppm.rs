@@ -26,14 +26,15 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::passes::{par_tiles, Pass, PassRenderer};
+use super::passes::{camera_samples, par_tiles, Pass, PassRenderer};
 use super::path::{russian_roulette, sample_lights, Weighting};
 use super::photon_mapping::{PhotonShooter, BATCH};
+use super::vertex::trace_seeing_light;
 use super::{RayCounts, SampleContext};
 use crate::film::Film;
+use crate::geometry::Ray;
 use crate::materials::Bsdf;
 use crate::photons::PhotonMap;
-use crate::sampling::Rng;
 use crate::scene::Scene;
 use crate::Rgb;
 
@@ -99,19 +100,14 @@ impl Sppm {
         })
     }
 
-    /// The camera sample of pixel (x, y): direct light found on the way, and the visible point.
+    /// A pixel's camera path from `ray` (its pass's camera sample, drawn as every camera
+    /// integrator's is): the direct light found on the way, and the visible point.
     fn camera_path<'s>(
         &self,
         scene: &'s Scene,
-        pass: &Pass,
-        x: u32,
-        y: u32,
-        rays: &mut RayCounts,
+        mut ray: Ray,
+        context: &mut SampleContext,
     ) -> (Rgb, Option<VisiblePoint<'s>>) {
-        let pixel_index = y as u64 * scene.camera.width as u64 + x as u64;
-        let mut context = SampleContext::new(Rng::for_sample(pass.seed, pixel_index, pass.index as u64));
-        let (dx, dy) = (context.sampler.next_f32(), context.sampler.next_f32());
-        let mut ray = scene.camera.sample_ray(x as f32 + dx, y as f32 + dy, || context.sampler.next_f32());
         let mut direct = Rgb::ZERO;
         let mut throughput = Rgb::ONE;
         let mut eta_scale = 1.0;
@@ -119,21 +115,15 @@ impl Sppm {
         let mut visible = None;
         for depth in 0..=self.max_depth {
             context.rays.camera += 1;
-            let Some(hit) = scene.intersect(&ray) else {
-                direct += throughput * scene.environment().radiance(ray.direction);
-                break;
-            };
+            let Some(vertex) = trace_seeing_light(scene, &ray, throughput, &mut direct) else { break };
+            let (hit, wo) = (&vertex.hit, vertex.wo);
             distance += hit.t * ray.direction.length();
-            let wo = -ray.direction.normalize();
-            let material = &scene.materials()[hit.material as usize];
-            direct += throughput * material.emitted(wo, hit.geometry.geometric_normal);
             if depth == self.max_depth {
                 break;
             }
-            let bsdf =
-                material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+            let bsdf = vertex.bsdf();
             if bsdf.has_diffuse() {
-                direct += throughput * sample_lights(scene, &hit, &bsdf, wo, Weighting::LightOnly, &mut context);
+                direct += throughput * sample_lights(scene, hit, &bsdf, wo, Weighting::LightOnly, context);
             }
             let p = bsdf.non_delta_probability();
             if context.sampler.next_f32() < p {
@@ -150,7 +140,7 @@ impl Sppm {
             let Some(sample) = bsdf.sample_delta(wo, u_lobe, u) else { break };
             throughput *= sample.weight / (1.0 - p);
             eta_scale *= sample.eta_squared;
-            if depth + 1 >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, &mut context) {
+            if depth + 1 >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context) {
                 break;
             }
             if throughput == Rgb::ZERO {
@@ -158,7 +148,6 @@ impl Sppm {
             }
             ray = hit.spawn_ray(sample.wi);
         }
-        rays.add(&context.rays);
         (if direct.is_finite() { direct } else { Rgb::ZERO }, visible)
     }
 }
@@ -169,12 +158,13 @@ impl PassRenderer for Sppm {
         let per_tile: Vec<(Vec<CameraSample>, RayCounts)> = par_tiles(width, height)
             .map(|(x0, y0, x1, y1)| {
                 let mut rays = RayCounts::default();
-                let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-                for y in y0..y1 {
-                    for x in x0..x1 {
-                        let (direct, visible) = self.camera_path(scene, pass, x, y, &mut rays);
-                        out.push((y * width + x, direct, visible));
-                    }
+                let (_, camera_rays, mut contexts) = camera_samples(scene, pass, (x0, y0, x1, y1));
+                let pixels = (y0..y1).flat_map(|y| (x0..x1).map(move |x| y * width + x));
+                let mut out = Vec::with_capacity(camera_rays.len());
+                for ((ray, context), pixel) in camera_rays.into_iter().zip(&mut contexts).zip(pixels) {
+                    let (direct, visible) = self.camera_path(scene, ray, context);
+                    rays.add(&context.rays);
+                    out.push((pixel, direct, visible));
                 }
                 on_tile();
                 (out, rays)
@@ -201,12 +191,12 @@ impl PassRenderer for Sppm {
         self.emitted += emitted;
         self.passes += 1;
 
-        let footprint = 2.0 * (0.5 * scene.camera.fov_degrees.to_radians()).tan() / height as f32;
         let initial_radius = self.initial_radius;
         self.pixels.par_iter_mut().zip(visible.par_iter()).for_each(|(state, vp)| {
             let Some(vp) = vp else { return };
             if state.radius == 0.0 {
-                state.radius = if initial_radius > 0.0 { initial_radius } else { 3.0 * footprint * vp.distance };
+                state.radius =
+                    if initial_radius > 0.0 { initial_radius } else { 3.0 * scene.camera.pixel_footprint(vp.distance) };
             }
             let mut flux = Rgb::ZERO;
             let mut found = 0u32;
