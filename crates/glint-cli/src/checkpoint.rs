@@ -12,6 +12,7 @@
 //! its header against the render and the file's length, its pixels finite and their weights
 //! what its passes give.
 
+use std::hash::{Hash, Hasher};
 use std::path::Path;
 
 use glint_core::film::Film;
@@ -30,16 +31,41 @@ pub struct Checkpoint {
     pub state: Vec<u8>,
 }
 
-/// FNV-1a over the parts that make a render what it is (scene text, integrator, settings).
-pub fn fingerprint(parts: &[&[u8]]) -> u64 {
-    let mut hash = 0xcbf2_9ce4_8422_2325u64;
-    for part in parts {
-        for &b in part.iter().chain(&[0xFF]) {
-            hash ^= b as u64;
-            hash = hash.wrapping_mul(0x0100_0000_01b3);
+/// The fingerprint of a value (the render's identity): its derived `Hash` fed to FNV-1a,
+/// which, unlike the standard library's hasher, is the same in every build, so a checkpoint
+/// resumes under another build of glint.
+pub fn fingerprint_of(value: &impl Hash) -> u64 {
+    let mut hasher = Fnv1a(FNV_OFFSET);
+    value.hash(&mut hasher);
+    hasher.finish()
+}
+
+const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+const FNV_PRIME: u64 = 0x0100_0000_01b3;
+
+struct Fnv1a(u64);
+
+impl Hasher for Fnv1a {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= b as u64;
+            self.0 = self.0.wrapping_mul(FNV_PRIME);
         }
     }
-    hash
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// FNV-1a over byte strings (a file's contents), each followed by 0xFF.
+pub fn fingerprint(parts: &[&[u8]]) -> u64 {
+    let mut hasher = Fnv1a(FNV_OFFSET);
+    for part in parts {
+        hasher.write(part);
+        hasher.write(&[0xFF]);
+    }
+    hasher.finish()
 }
 
 /// What the render being resumed expects of a checkpoint. Every field of the file is checked
@@ -181,4 +207,18 @@ pub fn parse(bytes: &[u8], path: &Path, expected: &Expected) -> Result<Checkpoin
     }
     let film = Film::from_accumulators(width, height, sum, weight).ok_or_else(|| damaged("its film"))?;
     Ok(Checkpoint { film, spp_done, state: bytes[state].to_vec() })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// FNV-1a's published value for "a" (0xaf63dc4c8601ec8c): a hashed byte is fed as itself,
+    /// so a render's identity hashes the same in every build.
+    #[test]
+    fn fingerprints_are_fnv_1a() {
+        assert_eq!(fingerprint_of(&b'a'), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(fingerprint(&[b"a"]), fingerprint_of(&(b'a', 0xFFu8)));
+        assert_ne!(fingerprint_of(&(1u32, 2u32)), fingerprint_of(&(2u32, 1u32)));
+    }
 }

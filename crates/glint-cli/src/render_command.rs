@@ -1,25 +1,28 @@
 //! `glint render`: load, override, render with progress, write, summarise.
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
-
-use clap::{Args, ValueEnum};
-use glint_core::filter::Filter;
-use glint_core::integrators::{IntegratorKind, IntegratorSettings};
-use glint_core::render::{render_progressive, PassRenderer, Progressive, RenderSettings, StopReason};
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use clap::builder::{PossibleValuesParser, TypedValueParser};
+use clap::Args;
 use glint_cli::checkpoint;
+use glint_cli::output::{check_writable, check_writable_file, write_image, ImageFormat};
+use glint_core::film::Film;
+use glint_core::filter::Filter;
+use glint_core::integrators::{heat_colour, IntegratorKind, IntegratorSettings};
 use glint_core::lights::TriangleSampling;
-use glint_core::shapes::{BoxMethod, PolygonTest, SphereMethod, TriangleMethod};
+use glint_core::render::{
+    render_progressive, tile_count, PassRenderer, Progressive, RenderOutput, RenderSettings, StopReason,
+};
+use glint_core::sampling::SamplerKind;
+use glint_core::scene::Scene;
+use glint_core::shapes::{BoxMethod, IntersectMethods, PolygonTest, SphereMethod, TriangleMethod};
+use glint_core::{Named, Rgb};
 use glint_scene::LoadedScene;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-
-use glint_cli::output::{check_writable, check_writable_file, write_image, ImageFormat};
-use glint_core::integrators::heat_colour;
-use glint_core::sampling::SamplerKind;
-use glint_core::Rgb;
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -41,8 +44,8 @@ pub struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
     height: Option<u32>,
-    #[arg(long, value_enum)]
-    integrator: Option<IntegratorArg>,
+    #[arg(long, value_parser = named::<IntegratorKind>())]
+    integrator: Option<IntegratorKind>,
     /// Maximum recursion depth (Whitted: generations of reflection/refraction rays; path
     /// tracers: scattering events, -1 = unbounded).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_max_depth)]
@@ -60,28 +63,28 @@ pub struct RenderArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: Option<u32>,
     /// Pixel reconstruction filter (default: the scene's, else box).
-    #[arg(long, value_enum)]
-    filter: Option<FilterArg>,
+    #[arg(long, value_parser = named::<Filter>())]
+    filter: Option<Filter>,
     /// Where each pixel sample's random numbers come from (default: the scene's).
-    #[arg(long, value_enum)]
-    sampler: Option<SamplerArg>,
+    #[arg(long, value_parser = named::<SamplerKind>())]
+    sampler: Option<SamplerKind>,
     /// PNG exposure in stops (the image is multiplied by 2^exposure before sRGB encoding).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
-    #[arg(long, value_enum)]
-    sphere_method: Option<SphereArg>,
-    #[arg(long, value_enum)]
-    triangle_method: Option<TriangleArg>,
-    #[arg(long, value_enum)]
-    polygon_test: Option<PolygonArg>,
-    #[arg(long, value_enum)]
-    box_method: Option<BoxArg>,
+    #[arg(long, value_parser = named::<SphereMethod>())]
+    sphere_method: Option<SphereMethod>,
+    #[arg(long, value_parser = named::<TriangleMethod>())]
+    triangle_method: Option<TriangleMethod>,
+    #[arg(long, value_parser = named::<PolygonTest>())]
+    polygon_test: Option<PolygonTest>,
+    #[arg(long, value_parser = named::<BoxMethod>())]
+    box_method: Option<BoxMethod>,
     /// How next-event estimation samples triangle lights: uniformly on their area, or in the
     /// solid angle they subtend, weighted by the receiver's cosine (less noise near a light,
     /// slower). Default:
     /// the scene's `light_sampling`, else area.
-    #[arg(long, value_enum)]
-    light_sampling: Option<LightSamplingArg>,
+    #[arg(long, value_parser = named::<TriangleSampling>())]
+    light_sampling: Option<TriangleSampling>,
     /// Path tracing: trace one path at a time instead of a tile's paths eight at a time in
     /// SIMD lanes. The
     /// image is the same bit for bit; for comparing the speed of the two.
@@ -133,62 +136,11 @@ pub struct RenderArgs {
     photons_per_pass: Option<u32>,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum IntegratorArg {
-    Raycast,
-    Whitted,
-    BvhHeat,
-    Path,
-    PathNaive,
-    Light,
-    Photon,
-    Sppm,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum SamplerArg {
-    Independent,
-    Stratified,
-    Sobol,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum FilterArg {
-    Box,
-    Tent,
-    Gaussian,
-    Mitchell,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum SphereArg {
-    Algebraic,
-    Geometric,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum LightSamplingArg {
-    Area,
-    SolidAngle,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum TriangleArg {
-    Cramer,
-    MollerTrumbore,
-    Watertight,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum PolygonArg {
-    Crossing,
-    Winding,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum BoxArg {
-    Slabs,
-    Woo,
+/// A command-line parser for one of the core's named choices: its names are the core's own
+/// (`Named`), so the CLI mirrors no enum and `--help` lists what the core has.
+fn named<T: Named>() -> impl TypedValueParser<Value = T> {
+    PossibleValuesParser::new(T::ALL.iter().map(|k| k.name()))
+        .map(|name| T::from_name(&name).expect("clap admits only the possible values"))
 }
 
 /// `NAME=VALUE` of a -D parameter.
@@ -201,16 +153,109 @@ pub fn parse_define(s: &str) -> Result<(String, String), String> {
 }
 
 pub fn run(args: RenderArgs) -> Result<Outcome, String> {
-    let output = args.output.clone().unwrap_or_else(|| {
+    let output = output_path(&args);
+    check_before_work(&args, &output)?;
+    let memory_limit = memory_limit_bytes(args.memory_limit)?;
+    glint_scene::set_memory_limit(memory_limit);
+    let (scene, plan) = load(&args)?;
+    check_memory(&plan, &scene, memory_limit)?;
+    let checkpoint = read_checkpoint(&args, &plan, &scene)?;
+    let stop = stop_on_signals(args.quiet);
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = args.threads {
+        pool = pool.num_threads(n as usize);
+    }
+    let pool = pool.build().map_err(|e| format!("cannot start worker threads: {e}"))?;
+
+    let started = Instant::now();
+    let renderer = pool.install(|| plan.kind.renderer_until(&plan.integrator, &scene, plan.settings.seed, &stop));
+    if stop.load(Ordering::Relaxed) {
+        say!("interrupted before the first pass: nothing written");
+        return Ok(Outcome::Interrupted);
+    }
+    let mut renderer = renderer?;
+    if plan.kind == IntegratorKind::Photon && !args.quiet {
+        say!("photon maps built in {:.2} s", started.elapsed().as_secs_f64());
+    }
+    let resume = match checkpoint {
+        Some(c) => {
+            let path = args.resume.as_ref().expect("a checkpoint came from --resume");
+            renderer.restore(&c.state).map_err(|m| format!("`{}`: {m}", path.display()))?;
+            Some((c.film, c.spp_done))
+        }
+        None => None,
+    };
+    let progress = progress_bar(&args, &plan, &scene, resume.as_ref().map(|(_, spp_done)| *spp_done));
+    let result = {
+        let progressive = Progressive { settings: plan.settings, time_limit: plan.time_limit };
+        let mut saver = CheckpointSaver::new(&args, &plan);
+        let result = pool.install(|| {
+            render_progressive(
+                &scene,
+                renderer.as_mut(),
+                &progressive,
+                resume,
+                &stop,
+                &|| progress.inc(1),
+                &mut |film, spp_done, renderer| saver.on_pass(film, spp_done, renderer),
+            )
+        });
+        progress.finish_and_clear();
+        for w in renderer.warnings() {
+            say!("warning: {w}");
+        }
+        if let Some(e) = saver.error {
+            say!("warning: {e}");
+        }
+        result
+    };
+    if result.spp_done == 0 {
+        if result.stopped_early == Some(StopReason::Interrupted) {
+            say!("interrupted before the first pass: nothing written");
+            return Ok(Outcome::Interrupted);
+        }
+        return Err("the render was stopped before its first pass: nothing to write".into());
+    }
+    write_outputs(&args, &plan, &scene, &output, &result, renderer.as_ref())?;
+    if args.stats {
+        print_stats(&scene, &result);
+    }
+    if !args.quiet {
+        print_summary(&plan, &scene, &output, &result);
+    }
+    Ok(match result.stopped_early {
+        Some(StopReason::Interrupted) => Outcome::Interrupted,
+        _ => Outcome::Finished,
+    })
+}
+
+/// What a render will do, decided from the scene and the flags before any work.
+struct Plan {
+    kind: IntegratorKind,
+    integrator: IntegratorSettings,
+    settings: RenderSettings,
+    time_limit: Option<Duration>,
+    /// What makes the image what it is (`RenderIdentity`): a checkpoint resumes only the
+    /// render it was written by.
+    fingerprint: u64,
+}
+
+/// The output image's path: `--output`, else the scene's name as a PNG.
+fn output_path(args: &RenderArgs) -> PathBuf {
+    args.output.clone().unwrap_or_else(|| {
         let stem = args
             .scene
             .as_ref()
             .and_then(|s| s.file_stem())
             .map_or("default".into(), |s| s.to_string_lossy().to_string());
         PathBuf::from(format!("{stem}.png"))
-    });
-    // Before any work: a render must never be lost to an unwritable output or checkpoint.
-    check_writable(&output)?;
+    })
+}
+
+/// Before any work: a render must never be lost to an unwritable output or checkpoint, or to
+/// a flag refused after it.
+fn check_before_work(args: &RenderArgs, output: &Path) -> Result<(), String> {
+    check_writable(output)?;
     if let Some(path) = &args.checkpoint {
         check_writable_file(path, "checkpoint")?;
     }
@@ -222,9 +267,11 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
             ));
         }
     }
-    let memory_limit = memory_limit_bytes(args.memory_limit)?;
-    glint_scene::set_memory_limit(memory_limit);
+    Ok(())
+}
 
+/// The scene with the flags' overrides, and the plan of the render.
+fn load(args: &RenderArgs) -> Result<(Scene, Plan), String> {
     let loaded = match &args.scene {
         Some(path) => glint_scene::load_scene_with(path, &args.define),
         None => glint_scene::default_scene(),
@@ -234,37 +281,14 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
     for w in &warnings {
         say!("warning: {w}");
     }
-
-    apply_overrides(&args, &mut scene);
-    let integrator_kind = match args.integrator {
-        Some(IntegratorArg::Raycast) => IntegratorKind::Raycast,
-        Some(IntegratorArg::Whitted) => IntegratorKind::Whitted,
-        Some(IntegratorArg::BvhHeat) => IntegratorKind::BvhHeat,
-        Some(IntegratorArg::Path) => IntegratorKind::Path,
-        Some(IntegratorArg::PathNaive) => IntegratorKind::PathNaive,
-        Some(IntegratorArg::Light) => IntegratorKind::Light,
-        Some(IntegratorArg::Photon) => IntegratorKind::Photon,
-        Some(IntegratorArg::Sppm) => IntegratorKind::Sppm,
-        None => options.integrator,
-    };
-    let integrator_settings = args.integrator_settings(&options.integrator_settings)?;
-    let filter = match args.filter {
-        Some(FilterArg::Box) => Filter::Box,
-        Some(FilterArg::Tent) => Filter::Tent,
-        Some(FilterArg::Gaussian) => Filter::Gaussian,
-        Some(FilterArg::Mitchell) => Filter::Mitchell,
-        None => options.filter,
-    };
+    apply_overrides(args, &mut scene);
+    let kind = args.integrator.unwrap_or(options.integrator);
+    let integrator = args.integrator_settings(&options.integrator_settings)?;
     let mut settings = RenderSettings {
         spp: args.spp.unwrap_or(options.spp),
         seed: args.seed.unwrap_or(options.seed),
-        filter,
-        sampler: match args.sampler {
-            Some(SamplerArg::Independent) => SamplerKind::Independent,
-            Some(SamplerArg::Stratified) => SamplerKind::Stratified,
-            Some(SamplerArg::Sobol) => SamplerKind::Sobol,
-            None => options.sampler,
-        },
+        filter: args.filter.unwrap_or(options.filter),
+        sampler: args.sampler.unwrap_or(options.sampler),
     };
     let time_limit = match args.time {
         Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
@@ -276,94 +300,111 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
     }
     // The scene's files by content (not by path: the same scene named another way resumes),
     // read one at a time, and only when a checkpoint is written or read.
-    let scene_bytes = match &args.scene {
+    let scene_contents = match &args.scene {
         Some(_) if args.checkpoint.is_some() || args.resume.is_some() => inputs_fingerprint(&inputs),
         Some(_) => Vec::new(),
         None => b"<built-in default scene>".to_vec(),
     };
-    let defines = format!("{:?}", args.define);
-    let fingerprint = checkpoint::fingerprint(&[
-        &scene_bytes,
-        defines.as_bytes(),
-        integrator_kind.name().as_bytes(),
-        format!(
-            "{integrator_settings:?} {:?} {}x{} {} {}{}{}",
-            scene.geometry.methods,
-            scene.camera.width,
-            scene.camera.height,
-            filter.name(),
-            settings.sampler.name(),
-            // A stratified render's strata depend on its sample count.
-            if settings.sampler == SamplerKind::Stratified { format!(" {}", settings.spp) } else { String::new() },
-            // Only when not the default: the default's fingerprint keeps its form.
-            if scene.lights().triangle_sampling() == TriangleSampling::SolidAngle { " solid-angle lights" } else { "" }
-        )
-        .as_bytes(),
-    ]);
-    let needed = memory_needed(integrator_kind, &integrator_settings, scene.camera.width, scene.camera.height);
+    let identity = RenderIdentity {
+        scene_contents: &scene_contents,
+        defines: &args.define,
+        kind,
+        integrator,
+        methods: scene.geometry.methods,
+        width: scene.camera.width,
+        height: scene.camera.height,
+        filter: settings.filter,
+        sampler: settings.sampler,
+        // A stratified render's strata depend on its sample count.
+        strata_spp: (settings.sampler == SamplerKind::Stratified).then_some(settings.spp),
+        triangle_sampling: scene.lights().triangle_sampling(),
+    };
+    let fingerprint = checkpoint::fingerprint_of(&identity);
+    Ok((scene, Plan { kind, integrator, settings, time_limit, fingerprint }))
+}
+
+/// Everything that makes a render's image what it is, but the seed (which a checkpoint
+/// records by itself): a checkpoint is resumed only by a render with the same identity.
+#[derive(Hash)]
+struct RenderIdentity<'a> {
+    /// Each of the scene's files by content.
+    scene_contents: &'a [u8],
+    defines: &'a [(String, String)],
+    kind: IntegratorKind,
+    integrator: IntegratorSettings,
+    methods: IntersectMethods,
+    width: u32,
+    height: u32,
+    filter: Filter,
+    sampler: SamplerKind,
+    strata_spp: Option<u32>,
+    triangle_sampling: TriangleSampling,
+}
+
+/// Refuses a render whose own buffers would not fit the memory limit.
+fn check_memory(plan: &Plan, scene: &Scene, memory_limit: u64) -> Result<(), String> {
+    let (width, height) = (scene.camera.width, scene.camera.height);
+    let needed = memory_needed(plan.kind, &plan.integrator, width, height);
     if needed > memory_limit {
         return Err(format!(
-            "this render needs about {:.1} GiB ({}x{} pixels{}), more than the memory limit of {:.1} GiB; raise it with --memory-limit GIB (or GLINT_MEMORY_LIMIT), or render smaller",
+            "this render needs about {:.1} GiB ({width}x{height} pixels{}), more than the memory limit of {:.1} GiB; raise it with --memory-limit GIB (or GLINT_MEMORY_LIMIT), or render smaller",
             needed as f64 / GIB,
-            scene.camera.width,
-            scene.camera.height,
-            if integrator_kind == IntegratorKind::Photon { " and the photon maps" } else { "" },
+            if plan.kind == IntegratorKind::Photon { " and the photon maps" } else { "" },
             memory_limit as f64 / GIB
         ));
     }
-    let resume = match &args.resume {
-        Some(path) => {
-            let expected = checkpoint::Expected {
-                width: scene.camera.width,
-                height: scene.camera.height,
-                seed: settings.seed,
-                fingerprint,
-                spp: settings.spp,
-                weights: match integrator_kind {
-                    IntegratorKind::Sppm => checkpoint::WeightRule::One,
-                    IntegratorKind::Light => checkpoint::WeightRule::PerPass,
-                    _ if filter == Filter::Box => checkpoint::WeightRule::PerPass,
-                    _ => checkpoint::WeightRule::Finite,
-                },
-                nonnegative: filter != Filter::Mitchell,
-            };
-            let c = checkpoint::load(path, &expected)?;
-            if !args.quiet {
-                say!("resuming from `{}` at {} spp", path.display(), c.spp_done);
-            }
-            Some(c)
-        }
-        None => None,
+    Ok(())
+}
+
+/// The checkpoint `--resume` names, checked against this render.
+fn read_checkpoint(args: &RenderArgs, plan: &Plan, scene: &Scene) -> Result<Option<checkpoint::Checkpoint>, String> {
+    let Some(path) = &args.resume else { return Ok(None) };
+    let filter = plan.settings.filter;
+    let expected = checkpoint::Expected {
+        width: scene.camera.width,
+        height: scene.camera.height,
+        seed: plan.settings.seed,
+        fingerprint: plan.fingerprint,
+        spp: plan.settings.spp,
+        weights: match plan.kind {
+            IntegratorKind::Sppm => checkpoint::WeightRule::One,
+            IntegratorKind::Light => checkpoint::WeightRule::PerPass,
+            _ if filter == Filter::Box => checkpoint::WeightRule::PerPass,
+            _ => checkpoint::WeightRule::Finite,
+        },
+        nonnegative: filter != Filter::Mitchell,
     };
-    let stop = std::sync::Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        let quiet = args.quiet;
-        // First Ctrl-C (or SIGTERM, SIGHUP: a render farm stops jobs so): finish the passes
-        // under way and write everything; a second one quits.
-        let _ = ctrlc::set_handler(move || {
-            if stop.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-            if !quiet {
-                say!(
-                    "\ninterrupted: finishing the passes under way, then writing the image (Ctrl-C again to quit at once)"
-                );
-            }
-        });
+    let c = checkpoint::load(path, &expected)?;
+    if !args.quiet {
+        say!("resuming from `{}` at {} spp", path.display(), c.spp_done);
     }
+    Ok(Some(c))
+}
 
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(n) = args.threads {
-        pool = pool.num_threads(n as usize);
-    }
-    let pool = pool.build().map_err(|e| format!("cannot start worker threads: {e}"))?;
+/// The flag raised by the first Ctrl-C (or SIGTERM, SIGHUP: a render farm stops jobs so):
+/// the passes under way finish and everything is written; a second one quits.
+fn stop_on_signals(quiet: bool) -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let raised = stop.clone();
+    let _ = ctrlc::set_handler(move || {
+        if raised.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+        if !quiet {
+            say!(
+                "\ninterrupted: finishing the passes under way, then writing the image (Ctrl-C again to quit at once)"
+            );
+        }
+    });
+    stop
+}
 
-    let (width, height) = (scene.camera.width, scene.camera.height);
-    let tiles = (width.div_ceil(16) * height.div_ceil(16)) as u64;
-    let progress = ProgressBar::new(tiles * settings.spp.min(1 << 20) as u64);
-    if let Some(c) = &resume {
-        progress.set_position(tiles * c.spp_done as u64);
+/// A bar advancing once per tile of every pass (hidden when quiet or not on a terminal).
+fn progress_bar(args: &RenderArgs, plan: &Plan, scene: &Scene, spp_done: Option<u32>) -> ProgressBar {
+    let tiles = tile_count(scene.camera.width, scene.camera.height);
+    let progress = ProgressBar::new(tiles * plan.settings.spp.min(1 << 20) as u64);
+    if let Some(spp_done) = spp_done {
+        progress.set_position(tiles * spp_done as u64);
     }
     if args.quiet || !std::io::stderr().is_terminal() {
         progress.set_draw_target(ProgressDrawTarget::hidden());
@@ -375,60 +416,58 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
         .expect("the template is valid")
         .progress_chars("=> "),
     );
-    let started = Instant::now();
-    let renderer = pool.install(|| integrator_kind.renderer_until(&integrator_settings, &scene, settings.seed, &stop));
-    if stop.load(Ordering::Relaxed) {
-        say!("interrupted before the first pass: nothing written");
-        return Ok(Outcome::Interrupted);
-    }
-    let mut renderer = renderer?;
-    let wavefront = integrator_kind == IntegratorKind::Path && integrator_settings.wavefront;
-    if integrator_kind == IntegratorKind::Photon && !args.quiet {
-        say!("photon maps built in {:.2} s", started.elapsed().as_secs_f64());
-    }
-    let resume = match resume {
-        Some(c) => {
-            let path = args.resume.as_ref().expect("a checkpoint came from --resume");
-            renderer.restore(&c.state).map_err(|m| format!("`{}`: {m}", path.display()))?;
-            Some((c.film, c.spp_done))
+    progress
+}
+
+/// Writes `--checkpoint` every `--checkpoint-interval` seconds between passes; the first
+/// failure is kept, to be reported, and the render goes on.
+struct CheckpointSaver<'a> {
+    path: Option<&'a Path>,
+    interval: f64,
+    seed: u64,
+    fingerprint: u64,
+    last: Instant,
+    error: Option<String>,
+}
+
+impl<'a> CheckpointSaver<'a> {
+    fn new(args: &'a RenderArgs, plan: &Plan) -> Self {
+        Self {
+            path: args.checkpoint.as_deref(),
+            interval: args.checkpoint_interval,
+            seed: plan.settings.seed,
+            fingerprint: plan.fingerprint,
+            last: Instant::now(),
+            error: None,
         }
-        None => None,
-    };
-    let progressive = Progressive { settings, time_limit };
-    let mut last_checkpoint = Instant::now();
-    let mut checkpoint_error = None;
-    let mut on_pass = |film: &glint_core::film::Film, spp_done: u32, renderer: &dyn PassRenderer| {
-        if let Some(path) = &args.checkpoint {
-            if last_checkpoint.elapsed().as_secs_f64() >= args.checkpoint_interval {
-                let state = renderer.state();
-                if let Err(e) = checkpoint::save(path, film, spp_done, settings.seed, fingerprint, &state) {
-                    checkpoint_error.get_or_insert(e);
-                }
-                last_checkpoint = Instant::now();
-            }
-        }
-    };
-    let result = pool.install(|| {
-        render_progressive(&scene, renderer.as_mut(), &progressive, resume, &stop, &|| progress.inc(1), &mut on_pass)
-    });
-    progress.finish_and_clear();
-    for w in renderer.warnings() {
-        say!("warning: {w}");
-    }
-    if let Some(e) = checkpoint_error {
-        say!("warning: {e}");
-    }
-    if result.spp_done == 0 {
-        if result.stopped_early == Some(StopReason::Interrupted) {
-            say!("interrupted before the first pass: nothing written");
-            return Ok(Outcome::Interrupted);
-        }
-        return Err("the render was stopped before its first pass: nothing to write".into());
     }
 
+    fn on_pass(&mut self, film: &Film, spp_done: u32, renderer: &dyn PassRenderer) {
+        let Some(path) = self.path else { return };
+        if self.last.elapsed().as_secs_f64() >= self.interval {
+            let state = renderer.state();
+            if let Err(e) = checkpoint::save(path, film, spp_done, self.seed, self.fingerprint, &state) {
+                self.error.get_or_insert(e);
+            }
+            self.last = Instant::now();
+        }
+    }
+}
+
+/// The image, then the final checkpoint: a checkpoint that cannot be written must not cost
+/// the render.
+fn write_outputs(
+    args: &RenderArgs,
+    plan: &Plan,
+    scene: &Scene,
+    output: &Path,
+    result: &RenderOutput,
+    renderer: &dyn PassRenderer,
+) -> Result<(), String> {
+    let (width, height) = (scene.camera.width, scene.camera.height);
     let mut pixels = result.film.to_rgb();
     let mut exposure = args.exposure;
-    let heat_png = integrator_kind == IntegratorKind::BvhHeat && ImageFormat::from_path(&output)? == ImageFormat::Png;
+    let heat_png = plan.kind == IntegratorKind::BvhHeat && ImageFormat::from_path(output)? == ImageFormat::Png;
     if heat_png {
         let max = false_colour_heat_map(&mut pixels, width, height);
         exposure = 0.0;
@@ -438,65 +477,69 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
     }
     let metadata = [
         ("glint:spp", result.spp_done.to_string()),
-        ("glint:seed", settings.seed.to_string()),
-        ("glint:integrator", integrator_kind.name().to_string()),
+        ("glint:seed", plan.settings.seed.to_string()),
+        ("glint:integrator", plan.kind.name().to_string()),
         ("glint:version", env!("CARGO_PKG_VERSION").to_string()),
     ];
-    // The image first: a checkpoint that cannot be written must not cost the render.
-    write_image(&output, width, height, &pixels, exposure, &metadata)?;
+    write_image(output, width, height, &pixels, exposure, &metadata)?;
     if let Some(path) = &args.checkpoint {
-        checkpoint::save(path, &result.film, result.spp_done, settings.seed, fingerprint, &renderer.state())?;
+        let state = renderer.state();
+        checkpoint::save(path, &result.film, result.spp_done, plan.settings.seed, plan.fingerprint, &state)?;
     }
-    if args.stats {
-        let g = &scene.geometry;
-        let s = g.bvh_stats();
-        let r = &result.rays;
-        say!(
-            "BVH: {} primitives, built in {:.3} s; binary tree {} nodes, {} leaves, depth {}, SAH cost {:.2}; 8-wide tree {} nodes, {} leaf blocks; {:.1} bytes per primitive",
-            g.primitive_count(),
-            g.build_time().as_secs_f64(),
-            s.nodes,
-            s.leaves,
-            s.depth,
-            s.sah_cost,
-            s.wide_nodes,
-            s.leaf_blocks,
-            s.bytes as f64 / g.primitive_count().max(1) as f64
-        );
-        say!(
-            "rays: {} camera, {} shadow, {} reflection, {} refraction, {} from lights, {} in all",
-            r.camera,
-            r.shadow,
-            r.reflection,
-            r.refraction,
-            r.light,
-            r.total()
-        );
-    }
-    if !args.quiet {
-        let seconds = result.elapsed.as_secs_f64().max(1e-9);
-        // Milliseconds: benchmarks read this line, and a hundredth of a second is about 1 % of
-        // the Cornell box's render, the size of the differences they compare.
-        say!(
-            "rendered {width}x{height} at {} spp{} with {}{} in {:.3} s: {:.2} M samples/s, {:.2} M rays/s -> {}",
-            result.spp_done,
-            match result.stopped_early {
-                Some(StopReason::Interrupted) => " (interrupted)",
-                Some(StopReason::TimeLimit) => " (time limit)",
-                None => "",
-            },
-            integrator_kind.name(),
-            if wavefront { " (wavefront, 8 lanes)" } else { "" },
-            seconds,
-            result.samples as f64 / seconds / 1e6,
-            result.rays.total() as f64 / seconds / 1e6,
-            output.display()
-        );
-    }
-    Ok(match result.stopped_early {
-        Some(StopReason::Interrupted) => Outcome::Interrupted,
-        _ => Outcome::Finished,
-    })
+    Ok(())
+}
+
+/// `--stats`: the acceleration structure and the rays traced by kind.
+fn print_stats(scene: &Scene, result: &RenderOutput) {
+    let g = &scene.geometry;
+    let s = g.bvh_stats();
+    let r = &result.rays;
+    say!(
+        "BVH: {} primitives, built in {:.3} s; binary tree {} nodes, {} leaves, depth {}, SAH cost {:.2}; 8-wide tree {} nodes, {} leaf blocks; {:.1} bytes per primitive",
+        g.primitive_count(),
+        g.build_time().as_secs_f64(),
+        s.nodes,
+        s.leaves,
+        s.depth,
+        s.sah_cost,
+        s.wide_nodes,
+        s.leaf_blocks,
+        s.bytes as f64 / g.primitive_count().max(1) as f64
+    );
+    say!(
+        "rays: {} camera, {} shadow, {} reflection, {} refraction, {} from lights, {} in all",
+        r.camera,
+        r.shadow,
+        r.reflection,
+        r.refraction,
+        r.light,
+        r.total()
+    );
+}
+
+/// The summary line: what was rendered, how fast, and where it went.
+fn print_summary(plan: &Plan, scene: &Scene, output: &Path, result: &RenderOutput) {
+    let seconds = result.elapsed.as_secs_f64().max(1e-9);
+    let wavefront = plan.kind == IntegratorKind::Path && plan.integrator.wavefront;
+    // Milliseconds: benchmarks read this line, and a hundredth of a second is about 1 % of
+    // the Cornell box's render, the size of the differences they compare.
+    say!(
+        "rendered {}x{} at {} spp{} with {}{} in {:.3} s: {:.2} M samples/s, {:.2} M rays/s -> {}",
+        scene.camera.width,
+        scene.camera.height,
+        result.spp_done,
+        match result.stopped_early {
+            Some(StopReason::Interrupted) => " (interrupted)",
+            Some(StopReason::TimeLimit) => " (time limit)",
+            None => "",
+        },
+        plan.kind.name(),
+        if wavefront { " (wavefront, 8 lanes)" } else { "" },
+        seconds,
+        result.samples as f64 / seconds / 1e6,
+        result.rays.total() as f64 / seconds / 1e6,
+        output.display()
+    );
 }
 
 /// How a render ended, for the exit status.
@@ -621,7 +664,7 @@ impl RenderArgs {
 }
 
 /// The scene's camera at the requested size; a missing side keeps the scene's aspect ratio.
-pub fn resize_camera(scene: &mut glint_core::scene::Scene, width: Option<u32>, height: Option<u32>) {
+pub fn resize_camera(scene: &mut Scene, width: Option<u32>, height: Option<u32>) {
     let (w, h) = (scene.camera.width, scene.camera.height);
     let (width, height) = match (width, height) {
         (Some(width), Some(height)) => (width, height),
@@ -632,38 +675,14 @@ pub fn resize_camera(scene: &mut glint_core::scene::Scene, width: Option<u32>, h
     scene.camera = scene.camera.with_resolution(width, height);
 }
 
-fn apply_overrides(args: &RenderArgs, scene: &mut glint_core::scene::Scene) {
+fn apply_overrides(args: &RenderArgs, scene: &mut Scene) {
     resize_camera(scene, args.width, args.height);
     let m = &mut scene.geometry.methods;
-    if let Some(s) = args.sphere_method {
-        m.sphere = match s {
-            SphereArg::Algebraic => SphereMethod::Algebraic,
-            SphereArg::Geometric => SphereMethod::Geometric,
-        };
-    }
-    if let Some(t) = args.triangle_method {
-        m.triangle = match t {
-            TriangleArg::Cramer => TriangleMethod::Cramer,
-            TriangleArg::MollerTrumbore => TriangleMethod::MollerTrumbore,
-            TriangleArg::Watertight => TriangleMethod::Watertight,
-        };
-    }
-    if let Some(p) = args.polygon_test {
-        m.polygon = match p {
-            PolygonArg::Crossing => PolygonTest::Crossing,
-            PolygonArg::Winding => PolygonTest::Winding,
-        };
-    }
-    if let Some(b) = args.box_method {
-        m.aabox = match b {
-            BoxArg::Slabs => BoxMethod::Slabs,
-            BoxArg::Woo => BoxMethod::Woo,
-        };
-    }
-    if let Some(l) = args.light_sampling {
-        scene.set_triangle_sampling(match l {
-            LightSamplingArg::Area => TriangleSampling::Area,
-            LightSamplingArg::SolidAngle => TriangleSampling::SolidAngle,
-        });
+    m.sphere = args.sphere_method.unwrap_or(m.sphere);
+    m.triangle = args.triangle_method.unwrap_or(m.triangle);
+    m.polygon = args.polygon_test.unwrap_or(m.polygon);
+    m.aabox = args.box_method.unwrap_or(m.aabox);
+    if let Some(sampling) = args.light_sampling {
+        scene.set_triangle_sampling(sampling);
     }
 }

@@ -158,5 +158,15 @@ fn resume_from_a_checkpoint_equals_an_uninterrupted_render() {
     let o = glint().args(args).args([&path("y.pfm"), "--resume", &path("c.ckp")]).output().unwrap();
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("another scene or other settings"));
+    // So is one of another integrator setting (the render's identity holds every setting
+    // that changes the image), but not one that only changes the speed: the wavefront and the
+    // one-path-at-a-time tracer make the same image, so either resumes the other.
+    let args = ["render", &scene, "--width", "48", "--spp", "9", "--max-depth", "3", "-o"];
+    let o = glint().args(args).args([&path("z.pfm"), "--resume", &path("c.ckp")]).output().unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("another scene or other settings"));
+    let scalar = ["render", &scene, "--width", "48", "--spp", "9", "-q", "--no-wavefront", "-o"];
+    run(&[&scalar[..], &[&path("scalar.pfm"), "--resume", &path("c.ckp")]].concat());
+    assert_eq!(std::fs::read(path("full.pfm")).unwrap(), std::fs::read(path("scalar.pfm")).unwrap());
     std::fs::remove_dir_all(dir).unwrap();
 }

@@ -10,7 +10,9 @@
 //! - `mitchell` (radius 2, B = C = ⅓; Mitchell & Netravali 1988): sharper, with small negative
 //!   lobes (the normalisation by the summed weights keeps flat regions exact).
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+use crate::Named;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Filter {
     #[default]
     Box,
@@ -19,10 +21,10 @@ pub enum Filter {
     Mitchell,
 }
 
-impl Filter {
-    pub const ALL: [Filter; 4] = [Filter::Box, Filter::Tent, Filter::Gaussian, Filter::Mitchell];
+impl Named for Filter {
+    const ALL: &'static [Self] = &[Filter::Box, Filter::Tent, Filter::Gaussian, Filter::Mitchell];
 
-    pub fn name(self) -> &'static str {
+    fn name(self) -> &'static str {
         match self {
             Filter::Box => "box",
             Filter::Tent => "tent",
@@ -30,11 +32,9 @@ impl Filter {
             Filter::Mitchell => "mitchell",
         }
     }
+}
 
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|f| f.name() == name)
-    }
-
+impl Filter {
     pub fn radius(self) -> f32 {
         match self {
             Filter::Box => 0.5,
@@ -98,7 +98,7 @@ mod tests {
         assert!(Filter::Mitchell.weight_1d(1.5) < 0.0);
         assert!((integral(Filter::Tent) - 1.0).abs() < 1e-3);
         assert!(Filter::Gaussian.weight_1d(1.5) == 0.0 && Filter::Gaussian.weight_1d(0.0) > 0.9);
-        for f in Filter::ALL {
+        for &f in Filter::ALL {
             assert_eq!(Filter::from_name(f.name()), Some(f));
             assert_eq!(f.weight_1d(f.radius() + 0.01), 0.0);
         }

@@ -13,6 +13,7 @@ pub mod geometry;
 pub mod integrators;
 pub mod lights;
 pub mod materials;
+pub mod named;
 pub mod photons;
 pub mod render;
 pub mod sampling;
@@ -21,6 +22,7 @@ pub mod shapes;
 pub mod textures;
 
 pub use glam::{Vec2, Vec3};
+pub use named::Named;
 
 /// Linear RGB radiance or reflectance. A plain `Vec3` keeps arithmetic cheap.
 pub type Rgb = Vec3;

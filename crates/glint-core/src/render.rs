@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 
 use crate::film::Film;
 use crate::filter::Filter;
-pub use crate::integrators::passes::{par_tiles, splat, CameraPasses, Pass, PassRenderer};
+pub use crate::integrators::passes::{par_tiles, splat, tile_count, CameraPasses, Pass, PassRenderer};
 use crate::integrators::{Integrator, RayCounts};
 use crate::sampling::SamplerKind;
 use crate::scene::Scene;

@@ -14,6 +14,7 @@ use glint_core::render::{render, CameraPasses, Pass, PassRenderer, RenderSetting
 use glint_core::sampling::SamplerKind;
 use glint_core::shapes::{Polygon, Shape, Sphere};
 use glint_core::textures::Texture;
+use glint_core::Named;
 use glint_core::{Rgb, Vec3};
 
 /// A white, ambient-lit square covering the right half of the view, black background.
@@ -48,7 +49,7 @@ fn flat_regions_are_exact_under_every_filter() {
     let mut s = half_white();
     s.set_environment(Environment { background: Rgb::splat(0.25), ..s.environment().clone() });
     s.geometry = glint_core::scene::Geometry::new(Vec::new(), Default::default());
-    for f in Filter::ALL {
+    for &f in Filter::ALL {
         for p in image(&s, f) {
             assert!((p - Rgb::splat(0.25)).abs().max_element() < 1e-6, "{f:?}: {p}");
         }

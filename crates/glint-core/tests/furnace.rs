@@ -14,6 +14,7 @@ use glint_core::render::{render_with, RenderSettings};
 use glint_core::sampling::SamplerKind;
 use glint_core::shapes::{Shape, Sphere};
 use glint_core::textures::Texture;
+use glint_core::Named;
 use glint_core::{Rgb, Vec3};
 
 fn furnace(albedo: f32, emission: f32) -> glint_core::scene::Scene {
@@ -40,7 +41,8 @@ fn every_path_integrator_matches_the_analytic_furnace() {
         // Every camera integrator with every sampler; the particle integrators draw their own
         // streams.
         let runs = SamplerKind::ALL
-            .into_iter()
+            .iter()
+            .copied()
             .flat_map(|sampler| [(IntegratorKind::Path, sampler), (IntegratorKind::PathNaive, sampler)])
             .chain(
                 [IntegratorKind::Light, IntegratorKind::Photon, IntegratorKind::Sppm]

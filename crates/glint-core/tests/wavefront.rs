@@ -16,6 +16,7 @@ use glint_core::sampling::{Sampler, SamplerKind};
 use glint_core::scene::{Object, Scene};
 use glint_core::shapes::{Mesh, Polygon, Shape, Sphere, Triangle};
 use glint_core::textures::{Checker, Texture};
+use glint_core::Named;
 use glint_core::{Rgb, Vec2, Vec3};
 
 const SIZE: u32 = 40;
@@ -135,7 +136,7 @@ fn assert_same(scene: &Scene, tracer: &WavefrontPathTracer, sampler: SamplerKind
 fn the_wavefront_renders_a_room_bit_for_bit_as_the_path_tracer() {
     let scene = room();
     let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
-    for sampler in SamplerKind::ALL {
+    for &sampler in SamplerKind::ALL {
         for (seed, index) in [(0, 0), (7, 3), (123, 41)] {
             let lit = assert_same(&scene, &tracer, sampler, seed, index);
             assert!(lit > (SIZE * SIZE / 2) as usize, "{lit} pixels lit");

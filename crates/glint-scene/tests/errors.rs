@@ -99,6 +99,16 @@ fn unknown_integrator_suggests_the_closest() {
     assert_eq!(line_of(&e), 2);
 }
 
+/// Intersection methods are the core's named choices: an unknown one lists them, with a guess.
+#[test]
+fn unknown_intersection_method_suggests_the_closest() {
+    let e = error(&format!("[intersection]\ntriangle = \"watertite\"\n{GOOD}"));
+    let text = e.to_string();
+    assert!(text.contains("unknown triangle method `watertite`") && text.contains("`watertight`"), "{text}");
+    assert!(text.contains("did you mean `watertight`?"), "{text}");
+    assert_eq!(line_of(&e), 2);
+}
+
 #[test]
 fn bad_numbers_are_refused() {
     for (bad, what) in

@@ -34,6 +34,7 @@ use self::passes::{CameraPasses, PassRenderer};
 use crate::geometry::Ray;
 use crate::sampling::{Rng, Sampler};
 use crate::scene::Scene;
+use crate::Named;
 use crate::Rgb;
 
 /// Per-sample state an integrator may use: the sample's random numbers and counts of the rays
@@ -120,7 +121,7 @@ pub fn radiance_each<I: Integrator + ?Sized>(
 }
 
 /// The integrators selectable by name (`--integrator`, `render.integrator`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum IntegratorKind {
     #[default]
     Raycast,
@@ -155,6 +156,28 @@ pub struct IntegratorSettings {
     pub wavefront: bool,
 }
 
+/// What the settings make of an image, for checkpoint fingerprints: every field but
+/// `wavefront` (the same image either way), floats by their bits. Destructured, so that a new
+/// field must be placed here or left out knowingly.
+impl std::hash::Hash for IntegratorSettings {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        let Self {
+            max_depth,
+            min_contribution,
+            transparent_shadows,
+            rr_depth,
+            photon,
+            sppm_radius,
+            photons_per_pass,
+            wavefront: _,
+        } = self;
+        let PhotonSettings { global_photons, caustic_photons, nearest, max_radius, final_gather } = photon;
+        (max_depth, min_contribution.to_bits(), transparent_shadows, rr_depth).hash(state);
+        (global_photons, caustic_photons, nearest, max_radius.to_bits(), final_gather).hash(state);
+        (sppm_radius.to_bits(), photons_per_pass).hash(state);
+    }
+}
+
 impl Default for IntegratorSettings {
     fn default() -> Self {
         Self {
@@ -170,8 +193,8 @@ impl Default for IntegratorSettings {
     }
 }
 
-impl IntegratorKind {
-    pub const ALL: [IntegratorKind; 8] = [
+impl Named for IntegratorKind {
+    const ALL: &'static [Self] = &[
         IntegratorKind::Raycast,
         IntegratorKind::Whitted,
         IntegratorKind::BvhHeat,
@@ -182,7 +205,7 @@ impl IntegratorKind {
         IntegratorKind::Sppm,
     ];
 
-    pub fn name(self) -> &'static str {
+    fn name(self) -> &'static str {
         match self {
             IntegratorKind::Raycast => "raycast",
             IntegratorKind::Whitted => "whitted",
@@ -194,14 +217,12 @@ impl IntegratorKind {
             IntegratorKind::Sppm => "sppm",
         }
     }
+}
 
+impl IntegratorKind {
     /// Whether it follows light from the lights (and so needs physical lights).
     pub fn traces_particles(self) -> bool {
         matches!(self, IntegratorKind::Light | IntegratorKind::Photon | IntegratorKind::Sppm)
-    }
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|k| k.name() == name)
     }
 
     /// The integrator, for those that need nothing but the camera ray (`None` for those that
@@ -266,5 +287,48 @@ impl IntegratorKind {
             }
             camera => Box::new(CameraPasses(camera.create(settings).expect("a camera integrator"))),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::hash::{DefaultHasher, Hash, Hasher};
+
+    use super::*;
+
+    fn hash(s: &IntegratorSettings) -> u64 {
+        let mut h = DefaultHasher::new();
+        s.hash(&mut h);
+        h.finish()
+    }
+
+    /// Every setting that changes the image changes the hash; the wavefront, which does not,
+    /// leaves it.
+    #[test]
+    fn settings_hash_what_changes_the_image() {
+        let base = IntegratorSettings::default();
+        let changed: [fn(&mut IntegratorSettings); 10] = [
+            |s| s.max_depth += 1,
+            |s| s.min_contribution *= 2.0,
+            |s| s.transparent_shadows ^= true,
+            |s| s.rr_depth += 1,
+            |s| s.photon.global_photons += 1,
+            |s| s.photon.caustic_photons += 1,
+            |s| s.photon.nearest += 1,
+            |s| s.photon.max_radius = 0.5,
+            |s| s.photon.final_gather += 1,
+            |s| s.sppm_radius = 0.25,
+        ];
+        for (i, change) in changed.iter().enumerate() {
+            let mut s = base;
+            change(&mut s);
+            assert_ne!(hash(&s), hash(&base), "change {i}");
+        }
+        let mut s = base;
+        s.photons_per_pass += 1;
+        assert_ne!(hash(&s), hash(&base));
+        s = base;
+        s.wavefront ^= true;
+        assert_eq!(hash(&s), hash(&base));
     }
 }

@@ -118,6 +118,12 @@ fn tiles(width: u32, height: u32) -> Vec<(u32, u32, u32, u32)> {
         .collect()
 }
 
+/// How many tiles a pass over a `width` × `height` image has (each reports once to a pass's
+/// `on_tile`).
+pub fn tile_count(width: u32, height: u32) -> u64 {
+    u64::from(width.div_ceil(TILE_SIZE)) * u64::from(height.div_ceil(TILE_SIZE))
+}
+
 /// The image tiles as parallel work, one job per tile: rayon would otherwise hand out runs of
 /// tiles, and a thread still busy with its last run at the end of a pass keeps the others
 /// idle (5 % of a Cornell box render on two threads).
@@ -289,7 +295,7 @@ mod tests {
     use crate::camera::{Camera, Lens};
     use crate::lights::Environment;
     use crate::shapes::IntersectMethods;
-    use crate::Vec3;
+    use crate::{Named, Vec3};
 
     /// A tile's camera samples, drawn eight samplers at a time (and a pinhole's rays made
     /// eight at a time), are what each pixel's sample draws alone: film position, ray
@@ -302,7 +308,9 @@ mod tests {
         let thin = pinhole.clone().with_lens(Lens::Thin { radius: 0.2, focus_distance: 5.0 });
         let environment = Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None };
         let tile = (16, 8, 21, 13); // 5 × 5 pixels: three eights and a remainder of one
-        for (sampler, camera) in SamplerKind::ALL.into_iter().flat_map(|s| [(s, thin.clone()), (s, pinhole.clone())]) {
+        for (sampler, camera) in
+            SamplerKind::ALL.iter().copied().flat_map(|s| [(s, thin.clone()), (s, pinhole.clone())])
+        {
             let scene = Scene::new(
                 camera,
                 Vec::new(),

@@ -30,6 +30,7 @@ use crate::shapes::{
     sample_sphere, sample_sphere_seen_from, sample_triangle, sphere_solid_angle_from, triangle_point_along, Ellipsoid,
     Shape,
 };
+use crate::Named;
 use crate::Rgb;
 
 /// The surface of an area light, in world space.
@@ -105,18 +106,14 @@ pub enum TriangleSampling {
     SolidAngle,
 }
 
-impl TriangleSampling {
-    pub const ALL: [TriangleSampling; 2] = [TriangleSampling::Area, TriangleSampling::SolidAngle];
+impl Named for TriangleSampling {
+    const ALL: &'static [Self] = &[TriangleSampling::Area, TriangleSampling::SolidAngle];
 
-    pub fn name(self) -> &'static str {
+    fn name(self) -> &'static str {
         match self {
             TriangleSampling::Area => "area",
             TriangleSampling::SolidAngle => "solid-angle",
         }
-    }
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|k| k.name() == name)
     }
 }
 
@@ -486,7 +483,7 @@ mod tests {
                 material: 0,
             };
             let mut lights = lights_of(&[object], &[material]);
-            for strategy in TriangleSampling::ALL {
+            for &strategy in TriangleSampling::ALL {
                 lights.set_triangle_sampling(strategy);
                 let u = Vec2::new(0.3, 0.6);
                 let front = lights.sample_li(Vec3::new(0.2, 0.2, 1.0), None, 0.5, u).unwrap();

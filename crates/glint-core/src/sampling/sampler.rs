@@ -17,9 +17,10 @@
 
 use super::rng::mix;
 use super::{sobol, Rng};
+use crate::Named;
 use wide::{f32x8, CmpLt};
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum SamplerKind {
     Independent,
     Stratified,
@@ -29,19 +30,15 @@ pub enum SamplerKind {
     Sobol,
 }
 
-impl SamplerKind {
-    pub const ALL: [SamplerKind; 3] = [SamplerKind::Independent, SamplerKind::Stratified, SamplerKind::Sobol];
+impl Named for SamplerKind {
+    const ALL: &'static [Self] = &[SamplerKind::Independent, SamplerKind::Stratified, SamplerKind::Sobol];
 
-    pub fn name(self) -> &'static str {
+    fn name(self) -> &'static str {
         match self {
             SamplerKind::Independent => "independent",
             SamplerKind::Stratified => "stratified",
             SamplerKind::Sobol => "sobol",
         }
-    }
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|k| k.name() == name)
     }
 }
 
@@ -344,7 +341,7 @@ mod tests {
     /// 16 bins), and the Sobol points of one pixel are stratified in every power-of-two prefix.
     #[test]
     fn samplers_are_uniform_and_sobol_is_stratified() {
-        for kind in SamplerKind::ALL {
+        for &kind in SamplerKind::ALL {
             let mut bins = [0f64; 16];
             let mut total = 0.0;
             for pixel in 0..64u64 {
@@ -394,7 +391,7 @@ mod tests {
             (2, 7, true, false),
             (4, 7, false, true),
         ];
-        for kind in SamplerKind::ALL {
+        for &kind in SamplerKind::ALL {
             for (first, count, stagger, mixed) in cases {
                 for index_base in [5u32, 70_000] {
                     let make = |k: usize| {

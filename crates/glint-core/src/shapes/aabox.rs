@@ -24,12 +24,24 @@ use glam::{Vec2, Vec3};
 
 use super::SurfaceGeometry;
 use crate::geometry::{gamma, next_float_down, next_float_up, Aabb, Ray};
+use crate::Named;
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum BoxMethod {
     #[default]
     Slabs,
     Woo,
+}
+
+impl Named for BoxMethod {
+    const ALL: &'static [Self] = &[BoxMethod::Slabs, BoxMethod::Woo];
+
+    fn name(self) -> &'static str {
+        match self {
+            BoxMethod::Slabs => "slabs",
+            BoxMethod::Woo => "woo",
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -37,7 +37,7 @@ use crate::geometry::{Aabb, Ray};
 
 /// Which of the course's algorithms each shape uses. Every pair computes the same thing;
 /// tests check that they agree.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct IntersectMethods {
     pub sphere: SphereMethod,
     pub triangle: TriangleMethod,

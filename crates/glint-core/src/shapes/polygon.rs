@@ -23,12 +23,24 @@ use glam::{Vec2, Vec3};
 
 use super::SurfaceGeometry;
 use crate::geometry::{gamma, orthonormal_basis, Aabb, Ray};
+use crate::Named;
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum PolygonTest {
     #[default]
     Crossing,
     Winding,
+}
+
+impl Named for PolygonTest {
+    const ALL: &'static [Self] = &[PolygonTest::Crossing, PolygonTest::Winding];
+
+    fn name(self) -> &'static str {
+        match self {
+            PolygonTest::Crossing => "crossing",
+            PolygonTest::Winding => "winding",
+        }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -23,12 +23,24 @@ use super::{first_in_range, solve_quadratic, SurfaceGeometry};
 use crate::geometry::{gamma, Aabb, Ray, Transform};
 use crate::sampling::spherical::SphericalCap;
 use crate::sampling::warp::square_to_uniform_sphere;
+use crate::Named;
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum SphereMethod {
     #[default]
     Algebraic,
     Geometric,
+}
+
+impl Named for SphereMethod {
+    const ALL: &'static [Self] = &[SphereMethod::Algebraic, SphereMethod::Geometric];
+
+    fn name(self) -> &'static str {
+        match self {
+            SphereMethod::Algebraic => "algebraic",
+            SphereMethod::Geometric => "geometric",
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -18,13 +18,26 @@ use glam::{Vec2, Vec3, Vec3A};
 
 use super::{PrimHit, SurfaceGeometry};
 use crate::geometry::{gamma, Aabb, Ray};
+use crate::Named;
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum TriangleMethod {
     Cramer,
     MollerTrumbore,
     #[default]
     Watertight,
+}
+
+impl Named for TriangleMethod {
+    const ALL: &'static [Self] = &[TriangleMethod::Cramer, TriangleMethod::MollerTrumbore, TriangleMethod::Watertight];
+
+    fn name(self) -> &'static str {
+        match self {
+            TriangleMethod::Cramer => "cramer",
+            TriangleMethod::MollerTrumbore => "moller-trumbore",
+            TriangleMethod::Watertight => "watertight",
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -15,11 +15,9 @@ use glint_core::lights::{DirectionalLight, Environment, EnvironmentMap, Falloff,
 use glint_core::materials::Material;
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::{Geometry, Object, Scene};
-use glint_core::shapes::{
-    AaBox, BoxMethod, Instance, IntersectMethods, Mesh, Plane, Polygon, PolygonTest, Shape, Sphere, SphereMethod,
-    Triangle, TriangleMethod,
-};
+use glint_core::shapes::{AaBox, Instance, IntersectMethods, Mesh, Plane, Polygon, Shape, Sphere, Triangle};
 use glint_core::textures::{Checker, ImageTexture, Marble, SolidChecker, Texture, Wood, Wrap};
+use glint_core::Named;
 
 use super::schema::*;
 use super::{find_key, LoadedScene, RenderOptions};
@@ -56,24 +54,15 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
 
     let camera = build_camera(&cx, &file.camera)?;
     let render = build_render(&cx, &file.render)?;
+    fn method<T: Named + Default>(cx: &Context, key: &str, what: &str, name: &Option<String>) -> Result<T, SceneError> {
+        name.as_deref().map_or(Ok(T::default()), |name| by_name(cx, key, what, name))
+    }
+    let i = &file.intersection;
     let methods = IntersectMethods {
-        sphere: match file.intersection.sphere {
-            SphereMethodDesc::Algebraic => SphereMethod::Algebraic,
-            SphereMethodDesc::Geometric => SphereMethod::Geometric,
-        },
-        triangle: match file.intersection.triangle {
-            TriangleMethodDesc::Cramer => TriangleMethod::Cramer,
-            TriangleMethodDesc::MollerTrumbore => TriangleMethod::MollerTrumbore,
-            TriangleMethodDesc::Watertight => TriangleMethod::Watertight,
-        },
-        polygon: match file.intersection.polygon {
-            PolygonTestDesc::Crossing => PolygonTest::Crossing,
-            PolygonTestDesc::Winding => PolygonTest::Winding,
-        },
-        aabox: match file.intersection.aabox {
-            BoxMethodDesc::Slabs => BoxMethod::Slabs,
-            BoxMethodDesc::Woo => BoxMethod::Woo,
-        },
+        sphere: method(&cx, "sphere", "sphere method", &i.sphere)?,
+        triangle: method(&cx, "triangle", "triangle method", &i.triangle)?,
+        polygon: method(&cx, "polygon", "polygon test", &i.polygon)?,
+        aabox: method(&cx, "box", "box method", &i.aabox)?,
     };
     let environment = Environment {
         background: colour(&cx, "background", file.environment.background)?,
@@ -155,14 +144,7 @@ fn build_camera(cx: &Context, camera: &Located<CameraDesc>) -> Result<Camera, Sc
 }
 
 fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneError> {
-    let integrator = by_name(
-        cx,
-        "integrator",
-        "integrator",
-        &r.integrator,
-        IntegratorKind::ALL.map(IntegratorKind::name),
-        IntegratorKind::from_name,
-    )?;
+    let integrator: IntegratorKind = by_name(cx, "integrator", "integrator", &r.integrator)?;
     if r.spp == 0 {
         return Err(cx.error_at_key("spp", "`spp` (samples per pixel) must be at least 1".into()));
     }
@@ -201,17 +183,9 @@ fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneErro
         photons_per_pass: r.photons_per_pass,
         wavefront: true,
     };
-    let filter = by_name(cx, "filter", "filter", &r.filter, Filter::ALL.map(Filter::name), Filter::from_name)?;
-    let sampler =
-        by_name(cx, "sampler", "sampler", &r.sampler, SamplerKind::ALL.map(SamplerKind::name), SamplerKind::from_name)?;
-    let light_sampling = by_name(
-        cx,
-        "light_sampling",
-        "light sampling",
-        &r.light_sampling,
-        TriangleSampling::ALL.map(TriangleSampling::name),
-        TriangleSampling::from_name,
-    )?;
+    let filter: Filter = by_name(cx, "filter", "filter", &r.filter)?;
+    let sampler: SamplerKind = by_name(cx, "sampler", "sampler", &r.sampler)?;
+    let light_sampling: TriangleSampling = by_name(cx, "light_sampling", "light sampling", &r.light_sampling)?;
     Ok(RenderOptions { spp: r.spp, integrator, seed: r.seed, integrator_settings, filter, sampler, light_sampling })
 }
 
@@ -650,18 +624,12 @@ fn colour(cx: &Context, key: &str, v: Vector) -> Result<Vec3, SceneError> {
 
 /// The setting `key` names by `value` (one of `names`), or an error at `key` that lists them
 /// and suggests the closest.
-fn by_name<T>(
-    cx: &Context,
-    key: &str,
-    what: &str,
-    value: &str,
-    names: impl AsRef<[&'static str]>,
-    from_name: impl Fn(&str) -> Option<T>,
-) -> Result<T, SceneError> {
-    from_name(value).ok_or_else(|| {
-        let names = names.as_ref();
+/// A named choice (`Named`): an unknown name is an error listing the choices, with a guess.
+fn by_name<T: Named>(cx: &Context, key: &str, what: &str, value: &str) -> Result<T, SceneError> {
+    T::from_name(value).ok_or_else(|| {
+        let names: Vec<&str> = T::ALL.iter().map(|k| k.name()).collect();
         let hint = did_you_mean(value, names.iter().copied());
-        cx.error_at_key(key, format!("unknown {what} `{value}`, expected one of {}{hint}", quoted(names)))
+        cx.error_at_key(key, format!("unknown {what} `{value}`, expected one of {}{hint}", quoted(&names)))
     })
 }
 

@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use glint_core::integrators::PhotonSettings;
 use glint_core::lights::TriangleSampling;
 use glint_core::sampling::SamplerKind;
+use glint_core::Named;
 use serde::Deserialize;
 
 use crate::located::Located;
@@ -176,47 +177,12 @@ fn default_integrator() -> String {
 #[derive(Deserialize, Debug, Default)]
 #[serde(deny_unknown_fields)]
 pub struct IntersectionDesc {
-    #[serde(default)]
-    pub sphere: SphereMethodDesc,
-    #[serde(default)]
-    pub triangle: TriangleMethodDesc,
-    #[serde(default)]
-    pub polygon: PolygonTestDesc,
-    #[serde(default, rename = "box")]
-    pub aabox: BoxMethodDesc,
-}
-
-#[derive(Deserialize, Debug, Default, Clone, Copy)]
-#[serde(rename_all = "kebab-case")]
-pub enum SphereMethodDesc {
-    #[default]
-    Algebraic,
-    Geometric,
-}
-
-#[derive(Deserialize, Debug, Default, Clone, Copy)]
-#[serde(rename_all = "kebab-case")]
-pub enum TriangleMethodDesc {
-    Cramer,
-    MollerTrumbore,
-    #[default]
-    Watertight,
-}
-
-#[derive(Deserialize, Debug, Default, Clone, Copy)]
-#[serde(rename_all = "kebab-case")]
-pub enum PolygonTestDesc {
-    #[default]
-    Crossing,
-    Winding,
-}
-
-#[derive(Deserialize, Debug, Default, Clone, Copy)]
-#[serde(rename_all = "kebab-case")]
-pub enum BoxMethodDesc {
-    #[default]
-    Slabs,
-    Woo,
+    /// Names of the core's methods (`Named`), parsed by the builder; `None`: the default.
+    pub sphere: Option<String>,
+    pub triangle: Option<String>,
+    pub polygon: Option<String>,
+    #[serde(rename = "box")]
+    pub aabox: Option<String>,
 }
 
 #[derive(Deserialize, Debug, Default)]
