@@ -91,7 +91,8 @@ pub fn explain_photons(
     y: u32,
     k: u32,
 ) -> Result<String, String> {
-    let mapper = PhotonMapper::new(scene, settings.max_depth, settings.rr_depth, settings.photon, seed)?;
+    let mapper = PhotonMapper::new(scene, settings.max_depth, settings.rr_depth, settings.photon, seed)
+        .map_err(|e| e.to_string())?;
     let mut out = String::new();
     let ray = scene.camera.generate_ray(x as f32 + 0.5, y as f32 + 0.5);
     let Some(hit) = scene.intersect(&ray) else {

@@ -173,7 +173,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
         say!("interrupted before the first pass: nothing written");
         return Ok(Outcome::Interrupted);
     }
-    let mut renderer = renderer?;
+    let mut renderer = renderer.map_err(|e| e.to_string())?;
     if plan.kind == IntegratorKind::Photon && !args.quiet {
         say!("photon maps built in {:.2} s", started.elapsed().as_secs_f64());
     }

@@ -7,6 +7,7 @@
 
 pub mod accel;
 pub mod camera;
+pub mod error;
 pub mod film;
 pub mod filter;
 pub mod geometry;
@@ -21,6 +22,7 @@ pub mod scene;
 pub mod shapes;
 pub mod textures;
 
+pub use error::RenderError;
 pub use glam::{Vec2, Vec3};
 pub use named::Named;
 

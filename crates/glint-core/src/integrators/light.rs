@@ -27,6 +27,7 @@ use crate::geometry::{offset_ray_origin, Ray};
 use crate::lights::AreaEmission;
 use crate::sampling::Rng;
 use crate::scene::Scene;
+use crate::RenderError;
 use crate::Rgb;
 
 pub struct LightTracer {
@@ -37,12 +38,9 @@ pub struct LightTracer {
 type Splat = (u32, u32, Rgb);
 
 impl LightTracer {
-    pub fn new(scene: &Scene, max_depth: u32) -> Result<Self, String> {
+    pub fn new(scene: &Scene, max_depth: u32) -> Result<Self, RenderError> {
         if scene.camera.samples_lens() {
-            return Err(
-                "light tracing connects to a single camera point: it needs a pinhole or orthographic camera, not a thin lens"
-                    .into(),
-            );
+            return Err(RenderError::ThinLensLightTracing);
         }
         scene.lights().check_particles()?;
         Ok(Self { max_depth })

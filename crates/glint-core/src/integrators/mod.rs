@@ -35,6 +35,7 @@ use crate::geometry::Ray;
 use crate::sampling::{Rng, Sampler};
 use crate::scene::Scene;
 use crate::Named;
+use crate::RenderError;
 use crate::Rgb;
 
 /// Per-sample state an integrator may use: the sample's random numbers and counts of the rays
@@ -252,7 +253,7 @@ impl IntegratorKind {
         settings: &IntegratorSettings,
         scene: &Scene,
         seed: u64,
-    ) -> Result<Box<dyn PassRenderer + Send>, String> {
+    ) -> Result<Box<dyn PassRenderer + Send>, RenderError> {
         self.renderer_until(settings, scene, seed, &AtomicBool::new(false))
     }
 
@@ -264,7 +265,7 @@ impl IntegratorKind {
         scene: &Scene,
         seed: u64,
         stop: &AtomicBool,
-    ) -> Result<Box<dyn PassRenderer + Send>, String> {
+    ) -> Result<Box<dyn PassRenderer + Send>, RenderError> {
         Ok(match self {
             IntegratorKind::Light => Box::new(LightTracer::new(scene, settings.max_depth)?),
             IntegratorKind::Sppm => Box::new(Sppm::new(

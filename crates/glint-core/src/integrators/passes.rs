@@ -16,6 +16,7 @@ use crate::filter::Filter;
 use crate::geometry::Ray;
 use crate::sampling::{Sampler, SamplerKind};
 use crate::scene::Scene;
+use crate::RenderError;
 use crate::Rgb;
 
 /// The side of the square image tiles, the unit of parallel work.
@@ -59,11 +60,11 @@ pub trait PassRenderer {
     }
 
     /// Restores what `state` saved, before resuming.
-    fn restore(&mut self, state: &[u8]) -> Result<(), String> {
+    fn restore(&mut self, state: &[u8]) -> Result<(), RenderError> {
         if state.is_empty() {
             Ok(())
         } else {
-            Err("the checkpoint holds state this integrator does not have".into())
+            Err(RenderError::UnexpectedState)
         }
     }
 }

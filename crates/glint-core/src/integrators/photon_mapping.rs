@@ -41,6 +41,7 @@ use crate::materials::Bsdf;
 use crate::photons::{NearestPhotons, Photon, PhotonMap};
 use crate::sampling::Rng;
 use crate::scene::{Scene, SurfaceHit};
+use crate::RenderError;
 use crate::Rgb;
 
 /// Photon-mapping parameters (the defaults are `PhotonSettings::default()`).
@@ -190,7 +191,7 @@ impl PhotonMapper {
         rr_depth: u32,
         settings: PhotonSettings,
         seed: u64,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, RenderError> {
         Self::new_until(scene, max_depth, rr_depth, settings, seed, &AtomicBool::new(false))
     }
 
@@ -202,7 +203,7 @@ impl PhotonMapper {
         settings: PhotonSettings,
         seed: u64,
         stop: &AtomicBool,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, RenderError> {
         scene.lights().check_particles()?;
         let shooter = PhotonShooter { scene, max_depth, seed, stop: Some(stop) };
         let (global, mut photon_rays) = shooter.fill_map(
@@ -219,7 +220,7 @@ impl PhotonMapper {
         );
         photon_rays.add(&caustic_rays);
         if stop.load(Ordering::Relaxed) {
-            return Err("interrupted while the photon maps were built".into());
+            return Err(RenderError::Interrupted);
         }
         let bounds = scene.geometry.bounds();
         let max_radius = if settings.max_radius > 0.0 {

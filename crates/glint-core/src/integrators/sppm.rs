@@ -36,6 +36,7 @@ use crate::geometry::Ray;
 use crate::materials::Bsdf;
 use crate::photons::PhotonMap;
 use crate::scene::Scene;
+use crate::RenderError;
 use crate::Rgb;
 
 /// The fraction of new photons kept each pass.
@@ -86,7 +87,7 @@ impl Sppm {
         rr_depth: u32,
         initial_radius: f32,
         photons_per_pass: u32,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, RenderError> {
         scene.lights().check_particles()?;
         let n = scene.camera.width as usize * scene.camera.height as usize;
         Ok(Self {
@@ -248,19 +249,18 @@ impl PassRenderer for Sppm {
         bytes
     }
 
-    fn restore(&mut self, state: &[u8]) -> Result<(), String> {
-        let bad = || "the checkpoint's SPPM state does not match this render".to_string();
+    fn restore(&mut self, state: &[u8]) -> Result<(), RenderError> {
         if state.len() != 16 + self.pixels.len() * 32 {
-            return Err(bad());
+            return Err(RenderError::StateMismatch);
         }
         let word = |i: usize| u32::from_le_bytes([state[i], state[i + 1], state[i + 2], state[i + 3]]);
         if word(12) as usize != self.pixels.len() {
-            return Err(bad());
+            return Err(RenderError::StateMismatch);
         }
         let (passes, emitted) = (word(0), u64::from(word(4)) | u64::from(word(8)) << 32);
         // A pass emits at least one photon batch; none before the first pass.
         if (passes == 0) != (emitted == 0) {
-            return Err(bad());
+            return Err(RenderError::StateMismatch);
         }
         let float = |i: usize| f32::from_bits(word(i));
         let mut pixels = Vec::with_capacity(self.pixels.len());
@@ -280,7 +280,7 @@ impl PassRenderer for Sppm {
                 && p.radius.is_finite()
                 && p.photons.is_finite())
             {
-                return Err(format!("the checkpoint's SPPM state of pixel {k} is not finite and non-negative"));
+                return Err(RenderError::BadPixelState { pixel: k });
             }
             pixels.push(p);
         }

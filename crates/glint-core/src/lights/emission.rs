@@ -14,6 +14,7 @@ use glam::{Vec2, Vec3};
 use super::{AreaEmission, Falloff, Light, Lights};
 use crate::geometry::{offset_ray_origin, orthonormal_basis, Ray};
 use crate::sampling::warp::{square_to_disk, square_to_uniform_sphere};
+use crate::RenderError;
 use crate::Rgb;
 
 /// A particle leaving a light.
@@ -32,7 +33,7 @@ pub struct Particle {
 impl Lights {
     /// Whether particles can leave these lights: an error if none emits, or one is not
     /// physical.
-    pub fn check_particles(&self) -> Result<(), String> {
+    pub fn check_particles(&self) -> Result<(), RenderError> {
         for (i, light) in self.all().iter().enumerate() {
             let falloff = match light {
                 Light::Point(l) => l.falloff,
@@ -40,16 +41,11 @@ impl Lights {
                 _ => continue,
             };
             if falloff == Falloff::None {
-                return Err(format!(
-                    "light {} has falloff = \"none\", which no physical light has; light tracing, photon mapping and SPPM need falloff = \"inverse-square\"",
-                    i + 1
-                ));
+                return Err(RenderError::UnphysicalLight { light: i + 1 });
             }
         }
         if !self.emits() {
-            return Err(
-                "the scene has no light that emits (light tracing and photon mapping start at the lights)".into()
-            );
+            return Err(RenderError::NoEmittingLight);
         }
         Ok(())
     }

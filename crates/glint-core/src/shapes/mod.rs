@@ -23,7 +23,7 @@ pub use aabox::{AaBox, BoxMethod};
 pub use instance::{Instance, InstancedGeometry};
 pub use mesh::Mesh;
 pub use plane::Plane;
-pub use polygon::{inverse_bilinear, Polygon, PolygonTest};
+pub use polygon::{inverse_bilinear, Polygon, PolygonTest, PolygonUvError};
 pub(crate) use sphere::{sample_sphere, sample_sphere_seen_from, sphere_solid_angle_from, Ellipsoid};
 pub use sphere::{Sphere, SphereMethod};
 #[cfg(test)]

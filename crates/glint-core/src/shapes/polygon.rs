@@ -43,6 +43,15 @@ impl Named for PolygonTest {
     }
 }
 
+/// Per-vertex uvs a polygon cannot take.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum PolygonUvError {
+    #[error("`uvs` needs one [u, v] per vertex: {vertices} vertices, {uvs} uvs")]
+    Count { vertices: usize, uvs: usize },
+    #[error("`uvs` are supported on polygons with 3 or 4 vertices")]
+    TooManyVertices,
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Polygon {
     vertices: Vec<Vec3>,
@@ -98,16 +107,12 @@ impl Polygon {
 
     /// Adds per-vertex uvs, interpolated barycentrically over a triangle and bilinearly over a
     /// quad (the course's interpolation of a rectangle's corner uvs).
-    pub fn with_uvs(mut self, uvs: Vec<Vec2>) -> Result<Self, String> {
+    pub fn with_uvs(mut self, uvs: Vec<Vec2>) -> Result<Self, PolygonUvError> {
         if uvs.len() != self.vertices.len() {
-            return Err(format!(
-                "`uvs` needs one [u, v] per vertex: {} vertices, {} uvs",
-                self.vertices.len(),
-                uvs.len()
-            ));
+            return Err(PolygonUvError::Count { vertices: self.vertices.len(), uvs: uvs.len() });
         }
         if !(3..=4).contains(&uvs.len()) {
-            return Err("`uvs` are supported on polygons with 3 or 4 vertices".into());
+            return Err(PolygonUvError::TooManyVertices);
         }
         self.uvs = Some(uvs);
         Ok(self)

@@ -396,7 +396,9 @@ fn build_object(
                 ));
             }
             if let Some(uvs) = uvs {
-                polygon = polygon.with_uvs(uvs.iter().map(|&t| Vec2::from(t)).collect()).map_err(|m| at("uvs", m))?;
+                polygon = polygon
+                    .with_uvs(uvs.iter().map(|&t| Vec2::from(t)).collect())
+                    .map_err(|e| at("uvs", e.to_string()))?;
             }
             Shape::Polygon(polygon)
         }
