@@ -59,6 +59,32 @@ impl AaBox {
         Aabb::new(self.min, self.max)
     }
 
+    /// The six faces as twelve triangles, each wound so that (b − a) × (c − a) points out of
+    /// the box, for sampling the box by area as a light.
+    pub fn triangles(&self) -> [[Vec3; 3]; 12] {
+        let mut out = [[Vec3::ZERO; 3]; 12];
+        for axis in 0..3 {
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            for (side, level) in [(0, self.min[axis]), (1, self.max[axis])] {
+                let corner = |cu: f32, cv: f32| {
+                    let mut p = Vec3::ZERO;
+                    p[axis] = level;
+                    p[u] = cu;
+                    p[v] = cv;
+                    p
+                };
+                let (p00, p10) = (corner(self.min[u], self.min[v]), corner(self.max[u], self.min[v]));
+                let (p11, p01) = (corner(self.max[u], self.max[v]), corner(self.min[u], self.max[v]));
+                // e_u × e_v = e_axis: counter-clockwise in (u, v) faces +axis.
+                let pair =
+                    if side == 1 { [[p00, p10, p11], [p00, p11, p01]] } else { [[p00, p11, p10], [p00, p01, p11]] };
+                out[4 * axis + 2 * side] = pair[0];
+                out[4 * axis + 2 * side + 1] = pair[1];
+            }
+        }
+        out
+    }
+
     pub fn intersect(&self, ray: &Ray, method: BoxMethod) -> Option<f32> {
         match method {
             BoxMethod::Slabs => self.intersect_slabs(ray),
@@ -230,6 +256,22 @@ mod tests {
             let ray = Ray::new(Vec3::new(-5.0, 1.0, 0.0), Vec3::X);
             assert_eq!(unit_box().intersect(&ray, m), Some(4.0), "{m:?}");
         }
+    }
+
+    #[test]
+    fn triangles_cover_the_surface_facing_out() {
+        let b = AaBox::new(Vec3::new(-1.0, 0.0, 2.0), Vec3::new(1.0, 0.5, 5.0));
+        let (mut area, mut centroid) = (0.0, Vec3::ZERO);
+        for t in b.triangles() {
+            let cross = (t[1] - t[0]).cross(t[2] - t[0]);
+            let middle = (t[0] + t[1] + t[2]) / 3.0;
+            // Outward: the face's surface normal, as a hit there reports it.
+            assert_eq!(cross.normalize(), b.surface(middle).geometric_normal, "{t:?}");
+            area += 0.5 * cross.length();
+            centroid += 0.5 * cross.length() * middle;
+        }
+        assert!((area - 2.0 * (2.0 * 0.5 + 0.5 * 3.0 + 3.0 * 2.0)).abs() < 1e-5, "{area}");
+        assert!((centroid / area - b.bounds().centroid()).length() < 1e-5);
     }
 
     #[test]

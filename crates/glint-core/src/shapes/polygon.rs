@@ -126,6 +126,60 @@ impl Polygon {
         self.normal
     }
 
+    /// The polygon cut into triangles on its plane, for sampling it by area as a light: ear
+    /// clipping in the projected plane (O(n²)), each corner lifted back onto the plane along
+    /// the dropped axis, so the triangles cover exactly the points the inside tests accept.
+    /// `None` for a self-intersecting polygon, whose inside the two tests read differently.
+    pub fn triangles(&self) -> Option<Vec<[Vec3; 3]>> {
+        let p = &self.projected;
+        let n = p.len();
+        if edges_cross(p) {
+            return None;
+        }
+        let cross = |a: Vec2, b: Vec2, c: Vec2| (b - a).perp_dot(c - a);
+        let orientation = (0..n).map(|i| p[i].perp_dot(p[(i + 1) % n])).sum::<f32>().signum();
+        let mut left: Vec<usize> = (0..n).collect();
+        let mut corners = Vec::with_capacity(n - 2);
+        while left.len() > 3 {
+            let m = left.len();
+            let around = |i: usize| (left[(i + m - 1) % m], left[i], left[(i + 1) % m]);
+            let is_ear = |i: usize| {
+                let (a, b, c) = around(i);
+                cross(p[a], p[b], p[c]) * orientation > 0.0
+                    && left.iter().all(|&j| {
+                        j == a || j == b || j == c || p[j] == p[a] || p[j] == p[b] || p[j] == p[c] || {
+                            let (x, y, z) = (cross(p[a], p[b], p[j]), cross(p[b], p[c], p[j]), cross(p[c], p[a], p[j]));
+                            !(x * orientation >= 0.0 && y * orientation >= 0.0 && z * orientation >= 0.0)
+                        }
+                    })
+            };
+            if let Some(i) = (0..m).find(|&i| is_ear(i)) {
+                let (a, b, c) = around(i);
+                corners.push([a, b, c]);
+                left.remove(i);
+            } else if let Some(i) = (0..m).find(|&i| {
+                let (a, b, c) = around(i);
+                cross(p[a], p[b], p[c]) == 0.0
+            }) {
+                // A vertex on the line through its neighbours bounds no area: dropped.
+                left.remove(i);
+            } else {
+                return None;
+            }
+        }
+        corners.push([left[0], left[1], left[2]]);
+        let dropped = 3 - self.axes.0 - self.axes.1;
+        let lift = |q: Vec2| {
+            let mut v = Vec3::ZERO;
+            v[self.axes.0] = q.x;
+            v[self.axes.1] = q.y;
+            v[dropped] =
+                -(self.offset + self.normal[self.axes.0] * q.x + self.normal[self.axes.1] * q.y) / self.normal[dropped];
+            v
+        };
+        Some(corners.into_iter().map(|t| t.map(|i| lift(p[i]))).collect())
+    }
+
     pub fn bounds(&self) -> Aabb {
         Aabb::from_points(self.vertices.iter().copied())
     }
@@ -179,6 +233,20 @@ impl Polygon {
             error: gamma(7) * (point.abs() + Vec3::splat(self.offset.abs())),
         }
     }
+}
+
+/// Whether two edges of the closed polygon `vertices` that share no vertex cross (properly:
+/// each edge's ends strictly on either side of the other's line).
+fn edges_cross(vertices: &[Vec2]) -> bool {
+    let n = vertices.len();
+    let edge = |i: usize| (vertices[i], vertices[(i + 1) % n]);
+    let side = |(a, b): (Vec2, Vec2), p: Vec2| (b - a).perp_dot(p - a);
+    (0..n).any(|i| {
+        (i + 2..n).filter(|&j| (j + 1) % n != i).any(|j| {
+            let (e, f) = (edge(i), edge(j));
+            side(e, f.0) * side(e, f.1) < 0.0 && side(f, e.0) * side(f, e.1) < 0.0
+        })
+    })
 }
 
 /// The (s, t) ∈ [0,1]² with p = bilerp(a, b, c, d; s, t) for the quad a→b→c→d (a at (0,0),
@@ -397,6 +465,74 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Random polygons (vertices by sorted angle) on a tilted plane cut into triangles: the triangles lie on
+    /// the plane, keep the polygon's facing, add up to its area (shoelace) and cover each
+    /// point the crossing test calls inside exactly once, and no point outside.
+    #[test]
+    fn triangles_tile_the_polygon_exactly() {
+        let mut rng = TestRng(11);
+        let height = |q: Vec2| 1.0 + 0.3 * q.x - 0.2 * q.y;
+        for _ in 0..300 {
+            let n = 3 + (rng.next_u64() % 12) as usize;
+            let mut angles: Vec<f32> = (0..n).map(|_| rng.range(0.0, std::f32::consts::TAU)).collect();
+            angles.sort_by(f32::total_cmp);
+            let flat: Vec<Vec2> = angles.iter().map(|a| rng.range(0.2, 1.0) * Vec2::new(a.cos(), a.sin())).collect();
+            let polygon = Polygon::new(flat.iter().map(|q| q.extend(height(*q))).collect()).unwrap();
+            // Sorted angles with a gap over π can make a bow tie: no triangles for it.
+            if edges_cross(&flat) {
+                assert_eq!(polygon.triangles(), None);
+                continue;
+            }
+            let triangles = polygon.triangles().expect("a simple polygon");
+            assert!(triangles.len() <= n - 2);
+            let shoelace: f32 = 0.5 * (0..n).map(|i| flat[i].perp_dot(flat[(i + 1) % n])).sum::<f32>();
+            let mut projected_area = 0.0;
+            for t in &triangles {
+                for v in t {
+                    assert!((v.z - height(v.truncate())).abs() < 1e-5, "{v} is off the plane");
+                }
+                let cross = (t[1] - t[0]).cross(t[2] - t[0]);
+                assert!(cross.dot(polygon.normal()) >= 0.0, "a triangle faces the other way");
+                projected_area += 0.5 * cross.z;
+            }
+            assert!((projected_area - shoelace).abs() < 1e-5, "{projected_area} vs {shoelace}");
+            let covering = |p: Vec2| {
+                triangles
+                    .iter()
+                    .filter(|t| {
+                        let [a, b, c] = t.map(|v| v.truncate());
+                        let (x, y, z) = ((b - a).perp_dot(p - a), (c - b).perp_dot(p - b), (a - c).perp_dot(p - c));
+                        (x >= 0.0 && y >= 0.0 && z >= 0.0) || (x <= 0.0 && y <= 0.0 && z <= 0.0)
+                    })
+                    .count()
+            };
+            for _ in 0..200 {
+                let p = Vec2::new(rng.range(-1.1, 1.1), rng.range(-1.1, 1.1));
+                if distance_to_boundary(&flat, p) < 1e-4 {
+                    continue;
+                }
+                let expected = usize::from(crossing_test(&flat, p));
+                let found = covering(p);
+                // On an inner diagonal a point lies on two triangles' shared edge.
+                assert!(found == expected || (expected == 1 && found == 2), "{p}: {found} triangles, {expected}");
+            }
+        }
+    }
+
+    /// A concave hexagon by hand (the L: area 3), and a pentagram, which has no triangles.
+    #[test]
+    fn l_shape_triangles_and_no_triangles_for_a_pentagram() {
+        let triangles = l_shape().triangles().unwrap();
+        assert_eq!(triangles.len(), 4);
+        let area: f32 = triangles.iter().map(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length()).sum();
+        assert!((area - 3.0).abs() < 1e-6, "{area}");
+        let star = (0..5).map(|i| {
+            let a = std::f32::consts::FRAC_PI_2 + i as f32 * 4.0 * std::f32::consts::PI / 5.0;
+            Vec3::new(a.cos(), a.sin(), 0.0)
+        });
+        assert_eq!(Polygon::new(star.collect()).unwrap().triangles(), None);
     }
 
     fn distance_to_boundary(poly: &[Vec2], p: Vec2) -> f32 {
