@@ -8,13 +8,16 @@
 //!   time, which this caught: `SurfaceHit::spawn_ray_to_surface`.
 //! * A quad light (two triangles), off-centre: Lambert's formula for a polygonal luminaire,
 //!   E = (L/2) Σ θᵢ (n · γᵢ) over its edges, for both triangle-light sampling strategies.
+//! * An L-shaped polygon light and a box light under a transform, each one light sampled by
+//!   area: the same formula, over the box's faces that face the floor point.
 //! * Point, spot and directional lights, off to the side: E = I cos θ / d², and E⊥ cos θ for
 //!   the directional one (the path tracer only: no path can hit them).
 //! * All of these at once, the sphere placed by a transform: the sum, though next-event
 //!   estimation now samples one light per bounce, chosen by power.
-//! * The floor beside a sphere light, for the particle integrators, which start at the light:
-//!   a sphere fully above a plane lights it as a point would, E = π L r² cos θ / D², D the
-//!   distance to its centre.
+//! * The floor beside a sphere light and an L-shaped polygon light, for the particle
+//!   integrators, which start at the light: a sphere fully above a plane lights it as a point
+//!   would, E = π L r² cos θ / D², D the distance to its centre; the polygon by Lambert's
+//!   formula at each pixel's floor point.
 
 mod common;
 
@@ -27,7 +30,7 @@ use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight, SpotLight
 use glint_core::materials::{Material, Phong};
 use glint_core::render::{render_with, RenderSettings};
 use glint_core::scene::Scene;
-use glint_core::shapes::{Plane, Shape, Sphere, Triangle};
+use glint_core::shapes::{AaBox, Plane, Polygon, Shape, Sphere, Triangle};
 use glint_core::textures::Texture;
 use glint_core::{Rgb, Vec3};
 
@@ -62,22 +65,63 @@ fn a_floor_under_a_quad_light_matches_lamberts_formula() {
     ]);
     s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance)]);
     s.camera = Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
-    // Lambert (1760): E = (L/2) Σ θᵢ (n · γᵢ), θᵢ the angle the edge i subtends at the point
-    // and γᵢ the unit normal of the plane through the point and the edge.
-    let corners = quad.map(|v| v.as_dvec3().normalize());
-    let sum: f64 = (0..4)
-        .map(|i| {
-            let (u, v) = (corners[i], corners[(i + 1) % 4]);
-            u.angle_between(v) * u.cross(v).normalize().y
-        })
-        .sum();
-    let irradiance = radiance as f64 / 2.0 * sum.abs();
-    let expected = albedo as f64 / std::f64::consts::PI * irradiance;
+    let expected = albedo as f64 / std::f64::consts::PI * lambert_irradiance(radiance as f64, &quad);
     for strategy in [TriangleSampling::Area, TriangleSampling::SolidAngle] {
         s.set_triangle_sampling(strategy);
         check_image_mean(&s, IntegratorKind::Path, 64, expected, None, &format!("quad light, path, {strategy:?}"));
     }
     check_image_mean(&s, IntegratorKind::PathNaive, 1024, expected, None, "quad light, path-naive");
+}
+
+/// Polygon and box lights are sampled as one light each: an L-shaped polygon (not convex, so
+/// cut into triangles of unequal area) and a box turned and lifted by a transform, whose
+/// faces that face the floor point each add their Lambert term.
+#[test]
+fn a_floor_under_polygon_and_box_lights_matches_lamberts_formula() {
+    let (radiance, albedo) = (3.0f32, 0.5f32);
+    let floor = || object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0);
+    let camera = || Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
+    let check = |s: &mut Scene, irradiance: f64, name: &str| {
+        s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance)]);
+        s.camera = camera();
+        let expected = albedo as f64 / std::f64::consts::PI * irradiance;
+        assert_eq!(s.lights().area_count(), 1, "{name}: one light");
+        check_image_mean(s, IntegratorKind::Path, 64, expected, None, &format!("{name}, path"));
+        check_image_mean(s, IntegratorKind::PathNaive, 1024, expected, None, &format!("{name}, path-naive"));
+    };
+
+    // Wound like the quad above, so it faces down.
+    let l_shape: Vec<Vec3> = [(-0.5, -0.2), (0.3, -0.2), (0.3, 0.2), (0.0, 0.2), (0.0, 0.6), (-0.5, 0.6)]
+        .map(|(x, z)| Vec3::new(x, 1.0, z))
+        .to_vec();
+    let polygon = Polygon::new(l_shape.clone()).unwrap();
+    assert!(polygon.normal().y < 0.0, "the polygon faces the floor");
+    let mut s = scene(vec![floor(), object_with(Shape::Polygon(polygon), 1)]);
+    check(&mut s, lambert_irradiance(radiance as f64, &l_shape), "L-shaped polygon light");
+
+    let (min, max) = (Vec3::new(-0.4, 0.0, -0.3), Vec3::new(0.4, 0.3, 0.5));
+    let placed = Mat4::from_translation(Vec3::new(0.1, 1.0, 0.0)) * Mat4::from_rotation_y(0.5);
+    let mut aabox = object_with(Shape::AaBox(AaBox::new(min, max)), 1);
+    aabox.transform = Transform::from_matrix(placed);
+    let mut irradiance = 0.0;
+    for axis in 0..3 {
+        for (level, outward) in [(min[axis], -1.0), (max[axis], 1.0)] {
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let corner = |cu: f32, cv: f32| {
+                let mut p = Vec3::ZERO;
+                (p[axis], p[u], p[v]) = (level, cu, cv);
+                placed.transform_point3(p)
+            };
+            let face = [corner(min[u], min[v]), corner(max[u], min[v]), corner(max[u], max[v]), corner(min[u], max[v])];
+            let mut normal = Vec3::ZERO;
+            normal[axis] = outward;
+            if placed.transform_vector3(normal).dot(-face[0]) > 0.0 {
+                irradiance += lambert_irradiance(radiance as f64, &face);
+            }
+        }
+    }
+    let mut s = scene(vec![floor(), aabox]);
+    check(&mut s, irradiance, "turned box light");
 }
 
 #[test]
@@ -138,41 +182,73 @@ fn a_floor_under_every_kind_of_light_at_once_gets_the_sum() {
 }
 
 #[test]
-fn particle_integrators_light_the_floor_beside_a_sphere_light_as_expected() {
+fn particle_integrators_light_the_floor_beside_sphere_and_polygon_lights_as_expected() {
     let (radiance, radius, centre, albedo) = (4.0f32, 0.3f32, Vec3::new(0.0, 1.0, 0.0), 0.5f32);
-    let mut s = scene(vec![
-        object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0),
-        object_with(Shape::Sphere(Sphere::new(centre, radius)), 1),
-    ]);
-    s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance)]);
-    // The floor from 0.5 to 2 beside the sphere, the sphere itself out of view.
-    s.camera = Camera::new(Vec3::new(1.2, 2.5, -2.0), Vec3::new(1.2, 0.0, 0.6), Vec3::Y, 20.0, 24, 24).unwrap();
-    // Per pixel, the radiance at the floor point through its centre (the irradiance varies
-    // slowly over a pixel's footprint, a few hundredths across).
-    let expected: Vec<f64> = (0..24 * 24)
-        .map(|i| {
-            let ray = s.camera.generate_ray((i % 24) as f32 + 0.5, (i / 24) as f32 + 0.5);
-            let hit = s.intersect(&ray).expect("every pixel sees the floor");
-            assert_eq!(hit.object, 0, "the sphere is out of view");
-            let to_centre = (centre - hit.geometry.point).as_dvec3();
-            let (d2, cos) = (to_centre.length_squared(), to_centre.normalize().y);
-            let irradiance = std::f64::consts::PI * radiance as f64 * (radius * radius) as f64 * cos / d2;
-            albedo as f64 / std::f64::consts::PI * irradiance
-        })
-        .collect();
-    let expected_mean = expected.iter().sum::<f64>() / expected.len() as f64;
-    // Light tracing is unbiased (two seeds came within 0.15 %); SPPM is consistent, its bias
-    // shrinking with the radius (two seeds within 0.05 %).
-    for (kind, passes, tolerance) in [(IntegratorKind::Light, 4096, 0.005), (IntegratorKind::Sppm, 64, 0.01)] {
-        let settings = IntegratorSettings { max_depth: 1, ..Default::default() };
-        let mut renderer = kind.renderer(&settings, &s, 1).expect("the sphere is a physical light");
-        let image =
-            render_with(&s, renderer.as_mut(), &RenderSettings { spp: passes, seed: 4, ..Default::default() }, &|| {})
-                .film
-                .to_rgb();
-        let mean = image.iter().map(|p| p.x as f64).sum::<f64>() / image.len() as f64;
-        assert!((mean / expected_mean - 1.0).abs() < tolerance, "{kind:?}: {mean} vs {expected_mean}");
+    // Facing down, as in the polygon test above.
+    let l_shape: Vec<Vec3> = [(-0.5, -0.2), (0.3, -0.2), (0.3, 0.2), (0.0, 0.2), (0.0, 0.6), (-0.5, 0.6)]
+        .map(|(x, z)| Vec3::new(x, 1.0, z))
+        .to_vec();
+    let lights = [
+        ("sphere", Shape::Sphere(Sphere::new(centre, radius))),
+        ("polygon", Shape::Polygon(Polygon::new(l_shape.clone()).unwrap())),
+    ];
+    for (name, light) in lights {
+        let mut s = scene(vec![object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0), object_with(light, 1)]);
+        s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance)]);
+        // The floor from 0.5 to 2 beside the light, the light itself out of view.
+        s.camera = Camera::new(Vec3::new(1.2, 2.5, -2.0), Vec3::new(1.2, 0.0, 0.6), Vec3::Y, 20.0, 24, 24).unwrap();
+        // Per pixel, the radiance at the floor point through its centre (the irradiance
+        // varies slowly over a pixel's footprint, a few hundredths across).
+        let expected: Vec<f64> = (0..24 * 24)
+            .map(|i| {
+                let ray = s.camera.generate_ray((i % 24) as f32 + 0.5, (i / 24) as f32 + 0.5);
+                let hit = s.intersect(&ray).expect("every pixel sees the floor");
+                assert_eq!(hit.object, 0, "the {name} is out of view");
+                let at = hit.geometry.point;
+                let irradiance = if name == "sphere" {
+                    // A sphere fully above the plane lights it as a point would.
+                    let to_centre = (centre - at).as_dvec3();
+                    let (d2, cos) = (to_centre.length_squared(), to_centre.normalize().y);
+                    std::f64::consts::PI * radiance as f64 * (radius * radius) as f64 * cos / d2
+                } else {
+                    let seen: Vec<Vec3> = l_shape.iter().map(|&v| v - at).collect();
+                    lambert_irradiance(radiance as f64, &seen)
+                };
+                albedo as f64 / std::f64::consts::PI * irradiance
+            })
+            .collect();
+        let expected_mean = expected.iter().sum::<f64>() / expected.len() as f64;
+        // Light tracing is unbiased (two seeds came within 0.15 %); SPPM is consistent, its
+        // bias shrinking with the radius (two seeds within 0.05 %).
+        for (kind, passes, tolerance) in [(IntegratorKind::Light, 4096, 0.005), (IntegratorKind::Sppm, 64, 0.01)] {
+            let settings = IntegratorSettings { max_depth: 1, ..Default::default() };
+            let mut renderer = kind.renderer(&settings, &s, 1).expect("a physical light");
+            let image = render_with(
+                &s,
+                renderer.as_mut(),
+                &RenderSettings { spp: passes, seed: 4, ..Default::default() },
+                &|| {},
+            )
+            .film
+            .to_rgb();
+            let mean = image.iter().map(|p| p.x as f64).sum::<f64>() / image.len() as f64;
+            assert!((mean / expected_mean - 1.0).abs() < tolerance, "{name}, {kind:?}: {mean} vs {expected_mean}");
+        }
     }
+}
+
+/// Lambert (1760): the irradiance at the origin on the floor (normal +y) from a polygon of
+/// radiance L that the origin sees whole, E = (L/2) |Σ θᵢ (n · γᵢ)| over its edges, θᵢ the
+/// angle the edge i subtends and γᵢ the unit normal of the plane through the origin and it.
+fn lambert_irradiance(radiance: f64, polygon: &[Vec3]) -> f64 {
+    let corners: Vec<_> = polygon.iter().map(|v| v.as_dvec3().normalize()).collect();
+    let sum: f64 = (0..corners.len())
+        .map(|i| {
+            let (u, v) = (corners[i], corners[(i + 1) % corners.len()]);
+            u.angle_between(v) * u.cross(v).normalize().y
+        })
+        .sum();
+    radiance / 2.0 * sum.abs()
 }
 
 fn material(diffuse: f32, emission: f32) -> Material {

@@ -29,7 +29,7 @@ pub use sphere::{Sphere, SphereMethod};
 #[cfg(test)]
 pub(crate) use triangle::barycentric_point;
 pub use triangle::{intersect_cramer, moller_trumbore_edges, Triangle, TriangleMethod, WatertightRay};
-pub(crate) use triangle::{sample_triangle, triangle_point_along};
+pub(crate) use triangle::{sample_triangle, triangle_point_along, TriangleSurface};
 
 use glam::{Vec2, Vec3};
 

@@ -270,6 +270,51 @@ pub(crate) fn sample_triangle(corners: [Vec3; 3], u: Vec2) -> (Vec3, Vec3) {
     barycentric_point(corners, b.x, b.y)
 }
 
+/// Triangles sampled together uniformly by area, each with its own geometric normal: a polygon
+/// or a box as one area light. A triangle is chosen by its share of the area (the first
+/// coordinate of `u`, rescaled to its interval, picks it and then serves the point), so the
+/// density is 1 / `area` everywhere on the surface.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct TriangleSurface {
+    triangles: Vec<[Vec3; 3]>,
+    normals: Vec<Vec3>,
+    /// Cumulative area of the triangles, the last entry the total.
+    cumulative: Vec<f32>,
+}
+
+impl TriangleSurface {
+    /// `None` if the triangles have no area between them.
+    pub fn new(triangles: Vec<[Vec3; 3]>, normals: Vec<Vec3>) -> Option<Self> {
+        debug_assert_eq!(triangles.len(), normals.len());
+        let mut total = 0.0f32;
+        let cumulative = triangles
+            .iter()
+            .map(|[a, b, c]| {
+                total += 0.5 * (*b - *a).cross(*c - *a).length();
+                total
+            })
+            .collect();
+        (total > 0.0 && total.is_finite()).then_some(Self { triangles, normals, cumulative })
+    }
+
+    pub fn area(&self) -> f32 {
+        *self.cumulative.last().expect("a surface has a triangle")
+    }
+
+    /// A point uniform on the surface: (point, geometric normal, error bound).
+    pub fn sample(&self, u: Vec2) -> (Vec3, Vec3, Vec3) {
+        let target = u.x * self.area();
+        let last = self.triangles.len() - 1;
+        // The first triangle whose cumulative area passes the target; never one of no area.
+        let i = self.cumulative.partition_point(|&c| c <= target).min(last);
+        let below = if i == 0 { 0.0 } else { self.cumulative[i - 1] };
+        let share = self.cumulative[i] - below;
+        let ux = if share > 0.0 { ((target - below) / share).clamp(0.0, 1.0 - f32::EPSILON / 2.0) } else { 0.5 };
+        let (point, error) = sample_triangle(self.triangles[i], Vec2::new(ux, u.y));
+        (point, self.normals[i], error)
+    }
+}
+
 /// Where the ray from `from` along `w` meets the triangle, as barycentric interpolation of
 /// the corners (so the point lies on the triangle even where rounding put the ray a hair
 /// outside an edge), with its error bound: a direction sampled in the triangle's solid angle
