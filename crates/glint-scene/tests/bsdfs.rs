@@ -145,3 +145,47 @@ fn references_cycles_and_depth_are_errors_at_their_line() {
         .to_string();
     assert!(e.contains("between 0 and 1"), "{e}");
 }
+
+/// `principled`: Mitsuba's defaults, numbers and textures for its weights, `specular` turned
+/// into η, and `specular` with `eta`, or a weight out of range, refused at the line.
+#[test]
+fn principled_builds_with_defaults_textures_and_checked_weights() {
+    let loaded = parse(
+        r#"
+[textures.checks]
+type = "checker"
+even = [0.1, 0.1, 0.1]
+odd = [0.9, 0.9, 0.9]
+
+[materials.a]
+type = "principled"
+base_color = [0.2, 0.8, 0.1]
+metallic = "checks"
+clearcoat = 0.6
+specular = 0.5
+
+[materials.glass]
+type = "principled"
+spec_trans = 1
+eta = 1
+"#,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    match material(&loaded, "a") {
+        Material::Principled(p) => {
+            assert_eq!(p.base_color, Texture::Constant(Rgb::new(0.2, 0.8, 0.1)));
+            assert_eq!(p.roughness, Texture::Constant(Rgb::splat(0.5)));
+            assert_eq!(p.sheen, Texture::Constant(Rgb::ZERO));
+            assert_eq!(p.clearcoat, Texture::Constant(Rgb::splat(0.6)));
+            assert!(matches!(p.metallic, Texture::Checker(_)), "{:?}", p.metallic);
+            assert!((p.eta - 1.5).abs() < 1e-6, "{}", p.eta);
+        }
+        other => panic!("{other:?}"),
+    }
+    // Mitsuba's adjustment: an index of 1 cannot transmit.
+    assert!(matches!(material(&loaded, "glass"), Material::Principled(p) if p.eta == 1.001));
+    let e = parse("[materials.a]\ntype = \"principled\"\nspecular = 0.5\neta = 1.4\n").err().unwrap().to_string();
+    assert!(e.contains("bsdfs.toml:") && e.contains("`specular` or `eta`"), "{e}");
+    let e = parse("[materials.a]\ntype = \"principled\"\nsheen = 1.5\n").err().unwrap().to_string();
+    assert!(e.contains("`sheen` must be between 0 and 1"), "{e}");
+}

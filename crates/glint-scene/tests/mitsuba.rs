@@ -125,7 +125,7 @@ fn every_element_maps_onto_glint() {
 }
 
 /// Mitsuba's wrappers: `twosided` with one or two BSDFs, `blendbsdf`, `mask`, and an area
-/// emitter on a BSDF other than diffuse.
+/// emitter on a BSDF other than diffuse; and `principled` with a textured weight.
 #[test]
 fn wrappers_map_onto_the_bsdf_set() {
     let path = scene_file(
@@ -140,6 +140,8 @@ fn wrappers_map_onto_the_bsdf_set() {
 <shape type="sphere"><ref id="worn"/></shape>
 <shape type="sphere"><ref id="leaf"/></shape>
 <shape type="sphere"><bsdf type="plastic"/><emitter type="area"><rgb name="radiance" value="2, 2, 2"/></emitter></shape>
+<bsdf type="principled" id="paint"><rgb name="base_color" value="0.2, 0.8, 0.1"/><float name="roughness" value="0.15"/><texture name="sheen" type="checkerboard"><float name="color0" value="0.2"/><float name="color1" value="0.9"/></texture><float name="specular" value="0.7"/></bsdf>
+<shape type="sphere"><ref id="paint"/></shape>
 </scene>
 "#
         ),
@@ -166,6 +168,15 @@ fn wrappers_map_onto_the_bsdf_set() {
     match material("leaf") {
         Material::Mask(m) => {
             assert!(matches!(m.material, Material::RoughPlastic(_)) && m.opacity == Texture::Constant(Rgb::splat(0.3)))
+        }
+        other => panic!("{other:?}"),
+    }
+    match material("paint") {
+        Material::Principled(p) => {
+            assert_eq!(p.base_color, Texture::Constant(Rgb::new(0.2, 0.8, 0.1)));
+            assert_eq!(p.roughness, Texture::Constant(Rgb::splat(0.15)));
+            assert!(matches!(p.sheen, Texture::Checker(_)), "{:?}", p.sheen);
+            assert!((p.eta - glint_core::materials::Principled::eta_from_specular(0.7)).abs() < 1e-6);
         }
         other => panic!("{other:?}"),
     }

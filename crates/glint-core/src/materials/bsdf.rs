@@ -21,6 +21,7 @@ use super::diffuse::DiffuseBsdf;
 use super::mask::NullBsdf;
 use super::mixed::MixedBsdf;
 use super::plastic::PlasticBsdf;
+use super::principled::PrincipledBsdf;
 use super::rough_conductor::RoughConductorBsdf;
 use super::rough_dielectric::RoughDielectricBsdf;
 use super::rough_plastic::RoughPlasticBsdf;
@@ -153,6 +154,7 @@ pub(super) enum Leaf<'a> {
     ThinDielectric(ThinDielectricBsdf),
     Plastic(PlasticBsdf),
     RoughPlastic(RoughPlasticBsdf<'a>),
+    Principled(PrincipledBsdf),
     Null(NullBsdf),
 }
 
@@ -168,6 +170,7 @@ macro_rules! dispatch {
             Leaf::ThinDielectric($b) => $call,
             Leaf::Plastic($b) => $call,
             Leaf::RoughPlastic($b) => $call,
+            Leaf::Principled($b) => $call,
             Leaf::Null($b) => $call,
         }
     };

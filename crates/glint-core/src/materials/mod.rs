@@ -18,6 +18,7 @@ mod mask;
 mod mixed;
 mod phong;
 mod plastic;
+mod principled;
 mod rough_conductor;
 mod rough_dielectric;
 mod rough_plastic;
@@ -36,6 +37,7 @@ pub use ggx::Ggx;
 pub use mask::Mask;
 pub use phong::{fresnel_dielectric, fresnel_schlick, Fresnel, Phong, PhongPoint};
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
+pub use principled::Principled;
 pub use rough_conductor::RoughConductor;
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::RoughPlastic;
@@ -63,6 +65,7 @@ pub enum Material {
     ThinDielectric(ThinDielectric),
     Plastic(Plastic),
     RoughPlastic(RoughPlastic),
+    Principled(Box<Principled>),
     Blend(Box<Blend>),
     Mask(Box<Mask>),
     TwoSided(Box<TwoSided>),
@@ -128,6 +131,7 @@ impl Material {
             Material::ThinDielectric(m) => (m.bsdf(query, frame()), weight),
             Material::Plastic(m) => (m.bsdf(query, wo, frame()), weight),
             Material::RoughPlastic(m) => (m.bsdf(query, wo, frame()), weight),
+            Material::Principled(m) => (m.bsdf(query, frame()), weight),
             Material::Blend(b) => {
                 let w = fraction(&b.weight, query);
                 if w < 1.0 {
@@ -192,6 +196,7 @@ impl Material {
             Material::ThinDielectric(m) => m.whitted(query),
             Material::Plastic(m) => m.whitted(query),
             Material::RoughPlastic(m) => m.whitted(query),
+            Material::Principled(m) => m.whitted(query),
             Material::Blend(b) => {
                 let w = fraction(&b.weight, query);
                 let (first, second) = (b.first.whitted(query, outside), b.second.whitted(query, outside));
@@ -304,6 +309,7 @@ impl Material {
             Material::ThinDielectric(m) => max(&m.sheet.specular_reflectance).max(max(&m.sheet.specular_transmittance)),
             Material::Plastic(m) => max(&m.diffuse).max(max(&m.specular)),
             Material::RoughPlastic(m) => max(&m.plastic.diffuse).max(max(&m.plastic.specular)),
+            Material::Principled(m) => max(&m.base_color),
             Material::Blend(b) => b.first.largest_factor().max(b.second.largest_factor()),
             Material::Mask(m) => m.material.largest_factor(),
             Material::TwoSided(t) => t.front.largest_factor().max(t.back.largest_factor()),

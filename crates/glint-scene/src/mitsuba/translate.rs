@@ -657,6 +657,24 @@ impl<'a> Translator<'a> {
                     }
                 }
             }
+            "principled" => {
+                let mut weight = |name: &str| self.fraction(&p, name);
+                MaterialDesc::Principled {
+                    roughness: weight("roughness")?,
+                    anisotropic: weight("anisotropic")?,
+                    metallic: weight("metallic")?,
+                    spec_trans: weight("spec_trans")?,
+                    spec_tint: weight("spec_tint")?,
+                    sheen: weight("sheen")?,
+                    sheen_tint: weight("sheen_tint")?,
+                    flatness: weight("flatness")?,
+                    clearcoat: weight("clearcoat")?,
+                    clearcoat_gloss: weight("clearcoat_gloss")?,
+                    base_color: p.color(self, "base_color")?,
+                    specular: p.float(self, "specular")?,
+                    eta: p.float(self, "eta")?,
+                }
+            }
             "plastic" | "roughplastic" => {
                 let diffuse_reflectance = Some(p.color(self, "diffuse_reflectance")?.unwrap_or(ColorDesc::Rgb([0.5; 3])));
                 let specular_reflectance = p.color(self, "specular_reflectance")?;
@@ -693,7 +711,7 @@ impl<'a> Translator<'a> {
                 return Err(self.error(
                     &bsdf.position,
                     format!(
-                        "<bsdf type=\"{kind}\"> is not supported; glint reads diffuse, conductor, roughconductor, dielectric, thindielectric, roughdielectric, plastic, roughplastic, twosided, blendbsdf and mask (bumpmap and normalmap with a warning)"
+                        "<bsdf type=\"{kind}\"> is not supported; glint reads diffuse, conductor, roughconductor, dielectric, thindielectric, roughdielectric, plastic, roughplastic, principled, twosided, blendbsdf and mask (bumpmap and normalmap with a warning)"
                     ),
                 ))
             }

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use glint_core::materials::{
-    named_metal, Blend, Conductor, Dielectric, Diffuse, Emitter, Fresnel, Mask, Material, Phong, Plastic,
+    named_metal, Blend, Conductor, Dielectric, Diffuse, Emitter, Fresnel, Mask, Material, Phong, Plastic, Principled,
     RoughConductor, RoughDielectric, RoughPlastic, ThinDielectric, TwoSided, MAX_LEAVES, METAL_NAMES,
 };
 use glint_core::textures::Texture;
@@ -260,6 +260,60 @@ impl Builder<'_> {
                     ));
                 }
                 sided(Material::RoughPlastic(RoughPlastic::new(plastic, alpha("alpha", *a)?)), two_sided)
+            }
+            MaterialDesc::Principled {
+                base_color,
+                roughness,
+                anisotropic,
+                metallic,
+                spec_trans,
+                specular,
+                eta,
+                spec_tint,
+                sheen,
+                sheen_tint,
+                flatness,
+                clearcoat,
+                clearcoat_gloss,
+            } => {
+                let weight = |key: &str, f: &Option<FractionDesc>, default: f32| match f {
+                    None => Ok(Texture::Constant(Rgb::splat(default))),
+                    Some(_) => fraction(key, f),
+                };
+                // Mitsuba's adjustments: an index of 1 (or a specular of 0) cannot transmit.
+                let transmits = spec_trans.is_some();
+                let eta = match (specular, eta) {
+                    (Some(_), Some(_)) => return Err(at("eta", "give `specular` or `eta`, not both".into())),
+                    (None, Some(e)) if *e > 0.0 && e.is_finite() => {
+                        if transmits && *e == 1.0 {
+                            1.001
+                        } else {
+                            *e
+                        }
+                    }
+                    (None, Some(e)) => return Err(at("eta", format!("`eta` must be positive, got {e}"))),
+                    (Some(s), None) if (0.0..=1.0).contains(s) => {
+                        Principled::eta_from_specular(if transmits && *s == 0.0 { 1e-3 } else { *s })
+                    }
+                    (Some(s), None) => {
+                        return Err(at("specular", format!("`specular` must be between 0 and 1, got {s}")))
+                    }
+                    (None, None) => Principled::eta_from_specular(0.5),
+                };
+                Material::Principled(Box::new(Principled {
+                    base_color: colour("base_color", base_color, 0.5)?,
+                    roughness: weight("roughness", roughness, 0.5)?,
+                    anisotropic: weight("anisotropic", anisotropic, 0.0)?,
+                    metallic: weight("metallic", metallic, 0.0)?,
+                    spec_trans: weight("spec_trans", spec_trans, 0.0)?,
+                    spec_tint: weight("spec_tint", spec_tint, 0.0)?,
+                    sheen: weight("sheen", sheen, 0.0)?,
+                    sheen_tint: weight("sheen_tint", sheen_tint, 0.0)?,
+                    flatness: weight("flatness", flatness, 0.0)?,
+                    clearcoat: weight("clearcoat", clearcoat, 0.0)?,
+                    clearcoat_gloss: weight("clearcoat_gloss", clearcoat_gloss, 0.0)?,
+                    eta,
+                }))
             }
             MaterialDesc::Blend { weight, first, second } => {
                 let weight = fraction("weight", weight)?;

@@ -299,6 +299,23 @@ pub enum MaterialDesc {
         alpha: Option<f32>,
         two_sided: Option<bool>,
     },
+    /// Disney's principled BSDF (Mitsuba's `principled`): each weight a number in [0, 1] or a
+    /// texture's luminance; `specular` (in [0, 1]) or `eta` sets the index.
+    Principled {
+        base_color: Option<ColorDesc>,
+        roughness: Option<FractionDesc>,
+        anisotropic: Option<FractionDesc>,
+        metallic: Option<FractionDesc>,
+        spec_trans: Option<FractionDesc>,
+        specular: Option<f32>,
+        eta: Option<f32>,
+        spec_tint: Option<FractionDesc>,
+        sheen: Option<FractionDesc>,
+        sheen_tint: Option<FractionDesc>,
+        flatness: Option<FractionDesc>,
+        clearcoat: Option<FractionDesc>,
+        clearcoat_gloss: Option<FractionDesc>,
+    },
     /// (1 − weight)·first + weight·second (Mitsuba's `blendbsdf`); materials by name.
     Blend { weight: Option<FractionDesc>, first: String, second: String },
     /// `material` where the surface is, passed through elsewhere (Mitsuba's `mask`).
