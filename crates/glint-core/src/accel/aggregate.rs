@@ -55,6 +55,7 @@ impl Object {
                     geometric_normal: t.normal(local.geometric_normal),
                     shading_normal: t.normal(local.shading_normal),
                     uv: local.uv,
+                    dpdu: t.vector(local.dpdu),
                     error,
                 }
             }
@@ -514,5 +515,62 @@ impl InstancedGeometry for Geometry {
 
     fn primitive_count(&self) -> usize {
         Geometry::primitive_count(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Mat4, Vec2};
+
+    use super::*;
+    use crate::shapes::{AaBox, IntersectMethods, Plane, Polygon, Sphere, Triangle};
+
+    /// ∂p/∂u means what it says on every shape, with and without a transform: a step of h·∂p/∂u
+    /// from a hit moves the uv by (h, 0) to first order. Each shape is hit by a ray, then by a
+    /// second ray aimed at the stepped point.
+    #[test]
+    fn dpdu_is_the_derivative_of_the_point_along_u() {
+        let mut textured =
+            Triangle::new(Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.2, -0.8, 0.1), Vec3::new(0.1, 1.0, -0.2));
+        textured.uvs = Some([Vec2::new(0.1, 0.2), Vec2::new(0.9, 0.3), Vec2::new(0.4, 0.95)]);
+        let polygon =
+            Polygon::new(vec![Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.2), Vec3::new(0.0, 1.0, 0.1)])
+                .unwrap()
+                .with_uvs(vec![Vec2::new(0.0, 0.0), Vec2::new(2.0, 0.5), Vec2::new(0.5, 1.5)])
+                .unwrap();
+        let shapes = [
+            ("sphere", Shape::Sphere(Sphere::new(Vec3::new(0.1, 0.2, 0.3), 1.2))),
+            ("plain triangle", Shape::Triangle(Triangle::new(Vec3::new(-1.0, -1.0, 0.0), Vec3::X, Vec3::Y))),
+            ("textured triangle", Shape::Triangle(textured)),
+            ("plane", Shape::Plane(Plane::new(Vec3::new(0.0, 0.3, -1.0).normalize(), 0.5))),
+            ("polygon with uvs", Shape::Polygon(polygon)),
+            ("box", Shape::AaBox(AaBox::new(Vec3::splat(-0.7), Vec3::new(0.5, 0.8, 0.6)))),
+        ];
+        let placed = Transform::from_matrix(
+            Mat4::from_rotation_y(0.4) * Mat4::from_scale(Vec3::new(1.3, 0.7, 1.1)) * Mat4::from_rotation_x(0.3),
+        );
+        let methods = IntersectMethods::default();
+        let origin = Vec3::new(0.15, 0.1, -4.0);
+        for (name, shape) in shapes {
+            for transform in [None, placed] {
+                let object = Object { name: name.into(), shape: shape.clone(), transform, material: 0 };
+                let surface = |target: Vec3| {
+                    let ray = Ray::new(origin, (target - origin).normalize());
+                    let hit = object.intersect(0, &ray, &methods).expect("the ray hits");
+                    object.surface(0, &ray, &hit)
+                };
+                let s = surface(Vec3::new(0.1, 0.05, 0.0));
+                assert!(s.dpdu.length() > 0.0, "{name}");
+                let h = 1e-3 / s.dpdu.length();
+                let stepped = surface(s.point + h * s.dpdu);
+                let du = stepped.uv - s.uv;
+                let placed = if transform.is_some() { "placed" } else { "as is" };
+                assert!(
+                    (du.x / h - 1.0).abs() < 0.02 && (du.y / h).abs() < 0.02,
+                    "{name}, {placed}: Δuv / h = {}",
+                    du / h
+                );
+            }
+        }
     }
 }

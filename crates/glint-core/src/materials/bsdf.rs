@@ -80,6 +80,20 @@ impl Frame {
         Self { normal, tangent, bitangent, geometric, outside }
     }
 
+    /// The same frame with its tangent along `dpdu` projected onto the plane of the normal
+    /// (Gram–Schmidt, as Mitsuba's shading frame), the bitangent n × tangent; unchanged where
+    /// `dpdu` is zero or along the normal.
+    pub fn along(mut self, dpdu: Vec3) -> Self {
+        let projected = dpdu - self.normal * self.normal.dot(dpdu);
+        if let Some(tangent) = projected.try_normalize() {
+            if projected.length_squared() > 1e-12 * dpdu.length_squared() {
+                self.tangent = tangent;
+                self.bitangent = self.normal.cross(tangent);
+            }
+        }
+        self
+    }
+
     pub fn to_local(&self, w: Vec3) -> Vec3 {
         Vec3::new(w.dot(self.tangent), w.dot(self.bitangent), w.dot(self.normal))
     }
@@ -380,5 +394,29 @@ impl<'a> Bsdf<'a> {
         s.weight *= q;
         s.pdf /= q;
         Some(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `along` keeps the normal, makes the tangent the part of ∂p/∂u in the normal's plane and
+    /// the frame orthonormal and right-handed; a zero or normal-parallel ∂p/∂u changes nothing.
+    #[test]
+    fn a_frame_along_dpdu_is_orthonormal_with_the_tangent_on_dpdu() {
+        let n = Vec3::new(0.2, -0.3, 0.9).normalize();
+        let frame = Frame::new(Vec3::new(0.1, 0.0, 1.0).normalize(), n, n);
+        let dpdu = Vec3::new(1.5, 0.4, 0.2);
+        let f = frame.along(dpdu);
+        assert_eq!(f.normal, frame.normal);
+        let projected = (dpdu - n * n.dot(dpdu)).normalize();
+        assert!((f.tangent - projected).length() < 1e-6);
+        assert!(f.tangent.dot(f.normal).abs() < 1e-6 && f.bitangent.dot(f.tangent).abs() < 1e-6);
+        assert!((f.tangent.cross(f.bitangent) - f.normal).length() < 1e-6);
+        for unknown in [Vec3::ZERO, 3.0 * n] {
+            let same = frame.along(unknown);
+            assert_eq!((same.tangent, same.bitangent), (frame.tangent, frame.bitangent), "{unknown}");
+        }
     }
 }

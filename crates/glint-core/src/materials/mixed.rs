@@ -221,7 +221,7 @@ mod tests {
     }
 
     fn point(diffuse: f32, reflection: f32, transmission: f32) -> PhongPoint {
-        let mut p = Phong::default().evaluate(&TextureQuery { uv: Vec2::ZERO, point: Vec3::ZERO });
+        let mut p = Phong::default().evaluate(&TextureQuery::default());
         p.diffuse = Rgb::splat(diffuse);
         p.reflection = Rgb::splat(reflection);
         p.transmission = Rgb::splat(transmission);

@@ -227,7 +227,7 @@ mod tests {
     use super::*;
 
     fn point() -> PhongPoint {
-        Phong::default().evaluate(&TextureQuery { uv: glam::Vec2::ZERO, point: Vec3::ZERO })
+        Phong::default().evaluate(&TextureQuery::default())
     }
 
     #[test]

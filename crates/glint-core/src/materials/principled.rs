@@ -30,8 +30,8 @@
 //! ∝ 1, split after its visible normal is drawn into reflection with 1 − bsdf·(1 − F) and
 //! transmission with bsdf·(1 − F) (from behind: F and 1 − F). The same sums give the pdf, so
 //! sampling and pdf agree exactly. Where brdf is 0 but sheen is not, the diffuse lobe keeps
-//! the sheen's weight so that its directions can still be drawn. The anisotropic tangent is
-//! the one `Frame` builds from the normal: surfaces do not carry ∂p/∂u yet.
+//! the sheen's weight so that its directions can still be drawn. An anisotropic lobe's
+//! tangent is the surface's ∂p/∂u (`Frame::along`).
 
 use std::f32::consts::PI;
 
@@ -96,7 +96,8 @@ impl Principled {
         let ggx = Ggx { alpha_x: (r2 / aspect).max(1e-3), alpha_y: (r2 * aspect).max(1e-3), separable: true };
         let gloss = scalar(&self.clearcoat_gloss);
         Leaf::Principled(PrincipledBsdf {
-            frame,
+            // Anisotropic widths lie along the surface's ∂p/∂u.
+            frame: if ggx.alpha_x != ggx.alpha_y { frame.along(query.dpdu) } else { frame },
             base: self.base_color.evaluate(query),
             roughness,
             metallic: scalar(&self.metallic),

@@ -13,7 +13,7 @@
 //! ```
 //! f·cos θ_i = specular · F(wo·h) · D(h) · G1(wo) G1(wi) / (4 cos θ_o), h = (wo + wi)/|wo + wi|.
 //! (Mitsuba's default distribution is Beckmann; glint has GGX only, and the Mitsuba reader says
-//! so.) The tangent is the one `Frame` builds from the normal: surfaces do not carry ∂p/∂u yet.
+//! so.) α_u lies along the surface's ∂p/∂u (`Frame::along`), as in Mitsuba.
 
 use glam::{Vec2, Vec3};
 
@@ -35,7 +35,8 @@ impl RoughConductor {
     pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
         let c = &self.conductor;
         Leaf::RoughConductor(RoughConductorBsdf {
-            frame,
+            // Anisotropic widths lie along the surface's ∂p/∂u.
+            frame: if self.alpha_u != self.alpha_v { frame.along(query.dpdu) } else { frame },
             eta: c.eta,
             k: c.k,
             specular: c.specular.evaluate(query),
@@ -107,6 +108,26 @@ mod tests {
 
     fn metal(alpha_u: f32, alpha_v: f32, eta: Rgb, k: Rgb) -> RoughConductor {
         RoughConductor { conductor: Conductor { eta, k, specular: Texture::Constant(Rgb::ONE) }, alpha_u, alpha_v }
+    }
+
+    /// The narrow width α_u lies along the surface's ∂p/∂u, whichever way that points: seen
+    /// head-on, the highlight falls off fast when the light tilts along ∂p/∂u and slowly
+    /// across it; sampling in that frame still matches its pdf.
+    #[test]
+    fn anisotropy_follows_dpdu() {
+        let m = metal(0.05, 0.4, Rgb::ZERO, Rgb::ONE);
+        for dpdu in [Vec3::new(2.0, 0.0, 0.3), Vec3::new(1.0, 1.0, -0.5), Vec3::new(0.0, -3.0, 0.0)] {
+            let query = TextureQuery { dpdu, ..Default::default() };
+            let bsdf = at(&m.bsdf(&query, frame_toward(Vec3::Z, Vec3::Z)));
+            let along = (dpdu - Vec3::Z * dpdu.z).normalize();
+            let across = Vec3::Z.cross(along);
+            let tilted = |t: Vec3| (Vec3::Z + 0.2 * t).normalize();
+            let (narrow, wide) = (bsdf.eval(Vec3::Z, tilted(along)).x, bsdf.eval(Vec3::Z, tilted(across)).x);
+            assert!(narrow < 0.05 * wide, "{dpdu}: {narrow} along vs {wide} across");
+            let wo = Vec3::new(0.3, -0.2, 0.9).normalize();
+            let bsdf = at(&m.bsdf(&query, frame_toward(wo, Vec3::Z)));
+            check_sampling(&bsdf, wo, Vec3::Z, 77);
+        }
     }
 
     #[test]

@@ -32,7 +32,8 @@ impl RoughDielectric {
     pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
         let d = &self.dielectric;
         Leaf::RoughDielectric(RoughDielectricBsdf {
-            frame,
+            // Anisotropic widths lie along the surface's ∂p/∂u.
+            frame: if self.alpha_u != self.alpha_v { frame.along(query.dpdu) } else { frame },
             eta: side_eta(d.eta, &frame),
             reflectance: d.specular_reflectance.evaluate(query),
             transmittance: d.specular_transmittance.evaluate(query),

@@ -26,7 +26,7 @@ pub struct SurfaceHit {
 
 impl SurfaceHit {
     pub fn texture_query(&self) -> TextureQuery {
-        TextureQuery { uv: self.geometry.uv, point: self.object_point }
+        TextureQuery { uv: self.geometry.uv, point: self.object_point, dpdu: self.geometry.dpdu }
     }
 
     /// A ray leaving the surface in `direction`, from an origin just past the point's error

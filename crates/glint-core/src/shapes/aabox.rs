@@ -194,6 +194,11 @@ impl AaBox {
             geometric_normal: normal,
             shading_normal: normal,
             uv: Vec2::new(local[a], local[b]),
+            dpdu: {
+                let mut d = Vec3::ZERO;
+                d[a] = size[a];
+                d
+            },
             error,
         }
     }

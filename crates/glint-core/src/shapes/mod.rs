@@ -72,6 +72,9 @@ pub struct SurfaceGeometry {
     /// `geometric_normal`.
     pub shading_normal: Vec3,
     pub uv: Vec2,
+    /// ∂p/∂u: how the point moves as u grows (not unit length; zero where the uv do not vary
+    /// across the surface). Anisotropic lobes align their tangent with it, as Mitsuba's do.
+    pub dpdu: Vec3,
     /// Bound on the absolute floating-point error of `point`, per axis (see
     /// `geometry::offset_ray_origin`).
     pub error: Vec3,

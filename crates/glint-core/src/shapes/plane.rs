@@ -53,6 +53,7 @@ impl Plane {
             geometric_normal: self.normal,
             shading_normal: self.normal,
             uv: Vec2::new(point.dot(s), point.dot(t)),
+            dpdu: s,
             // The projection onto the plane: a dot product and a multiply-add per axis.
             error: gamma(7) * (point.abs() + Vec3::splat(self.offset.abs())),
         }

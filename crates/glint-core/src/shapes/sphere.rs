@@ -109,6 +109,8 @@ impl Sphere {
             geometric_normal: normal,
             shading_normal: normal,
             uv: Vec2::new(phi / (2.0 * PI), 1.0 - theta / PI),
+            // p = c + r (sin θ cos φ, cos θ, sin θ sin φ) and u = φ / 2π.
+            dpdu: 2.0 * PI * self.radius * Vec3::new(-normal.z, 0.0, normal.x),
             error,
         }
     }

@@ -247,11 +247,25 @@ pub(crate) fn triangle_surface(
         }
         None => geometric_normal,
     };
-    let uv = match uvs {
-        Some([ta, tb, tc]) => w * ta + hit.u * tb + hit.v * tc,
-        None => Vec2::new(hit.u, hit.v),
+    let (uv, dpdu) = match uvs {
+        Some(t) => (w * t[0] + hit.u * t[1] + hit.v * t[2], triangle_dpdu([a, b, c], t)),
+        // The barycentrics of b and c: p = a + u (b − a) + v (c − a).
+        None => (Vec2::new(hit.u, hit.v), b - a),
     };
-    SurfaceGeometry { point, geometric_normal, shading_normal, uv, error }
+    SurfaceGeometry { point, geometric_normal, shading_normal, uv, dpdu, error }
+}
+
+/// ∂p/∂u of the plane through the corners that carries their uvs: the solution of
+/// Δp = ∂p/∂u Δu + ∂p/∂v Δv for two edges; zero if the uvs are degenerate.
+pub(crate) fn triangle_dpdu([a, b, c]: [Vec3; 3], [ta, tb, tc]: [Vec2; 3]) -> Vec3 {
+    let (d02, d12) = (ta - tc, tb - tc);
+    let determinant = d02.x * d12.y - d02.y * d12.x;
+    let dpdu = (d12.y * (a - c) - d02.y * (b - c)) / determinant;
+    if determinant != 0.0 && dpdu.is_finite() {
+        dpdu
+    } else {
+        Vec3::ZERO
+    }
 }
 
 /// The point with barycentric weights (1 − b1 − b2, b1, b2) of the corners, and the bound on

@@ -24,6 +24,9 @@ pub struct TextureQuery {
     pub uv: Vec2,
     /// The hit point in object space (world space for shapes without a transform).
     pub point: Vec3,
+    /// The surface's ∂p/∂u in world space (zero if unknown): the tangent anisotropic
+    /// materials align with.
+    pub dpdu: Vec3,
 }
 
 #[derive(Clone, Debug, PartialEq)]
