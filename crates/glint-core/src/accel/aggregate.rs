@@ -40,6 +40,18 @@ impl Object {
         }
     }
 
+    /// ∂p/∂u in world space at a point of primitive `prim` (`Shape::dpdu`).
+    pub(crate) fn dpdu(&self, prim: u32, surface: &SurfaceGeometry) -> Vec3 {
+        match &self.transform {
+            None => self.shape.dpdu(prim, surface.point, surface.geometric_normal),
+            Some(t) => {
+                let local_normal = glam::Mat3::from_mat4(t.to_world).transpose() * surface.geometric_normal;
+                let local_point = t.to_object.transform_point3(surface.point);
+                t.vector(self.shape.dpdu(prim, local_point, local_normal))
+            }
+        }
+    }
+
     pub(crate) fn surface(&self, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry {
         match &self.transform {
             None => self.shape.surface(prim, ray, hit),
@@ -55,7 +67,6 @@ impl Object {
                     geometric_normal: t.normal(local.geometric_normal),
                     shading_normal: t.normal(local.shading_normal),
                     uv: local.uv,
-                    dpdu: t.vector(local.dpdu),
                     error,
                 }
             }
@@ -239,6 +250,11 @@ impl Geometry {
     /// Bounds of every bounded primitive (planes are not included).
     pub fn bounds(&self) -> Aabb {
         self.bounds
+    }
+
+    /// ∂p/∂u in world space at `surface` on primitive `prim` of object `object`.
+    pub fn dpdu(&self, object: u32, prim: u32, surface: &SurfaceGeometry) -> Vec3 {
+        self.objects[object as usize].dpdu(prim, surface)
     }
 
     /// The surface of primitive `prim` of object `object` for a hit found on `ray`.
@@ -560,9 +576,10 @@ mod tests {
                     object.surface(0, &ray, &hit)
                 };
                 let s = surface(Vec3::new(0.1, 0.05, 0.0));
-                assert!(s.dpdu.length() > 0.0, "{name}");
-                let h = 1e-3 / s.dpdu.length();
-                let stepped = surface(s.point + h * s.dpdu);
+                let dpdu = object.dpdu(0, &s);
+                assert!(dpdu.length() > 0.0, "{name}");
+                let h = 1e-3 / dpdu.length();
+                let stepped = surface(s.point + h * dpdu);
                 let du = stepped.uv - s.uv;
                 let placed = if transform.is_some() { "placed" } else { "as is" };
                 assert!(

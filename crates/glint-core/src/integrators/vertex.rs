@@ -8,6 +8,7 @@ use glam::Vec3;
 use crate::geometry::Ray;
 use crate::materials::{Bsdf, Material};
 use crate::scene::{Scene, SurfaceHit};
+use crate::textures::TextureQuery;
 use crate::Rgb;
 
 /// The surface a ray met, seen from where the ray came.
@@ -17,6 +18,8 @@ pub(super) struct Vertex<'s> {
     /// for particles.
     pub wo: Vec3,
     pub material: &'s Material,
+    /// The surface's ∂p/∂u where the material is anisotropic (zero elsewhere: no one asks).
+    dpdu: Vec3,
 }
 
 impl<'s> Vertex<'s> {
@@ -29,7 +32,12 @@ impl<'s> Vertex<'s> {
     pub fn at(scene: &'s Scene, ray: &Ray, hit: SurfaceHit) -> Self {
         let wo = -ray.direction.normalize();
         let material = &scene.materials()[hit.material as usize];
-        Self { hit, wo, material }
+        let dpdu = if material.is_anisotropic() {
+            scene.geometry.dpdu(hit.object, hit.prim, &hit.geometry)
+        } else {
+            Vec3::ZERO
+        };
+        Self { hit, wo, material, dpdu }
     }
 
     /// The radiance the surface emits toward `wo`.
@@ -40,7 +48,8 @@ impl<'s> Vertex<'s> {
     /// The material's BSDF at the hit (textures evaluated, the shading frame set).
     pub fn bsdf(&self) -> Bsdf<'s> {
         let geometry = &self.hit.geometry;
-        self.material.bsdf(&self.hit.texture_query(), self.wo, geometry.shading_normal, geometry.geometric_normal)
+        let query = TextureQuery { dpdu: self.dpdu, ..self.hit.texture_query() };
+        self.material.bsdf(&query, self.wo, geometry.shading_normal, geometry.geometric_normal)
     }
 }
 
@@ -59,4 +68,46 @@ pub(super) fn trace_seeing_light<'s>(
     };
     *radiance += throughput * vertex.emitted();
     Some(vertex)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec2;
+
+    use super::*;
+    use crate::accel::Object;
+    use crate::camera::Camera;
+    use crate::lights::Environment;
+    use crate::materials::{Conductor, RoughConductor};
+    use crate::shapes::{IntersectMethods, Shape, Triangle};
+    use crate::textures::Texture;
+
+    /// A vertex on an anisotropic material hands the BSDF the surface's ∂p/∂u (here a triangle
+    /// whose u runs along −y in a transform that turns it), one on an isotropic material none.
+    #[test]
+    fn an_anisotropic_vertex_gets_the_surface_tangent() {
+        let mut triangle =
+            Triangle::new(Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+        // u grows from the top corner down: ∂p/∂u = (0, −2, 0) before the turn.
+        triangle.uvs = Some([Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0), Vec2::new(0.0, 0.5)]);
+        let turn = crate::geometry::Transform::from_matrix(glam::Mat4::from_rotation_z(0.5));
+        let metal = |alpha_v: f32| {
+            let conductor = Conductor { eta: Rgb::ZERO, k: Rgb::ONE, specular: Texture::Constant(Rgb::ONE) };
+            Material::RoughConductor(RoughConductor { conductor, alpha_u: 0.05, alpha_v })
+        };
+        for (alpha_v, expected) in [(0.5, turn.unwrap().vector(Vec3::new(0.0, -2.0, 0.0))), (0.05, Vec3::ZERO)] {
+            let object = Object { name: "t".into(), shape: Shape::Triangle(triangle), transform: turn, material: 0 };
+            let camera = Camera::new(Vec3::new(0.0, 0.0, -3.0), Vec3::ZERO, Vec3::Y, 45.0, 8, 8).unwrap();
+            let scene = Scene::new(
+                camera,
+                vec![object],
+                vec![("metal".into(), metal(alpha_v))],
+                Vec::new(),
+                Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None },
+                IntersectMethods::default(),
+            );
+            let vertex = Vertex::trace(&scene, &Ray::new(Vec3::new(0.1, 0.0, -3.0), Vec3::Z)).expect("a hit");
+            assert!((vertex.dpdu - expected).length() < 1e-5, "α_v {alpha_v}: {} vs {expected}", vertex.dpdu);
+        }
+    }
 }

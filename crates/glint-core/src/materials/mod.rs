@@ -169,6 +169,21 @@ impl Material {
         }
     }
 
+    /// Some lobe has different widths along and across the tangent, which then follows the
+    /// surface's ∂p/∂u (`TextureQuery::dpdu`; only these materials make a hit find it).
+    pub fn is_anisotropic(&self) -> bool {
+        match self {
+            Material::RoughConductor(m) => m.alpha_u != m.alpha_v,
+            Material::RoughDielectric(m) => m.alpha_u != m.alpha_v,
+            Material::Principled(m) => m.anisotropic != Texture::Constant(Rgb::ZERO),
+            Material::Blend(b) => b.first.is_anisotropic() || b.second.is_anisotropic(),
+            Material::Mask(m) => m.material.is_anisotropic(),
+            Material::TwoSided(t) => t.front.is_anisotropic() || t.back.is_anisotropic(),
+            Material::Emitter(e) => e.surface.is_anisotropic(),
+            _ => false,
+        }
+    }
+
     /// The number of leaves the material's BSDF flattens into, at most (the scene builder
     /// refuses more than `MAX_LEAVES`).
     pub fn leaf_count(&self) -> usize {

@@ -157,6 +157,15 @@ impl AaBox {
     /// face in turn, as a corner reflector does). With the point on an edge, a ray leaving
     /// through the adjacent face met it at t = 0, which no ray contains: rays escaped closed
     /// mirror boxes at their edges.
+    /// ∂p/∂u on the face of outward normal `normal`: u runs along the next axis over its size.
+    pub fn dpdu(&self, normal: Vec3) -> Vec3 {
+        let axis = normal.abs().max_position();
+        let a = (axis + 1) % 3;
+        let mut d = Vec3::ZERO;
+        d[a] = (self.max - self.min)[a];
+        d
+    }
+
     pub fn surface(&self, point: Vec3) -> SurfaceGeometry {
         self.surface_within(point, Vec3::ZERO)
     }
@@ -194,11 +203,6 @@ impl AaBox {
             geometric_normal: normal,
             shading_normal: normal,
             uv: Vec2::new(local[a], local[b]),
-            dpdu: {
-                let mut d = Vec3::ZERO;
-                d[a] = size[a];
-                d
-            },
             error,
         }
     }

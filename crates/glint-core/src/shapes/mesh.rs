@@ -12,7 +12,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::triangle::{intersect_cramer, intersect_moller_trumbore, triangle_surface, WatertightRay};
+use super::triangle::{intersect_cramer, intersect_moller_trumbore, triangle_dpdu, triangle_surface, WatertightRay};
 use super::{PrimHit, SurfaceGeometry, TriangleMethod};
 use crate::geometry::{Aabb, Ray, Transform};
 
@@ -65,8 +65,16 @@ impl Mesh {
 
     #[inline]
     pub fn surface(&self, i: usize, hit: &PrimHit) -> SurfaceGeometry {
-        let uvs = self.uvs.as_ref().map(|t| self.indices[i].map(|k| t[k as usize]));
-        triangle_surface(self.triangle_vertices(i), self.triangle_normals(i), uvs, hit)
+        triangle_surface(self.triangle_vertices(i), self.triangle_normals(i), self.triangle_uvs(i), hit)
+    }
+
+    /// ∂p/∂u of triangle `i`.
+    pub fn dpdu(&self, i: usize) -> Vec3 {
+        triangle_dpdu(self.triangle_vertices(i), self.triangle_uvs(i))
+    }
+
+    fn triangle_uvs(&self, i: usize) -> Option<[Vec2; 3]> {
+        self.uvs.as_ref().map(|t| self.indices[i].map(|k| t[k as usize]))
     }
 
     /// The vertex normals of triangle `i`, if the mesh has them.

@@ -72,9 +72,6 @@ pub struct SurfaceGeometry {
     /// `geometric_normal`.
     pub shading_normal: Vec3,
     pub uv: Vec2,
-    /// ∂p/∂u: how the point moves as u grows (not unit length; zero where the uv do not vary
-    /// across the surface). Anisotropic lobes align their tangent with it, as Mitsuba's do.
-    pub dpdu: Vec3,
     /// Bound on the absolute floating-point error of `point`, per axis (see
     /// `geometry::offset_ray_origin`).
     pub error: Vec3,
@@ -126,6 +123,22 @@ impl Shape {
             Shape::AaBox(b) => b.intersect(ray, methods.aabox).map(PrimHit::at),
             Shape::Mesh(m) => m.intersect(prim as usize, ray, methods.triangle),
             Shape::Instance(i) => i.intersect(ray),
+        }
+    }
+
+    /// ∂p/∂u at `point` (normal `normal`) on primitive `prim`, in the shape's space: how the
+    /// point moves as u grows (not unit length; zero where unknown: instances, degenerate uvs).
+    /// Asked only by anisotropic materials, which align their tangent with it as Mitsuba's do,
+    /// so a hit does not pay for it.
+    pub fn dpdu(&self, prim: u32, point: Vec3, normal: Vec3) -> Vec3 {
+        match self {
+            Shape::Plane(p) => p.dpdu(),
+            Shape::Sphere(s) => s.dpdu(point),
+            Shape::Triangle(t) => t.dpdu(),
+            Shape::Polygon(p) => p.dpdu(),
+            Shape::AaBox(b) => b.dpdu(normal),
+            Shape::Mesh(m) => m.dpdu(prim as usize),
+            Shape::Instance(_) => Vec3::ZERO,
         }
     }
 

@@ -44,6 +44,11 @@ impl Plane {
         ray.contains(t).then_some(t)
     }
 
+    /// ∂p/∂u: u is the coordinate along the first tangent.
+    pub fn dpdu(&self) -> Vec3 {
+        orthonormal_basis(self.normal).0
+    }
+
     pub fn surface(&self, point: Vec3) -> SurfaceGeometry {
         // Project back onto the plane to drop the error of O + tD along the normal.
         let point = point - (self.normal.dot(point) + self.offset) * self.normal;
@@ -53,7 +58,6 @@ impl Plane {
             geometric_normal: self.normal,
             shading_normal: self.normal,
             uv: Vec2::new(point.dot(s), point.dot(t)),
-            dpdu: s,
             // The projection onto the plane: a dot product and a multiply-add per axis.
             error: gamma(7) * (point.abs() + Vec3::splat(self.offset.abs())),
         }

@@ -202,6 +202,18 @@ impl Polygon {
         inside.then_some(t)
     }
 
+    /// ∂p/∂u: from the first three corners' uvs (exact for a triangle and a parallelogram; a
+    /// quad's at its first corner otherwise), or along the first tangent without uvs.
+    pub fn dpdu(&self) -> Vec3 {
+        match self.uvs.as_deref() {
+            Some([ua, ub, uc, ..]) => super::triangle::triangle_dpdu(
+                [self.vertices[0], self.vertices[1], self.vertices[2]],
+                Some([*ua, *ub, *uc]),
+            ),
+            _ => orthonormal_basis(self.normal).0,
+        }
+    }
+
     pub fn surface(&self, point: Vec3) -> SurfaceGeometry {
         let point = point - (self.normal.dot(point) + self.offset) * self.normal;
         let (s, t) = orthonormal_basis(self.normal);
@@ -224,20 +236,12 @@ impl Polygon {
             }
             _ => Vec2::new(point.dot(s), point.dot(t)),
         };
-        // From the first three corners' uvs (exact for a triangle and a parallelogram; the
-        // direction at the first corner for another quad).
-        let dpdu = match self.uvs.as_deref() {
-            Some([ua, ub, uc, ..]) => {
-                super::triangle::triangle_dpdu([self.vertices[0], self.vertices[1], self.vertices[2]], [*ua, *ub, *uc])
-            }
-            _ => s,
-        };
+
         SurfaceGeometry {
             point,
             geometric_normal: self.normal,
             shading_normal: self.normal,
             uv,
-            dpdu,
             // The projection onto the plane: a dot product and a multiply-add per axis.
             error: gamma(7) * (point.abs() + Vec3::splat(self.offset.abs())),
         }

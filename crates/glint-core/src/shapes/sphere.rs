@@ -98,6 +98,12 @@ impl Sphere {
 
     /// The point is projected back onto the sphere, which removes most of the error of
     /// `O + tD` (pbrt-v4 §6.8.5). uv: u = φ/2π around +y from +x, v = 1 at the north pole (+y).
+    /// ∂p/∂u at `point`: p = c + r (sin θ cos φ, cos θ, sin θ sin φ) and u = φ / 2π.
+    pub fn dpdu(&self, point: Vec3) -> Vec3 {
+        let d = point - self.center;
+        2.0 * PI * Vec3::new(-d.z, 0.0, d.x)
+    }
+
     pub fn surface(&self, point: Vec3) -> SurfaceGeometry {
         let mut normal = (point - self.center) / self.radius;
         normal = normal.normalize_or(Vec3::Y);
@@ -109,8 +115,6 @@ impl Sphere {
             geometric_normal: normal,
             shading_normal: normal,
             uv: Vec2::new(phi / (2.0 * PI), 1.0 - theta / PI),
-            // p = c + r (sin θ cos φ, cos θ, sin θ sin φ) and u = φ / 2π.
-            dpdu: 2.0 * PI * self.radius * Vec3::new(-normal.z, 0.0, normal.x),
             error,
         }
     }

@@ -74,6 +74,10 @@ impl Triangle {
     pub fn surface(&self, hit: &PrimHit) -> SurfaceGeometry {
         triangle_surface(self.vertices, self.normals, self.uvs, hit)
     }
+
+    pub fn dpdu(&self) -> Vec3 {
+        triangle_dpdu(self.vertices, self.uvs)
+    }
 }
 
 /// The 3×3 system [A−B | A−C | D]·(β, γ, t) = A − O solved by Cramer's rule, with the
@@ -247,17 +251,18 @@ pub(crate) fn triangle_surface(
         }
         None => geometric_normal,
     };
-    let (uv, dpdu) = match uvs {
-        Some(t) => (w * t[0] + hit.u * t[1] + hit.v * t[2], triangle_dpdu([a, b, c], t)),
-        // The barycentrics of b and c: p = a + u (b − a) + v (c − a).
-        None => (Vec2::new(hit.u, hit.v), b - a),
+    let uv = match uvs {
+        Some([ta, tb, tc]) => w * ta + hit.u * tb + hit.v * tc,
+        None => Vec2::new(hit.u, hit.v),
     };
-    SurfaceGeometry { point, geometric_normal, shading_normal, uv, dpdu, error }
+    SurfaceGeometry { point, geometric_normal, shading_normal, uv, error }
 }
 
-/// ∂p/∂u of the plane through the corners that carries their uvs: the solution of
-/// Δp = ∂p/∂u Δu + ∂p/∂v Δv for two edges; zero if the uvs are degenerate.
-pub(crate) fn triangle_dpdu([a, b, c]: [Vec3; 3], [ta, tb, tc]: [Vec2; 3]) -> Vec3 {
+/// ∂p/∂u of a triangle: with uvs, of the plane through the corners that carries them (the
+/// solution of Δp = ∂p/∂u Δu + ∂p/∂v Δv for two edges; zero if the uvs are degenerate);
+/// without, of its barycentrics of b and c (p = a + u (b − a) + v (c − a)).
+pub(crate) fn triangle_dpdu([a, b, c]: [Vec3; 3], uvs: Option<[Vec2; 3]>) -> Vec3 {
+    let Some([ta, tb, tc]) = uvs else { return b - a };
     let (d02, d12) = (ta - tc, tb - tc);
     let determinant = d02.x * d12.y - d02.y * d12.x;
     let dpdu = (d12.y * (a - c) - d02.y * (b - c)) / determinant;
