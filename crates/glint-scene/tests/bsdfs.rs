@@ -56,6 +56,7 @@ int_ior = 1.5
 
 [materials.frost]
 type = "rough-dielectric"
+distribution = "beckmann"
 
 [materials.pane]
 type = "thin-dielectric"
@@ -104,7 +105,8 @@ material = "shiny"
         other => panic!("{other:?}"),
     }
     assert!(matches!(material(&loaded, "glass"), Material::Dielectric(g) if g.eta == 1.5 / 1.000277));
-    assert!(matches!(material(&loaded, "frost"), Material::RoughDielectric(f) if f.alpha_u == 0.1));
+    assert!(matches!(material(&loaded, "frost"), Material::RoughDielectric(f)
+        if f.alpha_u == 0.1 && f.distribution == glint_core::materials::Distribution::Beckmann));
     assert!(matches!(material(&loaded, "pane"), Material::ThinDielectric(_)));
     assert!(matches!(material(&loaded, "leaf"), Material::Mask(m) if matches!(m.material, Material::Emitter(_))));
     assert!(matches!(material(&loaded, "paper"), Material::Emitter(e) if e.radiance == Rgb::ONE));
@@ -139,6 +141,8 @@ fn references_cycles_and_depth_are_errors_at_their_line() {
     assert!(e.contains("at most 4"), "{e}");
     let e = parse("[materials.a]\ntype = \"rough-conductor\"\nalpha_u = 0.1\n").err().unwrap().to_string();
     assert!(e.contains("`alpha_u` and `alpha_v`"), "{e}");
+    let e = parse("[materials.a]\ntype = \"rough-conductor\"\ndistribution = \"phong\"\n").err().unwrap().to_string();
+    assert!(e.contains("unknown microfacet distribution `phong`") && e.contains("`beckmann`"), "{e}");
     let e = parse("[materials.a]\ntype = \"blend\"\nweight = 2\nfirst = \"a\"\nsecond = \"a\"\n")
         .err()
         .unwrap()

@@ -93,7 +93,12 @@ mod tests {
         let turn = crate::geometry::Transform::from_matrix(glam::Mat4::from_rotation_z(0.5));
         let metal = |alpha_v: f32| {
             let conductor = Conductor { eta: Rgb::ZERO, k: Rgb::ONE, specular: Texture::Constant(Rgb::ONE) };
-            Material::RoughConductor(RoughConductor { conductor, alpha_u: 0.05, alpha_v })
+            Material::RoughConductor(RoughConductor {
+                conductor,
+                alpha_u: 0.05,
+                alpha_v,
+                distribution: Default::default(),
+            })
         };
         for (alpha_v, expected) in [(0.5, turn.unwrap().vector(Vec3::new(0.0, -2.0, 0.0))), (0.05, Vec3::ZERO)] {
             let object = Object { name: "t".into(), shape: Shape::Triangle(triangle), transform: turn, material: 0 };

@@ -2,7 +2,7 @@
 //! `Phong` (`PhongPoint`) chosen by roulette. The same evaluated material Whitted uses.
 //!
 //! Lobes: Lambert diffuse k_d, reflection k_r (a perfect mirror, or GGX microfacets when the
-//! material has a roughness, see `ggx.rs`) and refraction k_t (smooth, or GGX microfacet
+//! material has a roughness, see `microfacet.rs`) and refraction k_t (smooth, or GGX microfacet
 //! refraction (Walter et al. 2007) when the material has a roughness: rough glass), with
 //! Fresnel splitting k_t as for Whitted; the Fresnel factor is taken at the macro-surface
 //! angle. At each hit one lobe is chosen by roulette with probability
@@ -14,7 +14,7 @@
 use glam::{Vec2, Vec3};
 
 use super::bsdf::{luminance, BsdfSample, Frame, Lobes};
-use super::{Ggx, PhongPoint};
+use super::{Microfacet, PhongPoint};
 use crate::geometry::{reflect, refract};
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::Rgb;
@@ -28,7 +28,7 @@ pub struct MixedBsdf {
     /// n_incident / n_transmitted for this side.
     eta: f32,
     /// GGX for a rough reflection lobe; `None`: a perfect mirror.
-    glossy: Option<Ggx>,
+    glossy: Option<Microfacet>,
     /// Refraction through GGX microfacets (rough glass) rather than a perfect refraction.
     rough_transmission: bool,
     /// Lobe selection probabilities: diffuse, reflection, transmission (sum 1, or all 0).
@@ -61,8 +61,8 @@ impl MixedBsdf {
                 let (p_diffuse, p_reflection) = if total > 0.0 { (ld / total, lr / total) } else { (0.0, 0.0) };
                 (reflection, transmission, refracted, p_diffuse, p_reflection)
             };
-        let glossy =
-            (material.roughness > 0.0).then(|| Ggx::isotropic((material.roughness * material.roughness).max(1e-4)));
+        let glossy = (material.roughness > 0.0)
+            .then(|| Microfacet::isotropic((material.roughness * material.roughness).max(1e-4)));
         let rough_transmission = glossy.is_some() && transmission != Rgb::ZERO;
         Self {
             rough_transmission,
@@ -109,17 +109,17 @@ impl Lobes for MixedBsdf {
     fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         let cos = wi.dot(self.frame.normal);
         if cos < 0.0 && wi.dot(self.frame.geometric) < 0.0 && self.rough_transmission {
-            if let Some(ggx) = &self.glossy {
+            if let Some(microfacet) = &self.glossy {
                 let local = (self.local_coordinates(wo), self.local_coordinates(wi));
-                return self.transmission * ggx.transmission_eval(local.0, local.1, self.eta);
+                return self.transmission * microfacet.transmission_eval(local.0, local.1, self.eta);
             }
         }
         if cos <= 0.0 || wi.dot(self.frame.geometric) <= 0.0 {
             return Rgb::ZERO;
         }
         let mut f = self.diffuse * (cos * std::f32::consts::FRAC_1_PI);
-        if let Some(ggx) = &self.glossy {
-            f += self.reflection * ggx.reflection_eval(self.local_coordinates(wo), self.local_coordinates(wi));
+        if let Some(microfacet) = &self.glossy {
+            f += self.reflection * microfacet.reflection_eval(self.local_coordinates(wo), self.local_coordinates(wi));
         }
         f
     }
@@ -127,17 +127,17 @@ impl Lobes for MixedBsdf {
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wi.dot(self.frame.geometric) <= 0.0 {
             return match (&self.glossy, self.rough_transmission) {
-                (Some(ggx), true) if wi.dot(self.frame.normal) < 0.0 => {
+                (Some(microfacet), true) if wi.dot(self.frame.normal) < 0.0 => {
                     let local = (self.local_coordinates(wo), self.local_coordinates(wi));
-                    self.p_transmission() * ggx.transmission_pdf(local.0, local.1, self.eta)
+                    self.p_transmission() * microfacet.transmission_pdf(local.0, local.1, self.eta)
                 }
                 _ => 0.0,
             };
         }
         let local = self.local_coordinates(wi);
         let mut pdf = self.p_diffuse * cosine_hemisphere_pdf(local);
-        if let Some(ggx) = &self.glossy {
-            pdf += self.p_reflection * ggx.reflection_pdf(self.local_coordinates(wo), local);
+        if let Some(microfacet) = &self.glossy {
+            pdf += self.p_reflection * microfacet.reflection_pdf(self.local_coordinates(wo), local);
         }
         pdf
     }
@@ -167,8 +167,8 @@ impl Lobes for MixedBsdf {
             return Some(BsdfSample { wi, weight: self.diffuse / self.p_diffuse, pdf, delta: false, eta_squared: 1.0 });
         }
         if u_lobe < self.p_diffuse + self.p_reflection {
-            if let Some(ggx) = &self.glossy {
-                let h = ggx.sample_visible_normal(self.local_coordinates(wo), u);
+            if let Some(microfacet) = &self.glossy {
+                let h = microfacet.sample_normal(self.local_coordinates(wo), u);
                 let h = h.x * self.frame.tangent + h.y * self.frame.bitangent + h.z * self.frame.normal;
                 return self.non_delta_sample(wo, reflect(-wo, h));
             }
@@ -185,8 +185,8 @@ impl Lobes for MixedBsdf {
         if p_transmission <= 0.0 {
             return None;
         }
-        if let (Some(ggx), true) = (&self.glossy, self.rough_transmission) {
-            let h = ggx.sample_visible_normal(self.local_coordinates(wo), u);
+        if let (Some(microfacet), true) = (&self.glossy, self.rough_transmission) {
+            let h = microfacet.sample_normal(self.local_coordinates(wo), u);
             let h = h.x * self.frame.tangent + h.y * self.frame.bitangent + h.z * self.frame.normal;
             return self.non_delta_sample(wo, refract(-wo, h, self.eta)?);
         }

@@ -13,8 +13,8 @@ mod bsdf;
 mod conductor;
 mod dielectric;
 mod diffuse;
-mod ggx;
 mod mask;
+mod microfacet;
 mod mixed;
 mod phong;
 mod plastic;
@@ -33,8 +33,8 @@ pub use bsdf::{Bsdf, BsdfSample, Frame, MAX_LEAVES};
 pub use conductor::{fresnel_conductor, named_metal, Conductor, METAL_NAMES};
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
-pub use ggx::Ggx;
 pub use mask::Mask;
+pub use microfacet::{Distribution, Microfacet};
 pub use phong::{fresnel_dielectric, fresnel_schlick, Fresnel, Phong, PhongPoint};
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
 pub use principled::Principled;
@@ -346,7 +346,12 @@ mod tests {
 
     fn rough_metal() -> Material {
         let conductor = Conductor { eta: Rgb::ZERO, k: Rgb::ONE, specular: Texture::Constant(Rgb::ONE) };
-        Material::RoughConductor(RoughConductor { conductor, alpha_u: 0.3, alpha_v: 0.3 })
+        Material::RoughConductor(RoughConductor {
+            conductor,
+            alpha_u: 0.3,
+            alpha_v: 0.3,
+            distribution: Default::default(),
+        })
     }
 
     const N: Vec3 = Vec3::Z;

@@ -38,7 +38,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
-use super::{fresnel_dielectric, Fresnel, Ggx, PhongPoint};
+use super::{fresnel_dielectric, Distribution, Fresnel, Microfacet, PhongPoint};
 use crate::geometry::{reflect, refract};
 use crate::sampling::warp::square_to_cosine_hemisphere;
 use crate::textures::{Texture, TextureQuery};
@@ -93,11 +93,16 @@ impl Principled {
         let (roughness, anisotropic) = (scalar(&self.roughness), scalar(&self.anisotropic));
         let aspect = (1.0 - 0.9 * anisotropic).max(0.0).sqrt();
         let r2 = roughness * roughness;
-        let ggx = Ggx { alpha_x: (r2 / aspect).max(1e-3), alpha_y: (r2 * aspect).max(1e-3), separable: true };
+        let microfacet = Microfacet {
+            alpha_x: (r2 / aspect).max(1e-3),
+            alpha_y: (r2 * aspect).max(1e-3),
+            separable: true,
+            distribution: Distribution::Ggx,
+        };
         let gloss = scalar(&self.clearcoat_gloss);
         Leaf::Principled(PrincipledBsdf {
             // Anisotropic widths lie along the surface's ∂p/∂u.
-            frame: if ggx.alpha_x != ggx.alpha_y { frame.along(query.dpdu) } else { frame },
+            frame: if microfacet.alpha_x != microfacet.alpha_y { frame.along(query.dpdu) } else { frame },
             base: self.base_color.evaluate(query),
             roughness,
             metallic: scalar(&self.metallic),
@@ -107,7 +112,7 @@ impl Principled {
             sheen_tint: scalar(&self.sheen_tint),
             flatness: scalar(&self.flatness),
             clearcoat: scalar(&self.clearcoat),
-            ggx,
+            microfacet,
             clearcoat_alpha: 0.1 + gloss * (0.001 - 0.1),
             eta: self.eta,
         })
@@ -147,7 +152,7 @@ pub(super) struct PrincipledBsdf {
     sheen_tint: f32,
     flatness: f32,
     clearcoat: f32,
-    ggx: Ggx,
+    microfacet: Microfacet,
     clearcoat_alpha: f32,
     /// n_interior / n_exterior.
     eta: f32,
@@ -342,7 +347,7 @@ impl Lobes for PrincipledBsdf {
         if self.frame.reflects(wi) {
             let h = (o + i).normalize();
             let f = self.fresnel(o.dot(h));
-            let mut value = self.principled_fresnel(f, o.dot(h)) * self.ggx.reflection_eval(o, i);
+            let mut value = self.principled_fresnel(f, o.dot(h)) * self.microfacet.reflection_eval(o, i);
             if self.frame.outside {
                 value += self.diffuse_and_sheen(o, i, h) + Rgb::splat(self.clearcoat_value(o, i, h));
             }
@@ -353,9 +358,9 @@ impl Lobes for PrincipledBsdf {
             return Rgb::ZERO;
         }
         let eta = 1.0 / self.eta_path();
-        let Some(h) = Ggx::refraction_half_vector(o, i, eta) else { return Rgb::ZERO };
+        let Some(h) = Microfacet::refraction_half_vector(o, i, eta) else { return Rgb::ZERO };
         let f = self.fresnel(o.dot(h));
-        self.base.max(Rgb::ZERO).powf(0.5) * (bsdf * (1.0 - f) * self.ggx.transmission_eval(o, i, eta))
+        self.base.max(Rgb::ZERO).powf(0.5) * (bsdf * (1.0 - f) * self.microfacet.transmission_eval(o, i, eta))
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
@@ -366,7 +371,7 @@ impl Lobes for PrincipledBsdf {
         if self.frame.reflects(wi) {
             let h = (o + i).normalize();
             let p = self.choice(self.fresnel(o.dot(h)));
-            let mut pdf = p.reflection * self.ggx.reflection_pdf(o, i);
+            let mut pdf = p.reflection * self.microfacet.reflection_pdf(o, i);
             if self.frame.outside {
                 pdf += p.diffuse * i.z / PI;
                 pdf += p.clearcoat * Gtr1 { alpha: self.clearcoat_alpha }.pdf(h) / (4.0 * i.dot(h));
@@ -377,8 +382,8 @@ impl Lobes for PrincipledBsdf {
             return 0.0;
         }
         let eta = 1.0 / self.eta_path();
-        let Some(h) = Ggx::refraction_half_vector(o, i, eta) else { return 0.0 };
-        self.choice(self.fresnel(o.dot(h))).transmission * self.ggx.transmission_pdf(o, i, eta)
+        let Some(h) = Microfacet::refraction_half_vector(o, i, eta) else { return 0.0 };
+        self.choice(self.fresnel(o.dot(h))).transmission * self.microfacet.transmission_pdf(o, i, eta)
     }
 
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
@@ -393,7 +398,7 @@ impl Lobes for PrincipledBsdf {
         } else if u_lobe < p.diffuse + p.clearcoat {
             (reflect(-o, Gtr1 { alpha: self.clearcoat_alpha }.sample(u)), true)
         } else {
-            let h = self.ggx.sample_visible_normal(o, u);
+            let h = self.microfacet.sample_normal(o, u);
             let specular = 1.0 - p.diffuse - p.clearcoat;
             let at = self.choice(self.fresnel(o.dot(h)));
             // The rest of `u_lobe` splits the specular share by this micro-normal's Fresnel.
@@ -531,6 +536,7 @@ mod tests {
             dielectric: Dielectric { eta: m.eta, specular_reflectance: grey(1.0), specular_transmittance: grey(1.0) },
             alpha_u: 0.36,
             alpha_v: 0.36,
+            distribution: Distribution::Ggx,
         };
         let mut rng = crate::sampling::Rng::new(3, 3);
         let mut sphere = || {

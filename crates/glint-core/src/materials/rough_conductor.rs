@@ -19,7 +19,7 @@ use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
 use super::conductor::fresnel_conductor;
-use super::{Conductor, Ggx, PhongPoint};
+use super::{Conductor, Distribution, Microfacet, PhongPoint};
 use crate::geometry::reflect;
 use crate::textures::TextureQuery;
 use crate::Rgb;
@@ -29,6 +29,8 @@ pub struct RoughConductor {
     pub conductor: Conductor,
     pub alpha_u: f32,
     pub alpha_v: f32,
+    /// GGX (glint's default) or Beckmann (Mitsuba's).
+    pub distribution: Distribution,
 }
 
 impl RoughConductor {
@@ -40,7 +42,7 @@ impl RoughConductor {
             eta: c.eta,
             k: c.k,
             specular: c.specular.evaluate(query),
-            ggx: Ggx::separable(self.alpha_u, self.alpha_v),
+            microfacet: Microfacet::separable(self.alpha_u, self.alpha_v).with(self.distribution),
         })
     }
 
@@ -57,7 +59,7 @@ pub(super) struct RoughConductorBsdf {
     eta: Rgb,
     k: Rgb,
     specular: Rgb,
-    ggx: Ggx,
+    microfacet: Microfacet,
 }
 
 impl Lobes for RoughConductorBsdf {
@@ -67,14 +69,14 @@ impl Lobes for RoughConductorBsdf {
         }
         let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
         let h = (o + i).normalize();
-        self.specular * fresnel_conductor(o.dot(h), self.eta, self.k) * self.ggx.reflection_eval(o, i)
+        self.specular * fresnel_conductor(o.dot(h), self.eta, self.k) * self.microfacet.reflection_eval(o, i)
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if !self.frame.outside || !self.frame.reflects(wi) {
             return 0.0;
         }
-        self.ggx.reflection_pdf(self.frame.to_local(wo), self.frame.to_local(wi))
+        self.microfacet.reflection_pdf(self.frame.to_local(wo), self.frame.to_local(wi))
     }
 
     fn sample(&self, wo: Vec3, _u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
@@ -82,7 +84,10 @@ impl Lobes for RoughConductorBsdf {
             return None;
         }
         let o = self.frame.to_local(wo);
-        let h = self.ggx.sample_visible_normal(o, u);
+        let h = self.microfacet.sample_normal(o, u);
+        if o.dot(h) <= 0.0 {
+            return None; // a Beckmann normal facing away from the viewer
+        }
         let wi = self.frame.to_world(reflect(-o, h));
         if !self.frame.reflects(wi) {
             return None;
@@ -107,7 +112,29 @@ mod tests {
     use crate::textures::Texture;
 
     fn metal(alpha_u: f32, alpha_v: f32, eta: Rgb, k: Rgb) -> RoughConductor {
-        RoughConductor { conductor: Conductor { eta, k, specular: Texture::Constant(Rgb::ONE) }, alpha_u, alpha_v }
+        RoughConductor {
+            conductor: Conductor { eta, k, specular: Texture::Constant(Rgb::ONE) },
+            alpha_u,
+            alpha_v,
+            distribution: Distribution::Ggx,
+        }
+    }
+
+    /// Mitsuba's default distribution: Beckmann normals sampled by D cos θ_h match the pdf,
+    /// isotropic and anisotropic, and a white metal loses energy only to single scattering.
+    #[test]
+    fn beckmann_sampling_matches_pdf_and_conserves_energy() {
+        for (alpha_u, alpha_v) in [(0.3, 0.3), (0.1, 0.4)] {
+            let m =
+                RoughConductor { distribution: Distribution::Beckmann, ..metal(alpha_u, alpha_v, Rgb::ZERO, Rgb::ONE) };
+            for wo in [Vec3::new(0.3, -0.2, 0.9), Vec3::new(0.8, 0.1, 0.3)] {
+                let wo = wo.normalize();
+                let bsdf = at(&m.bsdf(&Default::default(), frame_toward(wo, Vec3::Z)));
+                check_sampling(&bsdf, wo, Vec3::Z, 81);
+                let a = furnace(&bsdf, wo, 82);
+                assert!(a.mean > 0.8, "{a:?}");
+            }
+        }
     }
 
     /// The narrow width α_u lies along the surface's ∂p/∂u, whichever way that points: seen

@@ -21,7 +21,7 @@ use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
 use super::plastic::Coat;
-use super::{fresnel_dielectric, Ggx, PhongPoint, Plastic};
+use super::{fresnel_dielectric, Microfacet, PhongPoint, Plastic};
 use crate::geometry::{reflect, refract};
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::textures::TextureQuery;
@@ -46,7 +46,7 @@ pub(super) struct CoatTables {
 
 impl RoughPlastic {
     pub fn new(plastic: Plastic, alpha: f32) -> Self {
-        let coat = Arc::new(CoatTables::new(Ggx::separable(alpha, alpha), plastic.eta));
+        let coat = Arc::new(CoatTables::new(Microfacet::separable(alpha, alpha), plastic.eta));
         Self { plastic, alpha, coat }
     }
 
@@ -64,7 +64,7 @@ impl RoughPlastic {
         Leaf::RoughPlastic(RoughPlasticBsdf {
             frame,
             coat,
-            ggx: Ggx::separable(self.alpha, self.alpha),
+            microfacet: Microfacet::separable(self.alpha, self.alpha),
             tables: &self.coat,
             t_o,
             p_specular,
@@ -80,7 +80,7 @@ impl RoughPlastic {
 impl CoatTables {
     /// Gauss–Legendre quadrature over the visible-normal samples of each direction, 32 × 32
     /// nodes (128 × 128 for η < 1, where total internal reflection makes the integrand sharp).
-    fn new(ggx: Ggx, eta: f32) -> Self {
+    fn new(microfacet: Microfacet, eta: f32) -> Self {
         let nodes = gauss_legendre(if eta > 1.0 { 32 } else { 128 });
         let cosine = |j: usize| (j as f32 / (TABLE_SIZE - 1) as f32).max(1e-6);
         let direction = |mu: f32| Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
@@ -90,14 +90,14 @@ impl CoatTables {
             for &(x, wx) in &nodes {
                 for &(y, wy) in &nodes {
                     let u = Vec2::new(0.5 * x as f32 + 0.5, 0.5 * y as f32 + 0.5);
-                    let h = ggx.sample_visible_normal(wo, u);
+                    let h = microfacet.sample_normal(wo, u);
                     sum += 0.25 * wx * wy * term(wo, h) as f64;
                 }
             }
             sum as f32
         };
         // G1 with Mitsuba's side test: zero where w and h are on different sides of the surface.
-        let g1 = |w: Vec3, h: Vec3| if w.dot(h) * w.z > 0.0 { ggx.g1(w) } else { 0.0 };
+        let g1 = |w: Vec3, h: Vec3| if w.dot(h) * w.z > 0.0 { microfacet.g1(w) } else { 0.0 };
         let transmittance = std::array::from_fn(|j| {
             integrate(direction(cosine(j)), &|wo, h| {
                 let Some(wt) = refract(-wo, h, 1.0 / eta) else { return 0.0 };
@@ -163,7 +163,7 @@ fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 pub(super) struct RoughPlasticBsdf<'a> {
     frame: Frame,
     coat: Coat,
-    ggx: Ggx,
+    microfacet: Microfacet,
     tables: &'a CoatTables,
     /// The coat's transmittance toward the viewer, t(cos θ_o).
     t_o: f32,
@@ -178,8 +178,8 @@ impl Lobes for RoughPlasticBsdf<'_> {
         }
         let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
         let h = (o + i).normalize();
-        let specular =
-            self.coat.specular * (fresnel_dielectric(o.dot(h), 1.0 / self.coat.eta) * self.ggx.reflection_eval(o, i));
+        let specular = self.coat.specular
+            * (fresnel_dielectric(o.dot(h), 1.0 / self.coat.eta) * self.microfacet.reflection_eval(o, i));
         let through = self.t_o * self.tables.lookup(i.z) / (self.coat.eta * self.coat.eta);
         specular + self.coat.diffuse * (i.z * std::f32::consts::FRAC_1_PI * through)
     }
@@ -189,7 +189,7 @@ impl Lobes for RoughPlasticBsdf<'_> {
             return 0.0;
         }
         let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        self.p_specular * self.ggx.reflection_pdf(o, i) + (1.0 - self.p_specular) * cosine_hemisphere_pdf(i)
+        self.p_specular * self.microfacet.reflection_pdf(o, i) + (1.0 - self.p_specular) * cosine_hemisphere_pdf(i)
     }
 
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
@@ -198,7 +198,7 @@ impl Lobes for RoughPlasticBsdf<'_> {
         }
         let wi = if u_lobe < self.p_specular {
             let o = self.frame.to_local(wo);
-            self.frame.to_world(reflect(-o, self.ggx.sample_visible_normal(o, u)))
+            self.frame.to_world(reflect(-o, self.microfacet.sample_normal(o, u)))
         } else {
             self.frame.to_world(square_to_cosine_hemisphere(u))
         };
@@ -244,7 +244,7 @@ mod tests {
     /// As the coat smooths, its tables tend to the smooth coat's: t = 1 − F and F_dr' = F_dr.
     #[test]
     fn tables_tend_to_the_smooth_coat() {
-        let tables = CoatTables::new(Ggx::separable(0.01, 0.01), 1.49);
+        let tables = CoatTables::new(Microfacet::separable(0.01, 0.01), 1.49);
         for cos in [0.3f32, 0.6, 0.95] {
             let smooth = 1.0 - fresnel_dielectric(cos, 1.0 / 1.49);
             assert!((tables.lookup(cos) - smooth).abs() < 0.01, "cos {cos}: {} vs {smooth}", tables.lookup(cos));

@@ -618,7 +618,7 @@ impl<'a> Translator<'a> {
                 if kind == "conductor" {
                     MaterialDesc::Conductor { metal, eta, k, specular_reflectance, two_sided: one_sided }
                 } else {
-                    let (alpha, alpha_u, alpha_v) = self.alphas(&p)?;
+                    let Roughness { alpha, alpha_u, alpha_v, distribution } = self.alphas(&p)?;
                     MaterialDesc::RoughConductor {
                         metal,
                         eta,
@@ -627,6 +627,7 @@ impl<'a> Translator<'a> {
                         alpha,
                         alpha_u,
                         alpha_v,
+                        distribution: Some(distribution),
                         two_sided: one_sided,
                     }
                 }
@@ -644,7 +645,7 @@ impl<'a> Translator<'a> {
                         MaterialDesc::ThinDielectric { int_ior, ext_ior, specular_reflectance, specular_transmittance }
                     }
                     _ => {
-                        let (alpha, alpha_u, alpha_v) = self.alphas(&p)?;
+                        let Roughness { alpha, alpha_u, alpha_v, distribution } = self.alphas(&p)?;
                         MaterialDesc::RoughDielectric {
                             int_ior,
                             ext_ior,
@@ -653,6 +654,7 @@ impl<'a> Translator<'a> {
                             alpha,
                             alpha_u,
                             alpha_v,
+                            distribution: Some(distribution),
                         }
                     }
                 }
@@ -691,7 +693,13 @@ impl<'a> Translator<'a> {
                         two_sided: one_sided,
                     }
                 } else {
-                    let (alpha, alpha_u, alpha_v) = self.alphas(&p)?;
+                    let Roughness { alpha, alpha_u, alpha_v, distribution } = self.alphas(&p)?;
+                    if distribution != "ggx" {
+                        self.warn(
+                            &p.element.position,
+                            format!("roughplastic with microfacet distribution `{distribution}` (Mitsuba's default): glint's rough plastic is GGX, used with the same alpha"),
+                        );
+                    }
                     if alpha_u.is_some() {
                         return Err(self.error(&bsdf.position, "roughplastic is isotropic: give `alpha`, not `alpha_u`/`alpha_v` (as Mitsuba requires)"));
                     }
@@ -746,15 +754,17 @@ impl<'a> Translator<'a> {
         })
     }
 
-    /// Mitsuba's roughness: `alpha`, or `alpha_u` and `alpha_v` (GGX in glint).
-    fn alphas(&mut self, p: &Properties) -> Result<(Option<f32>, Option<f32>, Option<f32>)> {
+    /// Mitsuba's roughness: `alpha`, or `alpha_u` and `alpha_v`, and the `distribution`
+    /// (`beckmann` unless given, as in Mitsuba), as the native description's strings.
+    fn alphas(&mut self, p: &Properties) -> Result<Roughness> {
         let distribution = p.string(self, "distribution")?.unwrap_or_else(|| "beckmann".into());
-        if distribution != "ggx" {
-            self.warn(
+        if distribution != "ggx" && distribution != "beckmann" {
+            return Err(self.error(
                 &p.element.position,
-                format!("microfacet distribution `{distribution}` (Mitsuba's default is Beckmann): glint uses GGX with the same alpha"),
-            );
+                format!("microfacet distribution `{distribution}`: glint has `beckmann` and `ggx`"),
+            ));
         }
+        // Visible-normal sampling or not changes only the noise.
         p.boolean(self, "sample_visible")?;
         let alpha = p.float(self, "alpha")?;
         let (u, v) = (p.float(self, "alpha_u")?, p.float(self, "alpha_v")?);
@@ -764,7 +774,7 @@ impl<'a> Translator<'a> {
         if u.is_some() != v.is_some() {
             return Err(self.error(&p.element.position, "`alpha_u` and `alpha_v` go together"));
         }
-        Ok((alpha, u, v))
+        Ok(Roughness { alpha, alpha_u: u, alpha_v: v, distribution })
     }
 
     /// int_ior / ext_ior, each a number or a named material.
@@ -1268,6 +1278,14 @@ fn look_at(origin: Vec3, target: Vec3, up: Vec3) -> Option<Mat4> {
     let left = up.cross(dir).try_normalize()?;
     let new_up = dir.cross(left);
     Some(Mat4::from_cols(left.extend(0.0), new_up.extend(0.0), dir.extend(0.0), origin.extend(1.0)))
+}
+
+/// A rough BSDF's widths and microfacet distribution as Mitsuba gives them.
+struct Roughness {
+    alpha: Option<f32>,
+    alpha_u: Option<f32>,
+    alpha_v: Option<f32>,
+    distribution: String,
 }
 
 #[cfg(test)]

@@ -4,11 +4,11 @@
 use std::collections::BTreeMap;
 
 use glint_core::materials::{
-    named_metal, Blend, Conductor, Dielectric, Diffuse, Emitter, Fresnel, Mask, Material, Phong, Plastic, Principled,
-    RoughConductor, RoughDielectric, RoughPlastic, ThinDielectric, TwoSided, MAX_LEAVES, METAL_NAMES,
+    named_metal, Blend, Conductor, Dielectric, Diffuse, Distribution, Emitter, Fresnel, Mask, Material, Phong, Plastic,
+    Principled, RoughConductor, RoughDielectric, RoughPlastic, ThinDielectric, TwoSided, MAX_LEAVES, METAL_NAMES,
 };
 use glint_core::textures::Texture;
-use glint_core::Rgb;
+use glint_core::{Named, Rgb};
 
 use super::build::{non_negative, positive, quoted, resolve_colour, Context};
 use super::schema::{ColorDesc, FractionDesc, FresnelDesc, MaterialDesc};
@@ -108,6 +108,16 @@ impl Builder<'_> {
                 resolve_colour(&ColorDesc::Texture(t.clone()), textures).map_err(|m| at(key, m))
             }
         };
+        let distribution = |d: &Option<String>| match d.as_deref() {
+            None => Ok(Distribution::Ggx),
+            Some(name) => Distribution::from_name(name).ok_or_else(|| {
+                let names: Vec<&str> = Distribution::ALL.iter().map(|d| d.name()).collect();
+                at(
+                    "distribution",
+                    format!("unknown microfacet distribution `{name}`, expected one of {}", quoted(&names)),
+                )
+            }),
+        };
         let metal = |metal: &Option<String>, eta: &Option<[f32; 3]>, k: &Option<[f32; 3]>| match (metal, eta, k) {
             (Some(m), None, None) => named_metal(m).ok_or_else(|| {
                 let hint = did_you_mean(m, METAL_NAMES);
@@ -204,13 +214,15 @@ impl Builder<'_> {
                 alpha,
                 alpha_u,
                 alpha_v,
+                distribution: d,
                 two_sided,
             } => {
                 let (eta, k) = metal(m, eta, k)?;
                 let specular = colour("specular_reflectance", specular_reflectance, 1.0)?;
                 let (alpha_u, alpha_v) = widths(alpha, alpha_u, alpha_v)?;
                 let conductor = Conductor { eta, k, specular };
-                sided(Material::RoughConductor(RoughConductor { conductor, alpha_u, alpha_v }), two_sided)
+                let distribution = distribution(d)?;
+                sided(Material::RoughConductor(RoughConductor { conductor, alpha_u, alpha_v, distribution }), two_sided)
             }
             MaterialDesc::Dielectric { int_ior, ext_ior, specular_reflectance, specular_transmittance } => {
                 Material::Dielectric(dielectric(int_ior, ext_ior, specular_reflectance, specular_transmittance)?)
@@ -223,10 +235,12 @@ impl Builder<'_> {
                 alpha,
                 alpha_u,
                 alpha_v,
+                distribution: d,
             } => {
                 let dielectric = dielectric(int_ior, ext_ior, specular_reflectance, specular_transmittance)?;
                 let (alpha_u, alpha_v) = widths(alpha, alpha_u, alpha_v)?;
-                Material::RoughDielectric(RoughDielectric { dielectric, alpha_u, alpha_v })
+                let distribution = distribution(d)?;
+                Material::RoughDielectric(RoughDielectric { dielectric, alpha_u, alpha_v, distribution })
             }
             MaterialDesc::ThinDielectric { int_ior, ext_ior, specular_reflectance, specular_transmittance } => {
                 let sheet = dielectric(int_ior, ext_ior, specular_reflectance, specular_transmittance)?;

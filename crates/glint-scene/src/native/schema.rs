@@ -252,6 +252,8 @@ pub enum MaterialDesc {
         alpha: Option<f32>,
         alpha_u: Option<f32>,
         alpha_v: Option<f32>,
+        /// `"ggx"` (default) or `"beckmann"`.
+        distribution: Option<String>,
         two_sided: Option<bool>,
     },
     /// Smooth glass (Mitsuba's `dielectric`).
@@ -270,6 +272,8 @@ pub enum MaterialDesc {
         alpha: Option<f32>,
         alpha_u: Option<f32>,
         alpha_v: Option<f32>,
+        /// `"ggx"` (default) or `"beckmann"`.
+        distribution: Option<String>,
     },
     /// A thin pane (Mitsuba's `thindielectric`).
     ThinDielectric {
