@@ -176,7 +176,7 @@ impl Runner {
                 let expected = self.expected.as_ref().expect("made for checkpoints");
                 checkpoint::parse(input, Path::new("fuzz.ckp"), expected).map(|_| ())
             }
-            Target::Image => glint_scene::decode_image("fuzz", input).map(|_| ()),
+            Target::Image => glint_scene::decode_image("fuzz", input, false).map(|_| ()),
         }
     }
 }

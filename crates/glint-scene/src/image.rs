@@ -3,8 +3,9 @@
 
 use glint_core::Rgb;
 
-/// Width, height and linear RGB pixels (row 0 = top) of an image file's bytes.
-pub fn decode(name: &str, bytes: &[u8]) -> Result<(u32, u32, Vec<Rgb>), String> {
+/// Width, height and linear RGB pixels (row 0 = top) of an image file's bytes; with `raw`, the
+/// stored values as they are (a normal map's), never decoded from sRGB.
+pub fn decode(name: &str, bytes: &[u8], raw: bool) -> Result<(u32, u32, Vec<Rgb>), String> {
     // The size from the header first: a 1.2 KB EXR declaring a large data window decoded to
     // 1.2 GB (found by glint-fuzz). A pixel takes up to 16 bytes decoded, 12 as RGB f32, and
     // 12 once ours.
@@ -23,7 +24,7 @@ pub fn decode(name: &str, bytes: &[u8]) -> Result<(u32, u32, Vec<Rgb>), String> 
     }
     let image = image::load_from_memory(bytes).map_err(|e| format!("cannot decode: {e}"))?;
     let lower = name.to_ascii_lowercase();
-    let linear_already = lower.ends_with(".exr") || lower.ends_with(".hdr");
+    let linear_already = raw || lower.ends_with(".exr") || lower.ends_with(".hdr");
     let rgb = image.to_rgb32f();
     let (width, height) = rgb.dimensions();
     let pixels = rgb
@@ -66,7 +67,7 @@ mod tests {
         png.extend_from_slice(&chunk);
         png.extend_from_slice(&crc.sum().to_be_bytes());
         png.extend_from_slice(b"\0\0\0\0IDAT\x35\xaf\x06\x1e\0\0\0\0IEND\xae\x42\x60\x82");
-        let e = decode("big.png", &png).unwrap_err();
+        let e = decode("big.png", &png, false).unwrap_err();
         assert!(e.contains("60000x60000") && e.contains("memory limit"), "{e}");
     }
 
@@ -85,7 +86,7 @@ mod tests {
             let mut bytes = std::io::Cursor::new(Vec::new());
             image::DynamicImage::ImageRgb32F(img.clone()).write_to(&mut bytes, format).unwrap();
             let name = if format == image::ImageFormat::Hdr { "sky.hdr" } else { "sky.exr" };
-            let (_, _, px) = decode(name, bytes.get_ref()).unwrap();
+            let (_, _, px) = decode(name, bytes.get_ref(), false).unwrap();
             for (p, v) in px.iter().zip(values) {
                 assert!(((*p - v) / v).abs().max_element() < 0.01, "{name}: {p} vs {v}");
             }
@@ -97,10 +98,22 @@ mod tests {
         let img = image::RgbImage::from_raw(2, 1, vec![0, 0, 0, 255, 255, 255]).unwrap();
         let mut bytes = std::io::Cursor::new(Vec::new());
         img.write_to(&mut bytes, image::ImageFormat::Png).unwrap();
-        let (w, h, px) = decode("t.png", bytes.get_ref()).unwrap();
+        let (w, h, px) = decode("t.png", bytes.get_ref(), false).unwrap();
         assert_eq!((w, h), (2, 1));
         assert_eq!(px[0], Rgb::ZERO);
         assert!((px[1] - Rgb::ONE).abs().max_element() < 1e-6);
-        assert!(decode("t.png", b"garbage").is_err());
+        assert!(decode("t.png", b"garbage", false).is_err());
+    }
+
+    /// A raw PNG (a normal map) keeps its stored values: 128 is 128/255, not its sRGB decoding.
+    #[test]
+    fn raw_images_are_not_decoded_from_srgb() {
+        let img = image::RgbImage::from_raw(1, 1, vec![128, 128, 255]).unwrap();
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        img.write_to(&mut bytes, image::ImageFormat::Png).unwrap();
+        let (_, _, raw) = decode("n.png", bytes.get_ref(), true).unwrap();
+        assert!((raw[0] - Rgb::new(128.0 / 255.0, 128.0 / 255.0, 1.0)).abs().max_element() < 1e-6, "{}", raw[0]);
+        let (_, _, decoded) = decode("n.png", bytes.get_ref(), false).unwrap();
+        assert!((decoded[0].x - srgb_to_linear(128.0 / 255.0)).abs() < 1e-6);
     }
 }

@@ -193,3 +193,32 @@ eta = 1
     let e = parse("[materials.a]\ntype = \"principled\"\nsheen = 1.5\n").err().unwrap().to_string();
     assert!(e.contains("`sheen` must be between 0 and 1"), "{e}");
 }
+
+/// `normal-map` names its texture and material; an unknown texture is an error at its line.
+#[test]
+fn normal_map_wraps_a_material_about_a_texture() {
+    let loaded = parse(
+        r#"
+[textures.tilt]
+type = "checker"
+even = [0.5, 0.5, 1.0]
+odd = [0.6, 0.5, 0.9]
+
+[materials.a]
+type = "normal-map"
+normals = "tilt"
+material = "paper"
+
+[materials.paper]
+type = "diffuse"
+"#,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(matches!(material(&loaded, "a"), Material::NormalMap(m)
+        if matches!(m.material, Material::TwoSided(_)) && matches!(m.normals, Texture::Checker(_))));
+    let e = parse("[materials.a]\ntype = \"normal-map\"\nnormals = \"nope\"\nmaterial = \"a\"\n")
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("bsdfs.toml:") && e.contains("nope"), "{e}");
+}

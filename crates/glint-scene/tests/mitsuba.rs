@@ -192,6 +192,36 @@ fn wrappers_map_onto_the_bsdf_set() {
     assert!(scene.lights().area_count() > 0, "the emitting plastic is an area light");
 }
 
+/// `normalmap` around a BSDF, its bitmap read raw: the stored (128, 128, 255) is the flat
+/// normal (0, 0, 1) after 2·rgb − 1, up to 8-bit rounding.
+#[test]
+fn a_normal_map_wraps_its_bsdf_and_reads_its_bitmap_raw() {
+    let path = scene_file(
+        "normalmap",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<bsdf type="normalmap" id="bumpy"><texture name="normalmap" type="bitmap"><string name="filename" value="flat.png"/><boolean name="raw" value="true"/></texture><bsdf type="diffuse"/></bsdf>
+<shape type="sphere"><ref id="bumpy"/></shape>
+</scene>
+"#
+        ),
+    );
+    let png = path.with_file_name("flat.png");
+    image::RgbImage::from_raw(1, 1, vec![128, 128, 255]).unwrap().save(&png).unwrap();
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = &loaded.scene;
+    let i = scene.material_names().iter().position(|n| n == "bumpy").unwrap();
+    match &scene.materials()[i] {
+        Material::NormalMap(m) => {
+            assert!(matches!(m.material, Material::Diffuse(_)));
+            let rgb = m.normals.evaluate(&Default::default());
+            assert!((2.0 * rgb - Rgb::ONE - Rgb::Z).abs().max_element() < 0.01, "{rgb}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
 #[test]
 fn command_line_parameters_override_defaults() {
     let defines = [("spp".to_string(), "3".to_string()), ("res".to_string(), "20".to_string())];

@@ -18,7 +18,7 @@ pub(super) struct Vertex<'s> {
     /// for particles.
     pub wo: Vec3,
     pub material: &'s Material,
-    /// The surface's ∂p/∂u where the material is anisotropic (zero elsewhere: no one asks).
+    /// The surface's ∂p/∂u where the material reads it (zero elsewhere: no one asks).
     dpdu: Vec3,
 }
 
@@ -32,7 +32,7 @@ impl<'s> Vertex<'s> {
     pub fn at(scene: &'s Scene, ray: &Ray, hit: SurfaceHit) -> Self {
         let wo = -ray.direction.normalize();
         let material = &scene.materials()[hit.material as usize];
-        let dpdu = if material.is_anisotropic() {
+        let dpdu = if material.needs_tangent() {
             scene.geometry.dpdu(hit.object, hit.prim, &hit.geometry)
         } else {
             Vec3::ZERO

@@ -16,6 +16,7 @@ mod diffuse;
 mod mask;
 mod microfacet;
 mod mixed;
+mod normal_map;
 mod phong;
 mod plastic;
 mod principled;
@@ -35,6 +36,7 @@ pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use mask::Mask;
 pub use microfacet::{Distribution, Microfacet};
+pub use normal_map::NormalMap;
 pub use phong::{fresnel_dielectric, fresnel_schlick, Fresnel, Phong, PhongPoint};
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
 pub use principled::Principled;
@@ -69,6 +71,8 @@ pub enum Material {
     Blend(Box<Blend>),
     Mask(Box<Mask>),
     TwoSided(Box<TwoSided>),
+    /// A material about a shading normal from a texture (Mitsuba's `normalmap`).
+    NormalMap(Box<NormalMap>),
     /// Any material that also emits: Mitsuba's `area` emitter on a shape.
     Emitter(Box<Emitter>),
 }
@@ -160,6 +164,10 @@ impl Material {
                 }
                 return;
             }
+            Material::NormalMap(m) => {
+                let mapped = m.shading_normal(query, shading);
+                return m.material.gather(query, wo, mapped, geometric, weight, mixture);
+            }
             Material::Emitter(e) => return e.surface.gather(query, wo, shading, geometric, weight, mixture),
         };
         if mixture.count < MAX_LEAVES {
@@ -169,17 +177,18 @@ impl Material {
         }
     }
 
-    /// Some lobe has different widths along and across the tangent, which then follows the
-    /// surface's ∂p/∂u (`TextureQuery::dpdu`; only these materials make a hit find it).
-    pub fn is_anisotropic(&self) -> bool {
+    /// The material reads the surface's ∂p/∂u (`TextureQuery::dpdu`; only these make a hit
+    /// find it): a lobe with different widths along and across it, or a normal map.
+    pub fn needs_tangent(&self) -> bool {
         match self {
             Material::RoughConductor(m) => m.alpha_u != m.alpha_v,
             Material::RoughDielectric(m) => m.alpha_u != m.alpha_v,
             Material::Principled(m) => m.anisotropic != Texture::Constant(Rgb::ZERO),
-            Material::Blend(b) => b.first.is_anisotropic() || b.second.is_anisotropic(),
-            Material::Mask(m) => m.material.is_anisotropic(),
-            Material::TwoSided(t) => t.front.is_anisotropic() || t.back.is_anisotropic(),
-            Material::Emitter(e) => e.surface.is_anisotropic(),
+            Material::Blend(b) => b.first.needs_tangent() || b.second.needs_tangent(),
+            Material::Mask(m) => m.material.needs_tangent(),
+            Material::TwoSided(t) => t.front.needs_tangent() || t.back.needs_tangent(),
+            Material::Emitter(e) => e.surface.needs_tangent(),
+            Material::NormalMap(_) => true,
             _ => false,
         }
     }
@@ -192,6 +201,7 @@ impl Material {
             Material::Mask(m) => m.material.leaf_count() + 1,
             Material::TwoSided(t) => t.front.leaf_count().max(t.back.leaf_count()),
             Material::Emitter(e) => e.surface.leaf_count(),
+            Material::NormalMap(m) => m.material.leaf_count(),
             _ => 1,
         }
     }
@@ -224,6 +234,7 @@ impl Material {
                 clear.blend(&inner, opacity)
             }
             Material::TwoSided(t) => if outside { &t.front } else { &t.back }.whitted(query, true),
+            Material::NormalMap(m) => m.material.whitted(query, outside),
             Material::Emitter(e) => PhongPoint {
                 emission: e.radiance,
                 two_sided_emission: e.two_sided,
@@ -329,6 +340,7 @@ impl Material {
             Material::Mask(m) => m.material.largest_factor(),
             Material::TwoSided(t) => t.front.largest_factor().max(t.back.largest_factor()),
             Material::Emitter(e) => e.surface.largest_factor(),
+            Material::NormalMap(m) => m.material.largest_factor(),
         }
     }
 }

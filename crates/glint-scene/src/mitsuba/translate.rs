@@ -567,9 +567,17 @@ impl<'a> Translator<'a> {
                 };
                 MaterialDesc::TwoSided { front, back }
             }
-            "bumpmap" | "normalmap" => {
+            "normalmap" => {
                 needs(self, 1)?;
-                self.warn(&bsdf.position, format!("{}: the bump or normal map is ignored", bsdf.describe()));
+                let Some(ColorDesc::Texture(normals)) = p.color(self, "normalmap")? else {
+                    return Err(self.error(&bsdf.position, "a normalmap needs a `normalmap` texture (a raw bitmap)"));
+                };
+                let material = self.nested_material(bsdf, nested[0], "material")?;
+                MaterialDesc::NormalMap { normals, material }
+            }
+            "bumpmap" => {
+                needs(self, 1)?;
+                self.warn(&bsdf.position, format!("{}: the bump map is ignored", bsdf.describe()));
                 let inner = if nested[0].tag == "ref" { self.resolve(nested[0])? } else { nested[0] };
                 self.bsdf(inner)?
             }
@@ -914,8 +922,8 @@ impl<'a> Translator<'a> {
                     }
                 };
                 p.string(self, "filter_type")?;
-                p.boolean(self, "raw")?;
-                TextureDesc::Image { file, wrap, scale: uv_scale.map(Scale2Desc::PerAxis) }
+                let raw = p.boolean(self, "raw")?.unwrap_or(false);
+                TextureDesc::Image { file, wrap, scale: uv_scale.map(Scale2Desc::PerAxis), raw }
             }
             "checkerboard" => {
                 let even = p.rgb(self, "color0")?.unwrap_or([0.4; 3]);

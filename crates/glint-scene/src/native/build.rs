@@ -459,7 +459,7 @@ fn build_environment_map(
     let Some(file) = &desc.map else { return Ok(None) };
     let bytes = source.read(file).map_err(|m| ("map", format!("environment map: {m}")))?;
     let (width, height, pixels) =
-        crate::image::decode(file, &bytes).map_err(|m| ("map", format!("environment map `{file}`: {m}")))?;
+        crate::image::decode(file, &bytes, false).map_err(|m| ("map", format!("environment map `{file}`: {m}")))?;
     // Radiance is finite and never negative: one +inf texel made the map's importance
     // sampling black out the lit half of a sphere, one of −5 gave negative pixels.
     if let Some(i) = pixels.iter().position(|p| !p.is_finite() || p.min_element() < 0.0) {
@@ -546,10 +546,10 @@ fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'stat
             odd: rgb("odd", *odd)?,
             scale: number("scale", *scale, 1.0)?,
         }),
-        TextureDesc::Image { file, wrap, scale } => {
+        TextureDesc::Image { file, wrap, scale, raw } => {
             let bytes = source.read(file).map_err(|m| ("file", format!("image file: {m}")))?;
             let (width, height, pixels) =
-                crate::image::decode(file, &bytes).map_err(|m| ("file", format!("image `{file}`: {m}")))?;
+                crate::image::decode(file, &bytes, *raw).map_err(|m| ("file", format!("image `{file}`: {m}")))?;
             Texture::Image(Arc::new(ImageTexture {
                 width,
                 height,

@@ -4,8 +4,9 @@
 use std::collections::BTreeMap;
 
 use glint_core::materials::{
-    named_metal, Blend, Conductor, Dielectric, Diffuse, Distribution, Emitter, Fresnel, Mask, Material, Phong, Plastic,
-    Principled, RoughConductor, RoughDielectric, RoughPlastic, ThinDielectric, TwoSided, MAX_LEAVES, METAL_NAMES,
+    named_metal, Blend, Conductor, Dielectric, Diffuse, Distribution, Emitter, Fresnel, Mask, Material, NormalMap,
+    Phong, Plastic, Principled, RoughConductor, RoughDielectric, RoughPlastic, ThinDielectric, TwoSided, MAX_LEAVES,
+    METAL_NAMES,
 };
 use glint_core::textures::Texture;
 use glint_core::{Named, Rgb};
@@ -339,6 +340,12 @@ impl Builder<'_> {
                 let opacity = fraction("opacity", opacity)?;
                 let material = self.reference(name, "material", material)?;
                 Material::Mask(Box::new(Mask { opacity, material }))
+            }
+            MaterialDesc::NormalMap { normals, material } => {
+                let normals =
+                    resolve_colour(&ColorDesc::Texture(normals.clone()), textures).map_err(|m| at("normals", m))?;
+                let material = self.reference(name, "material", material)?;
+                Material::NormalMap(Box::new(NormalMap { normals, material }))
             }
             MaterialDesc::TwoSided { front, back } => {
                 let front = self.reference(name, "front", front)?;

@@ -324,6 +324,8 @@ pub enum MaterialDesc {
     Blend { weight: Option<FractionDesc>, first: String, second: String },
     /// `material` where the surface is, passed through elsewhere (Mitsuba's `mask`).
     Mask { opacity: Option<FractionDesc>, material: String },
+    /// `material` about the shading normal a texture gives (Mitsuba's `normalmap`).
+    NormalMap { normals: String, material: String },
     /// One material per side (Mitsuba's `twosided` with two BSDFs); `back` defaults to `front`.
     TwoSided { front: String, back: Option<String> },
     /// `material` emitting `radiance` (Mitsuba's `area` emitter on a shape).
@@ -386,6 +388,9 @@ pub enum TextureDesc {
         #[serde(default)]
         wrap: WrapDesc,
         scale: Option<Scale2Desc>,
+        /// The stored values as they are (normal maps, data), not decoded from sRGB.
+        #[serde(default)]
+        raw: bool,
     },
     Marble {
         base: Vector,
