@@ -235,6 +235,21 @@ mod tests {
     use crate::geometry::reflect;
     use crate::sampling::chi2::chi2_test;
 
+    /// ∫ f dω over the upper hemisphere by the midpoint rule on an `nz` × `nphi` grid in
+    /// (cos θ, φ).
+    fn over_hemisphere(nz: usize, nphi: usize, f: impl Fn(Vec3) -> f32) -> f64 {
+        let mut sum = 0.0f64;
+        for i in 0..nz {
+            let z = (i as f32 + 0.5) / nz as f32;
+            for j in 0..nphi {
+                let phi = 2.0 * PI * (j as f32 + 0.5) / nphi as f32;
+                let r = (1.0 - z * z).sqrt();
+                sum += f(Vec3::new(r * phi.cos(), r * phi.sin(), z)) as f64;
+            }
+        }
+        sum * (2.0 * PI / (nz * nphi) as f32) as f64
+    }
+
     #[test]
     fn distribution_is_normalised() {
         for alpha in [0.1f32, 0.4, 0.9] {
@@ -282,17 +297,7 @@ mod tests {
     fn beckmann_is_normalised_sampled_by_its_pdf_and_its_g1_fit_is_close() {
         for (ax, ay, seed) in [(0.3f32, 0.3f32, 21), (0.15, 0.5, 22)] {
             let m = Microfacet::separable(ax, ay).with(Distribution::Beckmann);
-            let (nz, nphi) = (2000, 400);
-            let mut integral = 0.0f64;
-            for i in 0..nz {
-                let z = (i as f32 + 0.5) / nz as f32;
-                for j in 0..nphi {
-                    let phi = 2.0 * PI * (j as f32 + 0.5) / nphi as f32;
-                    let r = (1.0 - z * z).sqrt();
-                    integral += (m.d(Vec3::new(r * phi.cos(), r * phi.sin(), z)) * z) as f64;
-                }
-            }
-            integral *= (2.0 * PI / (nz * nphi) as f32) as f64;
+            let integral = over_hemisphere(2000, 400, |h| m.d(h) * h.z);
             assert!((integral - 1.0).abs() < 3e-3, "α ({ax}, {ay}): ∫ D cos = {integral}");
             let wo = Vec3::new(0.4, -0.2, 0.85).normalize();
             let r = chi2_test(
@@ -337,17 +342,7 @@ mod tests {
         let mut previous = f64::INFINITY;
         for alpha in [0.05f32, 0.2, 0.5, 1.0] {
             let microfacet = Microfacet::isotropic(alpha);
-            let (nt, np) = (600, 600);
-            let mut quadrature = 0.0f64;
-            for i in 0..nt {
-                let z = (i as f32 + 0.5) / nt as f32;
-                for j in 0..np {
-                    let phi = 2.0 * PI * (j as f32 + 0.5) / np as f32;
-                    let r = (1.0 - z * z).sqrt();
-                    quadrature += microfacet.reflection_eval(wo, Vec3::new(r * phi.cos(), r * phi.sin(), z)) as f64;
-                }
-            }
-            quadrature *= (2.0 * PI / (nt * np) as f32) as f64;
+            let quadrature = over_hemisphere(600, 600, |wi| microfacet.reflection_eval(wo, wi));
             let mut rng = crate::sampling::Rng::new(4, 2);
             let n = 400_000;
             let (mut sum, mut sum2) = (0.0f64, 0.0f64);
