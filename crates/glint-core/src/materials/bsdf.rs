@@ -84,12 +84,9 @@ impl Frame {
     /// (Gram–Schmidt, as Mitsuba's shading frame), the bitangent n × tangent; unchanged where
     /// `dpdu` is zero or along the normal.
     pub fn along(mut self, dpdu: Vec3) -> Self {
-        let projected = dpdu - self.normal * self.normal.dot(dpdu);
-        if let Some(tangent) = projected.try_normalize() {
-            if projected.length_squared() > 1e-12 * dpdu.length_squared() {
-                self.tangent = tangent;
-                self.bitangent = self.normal.cross(tangent);
-            }
+        if let Some(tangent) = tangent_along(self.normal, dpdu) {
+            self.tangent = tangent;
+            self.bitangent = self.normal.cross(tangent);
         }
         self
     }
@@ -121,6 +118,14 @@ impl Frame {
     pub fn transmits(&self, wi: Vec3) -> bool {
         wi.dot(self.normal) < 0.0 && wi.dot(self.geometric) < 0.0
     }
+}
+
+/// The unit part of `dpdu` in the plane of `normal` (Gram–Schmidt); `None` where `dpdu` is
+/// zero or along the normal.
+pub(super) fn tangent_along(normal: Vec3, dpdu: Vec3) -> Option<Vec3> {
+    let projected = dpdu - normal * normal.dot(dpdu);
+    let tangent = projected.try_normalize()?;
+    (projected.length_squared() > 1e-12 * dpdu.length_squared()).then_some(tangent)
 }
 
 /// What each member of the set answers (its file documents its lobes).

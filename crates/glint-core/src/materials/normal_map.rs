@@ -21,6 +21,7 @@
 
 use glam::Vec3;
 
+use super::bsdf::tangent_along;
 use super::Material;
 use crate::geometry::orthonormal_basis;
 use crate::textures::{Texture, TextureQuery};
@@ -40,11 +41,7 @@ impl NormalMap {
         if local == Vec3::ZERO {
             return shading;
         }
-        let projected = query.dpdu - shading * shading.dot(query.dpdu);
-        let tangent = match projected.try_normalize() {
-            Some(t) if projected.length_squared() > 1e-12 * query.dpdu.length_squared() => t,
-            _ => orthonormal_basis(shading).0,
-        };
+        let tangent = tangent_along(shading, query.dpdu).unwrap_or_else(|| orthonormal_basis(shading).0);
         let bitangent = shading.cross(tangent);
         (local.x * tangent + local.y * bitangent + local.z * shading).normalize_or(shading)
     }

@@ -230,6 +230,16 @@ struct Choice {
 }
 
 impl PrincipledBsdf {
+    /// The base colour's hue at luminance 1 (white where it is black): what the tints lean to.
+    fn tint(&self) -> Rgb {
+        let lum = self.base.dot(LUMINANCE);
+        if lum > 0.0 {
+            self.base / lum
+        } else {
+            Rgb::ONE
+        }
+    }
+
     fn brdf(&self) -> f32 {
         (1.0 - self.metallic) * (1.0 - self.spec_trans)
     }
@@ -291,8 +301,7 @@ impl PrincipledBsdf {
             return Rgb::splat(self.bsdf_weight() * f);
         }
         let m = self.metallic;
-        let lum = self.base.dot(LUMINANCE);
-        let tint = if lum > 0.0 { self.base / lum } else { Rgb::ONE };
+        let tint = self.tint();
         let r0 = ((self.eta - 1.0) / (self.eta + 1.0)).powi(2);
         Rgb::splat((1.0 - m) * (1.0 - self.spec_tint) * f)
             + m * schlick(self.base, cos, self.eta)
@@ -320,9 +329,7 @@ impl PrincipledBsdf {
             value += self.base * (brdf * i.z / PI * lobe);
         }
         if self.sheen > 0.0 && self.metallic < 1.0 {
-            let lum = self.base.dot(LUMINANCE);
-            let tint = if lum > 0.0 { self.base / lum } else { Rgb::ONE };
-            let colour = Rgb::ONE + (tint - Rgb::ONE) * self.sheen_tint;
+            let colour = Rgb::ONE + (self.tint() - Rgb::ONE) * self.sheen_tint;
             value += colour * (self.sheen * (1.0 - self.metallic) * schlick_weight(cos_d.abs()) * i.z);
         }
         value
