@@ -55,7 +55,7 @@ pub fn run(args: ExplainArgs) -> Result<(), String> {
     .map_err(|e| e.to_string())?;
     let mut scene = loaded.scene;
     crate::render_command::resize_camera(&mut scene, args.width, args.height);
-    let (w, h) = (scene.camera.width, scene.camera.height);
+    let (w, h) = (scene.camera().width, scene.camera().height);
     let (x, y) = args.pixel;
     if x >= w || y >= h {
         return Err(format!("pixel {x},{y} is outside the {w}x{h} image"));
@@ -94,7 +94,7 @@ pub fn explain_photons(
     let mapper = PhotonMapper::new(scene, settings.max_depth, settings.rr_depth, settings.photon, seed)
         .map_err(|e| e.to_string())?;
     let mut out = String::new();
-    let ray = scene.camera.generate_ray(x as f32 + 0.5, y as f32 + 0.5);
+    let ray = scene.camera().generate_ray(x as f32 + 0.5, y as f32 + 0.5);
     let Some(hit) = scene.intersect(&ray) else {
         let _ = writeln!(out, "photons: the pixel-centre ray hits nothing");
         return Ok(out);
@@ -148,7 +148,7 @@ pub fn explain_photons(
 /// flag says whether a ceiling cut the tree (`DEPTH_CEILING`, `TREE_RAY_LIMIT`).
 pub fn explain_pixel(scene: &Scene, settings: &IntegratorSettings, x: u32, y: u32) -> (RayTree, Rgb, bool) {
     let whitted = Whitted::new(settings.max_depth, settings.min_contribution, settings.transparent_shadows);
-    let ray = scene.camera.generate_ray(x as f32 + 0.5, y as f32 + 0.5);
+    let ray = scene.camera().generate_ray(x as f32 + 0.5, y as f32 + 0.5);
     let mut tree = RayTree::default();
     let mut context = SampleContext::new(Rng::new(0, 0));
     let colour = whitted.trace_camera_ray(scene, &ray, &mut context, &mut tree);
@@ -164,8 +164,8 @@ fn format_tree(scene: &Scene, s: &IntegratorSettings, x: u32, y: u32, tree: &Ray
     let _ = writeln!(
         out,
         "pixel ({x}, {y}) of {}x{}: Whitted ray tree, ray through the pixel centre, max depth {}, min contribution {}, {} shadows",
-        scene.camera.width,
-        scene.camera.height,
+        scene.camera().width,
+        scene.camera().height,
         s.max_depth,
         s.min_contribution,
         if s.transparent_shadows { "transparent" } else { "opaque" }

@@ -310,9 +310,9 @@ fn load(args: &RenderArgs) -> Result<(Scene, Plan), String> {
         defines: &args.define,
         kind,
         integrator,
-        methods: scene.geometry.methods,
-        width: scene.camera.width,
-        height: scene.camera.height,
+        methods: scene.geometry().methods(),
+        width: scene.camera().width,
+        height: scene.camera().height,
         filter: settings.filter,
         sampler: settings.sampler,
         // A stratified render's strata depend on its sample count.
@@ -343,7 +343,7 @@ struct RenderIdentity<'a> {
 
 /// Refuses a render whose own buffers would not fit the memory limit.
 fn check_memory(plan: &Plan, scene: &Scene, memory_limit: u64) -> Result<(), String> {
-    let (width, height) = (scene.camera.width, scene.camera.height);
+    let (width, height) = (scene.camera().width, scene.camera().height);
     let needed = memory_needed(plan.kind, &plan.integrator, width, height);
     if needed > memory_limit {
         return Err(format!(
@@ -361,8 +361,8 @@ fn read_checkpoint(args: &RenderArgs, plan: &Plan, scene: &Scene) -> Result<Opti
     let Some(path) = &args.resume else { return Ok(None) };
     let filter = plan.settings.filter;
     let expected = checkpoint::Expected {
-        width: scene.camera.width,
-        height: scene.camera.height,
+        width: scene.camera().width,
+        height: scene.camera().height,
         seed: plan.settings.seed,
         fingerprint: plan.fingerprint,
         spp: plan.settings.spp,
@@ -401,7 +401,7 @@ fn stop_on_signals(quiet: bool) -> Arc<AtomicBool> {
 
 /// A bar advancing once per tile of every pass (hidden when quiet or not on a terminal).
 fn progress_bar(args: &RenderArgs, plan: &Plan, scene: &Scene, spp_done: Option<u32>) -> ProgressBar {
-    let tiles = tile_count(scene.camera.width, scene.camera.height);
+    let tiles = tile_count(scene.camera().width, scene.camera().height);
     let progress = ProgressBar::new(tiles * plan.settings.spp.min(1 << 20) as u64);
     if let Some(spp_done) = spp_done {
         progress.set_position(tiles * spp_done as u64);
@@ -464,7 +464,7 @@ fn write_outputs(
     result: &RenderOutput,
     renderer: &dyn PassRenderer,
 ) -> Result<(), String> {
-    let (width, height) = (scene.camera.width, scene.camera.height);
+    let (width, height) = (scene.camera().width, scene.camera().height);
     let mut pixels = result.film.to_rgb();
     let mut exposure = args.exposure;
     let heat_png = plan.kind == IntegratorKind::BvhHeat && ImageFormat::from_path(output)? == ImageFormat::Png;
@@ -491,7 +491,7 @@ fn write_outputs(
 
 /// `--stats`: the acceleration structure and the rays traced by kind.
 fn print_stats(scene: &Scene, result: &RenderOutput) {
-    let g = &scene.geometry;
+    let g = &scene.geometry();
     let s = g.bvh_stats();
     let r = &result.rays;
     say!(
@@ -525,8 +525,8 @@ fn print_summary(plan: &Plan, scene: &Scene, output: &Path, result: &RenderOutpu
     // the Cornell box's render, the size of the differences they compare.
     say!(
         "rendered {}x{} at {} spp{} with {}{} in {:.3} s: {:.2} M samples/s, {:.2} M rays/s -> {}",
-        scene.camera.width,
-        scene.camera.height,
+        scene.camera().width,
+        scene.camera().height,
         result.spp_done,
         match result.stopped_early {
             Some(StopReason::Interrupted) => " (interrupted)",
@@ -665,23 +665,25 @@ impl RenderArgs {
 
 /// The scene's camera at the requested size; a missing side keeps the scene's aspect ratio.
 pub fn resize_camera(scene: &mut Scene, width: Option<u32>, height: Option<u32>) {
-    let (w, h) = (scene.camera.width, scene.camera.height);
+    let (w, h) = (scene.camera().width, scene.camera().height);
     let (width, height) = match (width, height) {
         (Some(width), Some(height)) => (width, height),
         (Some(width), None) => (width, ((width as f64 * h as f64 / w as f64).round() as u32).max(1)),
         (None, Some(height)) => (((height as f64 * w as f64 / h as f64).round() as u32).max(1), height),
         (None, None) => (w, h),
     };
-    scene.camera = scene.camera.with_resolution(width, height);
+    scene.set_camera(scene.camera().with_resolution(width, height));
 }
 
 fn apply_overrides(args: &RenderArgs, scene: &mut Scene) {
     resize_camera(scene, args.width, args.height);
-    let m = &mut scene.geometry.methods;
-    m.sphere = args.sphere_method.unwrap_or(m.sphere);
-    m.triangle = args.triangle_method.unwrap_or(m.triangle);
-    m.polygon = args.polygon_test.unwrap_or(m.polygon);
-    m.aabox = args.box_method.unwrap_or(m.aabox);
+    let m = scene.geometry().methods();
+    scene.set_methods(IntersectMethods {
+        sphere: args.sphere_method.unwrap_or(m.sphere),
+        triangle: args.triangle_method.unwrap_or(m.triangle),
+        polygon: args.polygon_test.unwrap_or(m.polygon),
+        aabox: args.box_method.unwrap_or(m.aabox),
+    });
     if let Some(sampling) = args.light_sampling {
         scene.set_triangle_sampling(sampling);
     }

@@ -75,7 +75,7 @@ fn render_configured_with_variance(
 ) -> (Vec<Rgb>, Vec<Rgb>) {
     let loaded = glint_scene::load_scene(scene_path).expect("the Cornell box loads");
     let mut scene = loaded.scene;
-    scene.camera = scene.camera.with_resolution(SIZE, SIZE);
+    scene.set_camera(scene.camera().with_resolution(SIZE, SIZE));
     configure(&mut scene);
     let integrator = kind.create(&loaded.render.integrator_settings).expect("a camera integrator");
     (0..SIZE * SIZE)
@@ -86,7 +86,7 @@ fn render_configured_with_variance(
             for s in 0..spp {
                 let mut context = SampleContext::new(Rng::for_sample(seed, i as u64, s as u64));
                 let ray = scene
-                    .camera
+                    .camera()
                     .generate_ray(x as f32 + context.sampler.next_f32(), y as f32 + context.sampler.next_f32());
                 let value = integrator.radiance(&scene, &ray, &mut context);
                 // Welford's running mean and sum of squared deviations.

@@ -15,7 +15,7 @@ const SIZE: u32 = 32;
 fn cornell_box() -> LoadedScene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
     let mut loaded = glint_scene::load_scene(&path).expect("the Cornell box loads");
-    loaded.scene.camera = loaded.scene.camera.with_resolution(SIZE, SIZE);
+    loaded.scene.set_camera(loaded.scene.camera().with_resolution(SIZE, SIZE));
     loaded
 }
 

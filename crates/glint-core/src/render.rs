@@ -103,7 +103,7 @@ pub fn render_progressive(
 ) -> RenderOutput {
     let start = Instant::now();
     let settings = progressive.settings;
-    let (width, height) = (scene.camera.width, scene.camera.height);
+    let (width, height) = (scene.camera().width, scene.camera().height);
     let (mut film, mut spp_done) = resume.unwrap_or_else(|| (Film::new(width, height), 0));
     let mut rays = RayCounts::default();
     let mut samples = 0u64;

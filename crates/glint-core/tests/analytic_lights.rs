@@ -43,7 +43,7 @@ fn a_floor_under_a_spherical_light_has_the_analytic_radiance() {
     ]);
     s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance)]);
     // A narrow view of the floor point below the centre, from the side, under the sphere.
-    s.camera = Camera::new(Vec3::new(0.0, 1.0, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
+    s.set_camera(Camera::new(Vec3::new(0.0, 1.0, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap());
     let expected = (albedo * radiance * radius * radius / (height * height)) as f64;
 
     // The path tracer to 0.2 %, not to its own standard error: blocked shadow rays would
@@ -64,7 +64,7 @@ fn a_floor_under_a_quad_light_matches_lamberts_formula() {
         object_with(Shape::Triangle(Triangle::new(quad[0], quad[2], quad[3])), 1),
     ]);
     s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance)]);
-    s.camera = Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
+    s.set_camera(Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap());
     let expected = albedo as f64 / std::f64::consts::PI * lambert_irradiance(radiance as f64, &quad);
     for strategy in [TriangleSampling::Area, TriangleSampling::SolidAngle] {
         s.set_triangle_sampling(strategy);
@@ -83,7 +83,7 @@ fn a_floor_under_polygon_and_box_lights_matches_lamberts_formula() {
     let camera = || Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
     let check = |s: &mut Scene, irradiance: f64, name: &str| {
         s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance)]);
-        s.camera = camera();
+        s.set_camera(camera());
         let expected = albedo as f64 / std::f64::consts::PI * irradiance;
         assert_eq!(s.lights().area_count(), 1, "{name}: one light");
         check_image_mean(s, IntegratorKind::Path, 64, expected, None, &format!("{name}, path"));
@@ -150,7 +150,7 @@ fn a_floor_under_delta_lights_gets_their_analytic_irradiance() {
         let mut s = scene(vec![object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0)]);
         s.set_materials(vec![material(albedo, 0.0)]);
         s.set_lights(vec![light]);
-        s.camera = Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
+        s.set_camera(Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap());
         let expected = albedo as f64 / std::f64::consts::PI * irradiance;
         check_image_mean(&s, IntegratorKind::Path, 16, expected, None, &format!("{name} light, path"));
     }
@@ -173,7 +173,7 @@ fn a_floor_under_every_kind_of_light_at_once_gets_the_sum() {
     let mut s = scene(vec![object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0), sphere]);
     s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance as f32)]);
     s.set_lights(vec![Light::Point(point), Light::Spot(spot), Light::Directional(sun)]);
-    s.camera = Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap();
+    s.set_camera(Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap());
     let irradiance = 2.0 * intensity as f64 * cos / d2
         + intensity as f64 * cos
         + std::f64::consts::PI * radiance * radius * radius / (height * height);
@@ -196,12 +196,12 @@ fn particle_integrators_light_the_floor_beside_sphere_and_polygon_lights_as_expe
         let mut s = scene(vec![object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0), object_with(light, 1)]);
         s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance)]);
         // The floor from 0.5 to 2 beside the light, the light itself out of view.
-        s.camera = Camera::new(Vec3::new(1.2, 2.5, -2.0), Vec3::new(1.2, 0.0, 0.6), Vec3::Y, 20.0, 24, 24).unwrap();
+        s.set_camera(Camera::new(Vec3::new(1.2, 2.5, -2.0), Vec3::new(1.2, 0.0, 0.6), Vec3::Y, 20.0, 24, 24).unwrap());
         // Per pixel, the radiance at the floor point through its centre (the irradiance
         // varies slowly over a pixel's footprint, a few hundredths across).
         let expected: Vec<f64> = (0..24 * 24)
             .map(|i| {
-                let ray = s.camera.generate_ray((i % 24) as f32 + 0.5, (i / 24) as f32 + 0.5);
+                let ray = s.camera().generate_ray((i % 24) as f32 + 0.5, (i / 24) as f32 + 0.5);
                 let hit = s.intersect(&ray).expect("every pixel sees the floor");
                 assert_eq!(hit.object, 0, "the {name} is out of view");
                 let at = hit.geometry.point;

@@ -70,7 +70,7 @@ fn bvh_equals_brute_force_on_random_scenes() {
     let mut wide_nodes = Vec::new();
     for n in [1, 2, 3, 10, 100, 1000] {
         let scene = random_scene(&mut rng, n);
-        wide_nodes.push(scene.geometry.bvh_stats().wide_nodes);
+        wide_nodes.push(scene.geometry().bvh_stats().wide_nodes);
         for _ in 0..20_000 {
             let origin = rng.vec3(-8.0, 8.0);
             let ray = Ray::new(origin, rng.vec3(-1.0, 1.0).normalize_or(Vec3::X));
@@ -151,7 +151,7 @@ fn corners_read_from_the_blocks_are_the_shapes_own() {
                 (Shape::Mesh(m), None) => Some(m.triangle_vertices(p as usize)),
                 _ => None,
             };
-            let corners = s.geometry.triangle(o as u32, p);
+            let corners = s.geometry().triangle(o as u32, p);
             let bits = |c: Option<[Vec3; 3]>| c.map(|c| c.map(|v| v.to_array().map(f32::to_bits)));
             assert_eq!(bits(corners), bits(expected), "object {o}, primitive {p}");
             triangles += usize::from(expected.is_some());

@@ -48,7 +48,7 @@ fn image(s: &glint_core::scene::Scene, filter: Filter) -> Vec<Rgb> {
 fn flat_regions_are_exact_under_every_filter() {
     let mut s = half_white();
     s.set_environment(Environment { background: Rgb::splat(0.25), ..s.environment().clone() });
-    s.geometry = glint_core::scene::Geometry::new(Vec::new(), Default::default());
+    s.set_objects(Vec::new());
     for &f in Filter::ALL {
         for p in image(&s, f) {
             assert!((p - Rgb::splat(0.25)).abs().max_element() < 1e-6, "{f:?}: {p}");
@@ -85,13 +85,10 @@ fn passes_in_groups_equal_passes_one_at_a_time() {
     // A sphere in front of the half-white square, lit by a point light: shading that varies
     // from sample to sample, so that sums in another order would differ in their last bits.
     let mut s = half_white();
-    s.geometry = glint_core::scene::Geometry::new(
-        vec![
-            object_with(Shape::Polygon(half_white_quad()), 0),
-            object_with(Shape::Sphere(Sphere::new(Vec3::new(0.0, 0.0, -1.0), 0.6)), 1),
-        ],
-        Default::default(),
-    );
+    s.set_objects(vec![
+        object_with(Shape::Polygon(half_white_quad()), 0),
+        object_with(Shape::Sphere(Sphere::new(Vec3::new(0.0, 0.0, -1.0), 0.6)), 1),
+    ]);
     let mut materials = s.materials().to_vec();
     materials.push(Material::Phong(Phong { diffuse: Texture::Constant(Rgb::new(0.8, 0.5, 0.3)), ..Phong::default() }));
     s.set_materials(materials);
@@ -105,7 +102,7 @@ fn passes_in_groups_equal_passes_one_at_a_time() {
     let pass =
         |index, filter| Pass { seed: 5, index, centre: false, filter, sampler: SamplerKind::Sobol, samples: spp };
     for filter in [Filter::Box, Filter::Mitchell] {
-        let film = || Film::new(s.camera.width, s.camera.height);
+        let film = || Film::new(s.camera().width, s.camera().height);
         let (mut grouped, mut one_by_one) = (film(), film());
         for group in [0..1, 1..8, 8..spp] {
             let passes: Vec<Pass> = group.map(|index| pass(index, filter)).collect();
@@ -123,7 +120,7 @@ fn passes_in_groups_equal_passes_one_at_a_time() {
     // And the render loop, which groups passes by their time, gives the same film.
     let settings = RenderSettings { spp, seed: 5, filter: Filter::Box, sampler: SamplerKind::Sobol };
     let rendered = render(&s, &Raycast, &settings, &|| {}).film;
-    let mut one_by_one = Film::new(s.camera.width, s.camera.height);
+    let mut one_by_one = Film::new(s.camera().width, s.camera().height);
     for index in 0..spp {
         CameraPasses(raycast).render_pass(&s, &pass(index, Filter::Box), &mut one_by_one, &|| {});
     }

@@ -26,9 +26,10 @@ fn furnace(albedo: f32, emission: f32) -> glint_core::scene::Scene {
         two_sided_emission: true,
         ..Phong::default()
     })]);
-    s.camera =
+    s.set_camera(
         glint_core::camera::Camera::new(Vec3::new(0.1, -0.2, 0.05), Vec3::new(1.0, 0.3, 0.7), Vec3::Y, 70.0, 24, 24)
-            .unwrap();
+            .unwrap(),
+    );
     s
 }
 

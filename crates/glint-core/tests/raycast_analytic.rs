@@ -28,7 +28,7 @@ fn lambert_sphere_under_a_directional_light() {
     s.set_lights(vec![Light::Directional(DirectionalLight { direction: travel, intensity: Rgb::splat(2.0) })]);
     // 16×16 at 45°: pixel (8, 8)'s centre is at film (8.5, 8.5), a little off the axis. Use an
     // odd size so one pixel centre lies exactly on the axis.
-    s.camera = s.camera.with_resolution(15, 15);
+    s.set_camera(s.camera().with_resolution(15, 15));
     let out = render(&s, &Raycast, &RenderSettings::default(), &|| {});
 
     let n = Vec3::new(0.0, 0.0, -1.0);
@@ -64,7 +64,7 @@ fn ray_casting_casts_no_shadows() {
 fn same_seed_same_image_at_any_thread_count() {
     let mut s = scene(vec![object(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)))]);
     s.set_lights(vec![Light::Directional(DirectionalLight { direction: Vec3::Z, intensity: Rgb::ONE })]);
-    s.camera = s.camera.with_resolution(40, 30);
+    s.set_camera(s.camera().with_resolution(40, 30));
     let settings = RenderSettings { spp: 8, seed: 7, ..Default::default() };
     let integrator = IntegratorKind::Raycast.create(&Default::default()).expect("a camera integrator");
     let images: Vec<_> = [1, 2, 3]

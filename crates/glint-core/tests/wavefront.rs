@@ -83,18 +83,20 @@ fn room() -> Scene {
         diffuse(Rgb::splat(0.5), Rgb::new(2.0, 3.0, 4.0), true),
         diffuse(Rgb::ZERO, Rgb::ZERO, false),
     ]);
-    s.camera = Camera::new(Vec3::new(0.0, 0.0, -0.95), Vec3::new(0.0, -0.1, 0.0), Vec3::Y, 70.0, SIZE, SIZE).unwrap();
+    s.set_camera(
+        Camera::new(Vec3::new(0.0, 0.0, -0.95), Vec3::new(0.0, -0.1, 0.0), Vec3::Y, 70.0, SIZE, SIZE).unwrap(),
+    );
     s
 }
 
 /// Every pixel's camera sample `index`: rays and contexts as the render loop makes them.
 fn camera_samples(scene: &Scene, sampler: SamplerKind, seed: u64, index: u32) -> (Vec<Ray>, Vec<SampleContext>) {
-    let (w, h) = (scene.camera.width, scene.camera.height);
+    let (w, h) = (scene.camera().width, scene.camera().height);
     (0..w * h)
         .map(|i| {
             let mut context = SampleContext::with_sampler(Sampler::new(sampler, seed, i as u64, index, 64));
             let (fx, fy) = ((i % w) as f32 + context.sampler.next_f32(), (i / w) as f32 + context.sampler.next_f32());
-            (scene.camera.generate_ray(fx, fy), context)
+            (scene.camera().generate_ray(fx, fy), context)
         })
         .unzip()
 }
@@ -163,7 +165,7 @@ fn room_where(change: impl FnOnce(&mut Vec<Object>, &mut Vec<Material>)) -> Scen
     change(&mut objects, &mut materials);
     let mut s = scene(objects);
     s.set_materials(materials);
-    s.camera = room.camera;
+    s.set_camera(room.camera().clone());
     s
 }
 

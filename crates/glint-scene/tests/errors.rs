@@ -43,7 +43,7 @@ fn line_of(e: &SceneError) -> usize {
 fn the_good_scene_loads() {
     let loaded = parse(GOOD).unwrap();
     assert_eq!(loaded.scene.objects().len(), 1);
-    assert_eq!((loaded.scene.camera.width, loaded.scene.camera.height), (32, 24));
+    assert_eq!((loaded.scene.camera().width, loaded.scene.camera().height), (32, 24));
 }
 
 #[test]
@@ -173,7 +173,7 @@ fn json_and_toml_read_the_same_scene() {
     }"#;
     let a = parse_scene(json, Format::Json, "s.json", &Source::directory(".".into())).unwrap();
     let b = parse(GOOD).unwrap();
-    assert_eq!(a.scene.camera, b.scene.camera);
+    assert_eq!(a.scene.camera(), b.scene.camera());
     assert_eq!(a.scene.materials(), b.scene.materials());
     assert_eq!(a.scene.lights().all(), b.scene.lights().all());
     assert_eq!(a.render, b.render);

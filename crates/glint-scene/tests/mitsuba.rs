@@ -33,7 +33,7 @@ fn every_element_maps_onto_glint() {
     let loaded = load_scene(&fixture("every-element.xml")).unwrap_or_else(|e| panic!("{e}"));
     let scene = &loaded.scene;
     // Film, sampler and integrator: $spp from <default>, Mitsuba's max_depth 5 = glint's 4.
-    assert_eq!((scene.camera.width, scene.camera.height), (64, 32));
+    assert_eq!((scene.camera().width, scene.camera().height), (64, 32));
     assert_eq!(loaded.render.spp, 16);
     assert_eq!(loaded.render.seed, 7);
     assert_eq!(loaded.render.filter, Filter::Tent);
@@ -42,8 +42,8 @@ fn every_element_maps_onto_glint() {
     assert_eq!(loaded.render.integrator_settings.rr_depth, 3);
     // A 60° horizontal field of view on a 2:1 image is 2·atan(tan 30° / 2) vertically.
     let vertical = 2.0 * ((30f32).to_radians().tan() / 2.0).atan().to_degrees();
-    assert!((scene.camera.fov_degrees - vertical).abs() < 1e-3, "{}", scene.camera.fov_degrees);
-    assert_eq!(scene.camera.position, Vec3::new(0.0, 2.0, -8.0));
+    assert!((scene.camera().fov_degrees - vertical).abs() < 1e-3, "{}", scene.camera().fov_degrees);
+    assert_eq!(scene.camera().position, Vec3::new(0.0, 2.0, -8.0));
     // Shapes: obj, ply, rectangle, cube, two spheres, a 128-triangle disk, a 256-triangle cylinder.
     assert_eq!(scene.objects().len(), 6 + 128 + 256);
     // The cube: scaled by ½, turned 30° about y, then moved by (2, 0.5, 0) (Mitsuba's order).
@@ -227,7 +227,7 @@ fn command_line_parameters_override_defaults() {
     let defines = [("spp".to_string(), "3".to_string()), ("res".to_string(), "20".to_string())];
     let loaded = load_scene_with(&fixture("every-element.xml"), &defines).unwrap();
     assert_eq!(loaded.render.spp, 3);
-    assert_eq!(loaded.scene.camera.width, 20);
+    assert_eq!(loaded.scene.camera().width, 20);
     let err = load_scene_with(&fixture("every-element.xml"), &[("spp".into(), "many".into())]).err().unwrap();
     assert!(err.to_string().contains("`many` is not an integer"), "{err}");
 }
@@ -330,14 +330,14 @@ fn sensor_sampler_integrator_and_emitter_variants() {
         r#"<scene version="3.0.0"><sensor type="thinlens"><float name="aperture_radius" value="0.2"/><float name="focus_distance" value="4"/><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor></scene>"#,
     ))
     .unwrap();
-    assert_eq!(thin.scene.camera.lens, Lens::Thin { radius: 0.2, focus_distance: 4.0 });
+    assert_eq!(thin.scene.camera().lens, Lens::Thin { radius: 0.2, focus_distance: 4.0 });
     // Orthographic: the view's height is twice to_world's scale along y.
     let ortho = load_scene(&scene_file(
         "ortho",
         r#"<scene version="3.0.0"><sensor type="orthographic"><transform name="to_world"><scale value="3"/><lookat origin="0,0,-5" target="0,0,0" up="0,1,0"/></transform><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor></scene>"#,
     ))
     .unwrap();
-    assert_eq!(ortho.scene.camera.lens, Lens::Orthographic { height: 6.0 });
+    assert_eq!(ortho.scene.camera().lens, Lens::Orthographic { height: 6.0 });
     let e = scene_with("pano", "spherical", "").err().unwrap().to_string();
     assert!(e.contains("pano.xml:2:") && e.contains("spherical"), "{e}");
     for (kind, expected, depth) in [

@@ -119,8 +119,8 @@ impl PrimitiveHit {
 /// neighbouring triangles share.) Other primitives sit in the blocks as `GENERIC` lanes and
 /// are tested one by one through their object.
 pub struct Geometry {
-    pub objects: Vec<Object>,
-    pub methods: IntersectMethods,
+    objects: Vec<Object>,
+    methods: IntersectMethods,
     /// The BVH's leaf blocks, in the order the wide tree references them.
     blocks: Vec<Triangle8>,
     /// (object, primitive) of the `GENERIC` lanes, by the index in their lane id.
@@ -248,6 +248,19 @@ impl Geometry {
     }
 
     /// Bounds of every bounded primitive (planes are not included).
+    pub fn objects(&self) -> &[Object] {
+        &self.objects
+    }
+
+    pub fn methods(&self) -> IntersectMethods {
+        self.methods
+    }
+
+    /// Which algorithm each shape's intersection uses; the tree does not depend on it.
+    pub fn set_methods(&mut self, methods: IntersectMethods) {
+        self.methods = methods;
+    }
+
     pub fn bounds(&self) -> Aabb {
         self.bounds
     }

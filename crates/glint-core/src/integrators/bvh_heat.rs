@@ -16,7 +16,7 @@ pub struct BvhHeat;
 impl Integrator for BvhHeat {
     fn radiance(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Rgb {
         context.rays.camera += 1;
-        let counts = scene.geometry.traversal_counts(ray);
+        let counts = scene.geometry().traversal_counts(ray);
         let (nodes, primitives) = (counts.nodes as f32, counts.primitives as f32);
         Rgb::new(nodes + primitives, nodes, primitives)
     }

@@ -39,7 +39,7 @@ type Splat = (u32, u32, Rgb);
 
 impl LightTracer {
     pub fn new(scene: &Scene, max_depth: u32) -> Result<Self, RenderError> {
-        if scene.camera.samples_lens() {
+        if scene.camera().samples_lens() {
             return Err(RenderError::ThinLensLightTracing);
         }
         scene.lights().check_particles()?;
@@ -64,7 +64,7 @@ impl LightTracer {
 
 /// The light itself seen by the camera: L_e · |cos θ_light| · W_e / pdf_area.
 fn connect_emission(scene: &Scene, e: &AreaEmission, splats: &mut Vec<Splat>, rays: &mut RayCounts) {
-    let Some(projection) = scene.camera.project(e.point) else { return };
+    let Some(projection) = scene.camera().project(e.point) else { return };
     let to_camera = projection.to_camera;
     let cos = to_camera.dot(e.normal);
     // `normal` is the side the particle left from; a one-sided light shows only that side.
@@ -86,7 +86,7 @@ fn connect_emission(scene: &Scene, e: &AreaEmission, splats: &mut Vec<Splat>, ra
 /// correction of importance transport.
 fn connect_vertex(scene: &Scene, v: &ParticleVertex, splats: &mut Vec<Splat>, rays: &mut RayCounts) {
     let point = v.hit.geometry.point;
-    let Some(projection) = scene.camera.project(point) else { return };
+    let Some(projection) = scene.camera().project(point) else { return };
     let to_camera: Vec3 = projection.to_camera;
     let f = v.bsdf.eval(v.wo, to_camera);
     if f == Rgb::ZERO {
@@ -114,7 +114,7 @@ const SKY_STREAM: u64 = 0x534B_5900_0000_0000;
 /// radiance itself: a pass adds one such ray to each pixel, as it adds one sample's worth of
 /// particles.
 fn see_environment(scene: &Scene, (x, y): (u32, u32), rng: &mut Rng, splats: &mut Vec<Splat>, rays: &mut RayCounts) {
-    let ray = scene.camera.generate_ray(x as f32 + rng.next_f32(), y as f32 + rng.next_f32());
+    let ray = scene.camera().generate_ray(x as f32 + rng.next_f32(), y as f32 + rng.next_f32());
     rays.camera += 1;
     if scene.intersect(&ray).is_none() {
         splats.push((x, y, scene.environment().radiance(ray.direction)));
@@ -123,7 +123,7 @@ fn see_environment(scene: &Scene, (x, y): (u32, u32), rng: &mut Rng, splats: &mu
 
 impl PassRenderer for LightTracer {
     fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
-        let (width, height) = (scene.camera.width, scene.camera.height);
+        let (width, height) = (scene.camera().width, scene.camera().height);
         // One particle per pixel of each tile, so the work is cut as the camera passes cut it.
         let per_tile: Vec<(Vec<Splat>, RayCounts)> = par_tiles(width, height)
             .map(|(x0, y0, x1, y1)| {

@@ -149,7 +149,7 @@ fn camera_passes(
     film: &mut Film,
     on_tile: &(dyn Fn() + Sync),
 ) -> RayCounts {
-    let (width, height) = (scene.camera.width, scene.camera.height);
+    let (width, height) = (scene.camera().width, scene.camera().height);
     let render_tile = |pass: &Pass, (x0, y0, x1, y1)| -> TileResult {
         let (positions, rays, mut contexts) = camera_samples(scene, pass, (x0, y0, x1, y1));
         let mut radiance = vec![Rgb::ZERO; rays.len()];
@@ -240,7 +240,7 @@ pub(super) fn camera_samples(
     for y in y0..y1 {
         pixels.extend((x0..x1).map(|x| (x, y)));
     }
-    let pixel_index = |(x, y): (u32, u32)| y as u64 * scene.camera.width as u64 + x as u64;
+    let pixel_index = |(x, y): (u32, u32)| y as u64 * scene.camera().width as u64 + x as u64;
     // Eight samplers made together (Sobol's index shuffles in SIMD lanes), the rest one by one.
     let mut contexts = Vec::with_capacity(pixels.len());
     let mut eights = pixels.chunks_exact(GROUP);
@@ -279,13 +279,13 @@ pub(super) fn camera_samples(
     let mut rays = Vec::with_capacity(positions.len());
     for eight in positions.chunks_exact(GROUP) {
         let (x, y) = (std::array::from_fn(|k| eight[k].0), std::array::from_fn(|k| eight[k].1));
-        match scene.camera.pinhole_rays8(f32x8::from(x), f32x8::from(y)) {
+        match scene.camera().pinhole_rays8(f32x8::from(x), f32x8::from(y)) {
             Some(eight_rays) => rays.extend(eight_rays),
             None => break,
         }
     }
     for (&(fx, fy), context) in positions.iter().zip(contexts.iter_mut()).skip(rays.len()) {
-        rays.push(scene.camera.sample_ray(fx, fy, || context.sampler.next_f32()));
+        rays.push(scene.camera().sample_ray(fx, fy, || context.sampler.next_f32()));
     }
     (positions, rays, contexts)
 }
@@ -295,7 +295,7 @@ mod tests {
     use super::*;
     use crate::camera::{Camera, Lens};
     use crate::lights::Environment;
-    use crate::shapes::IntersectMethods;
+    use crate::scene::SceneBuilder;
     use crate::{Named, Vec3};
 
     /// A tile's camera samples, drawn eight samplers at a time (and a pinhole's rays made
@@ -312,14 +312,7 @@ mod tests {
         for (sampler, camera) in
             SamplerKind::ALL.iter().copied().flat_map(|s| [(s, thin.clone()), (s, pinhole.clone())])
         {
-            let scene = Scene::new(
-                camera,
-                Vec::new(),
-                Vec::new(),
-                Vec::new(),
-                environment.clone(),
-                IntersectMethods::default(),
-            );
+            let scene = SceneBuilder::new(camera).environment(environment.clone()).build();
             // Sample 70,000 is past the first 2¹⁶, where Sobol's seeds change.
             for (index, centre) in [(0, false), (5, false), (70_000, false), (0, true)] {
                 let pass = Pass { seed: 3, index, centre, filter: Filter::Box, sampler, samples: 16 };
@@ -332,7 +325,7 @@ mod tests {
                         let mut alone = Sampler::new(sampler, pass.seed, pixel, index, pass.samples);
                         let (dx, dy) = if centre { (0.5, 0.5) } else { (alone.next_f32(), alone.next_f32()) };
                         let (fx, fy) = (x as f32 + dx, y as f32 + dy);
-                        let ray = scene.camera.sample_ray(fx, fy, || alone.next_f32());
+                        let ray = scene.camera().sample_ray(fx, fy, || alone.next_f32());
                         let what = format!("{sampler:?}, pass {index}, pixel ({x}, {y})");
                         assert_eq!(positions[k], (fx, fy), "{what}");
                         assert_eq!(rays[k], ray, "{what}");

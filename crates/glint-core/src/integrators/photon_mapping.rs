@@ -222,7 +222,7 @@ impl PhotonMapper {
         if stop.load(Ordering::Relaxed) {
             return Err(RenderError::Interrupted);
         }
-        let bounds = scene.geometry.bounds();
+        let bounds = scene.geometry().bounds();
         let max_radius = if settings.max_radius > 0.0 {
             settings.max_radius
         } else if bounds.is_empty() {
@@ -407,10 +407,10 @@ impl Integrator for PhotonMapper {
 mod tests {
     use super::*;
     use crate::camera::Camera;
-    use crate::lights::{Environment, Falloff, Light, PointLight, SpotLight};
+    use crate::lights::{Falloff, Light, PointLight, SpotLight};
     use crate::materials::{Material, Phong};
-    use crate::scene::Object;
-    use crate::shapes::{IntersectMethods, Shape, Sphere, Triangle};
+    use crate::scene::{Object, SceneBuilder};
+    use crate::shapes::{Shape, Sphere, Triangle};
     use crate::textures::Texture;
     use glam::Vec3;
 
@@ -446,14 +446,11 @@ mod tests {
         };
         let spot = SpotLight::new(Vec3::ZERO, Vec3::Y, Rgb::splat(4.0), Falloff::InverseSquare, 30.0, 10.0);
         let camera = Camera::new(Vec3::ZERO, Vec3::Z, Vec3::Y, 45.0, 8, 8).unwrap();
-        let scene = Scene::new(
-            camera,
-            objects,
-            vec![("grey".into(), grey), ("lamp".into(), lamp)],
-            vec![Light::Point(point), Light::Spot(spot.clone())],
-            Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None },
-            IntersectMethods::default(),
-        );
+        let scene = SceneBuilder::new(camera)
+            .objects(objects)
+            .materials(vec![("grey".into(), grey), ("lamp".into(), lamp)])
+            .lights(vec![Light::Point(point), Light::Spot(spot.clone())])
+            .build();
         scene.lights().check_particles().unwrap();
         let shooter = PhotonShooter { scene: &scene, max_depth: 1, seed: 9, stop: None };
         let (photons, emitted, _) = shooter.shoot(1, 0..400, &|v| v.bounces == 0);

@@ -89,7 +89,7 @@ impl Sppm {
         photons_per_pass: u32,
     ) -> Result<Self, RenderError> {
         scene.lights().check_particles()?;
-        let n = scene.camera.width as usize * scene.camera.height as usize;
+        let n = scene.camera().width as usize * scene.camera().height as usize;
         Ok(Self {
             max_depth,
             rr_depth,
@@ -155,7 +155,7 @@ impl Sppm {
 
 impl PassRenderer for Sppm {
     fn render_pass(&mut self, scene: &Scene, pass: &Pass, film: &mut Film, on_tile: &(dyn Fn() + Sync)) -> RayCounts {
-        let (width, height) = (scene.camera.width, scene.camera.height);
+        let (width, height) = (scene.camera().width, scene.camera().height);
         let per_tile: Vec<(Vec<CameraSample>, RayCounts)> = par_tiles(width, height)
             .map(|(x0, y0, x1, y1)| {
                 let mut rays = RayCounts::default();
@@ -196,8 +196,11 @@ impl PassRenderer for Sppm {
         self.pixels.par_iter_mut().zip(visible.par_iter()).for_each(|(state, vp)| {
             let Some(vp) = vp else { return };
             if state.radius == 0.0 {
-                state.radius =
-                    if initial_radius > 0.0 { initial_radius } else { 3.0 * scene.camera.pixel_footprint(vp.distance) };
+                state.radius = if initial_radius > 0.0 {
+                    initial_radius
+                } else {
+                    3.0 * scene.camera().pixel_footprint(vp.distance)
+                };
             }
             let mut flux = Rgb::ZERO;
             let mut found = 0u32;

@@ -33,7 +33,7 @@ impl<'s> Vertex<'s> {
         let wo = -ray.direction.normalize();
         let material = &scene.materials()[hit.material as usize];
         let dpdu = if material.needs_tangent() {
-            scene.geometry.dpdu(hit.object, hit.prim, &hit.geometry)
+            scene.geometry().dpdu(hit.object, hit.prim, &hit.geometry)
         } else {
             Vec3::ZERO
         };
@@ -77,9 +77,9 @@ mod tests {
     use super::*;
     use crate::accel::Object;
     use crate::camera::Camera;
-    use crate::lights::Environment;
     use crate::materials::{Conductor, RoughConductor};
-    use crate::shapes::{IntersectMethods, Shape, Triangle};
+    use crate::scene::SceneBuilder;
+    use crate::shapes::{Shape, Triangle};
     use crate::textures::Texture;
 
     /// A vertex on an anisotropic material hands the BSDF the surface's ∂p/∂u (here a triangle
@@ -103,14 +103,7 @@ mod tests {
         for (alpha_v, expected) in [(0.5, turn.unwrap().vector(Vec3::new(0.0, -2.0, 0.0))), (0.05, Vec3::ZERO)] {
             let object = Object { name: "t".into(), shape: Shape::Triangle(triangle), transform: turn, material: 0 };
             let camera = Camera::new(Vec3::new(0.0, 0.0, -3.0), Vec3::ZERO, Vec3::Y, 45.0, 8, 8).unwrap();
-            let scene = Scene::new(
-                camera,
-                vec![object],
-                vec![("metal".into(), metal(alpha_v))],
-                Vec::new(),
-                Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None },
-                IntersectMethods::default(),
-            );
+            let scene = SceneBuilder::new(camera).object(object).material("metal", metal(alpha_v)).build();
             let vertex = Vertex::trace(&scene, &Ray::new(Vec3::new(0.1, 0.0, -3.0), Vec3::Z)).expect("a hit");
             assert!((vertex.dpdu - expected).length() < 1e-5, "α_v {alpha_v}: {} vs {expected}", vertex.dpdu);
         }

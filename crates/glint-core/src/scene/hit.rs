@@ -140,12 +140,12 @@ impl Geometry {
         let mut ray = *ray;
         let mut best = None;
         let all = self
-            .objects
+            .objects()
             .iter()
             .enumerate()
             .flat_map(|(o, object)| (0..object.shape.primitive_count()).map(move |p| (o as u32, p)));
         for (o, p) in all {
-            if let Some(h) = self.objects[o as usize].intersect(p, &ray, &self.methods) {
+            if let Some(h) = self.objects()[o as usize].intersect(p, &ray, &self.methods()) {
                 ray.t_max = h.t;
                 best = Some(((o, p), h));
             }
@@ -154,7 +154,7 @@ impl Geometry {
     }
 
     pub(crate) fn surface_hit(&self, (o, p): (u32, u32), ray: &Ray, hit: &PrimHit) -> SurfaceHit {
-        let object = &self.objects[o as usize];
+        let object = &self.objects()[o as usize];
         let geometry = object.surface(p, ray, hit);
         let object_point = match (&object.transform, &object.shape) {
             (Some(t), _) => t.to_object.transform_point3(geometry.point),

@@ -12,37 +12,136 @@ use crate::geometry::Ray;
 use crate::lights::{Environment, Light, Lights, TriangleSampling};
 use crate::materials::Material;
 use crate::shapes::IntersectMethods;
+use crate::Rgb;
 
 /// Everything a render needs: geometry, materials, lights, camera and environment. The lights
-/// are derived from the rest (emitting materials make area lights, the environment one more),
-/// so what they depend on changes only through the setters, which derive them again.
+/// and the BVH are derived from the rest (emitting materials make area lights, the environment
+/// one more), so the fields are private and change only through the setters, which derive
+/// them again. A scene is made by [`SceneBuilder`].
 pub struct Scene {
-    pub camera: Camera,
-    pub geometry: Geometry,
+    camera: Camera,
+    geometry: Geometry,
     materials: Vec<Material>,
     material_names: Vec<String>,
     lights: Lights,
     environment: Environment,
 }
 
+/// A scene's parts, gathered before the BVH and the lights are derived from them. Nothing
+/// but the camera is required: no objects, no materials, no listed lights, a black
+/// environment and the default intersection methods.
+pub struct SceneBuilder {
+    camera: Camera,
+    objects: Vec<Object>,
+    materials: Vec<(String, Material)>,
+    lights: Vec<Light>,
+    environment: Environment,
+    methods: IntersectMethods,
+    triangle_sampling: Option<TriangleSampling>,
+}
+
+impl SceneBuilder {
+    pub fn new(camera: Camera) -> Self {
+        Self {
+            camera,
+            objects: Vec::new(),
+            materials: Vec::new(),
+            lights: Vec::new(),
+            environment: Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None },
+            methods: IntersectMethods::default(),
+            triangle_sampling: None,
+        }
+    }
+
+    pub fn objects(mut self, objects: Vec<Object>) -> Self {
+        self.objects = objects;
+        self
+    }
+
+    pub fn object(mut self, object: Object) -> Self {
+        self.objects.push(object);
+        self
+    }
+
+    /// The materials with their names; objects refer to them by index.
+    pub fn materials(mut self, materials: Vec<(String, Material)>) -> Self {
+        self.materials = materials;
+        self
+    }
+
+    pub fn material(mut self, name: impl Into<String>, material: Material) -> Self {
+        self.materials.push((name.into(), material));
+        self
+    }
+
+    /// The listed lights: point, spot and directional.
+    pub fn lights(mut self, lights: Vec<Light>) -> Self {
+        self.lights = lights;
+        self
+    }
+
+    pub fn light(mut self, light: Light) -> Self {
+        self.lights.push(light);
+        self
+    }
+
+    pub fn environment(mut self, environment: Environment) -> Self {
+        self.environment = environment;
+        self
+    }
+
+    pub fn methods(mut self, methods: IntersectMethods) -> Self {
+        self.methods = methods;
+        self
+    }
+
+    /// How triangle lights are sampled (by area unless said).
+    pub fn triangle_sampling(mut self, strategy: TriangleSampling) -> Self {
+        self.triangle_sampling = Some(strategy);
+        self
+    }
+
+    /// The BVH built and the lights derived.
+    pub fn build(self) -> Scene {
+        let (material_names, materials): (Vec<String>, Vec<Material>) = self.materials.into_iter().unzip();
+        let geometry = Geometry::new(self.objects, self.methods);
+        let mut lights = Lights::new(self.lights, &self.environment, geometry.objects(), &materials, geometry.bounds());
+        if let Some(strategy) = self.triangle_sampling {
+            lights.set_triangle_sampling(strategy);
+        }
+        Scene { camera: self.camera, geometry, materials, material_names, lights, environment: self.environment }
+    }
+}
+
 impl Scene {
-    /// `lights` are the scene's listed lights: point, spot and directional.
-    pub fn new(
-        camera: Camera,
-        objects: Vec<Object>,
-        materials: Vec<(String, Material)>,
-        lights: Vec<Light>,
-        environment: Environment,
-        methods: IntersectMethods,
-    ) -> Self {
-        let (material_names, materials): (Vec<String>, Vec<Material>) = materials.into_iter().unzip();
-        let geometry = Geometry::new(objects, methods);
-        let lights = Lights::new(lights, &environment, &geometry.objects, &materials, geometry.bounds());
-        Self { camera, geometry, materials, material_names, lights, environment }
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// Another view of the same scene (a new resolution, a moved eye): nothing derived changes.
+    pub fn set_camera(&mut self, camera: Camera) {
+        self.camera = camera;
+    }
+
+    /// The objects in their BVH, and the queries on them.
+    pub fn geometry(&self) -> &Geometry {
+        &self.geometry
+    }
+
+    /// New objects: the BVH is built again (with the same intersection methods) and the lights
+    /// derived again.
+    pub fn set_objects(&mut self, objects: Vec<Object>) {
+        self.geometry = Geometry::new(objects, self.geometry.methods());
+        self.relight();
+    }
+
+    /// Which algorithm each shape's intersection uses; the BVH does not depend on it.
+    pub fn set_methods(&mut self, methods: IntersectMethods) {
+        self.geometry.set_methods(methods);
     }
 
     pub fn objects(&self) -> &[Object] {
-        &self.geometry.objects
+        self.geometry.objects()
     }
 
     pub fn materials(&self) -> &[Material] {
@@ -87,7 +186,7 @@ impl Scene {
     pub fn set_lights(&mut self, listed: Vec<Light>) {
         let strategy = self.lights.triangle_sampling();
         self.lights =
-            Lights::new(listed, &self.environment, &self.geometry.objects, &self.materials, self.geometry.bounds());
+            Lights::new(listed, &self.environment, self.geometry.objects(), &self.materials, self.geometry.bounds());
         self.lights.set_triangle_sampling(strategy);
     }
 

@@ -2,9 +2,8 @@
 #![allow(dead_code)]
 
 use glint_core::camera::Camera;
-use glint_core::lights::Environment;
 use glint_core::materials::{Material, Phong};
-use glint_core::scene::{Object, Scene};
+use glint_core::scene::{Object, Scene, SceneBuilder};
 use glint_core::shapes::{IntersectMethods, Shape};
 use glint_core::{Rgb, Vec3};
 
@@ -54,6 +53,5 @@ pub fn scene(objects: Vec<Object>) -> Scene {
 
 pub fn scene_with_methods(objects: Vec<Object>, methods: IntersectMethods) -> Scene {
     let camera = Camera::new(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, Vec3::Y, 45.0, 16, 16).unwrap();
-    let environment = Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None };
-    Scene::new(camera, objects, white(), Vec::new(), environment, methods)
+    SceneBuilder::new(camera).objects(objects).materials(white()).methods(methods).build()
 }

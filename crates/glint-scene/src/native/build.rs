@@ -14,7 +14,7 @@ use glint_core::lights::TriangleSampling;
 use glint_core::lights::{DirectionalLight, Environment, EnvironmentMap, Falloff, Light, PointLight, SpotLight};
 use glint_core::materials::Material;
 use glint_core::sampling::SamplerKind;
-use glint_core::scene::{Geometry, Object, Scene};
+use glint_core::scene::{Geometry, Object, SceneBuilder};
 use glint_core::shapes::{AaBox, Instance, IntersectMethods, Mesh, Plane, Polygon, Shape, Sphere, Triangle};
 use glint_core::textures::{Checker, ImageTexture, Marble, SolidChecker, Texture, Wood, Wrap};
 use glint_core::Named;
@@ -88,8 +88,14 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
     }
 
     warnings.extend(materials.iter().filter_map(|(name, m)| m.energy_warning(name)));
-    let mut scene = Scene::new(camera, objects, materials, lights, environment, methods);
-    scene.set_triangle_sampling(render.light_sampling);
+    let scene = SceneBuilder::new(camera)
+        .objects(objects)
+        .materials(materials)
+        .lights(lights)
+        .environment(environment)
+        .methods(methods)
+        .triangle_sampling(render.light_sampling)
+        .build();
     let inputs = std::iter::once(path.to_path_buf()).chain(source.files_read()).collect();
     Ok(LoadedScene { scene, render, warnings, inputs })
 }

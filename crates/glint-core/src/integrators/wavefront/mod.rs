@@ -203,7 +203,7 @@ impl<'a> Wavefront<'a> {
     fn new(tracer: &PathTracer, scene: &'a Scene) -> Self {
         let beyond_lambert: Vec<bool> = scene.materials().iter().map(|m| !diffuse_only(m)).collect();
         let beyond_lambert = beyond_lambert.contains(&true).then_some(beyond_lambert);
-        let flat = if scene.geometry.all_triangles() {
+        let flat = if scene.geometry().all_triangles() {
             scene.materials().iter().map(LaneMaterial::constant).collect::<Option<Vec<_>>>()
         } else {
             None
@@ -243,7 +243,7 @@ impl<'a> Wavefront<'a> {
                 // then hands to the surface. A fresh copy's fields would still be in the store
                 // buffer when the query loads them as a vector: a stall (store forwarding
                 // fails) of every closest hit.
-                if self.scene.geometry.closest_primitive_into(&mut path.ray, &mut path.hit) {
+                if self.scene.geometry().closest_primitive_into(&mut path.ray, &mut path.hit) {
                     hits.push(i);
                 } else {
                     // Weighed against light sampling from the last bounce, as the scalar code
@@ -261,7 +261,7 @@ impl<'a> Wavefront<'a> {
             active.clear();
             if let Some(beyond_lambert) = &self.beyond_lambert {
                 // Paths on surfaces the lanes do not model take their bounce from the scalar code.
-                let objects = &self.scene.geometry.objects;
+                let objects = self.scene.geometry().objects();
                 hits.retain(|&i| {
                     let (path, context) = (&mut paths[i as usize], &mut contexts[i as usize]);
                     if !beyond_lambert[objects[path.hit.object as usize].material as usize] {
@@ -469,7 +469,7 @@ impl<'a> Wavefront<'a> {
     #[inline(never)]
     fn scalar_bounce(&self, path: &mut Path, context: &mut SampleContext) -> bool {
         let scene = self.scene;
-        let hit = scene.geometry.surface_hit((path.hit.object, path.hit.prim), &path.ray, &path.hit.at);
+        let hit = scene.geometry().surface_hit((path.hit.object, path.hit.prim), &path.ray, &path.hit.at);
         let previous = (path.depth > 0).then_some(Scatter {
             point: path.last_point,
             shading_normal: path.last_normal,
@@ -501,7 +501,7 @@ impl<'a> Wavefront<'a> {
     /// the vertex normals where the mesh has them.
     #[inline(always)]
     fn flat_surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, materials: &[LaneMaterial]) -> Surfaces {
-        let geometry = &self.scene.geometry;
+        let geometry = &self.scene.geometry();
         let [a, b, c] = geometry
             .triangles8(std::array::from_fn(|k| (path(k).hit.object, path(k).hit.prim)))
             .expect("flat surfaces are triangles");
@@ -511,7 +511,7 @@ impl<'a> Wavefront<'a> {
         let shading =
             if geometry.has_vertex_normals() { self.smooth_normals(path, (b1, b2), geometric) } else { geometric };
         let material =
-            std::array::from_fn(|k| materials[geometry.objects[path(k).hit.object as usize].material as usize]);
+            std::array::from_fn(|k| materials[geometry.objects()[path(k).hit.object as usize].material as usize]);
         Surfaces { point, error, geometric, shading, material }
     }
 
@@ -523,7 +523,7 @@ impl<'a> Wavefront<'a> {
         (b1, b2): (f32x8, f32x8),
         geometric: Vec3x8,
     ) -> Vec3x8 {
-        let geometry = &self.scene.geometry;
+        let geometry = &self.scene.geometry();
         let vertex_normals: [Option<[Vec3; 3]>; LANES] =
             std::array::from_fn(|k| geometry.triangle_normals(path(k).hit.object, path(k).hit.prim));
         let smooth = mask(|k| vertex_normals[k].is_some());
@@ -543,7 +543,7 @@ impl<'a> Wavefront<'a> {
         let scene = self.scene;
         let hits: [Option<crate::scene::SurfaceHit>; LANES] = std::array::from_fn(|k| {
             let p = path(k);
-            (k < n).then(|| scene.geometry.surface_hit((p.hit.object, p.hit.prim), &p.ray, &p.hit.at))
+            (k < n).then(|| scene.geometry().surface_hit((p.hit.object, p.hit.prim), &p.ray, &p.hit.at))
         });
         let geometry = |k: usize| hits[k].map(|h| h.geometry);
         Surfaces {
