@@ -137,3 +137,76 @@ impl Mul<f32x8> for Vec3x8 {
         Self { x: self.x * s, y: self.y * s, z: self.z * s }
     }
 }
+
+/// What the lane routines' tests share: random inputs and a bit-for-bit comparison.
+#[cfg(test)]
+pub(crate) mod testing {
+    use super::{Vec3x8, LANES};
+    use crate::sampling::Rng;
+    use glam::Vec3;
+
+    /// Eight vectors uniform in the cube of side `scale` about the origin.
+    pub fn random_vectors(rng: &mut Rng, scale: f32) -> [Vec3; LANES] {
+        std::array::from_fn(|_| Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32() - 0.5) * scale)
+    }
+
+    pub fn random_floats(rng: &mut Rng, scale: f32) -> [f32; LANES] {
+        std::array::from_fn(|_| rng.next_f32() * scale)
+    }
+
+    pub fn assert_lanes_equal(lanes: Vec3x8, scalar: [Vec3; LANES], what: &str) {
+        for (k, s) in scalar.iter().enumerate() {
+            let l = lanes.lane(k);
+            assert_eq!(
+                l.to_array().map(f32::to_bits),
+                s.to_array().map(f32::to_bits),
+                "{what}, lane {k}: {l} against {s}"
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::testing::{assert_lanes_equal, random_vectors};
+    use super::*;
+    use crate::sampling::Rng;
+
+    /// The vector operations compute glam's bits, on random inputs of many scales.
+    #[test]
+    fn vector_operations_equal_glam_bit_for_bit() {
+        let mut rng = Rng::new(11, 5);
+        for round in 0..2_000 {
+            let scale = 10f32.powi(round % 9 - 4);
+            let (a, b) = (random_vectors(&mut rng, scale), random_vectors(&mut rng, 1.0));
+            let (la, lb) = (Vec3x8::from_fn(|k| a[k]), Vec3x8::from_fn(|k| b[k]));
+            assert_lanes_equal(la.cross(lb), std::array::from_fn(|k| a[k].cross(b[k])), "cross");
+            assert_lanes_equal(la.normalize(), a.map(Vec3::normalize), "normalize");
+            assert_lanes_equal(la.normalize_or(lb), std::array::from_fn(|k| a[k].normalize_or(b[k])), "normalize_or");
+        }
+        // normalize_or's fallback: zero, tiny and infinite vectors.
+        let odd = [Vec3::ZERO, Vec3::splat(1e-30), Vec3::new(f32::INFINITY, 0.0, 0.0), Vec3::new(-0.0, 0.0, 0.0)];
+        let a: [Vec3; LANES] = std::array::from_fn(|k| if k < 4 { odd[k] } else { Vec3::new(k as f32, 1.0, -2.0) });
+        let fallback: [Vec3; LANES] = std::array::from_fn(|k| Vec3::new(0.0, k as f32, 1.0).normalize());
+        let lanes_a = Vec3x8::from_fn(|k| a[k]);
+        let scalar: [Vec3; LANES] = std::array::from_fn(|k| a[k].normalize_or(fallback[k]));
+        assert_lanes_equal(lanes_a.normalize_or(Vec3x8::from_fn(|k| fallback[k])), scalar, "normalize_or fallback");
+    }
+
+    /// `max_element` against glam's, special values included (NaN, ±0, infinities).
+    #[test]
+    fn max_element_equals_glam_on_special_values() {
+        let specials = [0.0, -0.0, 1.0, 0.5, f32::INFINITY, f32::NAN, 1e-30, 3.0e30, 2.0, -1.0];
+        for (i, &x) in specials.iter().enumerate() {
+            for &y in &specials {
+                let lanes: [f32; LANES] = std::array::from_fn(|k| specials[(i + k) % specials.len()]);
+                let v = Vec3x8 { x: f32x8::from(lanes), y: f32x8::splat(y), z: f32x8::splat(x) };
+                let max = v.max_element().to_array();
+                for k in 0..LANES {
+                    let expected = Vec3::new(lanes[k], y, x).max_element();
+                    assert_eq!(max[k].to_bits(), expected.to_bits(), "max of {}, {y}, {x}", lanes[k]);
+                }
+            }
+        }
+    }
+}

@@ -13,11 +13,14 @@ mod transform;
 
 pub use aabb::Aabb;
 pub use ray::Ray;
-pub(crate) use robust::step_toward8;
+pub(crate) use robust::offset_ray_origin8;
 pub use robust::{gamma, next_float_down, next_float_up, offset_ray_origin, transform_point_with_error};
 pub use transform::Transform;
 
 use glam::Vec3;
+use wide::f32x8;
+
+use lanes::{negate, Vec3x8};
 
 /// Two unit vectors perpendicular to `n` and to each other (Duff et al. 2017,
 /// "Building an Orthonormal Basis, Revisited"): branch-free and exact at the poles.
@@ -26,6 +29,17 @@ pub fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
     let a = -1.0 / (sign + n.z);
     let b = n.x * n.y * a;
     (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
+}
+
+/// `orthonormal_basis` in lanes (Duff et al. 2017): two tangents completing the unit `n`.
+#[inline(always)]
+pub(crate) fn orthonormal_basis8(n: Vec3x8) -> (Vec3x8, Vec3x8) {
+    let sign = f32x8::ONE.copysign(n.z);
+    let a = f32x8::splat(-1.0) / (sign + n.z);
+    let b = n.x * n.y * a;
+    let tangent = Vec3x8 { x: f32x8::ONE + sign * n.x * n.x * a, y: sign * b, z: negate(sign) * n.x };
+    let bitangent = Vec3x8 { x: b, y: sign + n.y * n.y * a, z: negate(n.y) };
+    (tangent, bitangent)
 }
 
 /// Mirror reflection of the incident direction `incident` about the normal `n`:
@@ -52,6 +66,7 @@ pub fn refract(incident: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::lanes::testing::{assert_lanes_equal, random_vectors};
 
     #[test]
     fn basis_is_orthonormal_everywhere() {
@@ -81,5 +96,21 @@ mod tests {
     fn reflection_of_a_45_degree_ray() {
         let r = reflect(Vec3::new(1.0, -1.0, 0.0), Vec3::Y);
         assert_eq!(r, Vec3::new(1.0, 1.0, 0.0));
+    }
+
+    /// The lane version computes the scalar one's bits, the poles included.
+    #[test]
+    fn orthonormal_basis8_equals_the_scalar_routine() {
+        let mut rng = crate::sampling::Rng::new(11, 5);
+        for round in 0..2_000 {
+            let mut n = random_vectors(&mut rng, 1.0).map(|v| v.normalize_or(Vec3::Z));
+            if round == 0 {
+                n[..4].copy_from_slice(&[Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(0.0, -0.0, -1.0)]);
+            }
+            let (t, s) = orthonormal_basis8(Vec3x8::from_fn(|k| n[k]));
+            let basis = n.map(orthonormal_basis);
+            assert_lanes_equal(t, basis.map(|(t, _)| t), "tangent");
+            assert_lanes_equal(s, basis.map(|(_, s)| s), "bitangent");
+        }
     }
 }

@@ -10,7 +10,9 @@
 //! find its surface a few ulps before the sampled point.
 
 use glam::{Mat4, Vec3};
-use wide::{f32x8, i32x8, CmpEq, CmpGt};
+use wide::{f32x8, i32x8, CmpEq, CmpGt, CmpLt};
+
+use super::lanes::Vec3x8;
 
 /// Half an ulp of 1: the unit roundoff of f32.
 const MACHINE_EPSILON: f32 = f32::EPSILON * 0.5;
@@ -49,6 +51,21 @@ pub fn offset_ray_origin(point: Vec3, error: Vec3, normal: Vec3, direction: Vec3
         offset = -offset;
     }
     step_toward3(point + offset, offset)
+}
+
+/// `offset_ray_origin` in eight lanes, operation for operation: the origin for a ray leaving `point` (error bound `error`)
+/// toward `direction`, past the error box along `normal` and one ulp further.
+#[inline(always)]
+pub(crate) fn offset_ray_origin8(point: Vec3x8, error: Vec3x8, normal: Vec3x8, direction: Vec3x8) -> Vec3x8 {
+    let distance = normal.abs().dot(error);
+    let offset = normal * distance;
+    let offset = Vec3x8::select(direction.dot(normal).cmp_lt(f32x8::ZERO), -offset, offset);
+    let moved = point + offset;
+    Vec3x8 {
+        x: step_toward8(moved.x, offset.x),
+        y: step_toward8(moved.y, offset.y),
+        z: step_toward8(moved.z, offset.z),
+    }
 }
 
 /// `step_toward` on each axis, in three lanes of `step_toward8` (bit for bit the scalar step,
@@ -116,6 +133,8 @@ pub fn transform_point_with_error(m: &Mat4, point: Vec3, error: Vec3) -> (Vec3, 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::lanes::testing::{assert_lanes_equal, random_vectors};
+    use crate::geometry::lanes::{Vec3x8, LANES};
 
     /// The branch-free step equals `next_float_up` and `next_float_down` bit for bit, zeros,
     /// subnormals, the largest floats and infinities included.
@@ -204,5 +223,20 @@ mod tests {
         let down = offset_ray_origin(p, err, n, Vec3::new(0.3, -1.0, 0.0));
         assert!(up.y > p.y + 1e-2 - 1e-9 && down.y < p.y - 1e-2 + 1e-9);
         assert_eq!((up.x, up.z), (p.x, p.z));
+    }
+
+    /// The lane version computes the scalar one's bits, on random inputs of many scales.
+    #[test]
+    fn offset_ray_origin8_equals_the_scalar_routine() {
+        let mut rng = crate::sampling::Rng::new(11, 5);
+        for round in 0..2_000 {
+            let scale = 10f32.powi(round % 9 - 4);
+            let (p, d, e) =
+                (random_vectors(&mut rng, scale), random_vectors(&mut rng, 1.0), random_vectors(&mut rng, 1e-4));
+            let (e, n) = (e.map(Vec3::abs), d.map(|v| (v + Vec3::splat(0.01)).normalize()));
+            let lanes = |v: [Vec3; LANES]| Vec3x8::from_fn(|k| v[k]);
+            let scalar = std::array::from_fn(|k| offset_ray_origin(p[k], e[k], n[k], d[k]));
+            assert_lanes_equal(offset_ray_origin8(lanes(p), lanes(e), lanes(n), lanes(d)), scalar, "offset_ray_origin");
+        }
     }
 }

@@ -12,6 +12,7 @@
 //! scenes. Unbiased: it converges to the same image as `path-naive`.
 
 use glam::{Vec2, Vec3};
+use wide::{f32x8, CmpEq};
 
 use super::vertex::Vertex;
 use super::{Integrator, IntegratorSettings, SampleContext};
@@ -111,6 +112,14 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
         return if a2.is_infinite() { 1.0 } else { 0.0 };
     }
     a2 / (a2 + b2)
+}
+
+/// `power_heuristic` in lanes.
+#[inline(always)]
+pub(crate) fn power_heuristic8(a: f32x8, b: f32x8) -> f32x8 {
+    let (a2, b2) = (a * a, b * b);
+    let special = (a2 + b2).cmp_eq(f32x8::ZERO) | !a2.is_finite();
+    special.blend(a2.is_inf().blend(f32x8::ONE, f32x8::ZERO), a2 / (a2 + b2))
 }
 
 impl Integrator for PathTracer {
@@ -287,5 +296,22 @@ mod tests {
         assert_eq!(power_heuristic(0.0, 1.0), 0.0);
         assert!((power_heuristic(1.0, 2.0) - 0.2).abs() < 1e-6);
         assert!((power_heuristic(3.0, 1.0) + power_heuristic(1.0, 3.0) - 1.0).abs() < 1e-6);
+    }
+
+    /// The lane version computes the scalar one's bits, special values included (NaN, ±0,
+    /// infinities).
+    #[test]
+    fn power_heuristic8_equals_the_scalar_routine() {
+        let specials = [0.0, -0.0, 1.0, 0.5, f32::INFINITY, f32::NAN, 1e-30, 3.0e30, 2.0, -1.0];
+        for i in 0..specials.len() {
+            for &y in &specials {
+                let lanes: [f32; 8] = std::array::from_fn(|k| specials[(i + k) % specials.len()]);
+                let heuristic = power_heuristic8(wide::f32x8::from(lanes), wide::f32x8::splat(y)).to_array();
+                for k in 0..8 {
+                    let expected = power_heuristic(lanes[k], y);
+                    assert_eq!(heuristic[k].to_bits(), expected.to_bits(), "heuristic of {}, {y}", lanes[k]);
+                }
+            }
+        }
     }
 }

@@ -23,9 +23,11 @@
 //! their light pdf is 0, so the estimate stays unbiased, only noisier.
 
 use glam::{Vec2, Vec3};
+use wide::{f32x8, CmpGt};
 
 use super::{Asked, LightEnd, LightSample};
 use crate::accel::Object;
+use crate::geometry::lanes::Vec3x8;
 use crate::geometry::{orthonormal_basis, Transform};
 use crate::materials::Material;
 use crate::sampling::spherical::SphericalTriangle;
@@ -436,9 +438,21 @@ pub(crate) fn area_to_solid_angle(selection: f32, area: f32, from: Vec3, point: 
     (projected > 0.0).then(|| selection * distance_squared * distance_squared.sqrt() / (projected * area))
 }
 
+/// `area_to_solid_angle` in lanes: the density `selection / area` of a point
+/// on a light as a density in solid angle, seen across `to_light` (the point minus the
+/// receiver), and the mask of lanes where the light is not seen edge on.
+#[inline(always)]
+pub(crate) fn area_to_solid_angle8(selection: f32x8, area: f32x8, to_light: Vec3x8, normal: Vec3x8) -> (f32x8, f32x8) {
+    let distance_squared = to_light.dot(to_light);
+    let projected = normal.dot(to_light).abs();
+    (selection * distance_squared * distance_squared.sqrt() / (projected * area), projected.cmp_gt(f32x8::ZERO))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::lanes::testing::random_vectors;
+    use crate::geometry::lanes::LANES;
     use crate::geometry::Aabb;
     use crate::lights::{Environment, Lights};
     use crate::materials::Phong;
@@ -689,5 +703,36 @@ mod tests {
         // The sphere chosen with its power share (binomial, 4σ).
         let sigma = (n as f64 * p_sphere * (1.0 - p_sphere)).sqrt();
         assert!((spheres - n as f64 * p_sphere).abs() < 4.0 * sigma, "{spheres} of {n} vs p = {p_sphere}");
+    }
+
+    /// The lane version computes the scalar one's bits and says "edge on" where it does.
+    #[test]
+    fn area_to_solid_angle8_equals_the_scalar_routine() {
+        let mut rng = crate::sampling::Rng::new(3, 9);
+        for _ in 0..500 {
+            let from = random_vectors(&mut rng, 10.0);
+            let point = random_vectors(&mut rng, 10.0);
+            // Half the normals lie in the plane of the receiver's view: the light seen edge on.
+            let normal: [Vec3; LANES] = std::array::from_fn(|k| match k % 2 {
+                0 => (point[k] - from[k]).cross(Vec3::new(0.3, 1.0, -0.2)).normalize(),
+                _ => Vec3::new(0.2, -1.0, 0.4).normalize(),
+            });
+            let (selection, area) = (rng.next_f32(), rng.next_f32() * 4.0);
+            let to_light = Vec3x8::from_fn(|k| point[k] - from[k]);
+            let (pdf, seen) = area_to_solid_angle8(
+                f32x8::splat(selection),
+                f32x8::splat(area),
+                to_light,
+                Vec3x8::from_fn(|k| normal[k]),
+            );
+            let (pdf, seen) = (pdf.to_array(), seen.move_mask());
+            for k in 0..LANES {
+                let expected = area_to_solid_angle(selection, area, from[k], point[k], normal[k]);
+                assert_eq!(seen & (1 << k) != 0, expected.is_some(), "seen, lane {k}");
+                if let Some(expected) = expected {
+                    assert_eq!(pdf[k].to_bits(), expected.to_bits(), "pdf, lane {k}");
+                }
+            }
+        }
     }
 }

@@ -29,8 +29,7 @@ mod point;
 mod set;
 mod spot;
 
-#[cfg(test)]
-pub(crate) use area::area_to_solid_angle;
+pub(crate) use area::area_to_solid_angle8;
 pub(crate) use area::TriangleEmitter;
 pub use area::{AreaEmission, AreaLight, TriangleSampling};
 pub use directional::DirectionalLight;

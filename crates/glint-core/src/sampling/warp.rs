@@ -5,6 +5,9 @@
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
 
 use glam::{Vec2, Vec3};
+use wide::{f32x8, CmpEq, CmpGt};
+
+use crate::geometry::lanes::Vec3x8;
 
 /// Shirley–Chiu concentric map of [0,1)² onto the unit disk (area-preserving, low distortion).
 pub fn square_to_disk(u: Vec2) -> Vec2 {
@@ -34,6 +37,19 @@ fn sin_cos_quarter(x: f32) -> (f32, f32) {
     (sin, cos)
 }
 
+/// `sin_cos_quarter` in lanes: the same Taylor polynomials for |x| ≤ π/4.
+#[inline(always)]
+fn sin_cos_quarter8(x: f32x8) -> (f32x8, f32x8) {
+    let c = f32x8::splat;
+    let x2 = x * x;
+    let sin =
+        x * (c(1.0) + x2 * (c(-1.0 / 6.0) + x2 * (c(1.0 / 120.0) + x2 * (c(-1.0 / 5040.0) + x2 * c(1.0 / 362_880.0)))));
+    let cos = c(1.0)
+        + x2 * (c(-0.5)
+            + x2 * (c(1.0 / 24.0) + x2 * (c(-1.0 / 720.0) + x2 * (c(1.0 / 40_320.0) + x2 * c(-1.0 / 3_628_800.0)))));
+    (sin, cos)
+}
+
 pub fn disk_to_square(d: Vec2) -> Vec2 {
     let r = d.length();
     let mut phi = d.y.atan2(d.x);
@@ -57,6 +73,21 @@ pub fn square_to_cosine_hemisphere(u: Vec2) -> Vec3 {
     let d = square_to_disk(u);
     let z = (1.0 - d.length_squared()).max(0.0).sqrt();
     Vec3::new(d.x, d.y, z)
+}
+
+/// `square_to_cosine_hemisphere` in lanes: Shirley and Chiu's concentric disk, lifted.
+#[inline(always)]
+pub(crate) fn square_to_cosine_hemisphere8(u: f32x8, v: f32x8) -> Vec3x8 {
+    let two = f32x8::splat(2.0);
+    let (px, py) = (two * u - f32x8::ONE, two * v - f32x8::ONE);
+    let sideways = px.abs().cmp_gt(py.abs());
+    let (r, q) = (sideways.blend(px, py), sideways.blend(py, px));
+    let (sin, cos) = sin_cos_quarter8(f32x8::splat(std::f32::consts::FRAC_PI_4) * (q / r));
+    let (x, y) = (sideways.blend(cos, sin), sideways.blend(sin, cos));
+    let centre = r.cmp_eq(f32x8::ZERO);
+    let (dx, dy) = (centre.blend(f32x8::ZERO, r * x), centre.blend(f32x8::ZERO, r * y));
+    let z = (f32x8::ONE - (dx * dx + dy * dy)).fast_max(f32x8::ZERO).sqrt();
+    Vec3x8 { x: dx, y: dy, z }
 }
 
 pub fn cosine_hemisphere_pdf(w: Vec3) -> f32 {
@@ -146,6 +177,8 @@ pub fn bilinear_to_square(p: Vec2, w: [f32; 4]) -> Vec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::lanes::testing::{assert_lanes_equal, random_floats};
+    use crate::geometry::lanes::LANES;
     use crate::sampling::Rng;
 
     /// Within two ulps of the correctly rounded sine and cosine over the whole quarter, and
@@ -234,5 +267,24 @@ mod tests {
         }
         sum *= (FRAC_PI_2 / nt as f32 * 2.0 * PI / np as f32) as f64;
         assert!((sum - 1.0).abs() < 1e-3, "{sum}");
+    }
+
+    /// The lane version computes the scalar one's bits, at random and at the disk's centre and
+    /// the diagonals where the quadrant choice flips.
+    #[test]
+    fn square_to_cosine_hemisphere8_equals_the_scalar_routine() {
+        let check = |u: [f32; LANES], v: [f32; LANES], what: &str| {
+            let scalar = std::array::from_fn(|k| square_to_cosine_hemisphere(Vec2::new(u[k], v[k])));
+            assert_lanes_equal(square_to_cosine_hemisphere8(f32x8::from(u), f32x8::from(v)), scalar, what);
+        };
+        let mut rng = Rng::new(11, 5);
+        for _ in 0..2_000 {
+            check(random_floats(&mut rng, 1.0), random_floats(&mut rng, 1.0), "cosine hemisphere");
+        }
+        check(
+            [0.5, 0.5, 0.0, 1.0, 0.25, 0.75, 0.5, 0.0],
+            [0.5, 0.0, 0.0, 1.0, 0.25, 0.25, 1.0, 1.0],
+            "centre, diagonals",
+        );
     }
 }

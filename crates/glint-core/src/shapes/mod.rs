@@ -26,10 +26,8 @@ pub use plane::Plane;
 pub use polygon::{inverse_bilinear, Polygon, PolygonTest, PolygonUvError};
 pub(crate) use sphere::{sample_sphere, sample_sphere_seen_from, sphere_solid_angle_from, Ellipsoid};
 pub use sphere::{Sphere, SphereMethod};
-#[cfg(test)]
-pub(crate) use triangle::barycentric_point;
+pub(crate) use triangle::{barycentric_point8, sample_triangle, triangle_point_along, TriangleSurface};
 pub use triangle::{intersect_cramer, moller_trumbore_edges, Triangle, TriangleMethod, WatertightRay};
-pub(crate) use triangle::{sample_triangle, triangle_point_along, TriangleSurface};
 
 use glam::{Vec2, Vec3};
 

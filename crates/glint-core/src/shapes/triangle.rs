@@ -15,8 +15,10 @@
 //! plane (determinant 0) misses.
 
 use glam::{Vec2, Vec3, Vec3A};
+use wide::f32x8;
 
 use super::{PrimHit, SurfaceGeometry};
+use crate::geometry::lanes::Vec3x8;
 use crate::geometry::{gamma, Aabb, Ray};
 use crate::Named;
 
@@ -281,6 +283,15 @@ pub(crate) fn barycentric_point([a, b, c]: [Vec3; 3], b1: f32, b2: f32) -> (Vec3
     (point, gamma(7) * ((b0 * a).abs() + (b1 * b).abs() + (b2 * c).abs()))
 }
 
+/// `barycentric_point` in lanes: the point with weights (1 − b1 − b2, b1, b2) of the corners,
+/// and the bound on its error from interpolating.
+#[inline(always)]
+pub(crate) fn barycentric_point8([a, b, c]: [Vec3x8; 3], b1: f32x8, b2: f32x8) -> (Vec3x8, Vec3x8) {
+    let b0 = f32x8::ONE - b1 - b2;
+    let (pa, pb, pc) = (a * b0, b * b1, c * b2);
+    (pa + pb + pc, (pa.abs() + pb.abs() + pc.abs()) * f32x8::splat(gamma(7)))
+}
+
 /// A point uniform on the triangle's area, for sampling it as a light: `u` warped to
 /// barycentric weights (`square_to_triangle`; the wavefront's lanes repeat that warp), and
 /// the point's error bound.
@@ -356,6 +367,8 @@ pub(crate) fn triangle_point_along(from: Vec3, w: Vec3, [a, b, c]: [Vec3; 3]) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::lanes::testing::{assert_lanes_equal, random_floats, random_vectors};
+    use crate::geometry::lanes::LANES;
     use crate::shapes::test_util::TestRng;
 
     const METHODS: [TriangleMethod; 3] =
@@ -500,5 +513,22 @@ mod tests {
         let w = d.dot(q) / det;
         let tt = e2.dot(q) / det;
         u.abs().min(w.abs()).min((1.0 - u - w).abs()).min(tt.abs()).min(det.abs())
+    }
+
+    /// The lane version computes the scalar one's bits, point and error bound.
+    #[test]
+    fn barycentric_point8_equals_the_scalar_routine() {
+        let mut rng = crate::sampling::Rng::new(11, 5);
+        for round in 0..2_000 {
+            let scale = 10f32.powi(round % 9 - 4);
+            let corners = [(); 3].map(|_| random_vectors(&mut rng, scale));
+            let (b1, b2) = (random_floats(&mut rng, 0.5), random_floats(&mut rng, 0.5));
+            let lanes = corners.map(|c| Vec3x8::from_fn(|k| c[k]));
+            let (point, error) = barycentric_point8(lanes, f32x8::from(b1), f32x8::from(b2));
+            let scalar: [(Vec3, Vec3); LANES] =
+                std::array::from_fn(|k| barycentric_point([corners[0][k], corners[1][k], corners[2][k]], b1[k], b2[k]));
+            assert_lanes_equal(point, scalar.map(|(p, _)| p), "barycentric point");
+            assert_lanes_equal(error, scalar.map(|(_, e)| e), "barycentric error");
+        }
     }
 }
