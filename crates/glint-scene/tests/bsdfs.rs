@@ -222,3 +222,34 @@ type = "diffuse"
         .to_string();
     assert!(e.contains("bsdfs.toml:") && e.contains("nope"), "{e}");
 }
+
+#[test]
+fn bump_map_wraps_a_material_and_refuses_solid_heights() {
+    let loaded = parse(
+        r#"
+[textures.tiles]
+type = "checker"
+even = [0.2, 0.2, 0.2]
+odd = [0.8, 0.8, 0.8]
+
+[materials.a]
+type = "bump-map"
+height = "tiles"
+scale = 0.05
+material = "paper"
+
+[materials.paper]
+type = "diffuse"
+"#,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(matches!(material(&loaded, "a"), Material::BumpMap(m)
+        if matches!(m.material, Material::TwoSided(_)) && m.scale == 0.05 && matches!(m.height, Texture::Checker(_))));
+    let e = parse(
+        "[textures.m]\ntype = \"solid-checker\"\neven = [0, 0, 0]\nodd = [1, 1, 1]\n[materials.a]\ntype = \"bump-map\"\nheight = \"m\"\nmaterial = \"b\"\n[materials.b]\ntype = \"diffuse\"\n",
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("bsdfs.toml:") && e.contains("height") && e.contains("uv"), "{e}");
+}

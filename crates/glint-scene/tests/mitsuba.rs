@@ -222,6 +222,49 @@ fn a_normal_map_wraps_its_bsdf_and_reads_its_bitmap_raw() {
     }
 }
 
+/// `bumpmap` with its height texture under any name, before or after its BSDF, either of them
+/// by reference; `scale` read. Two BSDFs or no texture is an error at the element.
+#[test]
+fn a_bump_map_wraps_its_bsdf_with_its_height_texture() {
+    let path = scene_file(
+        "bumpmap",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<texture type="bitmap" id="heights"><string name="filename" value="ramp.png"/><boolean name="raw" value="true"/></texture>
+<bsdf type="diffuse" id="paper"/>
+<bsdf type="bumpmap" id="bumpy"><float name="scale" value="0.02"/><bsdf type="roughplastic"><string name="distribution" value="ggx"/></bsdf><texture name="anything" type="bitmap"><string name="filename" value="ramp.png"/><boolean name="raw" value="true"/></texture></bsdf>
+<bsdf type="bumpmap" id="referring"><ref name="tiles" id="heights"/><ref id="paper"/></bsdf>
+<shape type="sphere"><ref id="bumpy"/></shape>
+<shape type="sphere"><ref id="referring"/><point name="center" x="3" y="0" z="0"/></shape>
+</scene>
+"#
+        ),
+    );
+    image::RgbImage::from_raw(2, 1, vec![0, 0, 0, 255, 255, 255])
+        .unwrap()
+        .save(path.with_file_name("ramp.png"))
+        .unwrap();
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let scene = &loaded.scene;
+    let material = |name: &str| &scene.materials()[scene.material_names().iter().position(|n| n == name).unwrap()];
+    let Material::BumpMap(m) = material("bumpy") else { panic!("{:?}", material("bumpy")) };
+    assert!(matches!(m.material, Material::RoughPlastic(_)) && m.scale == 0.02, "{m:?}");
+    // Raw: the white texel is 1, so the ramp's slope at the middle is 2 per unit of u.
+    let query = glint_core::textures::TextureQuery { uv: glam::Vec2::new(0.5, 0.5), ..Default::default() };
+    assert!((m.height.luminance_gradient(&query) - glam::Vec2::new(2.0, 0.0)).length() < 1e-5);
+    let Material::BumpMap(m) = material("referring") else { panic!("{:?}", material("referring")) };
+    assert!(matches!(m.material, Material::Diffuse(_)) && m.scale == 1.0, "{m:?}");
+
+    let broken = scene_file(
+        "bumpmap-broken",
+        &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<bsdf type=\"bumpmap\" id=\"b\"><bsdf type=\"diffuse\"/></bsdf>\n<shape type=\"sphere\"><ref id=\"b\"/></shape>\n</scene>\n"),
+    );
+    let e = load_scene(&broken).err().unwrap().to_string();
+    assert!(e.contains("bumpmap-broken") && e.contains("one <texture>"), "{e}");
+}
+
 #[test]
 fn command_line_parameters_override_defaults() {
     let defines = [("spp".to_string(), "3".to_string()), ("res".to_string(), "20".to_string())];

@@ -40,14 +40,15 @@ impl Object {
         }
     }
 
-    /// ∂p/∂u in world space at a point of primitive `prim` (`Shape::dpdu`).
-    pub(crate) fn dpdu(&self, prim: u32, surface: &SurfaceGeometry) -> Vec3 {
+    /// (∂p/∂u, ∂p/∂v) in world space at a point of primitive `prim` (`Shape::tangents`).
+    pub(crate) fn tangents(&self, prim: u32, surface: &SurfaceGeometry) -> (Vec3, Vec3) {
         match &self.transform {
-            None => self.shape.dpdu(prim, surface.point, surface.geometric_normal),
+            None => self.shape.tangents(prim, surface.point, surface.geometric_normal),
             Some(t) => {
                 let local_normal = glam::Mat3::from_mat4(t.to_world).transpose() * surface.geometric_normal;
                 let local_point = t.to_object.transform_point3(surface.point);
-                t.vector(self.shape.dpdu(prim, local_point, local_normal))
+                let (dpdu, dpdv) = self.shape.tangents(prim, local_point, local_normal);
+                (t.vector(dpdu), t.vector(dpdv))
             }
         }
     }
@@ -265,9 +266,9 @@ impl Geometry {
         self.bounds
     }
 
-    /// ∂p/∂u in world space at `surface` on primitive `prim` of object `object`.
-    pub fn dpdu(&self, object: u32, prim: u32, surface: &SurfaceGeometry) -> Vec3 {
-        self.objects[object as usize].dpdu(prim, surface)
+    /// (∂p/∂u, ∂p/∂v) in world space at `surface` on primitive `prim` of object `object`.
+    pub fn tangents(&self, object: u32, prim: u32, surface: &SurfaceGeometry) -> (Vec3, Vec3) {
+        self.objects[object as usize].tangents(prim, surface)
     }
 
     /// The surface of primitive `prim` of object `object` for a hit found on `ray`.
@@ -554,11 +555,11 @@ mod tests {
     use super::*;
     use crate::shapes::{AaBox, IntersectMethods, Plane, Polygon, Sphere, Triangle};
 
-    /// ∂p/∂u means what it says on every shape, with and without a transform: a step of h·∂p/∂u
-    /// from a hit moves the uv by (h, 0) to first order. Each shape is hit by a ray, then by a
-    /// second ray aimed at the stepped point.
+    /// ∂p/∂u and ∂p/∂v mean what they say on every shape, with and without a transform: a step
+    /// of h·∂p/∂u from a hit moves the uv by (h, 0) to first order, one of h·∂p/∂v by (0, h).
+    /// Each shape is hit by a ray, then by a second ray aimed at the stepped point.
     #[test]
-    fn dpdu_is_the_derivative_of_the_point_along_u() {
+    fn tangents_are_the_derivatives_of_the_point_along_u_and_v() {
         let mut textured =
             Triangle::new(Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.2, -0.8, 0.1), Vec3::new(0.1, 1.0, -0.2));
         textured.uvs = Some([Vec2::new(0.1, 0.2), Vec2::new(0.9, 0.3), Vec2::new(0.4, 0.95)]);
@@ -589,17 +590,18 @@ mod tests {
                     object.surface(0, &ray, &hit)
                 };
                 let s = surface(Vec3::new(0.1, 0.05, 0.0));
-                let dpdu = object.dpdu(0, &s);
-                assert!(dpdu.length() > 0.0, "{name}");
-                let h = 1e-3 / dpdu.length();
-                let stepped = surface(s.point + h * dpdu);
-                let du = stepped.uv - s.uv;
+                let (dpdu, dpdv) = object.tangents(0, &s);
                 let placed = if transform.is_some() { "placed" } else { "as is" };
-                assert!(
-                    (du.x / h - 1.0).abs() < 0.02 && (du.y / h).abs() < 0.02,
-                    "{name}, {placed}: Δuv / h = {}",
-                    du / h
-                );
+                for (along, tangent, expected) in [("u", dpdu, Vec2::X), ("v", dpdv, Vec2::Y)] {
+                    assert!(tangent.length() > 0.0, "{name}, {along}");
+                    let h = 1e-3 / tangent.length();
+                    let stepped = surface(s.point + h * tangent);
+                    let moved = (stepped.uv - s.uv) / h;
+                    assert!(
+                        (moved - expected).abs().max_element() < 0.02,
+                        "{name}, {placed}: Δuv / h along {along} = {moved}"
+                    );
+                }
             }
         }
     }

@@ -18,8 +18,8 @@ pub(super) struct Vertex<'s> {
     /// for particles.
     pub wo: Vec3,
     pub material: &'s Material,
-    /// The surface's ∂p/∂u where the material reads it (zero elsewhere: no one asks).
-    dpdu: Vec3,
+    /// The surface's (∂p/∂u, ∂p/∂v) where the material reads them (zero elsewhere: no one asks).
+    tangents: (Vec3, Vec3),
 }
 
 impl<'s> Vertex<'s> {
@@ -32,12 +32,12 @@ impl<'s> Vertex<'s> {
     pub fn at(scene: &'s Scene, ray: &Ray, hit: SurfaceHit) -> Self {
         let wo = -ray.direction.normalize();
         let material = &scene.materials()[hit.material as usize];
-        let dpdu = if material.needs_tangent() {
-            scene.geometry().dpdu(hit.object, hit.prim, &hit.geometry)
+        let tangents = if material.needs_tangent() {
+            scene.geometry().tangents(hit.object, hit.prim, &hit.geometry)
         } else {
-            Vec3::ZERO
+            (Vec3::ZERO, Vec3::ZERO)
         };
-        Self { hit, wo, material, dpdu }
+        Self { hit, wo, material, tangents }
     }
 
     /// The radiance the surface emits toward `wo`.
@@ -48,7 +48,8 @@ impl<'s> Vertex<'s> {
     /// The material's BSDF at the hit (textures evaluated, the shading frame set).
     pub fn bsdf(&self) -> Bsdf<'s> {
         let geometry = &self.hit.geometry;
-        let query = TextureQuery { dpdu: self.dpdu, ..self.hit.texture_query() };
+        let (dpdu, dpdv) = self.tangents;
+        let query = TextureQuery { dpdu, dpdv, ..self.hit.texture_query() };
         self.material.bsdf(&query, self.wo, geometry.shading_normal, geometry.geometric_normal)
     }
 }
@@ -105,7 +106,11 @@ mod tests {
             let camera = Camera::new(Vec3::new(0.0, 0.0, -3.0), Vec3::ZERO, Vec3::Y, 45.0, 8, 8).unwrap();
             let scene = SceneBuilder::new(camera).object(object).material("metal", metal(alpha_v)).build();
             let vertex = Vertex::trace(&scene, &Ray::new(Vec3::new(0.1, 0.0, -3.0), Vec3::Z)).expect("a hit");
-            assert!((vertex.dpdu - expected).length() < 1e-5, "α_v {alpha_v}: {} vs {expected}", vertex.dpdu);
+            assert!(
+                (vertex.tangents.0 - expected).length() < 1e-5,
+                "α_v {alpha_v}: {} vs {expected}",
+                vertex.tangents.0
+            );
         }
     }
 }

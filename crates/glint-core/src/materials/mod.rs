@@ -10,6 +10,7 @@
 
 mod blend;
 mod bsdf;
+mod bump_map;
 mod conductor;
 mod dielectric;
 mod diffuse;
@@ -31,6 +32,7 @@ mod two_sided;
 pub use blend::Blend;
 pub(crate) use bsdf::luminance;
 pub use bsdf::{Bsdf, BsdfSample, Frame, MAX_LEAVES};
+pub use bump_map::BumpMap;
 pub use conductor::{fresnel_conductor, named_metal, Conductor, METAL_NAMES};
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
@@ -73,6 +75,8 @@ pub enum Material {
     TwoSided(Box<TwoSided>),
     /// A material about a shading normal from a texture (Mitsuba's `normalmap`).
     NormalMap(Box<NormalMap>),
+    /// A material about a normal tilted by a height field (Mitsuba's `bumpmap`).
+    BumpMap(Box<BumpMap>),
     /// Any material that also emits: Mitsuba's `area` emitter on a shape.
     Emitter(Box<Emitter>),
 }
@@ -168,6 +172,10 @@ impl Material {
                 let mapped = m.shading_normal(query, shading);
                 return m.material.gather(query, wo, mapped, geometric, weight, mixture);
             }
+            Material::BumpMap(m) => {
+                let bumped = m.shading_normal(query, shading, geometric);
+                return m.material.gather(query, wo, bumped, geometric, weight, mixture);
+            }
             Material::Emitter(e) => return e.surface.gather(query, wo, shading, geometric, weight, mixture),
         };
         if mixture.count < MAX_LEAVES {
@@ -188,7 +196,7 @@ impl Material {
             Material::Mask(m) => m.material.needs_tangent(),
             Material::TwoSided(t) => t.front.needs_tangent() || t.back.needs_tangent(),
             Material::Emitter(e) => e.surface.needs_tangent(),
-            Material::NormalMap(_) => true,
+            Material::NormalMap(_) | Material::BumpMap(_) => true,
             _ => false,
         }
     }
@@ -202,6 +210,7 @@ impl Material {
             Material::TwoSided(t) => t.front.leaf_count().max(t.back.leaf_count()),
             Material::Emitter(e) => e.surface.leaf_count(),
             Material::NormalMap(m) => m.material.leaf_count(),
+            Material::BumpMap(m) => m.material.leaf_count(),
             _ => 1,
         }
     }
@@ -235,6 +244,7 @@ impl Material {
             }
             Material::TwoSided(t) => if outside { &t.front } else { &t.back }.whitted(query, true),
             Material::NormalMap(m) => m.material.whitted(query, outside),
+            Material::BumpMap(m) => m.material.whitted(query, outside),
             Material::Emitter(e) => PhongPoint {
                 emission: e.radiance,
                 two_sided_emission: e.two_sided,
@@ -341,6 +351,7 @@ impl Material {
             Material::TwoSided(t) => t.front.largest_factor().max(t.back.largest_factor()),
             Material::Emitter(e) => e.surface.largest_factor(),
             Material::NormalMap(m) => m.material.largest_factor(),
+            Material::BumpMap(m) => m.material.largest_factor(),
         }
     }
 }

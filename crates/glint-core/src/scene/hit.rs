@@ -28,7 +28,7 @@ impl SurfaceHit {
     /// Where the hit's textures are looked up; ∂p/∂u is left zero (only anisotropic materials
     /// ask for it: `Geometry::dpdu`).
     pub fn texture_query(&self) -> TextureQuery {
-        TextureQuery { uv: self.geometry.uv, point: self.object_point, dpdu: Vec3::ZERO }
+        TextureQuery { uv: self.geometry.uv, point: self.object_point, dpdu: Vec3::ZERO, dpdv: Vec3::ZERO }
     }
 
     /// A ray leaving the surface in `direction`, from an origin just past the point's error

@@ -157,13 +157,15 @@ impl AaBox {
     /// face in turn, as a corner reflector does). With the point on an edge, a ray leaving
     /// through the adjacent face met it at t = 0, which no ray contains: rays escaped closed
     /// mirror boxes at their edges.
-    /// ∂p/∂u on the face of outward normal `normal`: u runs along the next axis over its size.
-    pub fn dpdu(&self, normal: Vec3) -> Vec3 {
+    /// (∂p/∂u, ∂p/∂v) on the face of outward normal `normal`: u runs along the next axis over
+    /// its size, v along the one after.
+    pub fn tangents(&self, normal: Vec3) -> (Vec3, Vec3) {
         let axis = normal.abs().max_position();
-        let a = (axis + 1) % 3;
-        let mut d = Vec3::ZERO;
-        d[a] = (self.max - self.min)[a];
-        d
+        let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
+        let (mut dpdu, mut dpdv) = (Vec3::ZERO, Vec3::ZERO);
+        dpdu[a] = (self.max - self.min)[a];
+        dpdv[b] = (self.max - self.min)[b];
+        (dpdu, dpdv)
     }
 
     pub fn surface(&self, point: Vec3) -> SurfaceGeometry {

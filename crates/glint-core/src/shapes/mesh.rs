@@ -12,7 +12,9 @@
 
 use glam::{Vec2, Vec3};
 
-use super::triangle::{intersect_cramer, intersect_moller_trumbore, triangle_dpdu, triangle_surface, WatertightRay};
+use super::triangle::{
+    intersect_cramer, intersect_moller_trumbore, triangle_surface, triangle_tangents, WatertightRay,
+};
 use super::{PrimHit, SurfaceGeometry, TriangleMethod};
 use crate::geometry::{Aabb, Ray, Transform};
 
@@ -68,9 +70,9 @@ impl Mesh {
         triangle_surface(self.triangle_vertices(i), self.triangle_normals(i), self.triangle_uvs(i), hit)
     }
 
-    /// ∂p/∂u of triangle `i`.
-    pub fn dpdu(&self, i: usize) -> Vec3 {
-        triangle_dpdu(self.triangle_vertices(i), self.triangle_uvs(i))
+    /// (∂p/∂u, ∂p/∂v) of triangle `i`.
+    pub fn tangents(&self, i: usize) -> (Vec3, Vec3) {
+        triangle_tangents(self.triangle_vertices(i), self.triangle_uvs(i))
     }
 
     fn triangle_uvs(&self, i: usize) -> Option<[Vec2; 3]> {

@@ -124,19 +124,19 @@ impl Shape {
         }
     }
 
-    /// ∂p/∂u at `point` (normal `normal`) on primitive `prim`, in the shape's space: how the
-    /// point moves as u grows (not unit length; zero where unknown: instances, degenerate uvs).
-    /// Asked only by anisotropic materials, which align their tangent with it as Mitsuba's do,
-    /// so a hit does not pay for it.
-    pub fn dpdu(&self, prim: u32, point: Vec3, normal: Vec3) -> Vec3 {
+    /// (∂p/∂u, ∂p/∂v) at `point` (normal `normal`) on primitive `prim`, in the shape's space:
+    /// how the point moves as u and v grow (not unit length; zero where unknown: instances,
+    /// degenerate uvs, a sphere's poles). Asked only by anisotropic materials, which align
+    /// their tangent with ∂p/∂u as Mitsuba's do, and by bump maps, so a hit does not pay for it.
+    pub fn tangents(&self, prim: u32, point: Vec3, normal: Vec3) -> (Vec3, Vec3) {
         match self {
-            Shape::Plane(p) => p.dpdu(),
-            Shape::Sphere(s) => s.dpdu(point),
-            Shape::Triangle(t) => t.dpdu(),
-            Shape::Polygon(p) => p.dpdu(),
-            Shape::AaBox(b) => b.dpdu(normal),
-            Shape::Mesh(m) => m.dpdu(prim as usize),
-            Shape::Instance(_) => Vec3::ZERO,
+            Shape::Plane(p) => p.tangents(),
+            Shape::Sphere(s) => s.tangents(point),
+            Shape::Triangle(t) => t.tangents(),
+            Shape::Polygon(p) => p.tangents(),
+            Shape::AaBox(b) => b.tangents(normal),
+            Shape::Mesh(m) => m.tangents(prim as usize),
+            Shape::Instance(_) => (Vec3::ZERO, Vec3::ZERO),
         }
     }
 

@@ -44,9 +44,9 @@ impl Plane {
         ray.contains(t).then_some(t)
     }
 
-    /// ∂p/∂u: u is the coordinate along the first tangent.
-    pub fn dpdu(&self) -> Vec3 {
-        orthonormal_basis(self.normal).0
+    /// (∂p/∂u, ∂p/∂v): u and v are the coordinates along the two tangents.
+    pub fn tangents(&self) -> (Vec3, Vec3) {
+        orthonormal_basis(self.normal)
     }
 
     pub fn surface(&self, point: Vec3) -> SurfaceGeometry {

@@ -202,15 +202,16 @@ impl Polygon {
         inside.then_some(t)
     }
 
-    /// ∂p/∂u: from the first three corners' uvs (exact for a triangle and a parallelogram; a
-    /// quad's at its first corner otherwise), or along the first tangent without uvs.
-    pub fn dpdu(&self) -> Vec3 {
+    /// (∂p/∂u, ∂p/∂v): from the first three corners' uvs (exact for a triangle and a
+    /// parallelogram; a quad's at its first corner otherwise), or the plane's two tangents
+    /// without uvs.
+    pub fn tangents(&self) -> (Vec3, Vec3) {
         match self.uvs.as_deref() {
-            Some([ua, ub, uc, ..]) => super::triangle::triangle_dpdu(
+            Some([ua, ub, uc, ..]) => super::triangle::triangle_tangents(
                 [self.vertices[0], self.vertices[1], self.vertices[2]],
                 Some([*ua, *ub, *uc]),
             ),
-            _ => orthonormal_basis(self.normal).0,
+            _ => orthonormal_basis(self.normal),
         }
     }
 

@@ -98,10 +98,18 @@ impl Sphere {
 
     /// The point is projected back onto the sphere, which removes most of the error of
     /// `O + tD` (pbrt-v4 §6.8.5). uv: u = φ/2π around +y from +x, v = 1 at the north pole (+y).
-    /// ∂p/∂u at `point`: p = c + r (sin θ cos φ, cos θ, sin θ sin φ) and u = φ / 2π.
-    pub fn dpdu(&self, point: Vec3) -> Vec3 {
+    /// (∂p/∂u, ∂p/∂v) at `point`: p = c + r (sin θ cos φ, cos θ, sin θ sin φ), u = φ / 2π and
+    /// v = 1 − θ / π. Both vanish at the poles, where φ is undefined.
+    pub fn tangents(&self, point: Vec3) -> (Vec3, Vec3) {
         let d = point - self.center;
-        2.0 * PI * Vec3::new(-d.z, 0.0, d.x)
+        let rho = d.x.hypot(d.z);
+        if rho == 0.0 {
+            return (Vec3::ZERO, Vec3::ZERO);
+        }
+        let dpdu = 2.0 * PI * Vec3::new(-d.z, 0.0, d.x);
+        // ∂p/∂θ = (r cos θ cos φ, −r sin θ, r cos θ sin φ), with r cos θ = d.y and r sin θ = ρ.
+        let dpdv = -PI * Vec3::new(d.y * d.x / rho, -rho, d.y * d.z / rho);
+        (dpdu, dpdv)
     }
 
     pub fn surface(&self, point: Vec3) -> SurfaceGeometry {

@@ -77,8 +77,9 @@ impl Triangle {
         triangle_surface(self.vertices, self.normals, self.uvs, hit)
     }
 
-    pub fn dpdu(&self) -> Vec3 {
-        triangle_dpdu(self.vertices, self.uvs)
+    /// (∂p/∂u, ∂p/∂v).
+    pub fn tangents(&self) -> (Vec3, Vec3) {
+        triangle_tangents(self.vertices, self.uvs)
     }
 }
 
@@ -260,18 +261,20 @@ pub(crate) fn triangle_surface(
     SurfaceGeometry { point, geometric_normal, shading_normal, uv, error }
 }
 
-/// ∂p/∂u of a triangle: with uvs, of the plane through the corners that carries them (the
-/// solution of Δp = ∂p/∂u Δu + ∂p/∂v Δv for two edges; zero if the uvs are degenerate);
+/// (∂p/∂u, ∂p/∂v) of a triangle: with uvs, of the plane through the corners that carries them
+/// (the solution of Δp = ∂p/∂u Δu + ∂p/∂v Δv for two edges; zero if the uvs are degenerate);
 /// without, of its barycentrics of b and c (p = a + u (b − a) + v (c − a)).
-pub(crate) fn triangle_dpdu([a, b, c]: [Vec3; 3], uvs: Option<[Vec2; 3]>) -> Vec3 {
-    let Some([ta, tb, tc]) = uvs else { return b - a };
+pub(crate) fn triangle_tangents([a, b, c]: [Vec3; 3], uvs: Option<[Vec2; 3]>) -> (Vec3, Vec3) {
+    let Some([ta, tb, tc]) = uvs else { return (b - a, c - a) };
     let (d02, d12) = (ta - tc, tb - tc);
+    let (p02, p12) = (a - c, b - c);
     let determinant = d02.x * d12.y - d02.y * d12.x;
-    let dpdu = (d12.y * (a - c) - d02.y * (b - c)) / determinant;
-    if determinant != 0.0 && dpdu.is_finite() {
-        dpdu
+    let dpdu = (d12.y * p02 - d02.y * p12) / determinant;
+    let dpdv = (d02.x * p12 - d12.x * p02) / determinant;
+    if determinant != 0.0 && dpdu.is_finite() && dpdv.is_finite() {
+        (dpdu, dpdv)
     } else {
-        Vec3::ZERO
+        (Vec3::ZERO, Vec3::ZERO)
     }
 }
 

@@ -27,6 +27,9 @@ pub struct TextureQuery {
     /// The surface's ∂p/∂u in world space (zero if unknown): the tangent anisotropic
     /// materials align with.
     pub dpdu: Vec3,
+    /// The surface's ∂p/∂v in world space (zero if unknown): with ∂p/∂u, what a bump map
+    /// tilts.
+    pub dpdv: Vec3,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -63,7 +66,29 @@ impl Texture {
     }
 }
 
+/// A colour's luminance with the sRGB primaries' weights (as Mitsuba reads a colour texture
+/// as a scalar, for a bump map's height).
+pub fn luminance(c: Rgb) -> f32 {
+    c.dot(Rgb::new(0.212_671, 0.715_160, 0.072_169))
+}
+
 impl Texture {
+    /// The gradient in uv of the texture's luminance at `query`, for a bump map: zero for
+    /// constants and for the 2D checkerboard (flat between its edges), zero for the solid
+    /// textures too, which vary with the point rather than the uv (`has_uv_gradient` says so,
+    /// and the readers refuse them as heights).
+    pub fn luminance_gradient(&self, query: &TextureQuery) -> Vec2 {
+        match self {
+            Texture::Image(t) => t.luminance_gradient(query.uv),
+            _ => Vec2::ZERO,
+        }
+    }
+
+    /// The texture is a function of uv, so `luminance_gradient` is its slope.
+    pub fn has_uv_gradient(&self) -> bool {
+        matches!(self, Texture::Constant(_) | Texture::Checker(_) | Texture::Image(_))
+    }
+
     /// The largest value of each channel anywhere (textures blend between their colours).
     pub fn max_value(&self) -> Rgb {
         match self {

@@ -576,10 +576,42 @@ impl<'a> Translator<'a> {
                 MaterialDesc::NormalMap { normals, material }
             }
             "bumpmap" => {
-                needs(self, 1)?;
-                self.warn(&bsdf.position, format!("{}: the bump map is ignored", bsdf.describe()));
-                let inner = if nested[0].tag == "ref" { self.resolve(nested[0])? } else { nested[0] };
-                self.bsdf(inner)?
+                // One nested BSDF and one texture of any name, either of them a reference.
+                let mut materials = Vec::new();
+                let mut heights = Vec::new();
+                for child in bsdf.children.iter().filter(|c| matches!(c.tag.as_str(), "bsdf" | "texture" | "ref")) {
+                    let target = if child.tag == "ref" { self.resolve(child)? } else { child };
+                    match target.tag.as_str() {
+                        "bsdf" => materials.push(child),
+                        "texture" => {
+                            if let Some(name) = child.attribute("name") {
+                                p.used.borrow_mut().insert(name.to_string());
+                            }
+                            heights.push(target)
+                        }
+                        other => {
+                            return Err(self.error(
+                                &child.position,
+                                format!("{} takes a <bsdf> and a <texture>, not a <{other}>", bsdf.describe()),
+                            ))
+                        }
+                    }
+                }
+                if materials.len() != 1 || heights.len() != 1 {
+                    return Err(self.error(
+                        &bsdf.position,
+                        format!(
+                            "{} needs one nested <bsdf> and one <texture> (the height), found {} and {}",
+                            bsdf.describe(),
+                            materials.len(),
+                            heights.len()
+                        ),
+                    ));
+                }
+                let height = self.texture(heights[0])?;
+                let scale = p.float(self, "scale")?.unwrap_or(1.0);
+                let material = self.nested_material(bsdf, materials[0], "material")?;
+                MaterialDesc::BumpMap { height, scale, material }
             }
             "blendbsdf" => {
                 needs(self, 2)?;
@@ -727,7 +759,7 @@ impl<'a> Translator<'a> {
                 return Err(self.error(
                     &bsdf.position,
                     format!(
-                        "<bsdf type=\"{kind}\"> is not supported; glint reads diffuse, conductor, roughconductor, dielectric, thindielectric, roughdielectric, plastic, roughplastic, principled, twosided, blendbsdf and mask (bumpmap and normalmap with a warning)"
+                        "<bsdf type=\"{kind}\"> is not supported; glint reads diffuse, conductor, roughconductor, dielectric, thindielectric, roughdielectric, plastic, roughplastic, principled, twosided, blendbsdf, mask, bumpmap and normalmap"
                     ),
                 ))
             }

@@ -4,9 +4,9 @@
 use std::collections::BTreeMap;
 
 use glint_core::materials::{
-    named_metal, Blend, Conductor, Dielectric, Diffuse, Distribution, Emitter, Fresnel, Mask, Material, NormalMap,
-    Phong, Plastic, Principled, RoughConductor, RoughDielectric, RoughPlastic, ThinDielectric, TwoSided, MAX_LEAVES,
-    METAL_NAMES,
+    named_metal, Blend, BumpMap, Conductor, Dielectric, Diffuse, Distribution, Emitter, Fresnel, Mask, Material,
+    NormalMap, Phong, Plastic, Principled, RoughConductor, RoughDielectric, RoughPlastic, ThinDielectric, TwoSided,
+    MAX_LEAVES, METAL_NAMES,
 };
 use glint_core::textures::Texture;
 use glint_core::{Named, Rgb};
@@ -346,6 +346,21 @@ impl Builder<'_> {
                     resolve_colour(&ColorDesc::Texture(normals.clone()), textures).map_err(|m| at("normals", m))?;
                 let material = self.reference(name, "material", material)?;
                 Material::NormalMap(Box::new(NormalMap { normals, material }))
+            }
+            MaterialDesc::BumpMap { height, scale, material } => {
+                let height =
+                    resolve_colour(&ColorDesc::Texture(height.clone()), textures).map_err(|m| at("height", m))?;
+                if !height.has_uv_gradient() {
+                    return Err(at(
+                        "height",
+                        "a bump map's height must vary with uv: an image, a checkerboard or a constant (solid textures vary with the point and have no uv slope)".into(),
+                    ));
+                }
+                if !scale.is_finite() {
+                    return Err(at("scale", format!("`scale` must be a finite number; got {scale}")));
+                }
+                let material = self.reference(name, "material", material)?;
+                Material::BumpMap(Box::new(BumpMap { height, scale: *scale, material }))
             }
             MaterialDesc::TwoSided { front, back } => {
                 let front = self.reference(name, "front", front)?;

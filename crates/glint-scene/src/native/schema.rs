@@ -326,6 +326,14 @@ pub enum MaterialDesc {
     Mask { opacity: Option<FractionDesc>, material: String },
     /// `material` about the shading normal a texture gives (Mitsuba's `normalmap`).
     NormalMap { normals: String, material: String },
+    /// `material` about a normal tilted by the height field `height` (a texture of uv, its
+    /// luminance) times `scale` (Mitsuba's `bumpmap`).
+    BumpMap {
+        height: String,
+        #[serde(default = "one")]
+        scale: f32,
+        material: String,
+    },
     /// One material per side (Mitsuba's `twosided` with two BSDFs); `back` defaults to `front`.
     TwoSided { front: String, back: Option<String> },
     /// `material` emitting `radiance` (Mitsuba's `area` emitter on a shape).
