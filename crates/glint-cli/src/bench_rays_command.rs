@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
+use glint_cli::error::CliError;
 use glint_core::geometry::Ray;
 use glint_core::scene::{Geometry, Object};
 use glint_core::shapes::{IntersectMethods, Shape};
@@ -34,17 +35,14 @@ pub struct BenchRaysArgs {
 
 const MISS: u32 = u32::MAX;
 
-pub fn run(args: BenchRaysArgs) -> Result<(), String> {
-    let mesh = glint_scene::mesh::load_mesh(&args.mesh)?;
+pub fn run(args: BenchRaysArgs) -> Result<(), CliError> {
+    let mesh = glint_scene::mesh::load_mesh(&args.mesh).map_err(CliError::Input)?;
     let triangles = mesh.triangle_count();
-    let rays = read_rays(&args.rays)?;
+    let rays = read_rays(&args.rays).map_err(CliError::Input)?;
     if rays.is_empty() {
-        return Err(format!("the ray file `{}` holds no rays", args.rays.display()));
+        return Err(CliError::Input(format!("the ray file `{}` holds no rays", args.rays.display())));
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads as usize)
-        .build()
-        .map_err(|e| format!("cannot start worker threads: {e}"))?;
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads as usize).build()?;
 
     let object = Object { name: "mesh".into(), shape: Shape::Mesh(mesh), transform: None, material: 0 };
     let geometry = pool.install(|| Geometry::new(vec![object], IntersectMethods::default()));
@@ -104,13 +102,18 @@ pub fn run(args: BenchRaysArgs) -> Result<(), String> {
     }
 
     if let Some(out) = &args.out {
-        write_hits(out, &hits)?;
+        write_hits(out, &hits).map_err(CliError::Input)?;
     }
     let matches = match &args.hits {
         Some(path) => {
-            let reference = read_hits(path)?;
+            let reference = read_hits(path).map_err(CliError::Input)?;
             if reference.len() != hits.len() {
-                return Err(format!("{}: {} hits for {} rays", path.display(), reference.len(), hits.len()));
+                return Err(CliError::Input(format!(
+                    "{}: {} hits for {} rays",
+                    path.display(),
+                    reference.len(),
+                    hits.len()
+                )));
             }
             let (same, report) = compare_hits(&reference, &hits);
             println!("{report}");

@@ -13,10 +13,13 @@
 //! what its passes give.
 
 use std::hash::{Hash, Hasher};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glint_core::film::Film;
 use glint_core::Rgb;
+use thiserror::Error;
+
+use crate::output::OutputError;
 
 const MAGIC: &[u8; 8] = b"GLINTCK3";
 /// Earlier formats (without a checksum; GLINTCK1 without the integrator's state either):
@@ -97,7 +100,26 @@ pub enum WeightRule {
 /// The header: magic, width, height, spp_done, seed, fingerprint.
 const HEADER: usize = 36;
 
-pub fn save(path: &Path, film: &Film, spp_done: u32, seed: u64, fingerprint: u64, state: &[u8]) -> Result<(), String> {
+/// Why a checkpoint could not be read, or does not belong to this render.
+#[derive(Debug, Error)]
+pub enum CheckpointError {
+    #[error("cannot read the checkpoint `{}`: {source}", path.display())]
+    Unreadable { path: PathBuf, source: std::io::Error },
+    #[error("the checkpoint `{}` is damaged or not a glint checkpoint: {why}", path.display())]
+    Damaged { path: PathBuf, why: String },
+    /// A sound checkpoint of another render (scene, settings, size, sample count, version).
+    #[error("the checkpoint `{}` {why}", path.display())]
+    Mismatched { path: PathBuf, why: String },
+}
+
+pub fn save(
+    path: &Path,
+    film: &Film,
+    spp_done: u32,
+    seed: u64,
+    fingerprint: u64,
+    state: &[u8],
+) -> Result<(), OutputError> {
     let (sum, weight) = film.accumulators();
     let mut bytes = Vec::with_capacity(HEADER + sum.len() * 16 + 16 + state.len());
     bytes.extend_from_slice(MAGIC);
@@ -126,15 +148,16 @@ fn checksum(bytes: &[u8]) -> u64 {
     fingerprint(&[bytes])
 }
 
-pub fn load(path: &Path, expected: &Expected) -> Result<Checkpoint, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read the checkpoint `{}`: {e}", path.display()))?;
+pub fn load(path: &Path, expected: &Expected) -> Result<Checkpoint, CheckpointError> {
+    let bytes =
+        std::fs::read(path).map_err(|source| CheckpointError::Unreadable { path: path.to_path_buf(), source })?;
     parse(&bytes, path, expected)
 }
 
 /// A checkpoint from its bytes (`path` for messages only).
-pub fn parse(bytes: &[u8], path: &Path, expected: &Expected) -> Result<Checkpoint, String> {
-    let refuse = |why: String| format!("the checkpoint `{}` {why}", path.display());
-    let damaged = |why: &str| refuse(format!("is damaged or not a glint checkpoint: {why}"));
+pub fn parse(bytes: &[u8], path: &Path, expected: &Expected) -> Result<Checkpoint, CheckpointError> {
+    let refuse = |why: String| CheckpointError::Mismatched { path: path.to_path_buf(), why };
+    let damaged = |why: &str| CheckpointError::Damaged { path: path.to_path_buf(), why: why.to_string() };
     if bytes.len() < HEADER {
         return Err(damaged("it is shorter than its header"));
     }

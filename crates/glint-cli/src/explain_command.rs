@@ -4,6 +4,7 @@ use std::fmt::Write;
 use std::path::PathBuf;
 
 use clap::Args;
+use glint_cli::error::CliError;
 use glint_core::integrators::recorder::{RayRecord, RayTree};
 use glint_core::integrators::whitted::{DEPTH_CEILING, TREE_RAY_LIMIT};
 use glint_core::integrators::{IntegratorSettings, PhotonMapper, SampleContext, Whitted};
@@ -47,18 +48,17 @@ fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
     Ok((parse(x)?, parse(y)?))
 }
 
-pub fn run(args: ExplainArgs) -> Result<(), String> {
+pub fn run(args: ExplainArgs) -> Result<(), CliError> {
     let loaded = match &args.scene {
         Some(path) => glint_scene::load_scene_with(path, &args.define),
         None => glint_scene::default_scene(),
-    }
-    .map_err(|e| e.to_string())?;
+    }?;
     let mut scene = loaded.scene;
     crate::render_command::resize_camera(&mut scene, args.width, args.height);
     let (w, h) = (scene.camera().width, scene.camera().height);
     let (x, y) = args.pixel;
     if x >= w || y >= h {
-        return Err(format!("pixel {x},{y} is outside the {w}x{h} image"));
+        return Err(CliError::Setting(format!("pixel {x},{y} is outside the {w}x{h} image")));
     }
     let mut settings = loaded.render.integrator_settings;
     if let Some(d) = args.max_depth {
@@ -90,9 +90,8 @@ pub fn explain_photons(
     x: u32,
     y: u32,
     k: u32,
-) -> Result<String, String> {
-    let mapper = PhotonMapper::new(scene, settings.max_depth, settings.rr_depth, settings.photon, seed)
-        .map_err(|e| e.to_string())?;
+) -> Result<String, CliError> {
+    let mapper = PhotonMapper::new(scene, settings.max_depth, settings.rr_depth, settings.photon, seed)?;
     let mut out = String::new();
     let ray = scene.camera().generate_ray(x as f32 + 0.5, y as f32 + 0.5);
     let Some(hit) = scene.intersect(&ray) else {

@@ -1,5 +1,6 @@
 //! The pieces of the `glint` command that tests and other tools (the fuzzer) reuse: image
-//! output and checkpoints.
+//! output, checkpoints and the command's errors.
 
 pub mod checkpoint;
+pub mod error;
 pub mod output;

@@ -7,6 +7,21 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use glint_core::Rgb;
+use thiserror::Error;
+
+/// Why a file could not be written, or an image read back.
+#[derive(Debug, Error)]
+pub enum OutputError {
+    #[error("cannot tell the image format of `{}`: the output must end in .png, .exr or .pfm", path.display())]
+    UnknownFormat { path: PathBuf },
+    /// `what`: "output", "checkpoint".
+    #[error("cannot write the {what} `{}`: {reason}", path.display())]
+    Unwritable { what: &'static str, path: PathBuf, reason: String },
+    #[error("cannot write `{}`: {reason}", path.display())]
+    Unencodable { path: PathBuf, reason: String },
+    #[error("cannot read the image `{}`: {reason}", path.display())]
+    Unreadable { path: PathBuf, reason: String },
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ImageFormat {
@@ -16,15 +31,12 @@ pub enum ImageFormat {
 }
 
 impl ImageFormat {
-    pub fn from_path(path: &Path) -> Result<Self, String> {
+    pub fn from_path(path: &Path) -> Result<Self, OutputError> {
         match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
             Some("exr") => Ok(Self::Exr),
             Some("pfm") => Ok(Self::Pfm),
             Some("png") => Ok(Self::Png),
-            _ => Err(format!(
-                "cannot tell the image format of `{}`: the output must end in .png, .exr or .pfm",
-                path.display()
-            )),
+            _ => Err(OutputError::UnknownFormat { path: path.to_path_buf() }),
         }
     }
 }
@@ -33,15 +45,15 @@ impl ImageFormat {
 /// new one) in a directory where glint can create its temporary file, or a character device
 /// such as /dev/null. A FIFO, a socket or a directory is refused: opening a FIFO waits for a
 /// reader that may never come.
-pub fn check_writable(path: &Path) -> Result<ImageFormat, String> {
+pub fn check_writable(path: &Path) -> Result<ImageFormat, OutputError> {
     let format = ImageFormat::from_path(path)?;
     check_writable_file(path, "output")?;
     Ok(format)
 }
 
 /// `check_writable` for any file glint writes (`what`: "output", "checkpoint").
-pub fn check_writable_file(path: &Path, what: &str) -> Result<(), String> {
-    let cannot = |why: &dyn std::fmt::Display| format!("cannot write the {what} `{}`: {why}", path.display());
+pub fn check_writable_file(path: &Path, what: &'static str) -> Result<(), OutputError> {
+    let cannot = |why: &dyn std::fmt::Display| unwritable(what, path, why);
     match std::fs::metadata(path) {
         Ok(m) if m.is_dir() => return Err(cannot(&"it is a directory")),
         Ok(m) if is_device(&m) => {
@@ -59,6 +71,10 @@ pub fn check_writable_file(path: &Path, what: &str) -> Result<(), String> {
     File::create(&temporary).map_err(|e| cannot(&e))?;
     let _ = std::fs::remove_file(&temporary);
     Ok(())
+}
+
+fn unwritable(what: &'static str, path: &Path, why: &dyn std::fmt::Display) -> OutputError {
+    OutputError::Unwritable { what, path: path.to_path_buf(), reason: why.to_string() }
 }
 
 #[cfg(unix)]
@@ -86,8 +102,8 @@ fn temporary_path(path: &Path) -> PathBuf {
 /// a temporary file beside it, flushed to disk, then renamed over it (a kill or a full disk
 /// mid-write leaves the previous file as it was). A device is written directly, and every
 /// error is reported (a full disk, /dev/full).
-pub fn write_file_atomically(path: &Path, bytes: &[u8], what: &str) -> Result<(), String> {
-    let cannot = |why: &dyn std::fmt::Display| format!("cannot write the {what} `{}`: {why}", path.display());
+pub fn write_file_atomically(path: &Path, bytes: &[u8], what: &'static str) -> Result<(), OutputError> {
+    let cannot = |why: &dyn std::fmt::Display| unwritable(what, path, why);
     if std::fs::metadata(path).is_ok_and(|m| is_device(&m)) {
         let mut device = File::options().write(true).open(path).map_err(|e| cannot(&e))?;
         return device.write_all(bytes).and_then(|_| device.flush()).map_err(|e| cannot(&e));
@@ -115,9 +131,9 @@ pub fn write_image(
     pixels: &[Rgb],
     exposure: f32,
     metadata: &[(&str, String)],
-) -> Result<(), String> {
+) -> Result<(), OutputError> {
     let bytes = encode_image(ImageFormat::from_path(path)?, width, height, pixels, exposure, metadata)
-        .map_err(|e| format!("cannot write `{}`: {e}", path.display()))?;
+        .map_err(|reason| OutputError::Unencodable { path: path.to_path_buf(), reason })?;
     write_file_atomically(path, &bytes, "output")
 }
 
@@ -172,8 +188,12 @@ fn encode_pfm(width: u32, height: u32, pixels: &[Rgb]) -> Vec<u8> {
 }
 
 /// Reads a PFM written by `write_pfm` (or any little-endian RGB PFM) back, row 0 = top.
-pub fn read_pfm(path: &Path) -> Result<(u32, u32, Vec<Rgb>), String> {
-    let data = std::fs::read(path).map_err(|e| e.to_string())?;
+pub fn read_pfm(path: &Path) -> Result<(u32, u32, Vec<Rgb>), OutputError> {
+    let unreadable = |reason: &dyn std::fmt::Display| OutputError::Unreadable {
+        path: path.to_path_buf(),
+        reason: reason.to_string(),
+    };
+    let data = std::fs::read(path).map_err(|e| unreadable(&e))?;
     let mut header_end = 0;
     let mut fields = Vec::new();
     while fields.len() < 4 {
@@ -184,15 +204,17 @@ pub fn read_pfm(path: &Path) -> Result<(u32, u32, Vec<Rgb>), String> {
         fields.push(String::from_utf8_lossy(&data[start..header_end]).to_string());
         header_end += 1;
     }
-    let (width, height): (u32, u32) =
-        (fields[1].parse().map_err(|_| "bad width")?, fields[2].parse().map_err(|_| "bad height")?);
+    let (width, height): (u32, u32) = (
+        fields[1].parse().map_err(|_| unreadable(&"bad width"))?,
+        fields[2].parse().map_err(|_| unreadable(&"bad height"))?,
+    );
     if fields[0] != "PF" || !fields[3].starts_with('-') {
-        return Err("expected a little-endian colour PFM".into());
+        return Err(unreadable(&"expected a little-endian colour PFM"));
     }
     let floats: Vec<f32> =
         data[header_end..].chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
     if floats.len() != (width * height * 3) as usize {
-        return Err("PFM data size does not match its header".into());
+        return Err(unreadable(&"PFM data size does not match its header"));
     }
     let mut pixels = vec![Rgb::ZERO; (width * height) as usize];
     for (i, c) in floats.chunks_exact(3).enumerate() {

@@ -9,7 +9,8 @@ use std::time::{Duration, Instant};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
 use glint_cli::checkpoint;
-use glint_cli::output::{check_writable, check_writable_file, write_image, ImageFormat};
+use glint_cli::error::CliError;
+use glint_cli::output::{check_writable, check_writable_file, write_image, ImageFormat, OutputError};
 use glint_core::film::Film;
 use glint_core::filter::Filter;
 use glint_core::integrators::{heat_colour, IntegratorKind, IntegratorSettings};
@@ -152,7 +153,7 @@ pub fn parse_define(s: &str) -> Result<(String, String), String> {
     Ok((name.to_string(), value.to_string()))
 }
 
-pub fn run(args: RenderArgs) -> Result<Outcome, String> {
+pub fn run(args: RenderArgs) -> Result<Outcome, CliError> {
     let output = output_path(&args);
     check_before_work(&args, &output)?;
     let memory_limit = memory_limit_bytes(args.memory_limit)?;
@@ -165,7 +166,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
     if let Some(n) = args.threads {
         pool = pool.num_threads(n as usize);
     }
-    let pool = pool.build().map_err(|e| format!("cannot start worker threads: {e}"))?;
+    let pool = pool.build()?;
 
     let started = Instant::now();
     let renderer = pool.install(|| plan.kind.renderer_until(&plan.integrator, &scene, plan.settings.seed, &stop));
@@ -173,14 +174,14 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
         say!("interrupted before the first pass: nothing written");
         return Ok(Outcome::Interrupted);
     }
-    let mut renderer = renderer.map_err(|e| e.to_string())?;
+    let mut renderer = renderer?;
     if plan.kind == IntegratorKind::Photon && !args.quiet {
         say!("photon maps built in {:.2} s", started.elapsed().as_secs_f64());
     }
     let resume = match checkpoint {
         Some(c) => {
             let path = args.resume.as_ref().expect("a checkpoint came from --resume");
-            renderer.restore(&c.state).map_err(|m| format!("`{}`: {m}", path.display()))?;
+            renderer.restore(&c.state).map_err(|source| CliError::Resume { path: path.clone(), source })?;
             Some((c.film, c.spp_done))
         }
         None => None,
@@ -214,7 +215,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, String> {
             say!("interrupted before the first pass: nothing written");
             return Ok(Outcome::Interrupted);
         }
-        return Err("the render was stopped before its first pass: nothing to write".into());
+        return Err(CliError::NothingRendered);
     }
     write_outputs(&args, &plan, &scene, &output, &result, renderer.as_ref())?;
     if args.stats {
@@ -254,29 +255,28 @@ fn output_path(args: &RenderArgs) -> PathBuf {
 
 /// Before any work: a render must never be lost to an unwritable output or checkpoint, or to
 /// a flag refused after it.
-fn check_before_work(args: &RenderArgs, output: &Path) -> Result<(), String> {
+fn check_before_work(args: &RenderArgs, output: &Path) -> Result<(), CliError> {
     check_writable(output)?;
     if let Some(path) = &args.checkpoint {
         check_writable_file(path, "checkpoint")?;
     }
     for (flag, value) in [("--exposure", args.exposure as f64), ("--checkpoint-interval", args.checkpoint_interval)] {
         if !value.is_finite() || (flag == "--checkpoint-interval" && value < 0.0) {
-            return Err(format!(
+            return Err(CliError::Setting(format!(
                 "{flag} must be a finite number{}, got {value}",
                 if flag == "--exposure" { "" } else { " of seconds ≥ 0" }
-            ));
+            )));
         }
     }
     Ok(())
 }
 
 /// The scene with the flags' overrides, and the plan of the render.
-fn load(args: &RenderArgs) -> Result<(Scene, Plan), String> {
+fn load(args: &RenderArgs) -> Result<(Scene, Plan), CliError> {
     let loaded = match &args.scene {
         Some(path) => glint_scene::load_scene_with(path, &args.define),
         None => glint_scene::default_scene(),
-    }
-    .map_err(|e| e.to_string())?;
+    }?;
     let LoadedScene { mut scene, render: options, warnings, inputs } = loaded;
     for w in &warnings {
         say!("warning: {w}");
@@ -292,7 +292,7 @@ fn load(args: &RenderArgs) -> Result<(Scene, Plan), String> {
     };
     let time_limit = match args.time {
         Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
-        Some(t) => return Err(format!("--time must be a positive number of seconds, got {t}")),
+        Some(t) => return Err(CliError::Setting(format!("--time must be a positive number of seconds, got {t}"))),
         None => None,
     };
     if time_limit.is_some() && args.spp.is_none() {
@@ -342,22 +342,22 @@ struct RenderIdentity<'a> {
 }
 
 /// Refuses a render whose own buffers would not fit the memory limit.
-fn check_memory(plan: &Plan, scene: &Scene, memory_limit: u64) -> Result<(), String> {
+fn check_memory(plan: &Plan, scene: &Scene, memory_limit: u64) -> Result<(), CliError> {
     let (width, height) = (scene.camera().width, scene.camera().height);
     let needed = memory_needed(plan.kind, &plan.integrator, width, height);
     if needed > memory_limit {
-        return Err(format!(
+        return Err(CliError::TooLarge(format!(
             "this render needs about {:.1} GiB ({width}x{height} pixels{}), more than the memory limit of {:.1} GiB; raise it with --memory-limit GIB (or GLINT_MEMORY_LIMIT), or render smaller",
             needed as f64 / GIB,
             if plan.kind == IntegratorKind::Photon { " and the photon maps" } else { "" },
             memory_limit as f64 / GIB
-        ));
+        )));
     }
     Ok(())
 }
 
 /// The checkpoint `--resume` names, checked against this render.
-fn read_checkpoint(args: &RenderArgs, plan: &Plan, scene: &Scene) -> Result<Option<checkpoint::Checkpoint>, String> {
+fn read_checkpoint(args: &RenderArgs, plan: &Plan, scene: &Scene) -> Result<Option<checkpoint::Checkpoint>, CliError> {
     let Some(path) = &args.resume else { return Ok(None) };
     let filter = plan.settings.filter;
     let expected = checkpoint::Expected {
@@ -427,7 +427,7 @@ struct CheckpointSaver<'a> {
     seed: u64,
     fingerprint: u64,
     last: Instant,
-    error: Option<String>,
+    error: Option<OutputError>,
 }
 
 impl<'a> CheckpointSaver<'a> {
@@ -463,7 +463,7 @@ fn write_outputs(
     output: &Path,
     result: &RenderOutput,
     renderer: &dyn PassRenderer,
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     let (width, height) = (scene.camera().width, scene.camera().height);
     let mut pixels = result.film.to_rgb();
     let mut exposure = args.exposure;
@@ -558,19 +558,19 @@ const DEFAULT_MEMORY_LIMIT_GIB: f64 = 8.0;
 
 /// The memory limit in bytes: `--memory-limit`, else GLINT_MEMORY_LIMIT, else the default
 /// (all in GiB).
-fn memory_limit_bytes(flag: Option<f64>) -> Result<u64, String> {
+fn memory_limit_bytes(flag: Option<f64>) -> Result<u64, CliError> {
     let (value, from) = match (flag, std::env::var("GLINT_MEMORY_LIMIT")) {
         (Some(v), _) => (v, "--memory-limit"),
         (None, Ok(text)) => (
             text.trim()
                 .parse::<f64>()
-                .map_err(|_| format!("GLINT_MEMORY_LIMIT must be a number of GiB, got `{text}`"))?,
+                .map_err(|_| CliError::Setting(format!("GLINT_MEMORY_LIMIT must be a number of GiB, got `{text}`")))?,
             "GLINT_MEMORY_LIMIT",
         ),
         (None, Err(_)) => (DEFAULT_MEMORY_LIMIT_GIB, "the default"),
     };
     if !(value.is_finite() && value > 0.0) {
-        return Err(format!("{from} must be a positive number of GiB, got {value}"));
+        return Err(CliError::Setting(format!("{from} must be a positive number of GiB, got {value}")));
     }
     Ok((value * GIB).min(u64::MAX as f64) as u64)
 }
@@ -633,14 +633,14 @@ fn false_colour_heat_map(pixels: &mut [Rgb], width: u32, height: u32) -> f32 {
 }
 
 impl RenderArgs {
-    pub fn integrator_settings(&self, from_scene: &IntegratorSettings) -> Result<IntegratorSettings, String> {
+    pub fn integrator_settings(&self, from_scene: &IntegratorSettings) -> Result<IntegratorSettings, CliError> {
         let mut s = *from_scene;
         if let Some(d) = self.max_depth {
             s.max_depth = d;
         }
         if let Some(c) = self.min_contribution {
             if !(c.is_finite() && c >= 0.0) {
-                return Err(format!("--min-contribution must be a number ≥ 0, got {c}"));
+                return Err(CliError::Setting(format!("--min-contribution must be a number ≥ 0, got {c}")));
             }
             s.min_contribution = c;
         }
@@ -648,7 +648,10 @@ impl RenderArgs {
         s.wavefront &= !self.no_wavefront;
         for (flag, value) in [("--photon-radius", self.photon_radius), ("--sppm-radius", self.sppm_radius)] {
             if value.is_some_and(|v| !(v.is_finite() && v >= 0.0)) {
-                return Err(format!("{flag} must be a length ≥ 0 (0: automatic), got {}", value.unwrap_or_default()));
+                return Err(CliError::Setting(format!(
+                    "{flag} must be a length ≥ 0 (0: automatic), got {}",
+                    value.unwrap_or_default()
+                )));
             }
         }
         let p = &mut s.photon;

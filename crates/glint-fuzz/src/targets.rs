@@ -174,7 +174,7 @@ impl Runner {
             Target::Ply => glint_scene::mesh::read_mesh("fuzz.ply", input).map(|_| ()),
             Target::Checkpoint => {
                 let expected = self.expected.as_ref().expect("made for checkpoints");
-                checkpoint::parse(input, Path::new("fuzz.ckp"), expected).map(|_| ())
+                checkpoint::parse(input, Path::new("fuzz.ckp"), expected).map(|_| ()).map_err(|e| e.to_string())
             }
             Target::Image => glint_scene::decode_image("fuzz", input, false).map(|_| ()),
         }
