@@ -20,6 +20,10 @@ pub struct ExplainArgs {
     /// Mitsuba scenes: set a <default> parameter, as for `render` (repeatable).
     #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = crate::render_command::parse_define)]
     define: Vec<(String, String)>,
+    /// Also look for the files a scene names (meshes, textures, includes) in DIR, after the
+    /// scene's own directory and a Mitsuba scene's <path>s (repeatable; Mitsuba's -a).
+    #[arg(short = 'a', long = "search-path", value_name = "DIR")]
+    search_path: Vec<PathBuf>,
     /// The pixel, as X,Y from the top-left corner (at the scene's resolution, or --width/--height).
     #[arg(long, value_parser = parse_pixel)]
     pixel: (u32, u32),
@@ -50,7 +54,10 @@ fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
 
 pub fn run(args: ExplainArgs) -> Result<(), CliError> {
     let loaded = match &args.scene {
-        Some(path) => glint_scene::load_scene_with(path, &args.define),
+        Some(path) => glint_scene::load_scene_with_options(
+            path,
+            &glint_scene::LoadOptions { defines: args.define.clone(), search_path: args.search_path.clone() },
+        ),
         None => glint_scene::default_scene(),
     }?;
     let mut scene = loaded.scene;

@@ -33,6 +33,10 @@ pub struct RenderArgs {
     /// Mitsuba scenes: set a <default> parameter, as Mitsuba's -D (repeatable): -D spp=64.
     #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
     define: Vec<(String, String)>,
+    /// Also look for the files a scene names (meshes, textures, includes) in DIR, after the
+    /// scene's own directory and a Mitsuba scene's <path>s (repeatable; Mitsuba's -a).
+    #[arg(short = 'a', long = "search-path", value_name = "DIR")]
+    search_path: Vec<PathBuf>,
     /// Output image; the format follows the extension (.png, .exr, .pfm). Default: <scene>.png.
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -274,7 +278,10 @@ fn check_before_work(args: &RenderArgs, output: &Path) -> Result<(), CliError> {
 /// The scene with the flags' overrides, and the plan of the render.
 fn load(args: &RenderArgs) -> Result<(Scene, Plan), CliError> {
     let loaded = match &args.scene {
-        Some(path) => glint_scene::load_scene_with(path, &args.define),
+        Some(path) => glint_scene::load_scene_with_options(
+            path,
+            &glint_scene::LoadOptions { defines: args.define.clone(), search_path: args.search_path.clone() },
+        ),
         None => glint_scene::default_scene(),
     }?;
     let LoadedScene { mut scene, render: options, warnings, inputs } = loaded;

@@ -17,7 +17,9 @@ mod source;
 pub use error::{Location, SceneError};
 pub use image::decode as decode_image;
 pub use limits::set_memory_limit;
-pub use native::{load_scene, load_scene_with, parse_scene, LoadedScene, RenderOptions};
+pub use native::{
+    load_scene, load_scene_with, load_scene_with_options, parse_scene, LoadOptions, LoadedScene, RenderOptions,
+};
 pub use source::Source;
 
 /// The scene `glint render` shows when given no scene file: spheres, a polygon, a box and a

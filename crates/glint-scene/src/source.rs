@@ -12,8 +12,9 @@ pub struct Source<'a> {
 
 #[derive(Clone, Debug)]
 enum Origin<'a> {
-    /// Paths relative to this directory (the scene file's).
-    Directory(PathBuf),
+    /// Paths relative to the first of these directories that holds them (the scene file's
+    /// first, then Mitsuba's `<path>` entries: Mitsuba's file resolver).
+    Directories(Vec<PathBuf>),
     /// Files compiled into the binary, by the path the scene writes.
     Embedded(&'a [(&'a str, &'a [u8])]),
 }
@@ -26,7 +27,13 @@ impl<'a> Source<'a> {
 
     /// Paths relative to `directory`.
     pub fn directory(directory: PathBuf) -> Self {
-        Self { origin: Origin::Directory(directory), read: RefCell::default() }
+        Self::search_path(vec![directory])
+    }
+
+    /// Paths relative to the first directory of `directories` that holds them (a path found
+    /// in none is reported against the first).
+    pub fn search_path(directories: Vec<PathBuf>) -> Self {
+        Self { origin: Origin::Directories(directories), read: RefCell::default() }
     }
 
     pub fn directory_of(scene_path: &Path) -> Source<'static> {
@@ -36,8 +43,8 @@ impl<'a> Source<'a> {
     /// The bytes of `path` as written in the scene, or a message saying why not.
     pub fn read(&self, path: &str) -> Result<Vec<u8>, String> {
         match &self.origin {
-            Origin::Directory(dir) => {
-                let full = dir.join(path);
+            Origin::Directories(directories) => {
+                let full = resolve(directories, Path::new(path));
                 let bytes =
                     std::fs::read(&full).map_err(|e| format!("cannot read `{path}` ({}): {e}", full.display()))?;
                 self.read.borrow_mut().push(full);
@@ -54,5 +61,39 @@ impl<'a> Source<'a> {
     /// The files read from disk so far, in order.
     pub fn files_read(&self) -> Vec<PathBuf> {
         self.read.borrow().clone()
+    }
+}
+
+/// Mitsuba's file resolution: `path` under the first of `directories` where it exists, else
+/// under the first directory (an absolute path is itself).
+pub fn resolve(directories: &[PathBuf], path: &Path) -> PathBuf {
+    directories
+        .iter()
+        .map(|dir| dir.join(path))
+        .find(|candidate| candidate.exists())
+        .unwrap_or_else(|| directories.first().map_or_else(|| path.to_path_buf(), |dir| dir.join(path)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn resolution_takes_the_first_directory_that_holds_the_file() {
+        let root = std::env::temp_dir().join(format!("glint-resolve-{}", std::process::id()));
+        let (a, b) = (root.join("a"), root.join("b"));
+        std::fs::create_dir_all(&a).unwrap();
+        std::fs::create_dir_all(&b).unwrap();
+        std::fs::write(b.join("mesh.obj"), "v 0 0 0").unwrap();
+        std::fs::write(a.join("both.obj"), "").unwrap();
+        std::fs::write(b.join("both.obj"), "").unwrap();
+        let dirs = vec![a.clone(), b.clone()];
+        assert_eq!(resolve(&dirs, Path::new("mesh.obj")), b.join("mesh.obj"));
+        assert_eq!(resolve(&dirs, Path::new("both.obj")), a.join("both.obj"));
+        assert_eq!(resolve(&dirs, Path::new("missing.obj")), a.join("missing.obj"));
+        let source = Source::search_path(dirs);
+        assert_eq!(source.read("mesh.obj").unwrap(), b"v 0 0 0");
+        assert!(source.read("missing.obj").unwrap_err().contains("missing.obj"));
+        std::fs::remove_dir_all(&root).unwrap();
     }
 }

@@ -5,18 +5,24 @@
 mod translate;
 mod xml;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::error::SceneError;
 use crate::native::LoadedScene;
 use crate::source::Source;
 
 /// Reads a Mitsuba 3 scene. `defines` are `-D name=value` parameters, which override the
-/// file's `<default>`s.
-pub fn load_mitsuba(path: &Path, defines: &[(String, String)]) -> Result<LoadedScene, SceneError> {
-    let (root, files) = xml::read_scene(path, defines)?;
+/// file's `<default>`s; `search_path` is searched after the scene's directory and its `<path>`s.
+pub fn load_mitsuba(
+    path: &Path,
+    defines: &[(String, String)],
+    search_path: &[PathBuf],
+) -> Result<LoadedScene, SceneError> {
+    let (root, files) = xml::read_scene(path, defines, search_path)?;
     let translator = translate::Translator::new(&files, &root)?;
-    let (file, mut warnings) = translator.translate(&root)?;
+    let (file, translated_warnings) = translator.translate(&root)?;
+    let mut warnings = files.warnings.clone();
+    warnings.extend(translated_warnings);
     // A -D that no <default> declares and no `$name` uses changes nothing: most likely a typo.
     let used = |name: &str| {
         files.declared.iter().any(|d| d == name)
@@ -28,7 +34,7 @@ pub fn load_mitsuba(path: &Path, defines: &[(String, String)]) -> Result<LoadedS
             .push(format!("-D {name}: no <default name=\"{name}\"> in the scene, so it changes nothing{suggestion}"));
     }
     let text = &files.files[0].1;
-    let mut loaded = crate::native::build_file(file, text, path, &Source::directory_of(path))?;
+    let mut loaded = crate::native::build_file(file, text, path, &Source::search_path(files.search_path.clone()))?;
     warnings.append(&mut loaded.warnings);
     loaded.warnings = warnings;
     // The XML files (the scene and what it includes), then the meshes and textures.

@@ -75,12 +75,19 @@ impl<'a> Translator<'a> {
     }
 
     fn warn(&mut self, at: &Position, message: impl AsRef<str>) {
-        let (path, _) = &self.files.files[at.file];
-        self.warnings.push(format!("{}:{}:{}: {}", path.display(), at.line, at.column, message.as_ref()));
+        let warning = self.files.warning(at, message);
+        self.warnings.push(warning);
     }
 
     /// The whole scene.
     pub fn translate(mut self, root: &'a Element) -> Result<(SceneFile, Vec<String>)> {
+        // Media first: a scene that needs them cannot be rendered whatever else it holds.
+        if let Some(medium) = find_medium(root) {
+            return Err(self.error(
+                &medium.position,
+                format!("{}: participating media are not supported by glint", medium.describe()),
+            ));
+        }
         let mut sensors = 0;
         let mut integrator = None;
         for child in &root.children {
@@ -172,6 +179,7 @@ impl<'a> Translator<'a> {
             }
         }
         let aspect = width as f32 / height as f32;
+        let mut focal_diagonal = false;
         let fov = match p.float(self, "fov")? {
             Some(f) => f,
             None if kind == "orthographic" => 45.0, // unused
@@ -180,19 +188,21 @@ impl<'a> Translator<'a> {
                 let mm: f32 = focal.trim_end_matches("mm").trim().parse().map_err(|_| {
                     self.error(&sensor.position, format!("`focal_length` must be like \"50mm\", got `{focal}`"))
                 })?;
-                // Relative to 36 mm film along the larger image side.
-                let larger = 2.0 * (36.0 / (2.0 * mm)).atan().to_degrees();
-                if aspect >= 1.0 {
-                    larger
-                } else {
-                    vertical_fov(larger, 1.0 / aspect, "x").unwrap_or(larger)
-                }
+                // As Mitsuba: the field of view of a 35 mm film's diagonal (36 × 24 mm),
+                // taken along the image's diagonal.
+                let diagonal = 2.0 * ((36.0f32.hypot(24.0)) / (2.0 * mm)).atan().to_degrees();
+                focal_diagonal = true;
+                diagonal
             }
         };
         if !(fov > 0.0 && fov < 180.0) {
             return Err(self.error(&sensor.position, format!("`fov` must be between 0 and 180 degrees, got {fov}")));
         }
-        let axis = p.string(self, "fov_axis")?.unwrap_or_else(|| "x".into());
+        let axis = if focal_diagonal {
+            "diagonal".to_string()
+        } else {
+            p.string(self, "fov_axis")?.unwrap_or_else(|| "x".into())
+        };
         let vertical = vertical_fov(fov, aspect, &axis).ok_or_else(|| {
             self.error(&sensor.position, format!("`fov_axis` must be x, y, diagonal, smaller or larger, got `{axis}`"))
         })?;
@@ -313,6 +323,9 @@ impl<'a> Translator<'a> {
 
     fn integrator(&mut self, integrator: &Element) -> Result<()> {
         let kind = integrator.attribute("type").unwrap_or("");
+        if kind == "moment" {
+            return self.moment(integrator);
+        }
         let p = self.properties(integrator);
         let max_depth = p.integer(self, "max_depth")?.unwrap_or(-1);
         let rr_depth = p.integer(self, "rr_depth")?.unwrap_or(5);
@@ -355,6 +368,24 @@ impl<'a> Translator<'a> {
         }
         self.unused(&p);
         Ok(())
+    }
+
+    /// Mitsuba's `moment` wraps integrators and adds each one's second moment as extra film
+    /// channels; the image is its first nested integrator's, which glint renders.
+    fn moment(&mut self, moment: &Element) -> Result<()> {
+        let nested: Vec<&Element> = moment.children.iter().filter(|c| c.tag == "integrator").collect();
+        let Some(first) = nested.first() else {
+            return Err(self.error(&moment.position, "<integrator type=\"moment\"> needs a nested <integrator>"));
+        };
+        for extra in &nested[1..] {
+            self.warn(&extra.position, "a second integrator inside `moment`: glint renders the first one only");
+        }
+        self.warn(
+            &moment.position,
+            "<integrator type=\"moment\">: glint renders the nested integrator's image; the second-moment channels are not written",
+        );
+        self.unused(&self.properties(moment));
+        self.integrator(first)
     }
 
     // ----- shapes ----------------------------------------------------------------------------
@@ -1001,6 +1032,14 @@ impl<'a> Translator<'a> {
 }
 
 /// Every object with an `id`, anywhere in the tree; a repeated id is an error.
+/// The first `<medium>`, `<phase>` or `<volume>` anywhere in the tree.
+fn find_medium(element: &Element) -> Option<&Element> {
+    if matches!(element.tag.as_str(), "medium" | "phase" | "volume") {
+        return Some(element);
+    }
+    element.children.iter().find_map(find_medium)
+}
+
 fn collect_ids<'a>(element: &'a Element, ids: &mut HashMap<String, &'a Element>, files: &Files) -> Result<()> {
     for child in &element.children {
         if !PROPERTY_TAGS.contains(&child.tag.as_str()) {

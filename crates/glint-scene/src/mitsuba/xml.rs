@@ -33,9 +33,20 @@ pub(super) struct Files {
     pub files: Vec<(PathBuf, String)>,
     /// The names the files' `<default>`s declare, for checking the command line's -D names.
     pub declared: Vec<String>,
+    /// Mitsuba's file resolver: the main scene's directory, then each `<path>` in the order
+    /// read. Includes, meshes and textures are looked up in them in turn.
+    pub search_path: Vec<PathBuf>,
+    /// What reading the files found amiss without refusing the scene.
+    pub warnings: Vec<String>,
 }
 
 impl Files {
+    /// A warning's text: file, line and column, then the message.
+    pub fn warning(&self, at: &Position, message: impl AsRef<str>) -> String {
+        let (path, _) = &self.files[at.file];
+        format!("{}:{}:{}: {}", path.display(), at.line, at.column, message.as_ref())
+    }
+
     pub fn error(&self, at: &Position, message: impl Into<String>) -> SceneError {
         let (path, text) = &self.files[at.file];
         SceneError::new(path, Some(Location::from_line_column(text, at.line as usize, at.column as usize)), message)
@@ -58,8 +69,14 @@ impl Element {
 
 /// Reads `path` and everything it includes. `defines` are the command line's `-D` values,
 /// which take precedence over the file's `<default>`s.
-pub(super) fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(Element, Files), SceneError> {
+pub(super) fn read_scene(
+    path: &Path,
+    defines: &[(String, String)],
+    search_path: &[PathBuf],
+) -> Result<(Element, Files), SceneError> {
     let mut files = Files::default();
+    files.search_path.push(path.parent().map(Path::to_path_buf).unwrap_or_default());
+    files.search_path.extend(search_path.iter().cloned());
     let mut parameters: HashMap<String, String> = defines.iter().cloned().collect();
     let root = read_file(path, &mut files, &mut parameters, 0)?;
     if root.tag != "scene" {
@@ -168,7 +185,11 @@ impl Reader<'_, '_> {
                     if depth >= MAX_INCLUDE_DEPTH {
                         return Err(files.error(&child_position, "includes nested too deeply (an include cycle?)"));
                     }
-                    let path = self.directory.join(&filename);
+                    // Mitsuba resolves includes against its search path; glint also tries the
+                    // including file's own directory last.
+                    let mut directories = files.search_path.clone();
+                    directories.push(self.directory.clone());
+                    let path = crate::source::resolve(&directories, Path::new(&filename));
                     if !path.exists() {
                         return Err(files.error(
                             &child_position,
@@ -181,6 +202,27 @@ impl Reader<'_, '_> {
                         element.children.extend(included.children);
                     } else {
                         element.children.push(included);
+                    }
+                }
+                "path" => {
+                    let Some(value) = child.attribute("value") else {
+                        return Err(files.error(&child_position, "<path> needs a `value` attribute"));
+                    };
+                    let value = substitute(value, parameters).map_err(|m| files.error(&child_position, m))?;
+                    // Relative to the file that names it, else found on the search path; it
+                    // goes first, as Mitsuba prepends it. A folder that is not there is
+                    // reported and skipped (a scene moved out of its collection often names
+                    // one; the search path given to glint may hold its files instead).
+                    let mut directory = self.directory.join(&value);
+                    if !directory.is_dir() {
+                        directory = crate::source::resolve(&files.search_path, Path::new(&value));
+                    }
+                    if directory.is_dir() {
+                        files.search_path.insert(0, directory);
+                    } else {
+                        let message =
+                            format!("<path>: folder `{value}` not found ({}); not searched", directory.display());
+                        files.warnings.push(files.warning(&child_position, message));
                     }
                 }
                 _ => element.children.push(self.element(child, files, parameters, depth, nesting + 1)?),

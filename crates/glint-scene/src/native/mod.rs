@@ -55,8 +55,24 @@ pub fn load_scene(path: &Path) -> Result<LoadedScene, SceneError> {
 /// `load_scene` with `-D name=value` parameters for Mitsuba scenes (native scenes have none:
 /// giving any is an error).
 pub fn load_scene_with(path: &Path, defines: &[(String, String)]) -> Result<LoadedScene, SceneError> {
+    load_scene_with_options(path, &LoadOptions { defines: defines.to_vec(), search_path: Vec::new() })
+}
+
+/// What the command line adds to a scene file.
+#[derive(Clone, Debug, Default)]
+pub struct LoadOptions {
+    /// `-D name=value` parameters for Mitsuba scenes.
+    pub defines: Vec<(String, String)>,
+    /// Directories searched, after the scene's own (and a Mitsuba scene's `<path>`s), for
+    /// the files it names: meshes, textures, includes (Mitsuba's `-a`).
+    pub search_path: Vec<PathBuf>,
+}
+
+/// `load_scene` with parameters and a search path.
+pub fn load_scene_with_options(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneError> {
+    let defines = &options.defines;
     if path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("xml")) {
-        return crate::mitsuba::load_mitsuba(path, defines);
+        return crate::mitsuba::load_mitsuba(path, defines, &options.search_path);
     }
     if let Some((name, _)) = defines.first() {
         return Err(SceneError::new(
@@ -92,7 +108,9 @@ pub fn load_scene_with(path: &Path, defines: &[(String, String)]) -> Result<Load
             ),
         ));
     }
-    parse_scene(&text, format, path, &Source::directory_of(path))
+    let mut directories = vec![path.parent().map(Path::to_path_buf).unwrap_or_default()];
+    directories.extend(options.search_path.iter().cloned());
+    parse_scene(&text, format, path, &Source::search_path(directories))
 }
 
 /// Memory the TOML reader takes per byte of text, measured (toml 0.8).

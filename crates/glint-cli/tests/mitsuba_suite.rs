@@ -1,0 +1,210 @@
+//! Mitsuba 3's own render regression suite (../shared/mitsuba-suite), judged the way Mitsuba's
+//! `src/render/tests/test_renders.py` judges its own variants: each scene rendered by the
+//! `glint` binary as Mitsuba's test calls it (`-D spp=2,000,000 / pixels`, `-D integrator=`
+//! the file name's suffix, seed 0), both images and the reference's per-sample variance in
+//! XYZ, a per-pixel-channel Z-test at Šidák-corrected α = 1 %, and a pass when at least
+//! 99.75 % of the channels pass.
+//!
+//! Every scene is rendered and scored, and the pass count printed (`cargo test --release
+//! --test mitsuba_suite -- --nocapture`). The test fails if a scene in `PASSING` no longer
+//! passes, if a scene passes that `PASSING` leaves out (so the list stays the truth), or if a
+//! scene glint cannot render does not say so in a clear message.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use glint_core::sampling::chi2::gamma_q;
+
+/// The scenes glint passes today (docs/mitsuba.md records the count and what is missing).
+const PASSING: &[&str] = &["test_constant_path", "test_directional_direct"];
+
+/// Mitsuba's budget: samples per image, divided among its pixels.
+const SAMPLES_PER_IMAGE: u64 = 2_000_000;
+
+fn suite_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/mitsuba-suite")
+}
+
+/// The suite's scenes (`scenes/<group>/<name>_<integrator>.xml`), by name, media included.
+fn scenes() -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    for group in std::fs::read_dir(suite_dir().join("scenes")).expect("the suite's scenes folder").flatten() {
+        for file in std::fs::read_dir(group.path()).into_iter().flatten().flatten() {
+            let path = file.path();
+            if path.extension().is_some_and(|e| e == "xml") {
+                found.push(path);
+            }
+        }
+    }
+    found.sort();
+    found
+}
+
+fn name(scene: &Path) -> String {
+    scene.file_stem().unwrap().to_string_lossy().to_string()
+}
+
+fn needs_media(scene: &Path) -> bool {
+    let group = scene.parent().and_then(Path::file_name).map(|g| g.to_string_lossy().to_string());
+    matches!(group.as_deref(), Some("participating_media" | "volprim_rf_basic"))
+}
+
+/// `refs/<name without the integrator>_ref_rgb.exr` and its variance.
+fn references(scene: &Path) -> (PathBuf, PathBuf) {
+    let stem = name(scene);
+    let base = &stem[..stem.rfind('_').unwrap()];
+    let refs = scene.parent().unwrap().join("refs");
+    (refs.join(format!("{base}_ref_rgb.exr")), refs.join(format!("{base}_ref_rgb_var.exr")))
+}
+
+struct Image {
+    width: usize,
+    height: usize,
+    /// Row 0 = top, RGB.
+    pixels: Vec<[f32; 3]>,
+}
+
+fn read_exr(path: &Path) -> Image {
+    let image = exr::prelude::read_first_rgba_layer_from_file(
+        path,
+        |resolution, _| Image {
+            width: resolution.width(),
+            height: resolution.height(),
+            pixels: vec![[0.0; 3]; resolution.width() * resolution.height()],
+        },
+        |image, position, (r, g, b, _a): (f32, f32, f32, f32)| {
+            image.pixels[position.y() * image.width + position.x()] = [r, g, b];
+        },
+    )
+    .unwrap_or_else(|e| panic!("{} reads: {e}", path.display()));
+    image.layer_data.channel_data.pixels
+}
+
+/// Linear sRGB (D65) to CIE XYZ.
+fn to_xyz([r, g, b]: [f32; 3]) -> [f64; 3] {
+    let (r, g, b) = (r as f64, g as f64, b as f64);
+    [
+        0.412453 * r + 0.357580 * g + 0.180423 * b,
+        0.212671 * r + 0.715160 * g + 0.072169 * b,
+        0.019334 * r + 0.119193 * g + 0.950227 * b,
+    ]
+}
+
+/// Mitsuba's verdict: the fraction of pixel channels whose Z-test passes, and whether that
+/// is at least 99.75 %.
+fn judge(image: &Image, reference: &Image, variance: &Image, spp: u64) -> (f64, bool) {
+    let pixel_count = reference.pixels.len();
+    let alpha = 1.0 - 0.99f64.powf(1.0 / pixel_count as f64);
+    let mut passed = 0usize;
+    for i in 0..pixel_count {
+        let (ours, theirs, var) = (to_xyz(image.pixels[i]), to_xyz(reference.pixels[i]), to_xyz(variance.pixels[i]));
+        for c in 0..3 {
+            let z = (ours[c] - theirs[c]).abs() * (spp as f64 / var[c].max(1e-4)).sqrt();
+            // p = 2 (1 − Φ(z)) = Q(½, z²/2).
+            let p = if z.is_finite() { gamma_q(0.5, z * z / 2.0) } else { 0.0 };
+            passed += usize::from(p > alpha);
+        }
+    }
+    let fraction = passed as f64 / (3 * pixel_count) as f64;
+    (fraction, fraction >= 0.9975)
+}
+
+enum Outcome {
+    Passed(f64),
+    Failed(f64),
+    Refused(String),
+}
+
+fn run(scene: &Path, out: &Path) -> Outcome {
+    let (reference_path, variance_path) = references(scene);
+    let reference = read_exr(&reference_path);
+    let spp = (SAMPLES_PER_IMAGE / (reference.width * reference.height) as u64).max(1);
+    let stem = name(scene);
+    let integrator = &stem[stem.rfind('_').unwrap() + 1..];
+    let common = suite_dir().join("common");
+    let output = common::glint(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-a",
+        common.to_str().unwrap(),
+        "-D",
+        &format!("spp={spp}"),
+        "-D",
+        &format!("integrator={integrator}"),
+        "--seed",
+        "0",
+        "--quiet",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    if !output.status.success() {
+        return Outcome::Refused(common::assert_clean_failure(&output));
+    }
+    let image = read_exr(out);
+    assert_eq!((image.width, image.height), (reference.width, reference.height), "{stem}: resolution");
+    match judge(&image, &reference, &read_exr(&variance_path), spp) {
+        (fraction, true) => Outcome::Passed(fraction),
+        (fraction, false) => Outcome::Failed(fraction),
+    }
+}
+
+#[test]
+fn the_mitsuba_suite() {
+    if !suite_dir().join("scenes").exists() {
+        eprintln!("skipped: ../shared/mitsuba-suite not found");
+        return;
+    }
+    let scratch = common::temp_dir("mitsuba-suite");
+    let (mut passed, mut surface, mut problems) = (Vec::new(), 0, Vec::new());
+    for scene in scenes() {
+        let stem = name(&scene);
+        surface += usize::from(!needs_media(&scene));
+        match run(&scene, &scratch.join(format!("{stem}.exr"))) {
+            Outcome::Passed(fraction) => {
+                eprintln!("pass     {stem}: {:.2} % of pixel channels pass", 100.0 * fraction);
+                passed.push(stem.clone());
+                if !PASSING.contains(&stem.as_str()) {
+                    problems.push(format!("{stem} passes: add it to PASSING"));
+                }
+            }
+            Outcome::Failed(fraction) => {
+                eprintln!("FAIL     {stem}: {:.2} % of pixel channels pass (99.75 % needed)", 100.0 * fraction);
+                if PASSING.contains(&stem.as_str()) {
+                    problems.push(format!("{stem} no longer passes ({:.2} %)", 100.0 * fraction));
+                }
+            }
+            Outcome::Refused(message) => {
+                let first_line = message.lines().next().unwrap_or_default().to_string();
+                eprintln!("refused  {stem}: {first_line}");
+                let has_medium = std::fs::read_to_string(&scene).is_ok_and(|text| text.contains("<medium"));
+                if has_medium && !message.contains("participating media") {
+                    problems.push(format!("{stem} needs media, and the message does not say so: {first_line}"));
+                }
+                if PASSING.contains(&stem.as_str()) {
+                    problems.push(format!("{stem} no longer renders: {first_line}"));
+                }
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    eprintln!("Mitsuba suite: {} of {surface} surface scenes pass ({} scenes in all)", passed.len(), scenes().len());
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn the_verdict_counts_channels_against_the_corrected_significance() {
+    let flat = |v: f32, n: usize| Image { width: n, height: 1, pixels: vec![[v; 3]; n] };
+    let (reference, variance) = (flat(1.0, 400), flat(1.0, 400));
+    // 400 pixels: α = 2.5e-5, z* ≈ 4.21. At spp 100 a difference of 0.3 is z = 3: passes.
+    assert!(judge(&flat(1.3, 400), &reference, &variance, 100).1);
+    // A difference of 0.5 is z = 5 everywhere: fails.
+    let (fraction, pass) = judge(&flat(1.5, 400), &reference, &variance, 100);
+    assert!(!pass && fraction < 0.01, "{fraction}");
+    // One pixel of 400 off (3 of 1200 channels, 0.25 %) is just allowed; two are not.
+    let mut image = flat(1.0, 400);
+    image.pixels[7] = [9.0; 3];
+    assert!(judge(&image, &reference, &variance, 100).1);
+    image.pixels[8] = [9.0; 3];
+    assert!(!judge(&image, &reference, &variance, 100).1);
+}
