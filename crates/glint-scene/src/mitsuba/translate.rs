@@ -9,6 +9,7 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{Mat4, Vec3};
 
+use super::spectrum::{parse_sampled, sampled_to_rgb, SpectrumRole};
 use super::xml::{Element, Files, Position};
 use crate::error::SceneError;
 use crate::located::Located;
@@ -25,7 +26,7 @@ pub(super) struct Translator<'a> {
     /// Objects declared with an `id`, for `<ref>`.
     ids: HashMap<String, &'a Element>,
     scene: SceneFile,
-    pub warnings: Vec<String>,
+    warnings: RefCell<Vec<String>>,
     /// Materials already made for a BSDF element (by its position), so shapes share them.
     materials_by_element: HashMap<(usize, u32, u32), String>,
 }
@@ -67,16 +68,15 @@ impl<'a> Translator<'a> {
             lights: Vec::new(),
             shapes: Vec::new(),
         };
-        Ok(Self { files, ids, scene, warnings: Vec::new(), materials_by_element: HashMap::new() })
+        Ok(Self { files, ids, scene, warnings: RefCell::default(), materials_by_element: HashMap::new() })
     }
 
     fn error(&self, at: &Position, message: impl Into<String>) -> SceneError {
         self.files.error(at, message)
     }
 
-    fn warn(&mut self, at: &Position, message: impl AsRef<str>) {
-        let warning = self.files.warning(at, message);
-        self.warnings.push(warning);
+    fn warn(&self, at: &Position, message: impl AsRef<str>) {
+        self.warnings.borrow_mut().push(self.files.warning(at, message));
     }
 
     /// The whole scene.
@@ -122,7 +122,7 @@ impl<'a> Translator<'a> {
         if let Some(i) = integrator {
             self.integrator(i)?;
         }
-        Ok((self.scene, self.warnings))
+        Ok((self.scene, self.warnings.into_inner()))
     }
 
     fn properties<'e>(&self, element: &'e Element) -> Properties<'e> {
@@ -1246,10 +1246,16 @@ impl<'e> Properties<'e> {
             other => return Err(t.error(&e.position, format!("`{name}` must be a colour, got <{other}>"))),
         };
         if e.tag == "spectrum" && v.contains(':') {
-            return Err(t.error(
-                &e.position,
-                format!("`{name}`: a sampled spectrum (wavelength:value pairs); glint renders RGB: give <rgb> instead"),
-            ));
+            let samples = parse_sampled(v).map_err(|m| t.error(&e.position, format!("`{name}`: {m}")))?;
+            let role = SpectrumRole::of(name, self.element.tag == "emitter");
+            let (rgb, clamped) = sampled_to_rgb(&samples, role);
+            if clamped {
+                t.warn(
+                    &e.position,
+                    format!("`{name}`: the spectrum's colour lies outside sRGB and was clamped, as Mitsuba does"),
+                );
+            }
+            return Ok(Some(rgb));
         }
         let numbers = parse_numbers(v).map_err(|m| t.error(&e.position, format!("`{name}`: {m}")))?;
         match numbers.as_slice() {
