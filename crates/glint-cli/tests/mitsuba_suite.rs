@@ -17,7 +17,14 @@ use std::path::{Path, PathBuf};
 use glint_core::sampling::chi2::gamma_q;
 
 /// The scenes glint passes today (docs/mitsuba.md records the count and what is missing).
-const PASSING: &[&str] = &["test_constant_path", "test_directional_direct"];
+const PASSING: &[&str] = &[
+    "test_constant_path",
+    "test_directional_direct",
+    "test_envmap_path",
+    "test_roughdielectric_path",
+    "test_textured_diffuse_path",
+    "scene_path",
+];
 
 /// Mitsuba's budget: samples per image, divided among its pixels.
 const SAMPLES_PER_IMAGE: u64 = 2_000_000;

@@ -7,10 +7,15 @@
 //! top row), and a direction d (in the map's own frame) is at u = atan2(d.x, −d.z) / 2π
 //! (wrapped into [0, 1)), v = acos(d.y) / π.
 //!
-//! Sampled for next-event estimation in proportion to pixel luminance × sin θ (the pixel's
-//! solid angle), so a small sun in a large sky is found by light sampling; the density per
-//! solid angle is p(u, v) / (2π² sin θ). Radiance is looked up per pixel (no filtering), so
-//! sampling and evaluation describe exactly the same function.
+//! Radiance is interpolated bilinearly between pixels as Mitsuba's `envmap` does: the pixels
+//! are the vertices of a grid, column x at u = (x + ½) / width (wrapping around), row y at
+//! v = y / (height − 1), so the first and last rows lie on the poles.
+//!
+//! Sampled for next-event estimation by a piecewise-constant density over the grid's cells,
+//! in proportion to the mean luminance of a cell's four corners × sin θ at its centre: a
+//! small sun in a large sky is found by light sampling, and every direction whose radiance
+//! is not zero has a density (a corner that is not black makes its cells' weight positive),
+//! so the estimate is unbiased. The density per solid angle is p(u, v) / (2π² sin θ).
 
 use glam::{Mat3, Vec2, Vec3};
 
@@ -104,75 +109,91 @@ pub struct EnvironmentSample {
 impl EnvironmentMap {
     /// `pixels` are `width × height` linear RGB, row 0 at the top; `to_world` rotates the map.
     pub fn new(width: u32, height: u32, pixels: Vec<Rgb>, scale: f32, to_world: Mat3) -> Self {
+        assert!(width >= 1 && height >= 2, "an environment map needs at least two rows");
         let pixels: Vec<Rgb> = pixels.into_iter().map(|p| p * scale).collect();
-        let weights: Vec<f32> = pixels
-            .iter()
-            .enumerate()
-            .map(|(i, p)| {
-                let row = i / width as usize;
-                let sin = (std::f32::consts::PI * (row as f32 + 0.5) / height as f32).sin();
-                p.dot(Rgb::new(0.2126, 0.7152, 0.0722)).max(0.0) * sin
+        let (w, h) = (width as usize, height as usize);
+        let luminance = |x: usize, y: usize| pixels[y * w + x % w].dot(Rgb::new(0.2126, 0.7152, 0.0722)).max(0.0);
+        // Cell (x, y) spans columns x..x+1 and rows y..y+1 of the vertex grid.
+        let weights: Vec<f32> = (0..w * (h - 1))
+            .map(|i| {
+                let (x, y) = (i % w, i / w);
+                let corners = luminance(x, y) + luminance(x + 1, y) + luminance(x, y + 1) + luminance(x + 1, y + 1);
+                let sin = (std::f32::consts::PI * (y as f32 + 0.5) / (h - 1) as f32).sin();
+                0.25 * corners * sin
             })
             .collect();
-        let distribution = Distribution2D::new(&weights, width as usize, height as usize);
+        let distribution = Distribution2D::new(&weights, w, h - 1);
         Self { width, height, pixels, to_world, to_map: to_world.transpose(), distribution }
     }
 
-    fn uv(&self, world: Vec3) -> Vec2 {
+    /// The sampling domain's point for a direction: (u − half a texel, v), wrapped into [0, 1).
+    fn grid_uv(&self, world: Vec3) -> Vec2 {
         let d = (self.to_map * world).normalize();
-        let u = (d.x.atan2(-d.z) * 0.5 * std::f32::consts::FRAC_1_PI).rem_euclid(1.0);
-        let v = d.y.clamp(-1.0, 1.0).acos() * std::f32::consts::FRAC_1_PI;
-        Vec2::new(u.min(1.0 - f32::EPSILON), v.min(1.0 - f32::EPSILON))
+        let u = d.x.atan2(-d.z) * 0.5 * std::f32::consts::FRAC_1_PI - 0.5 / self.width as f32;
+        // θ by atan2, which keeps its precision near the poles (acos of d.y does not).
+        let v = d.x.hypot(d.z).atan2(d.y) * std::f32::consts::FRAC_1_PI;
+        Vec2::new(u.rem_euclid(1.0).min(1.0 - f32::EPSILON), v.min(1.0 - f32::EPSILON))
     }
 
-    fn direction(&self, uv: Vec2) -> Vec3 {
-        let phi = 2.0 * std::f32::consts::PI * uv.x;
-        let theta = std::f32::consts::PI * uv.y;
+    fn direction(&self, grid_uv: Vec2) -> Vec3 {
+        let phi = 2.0 * std::f32::consts::PI * (grid_uv.x + 0.5 / self.width as f32);
+        let theta = std::f32::consts::PI * grid_uv.y;
         let (sin_t, cos_t) = theta.sin_cos();
         self.to_world * Vec3::new(sin_t * phi.sin(), cos_t, -sin_t * phi.cos())
     }
 
-    fn texel(&self, uv: Vec2) -> Rgb {
-        let x = ((uv.x * self.width as f32) as u32).min(self.width - 1);
-        let y = ((uv.y * self.height as f32) as u32).min(self.height - 1);
-        self.pixels[(y * self.width + x) as usize]
+    /// Bilinear between the four pixels around `grid_uv`.
+    fn lookup(&self, grid_uv: Vec2) -> Rgb {
+        let (w, h) = (self.width as usize, self.height as usize);
+        let x = grid_uv.x * w as f32;
+        let y = grid_uv.y * (h - 1) as f32;
+        let (x0, y0) = ((x as usize).min(w - 1), (y as usize).min(h - 2));
+        let (fx, fy) = (x - x0 as f32, y - y0 as f32);
+        let at = |x: usize, y: usize| self.pixels[y * w + x % w];
+        let top = at(x0, y0) * (1.0 - fx) + at(x0 + 1, y0) * fx;
+        let bottom = at(x0, y0 + 1) * (1.0 - fx) + at(x0 + 1, y0 + 1) * fx;
+        top * (1.0 - fy) + bottom * fy
     }
 
-    /// ∫ L dω over the sphere, mean over RGB (each pixel's radiance times its solid angle).
+    /// ∫ L dω over the sphere, mean over RGB (each cell's mean radiance times its solid angle).
     pub fn radiance_integral(&self) -> f32 {
         let (w, h) = (self.width as usize, self.height as usize);
-        let pixel = 2.0 * std::f32::consts::PI / w as f32 * std::f32::consts::PI / h as f32;
+        let cell = 2.0 * std::f32::consts::PI / w as f32 * std::f32::consts::PI / (h - 1) as f32;
         let mut total = 0.0f64;
-        for (i, p) in self.pixels.iter().enumerate() {
-            let sin = (std::f32::consts::PI * ((i / w) as f32 + 0.5) / h as f32).sin();
-            total += (p.dot(Rgb::splat(1.0 / 3.0)) * sin * pixel) as f64;
+        for y in 0..h - 1 {
+            let sin = (std::f32::consts::PI * (y as f32 + 0.5) / (h - 1) as f32).sin();
+            for x in 0..w {
+                let at = |x: usize, y: usize| self.pixels[y * w + x % w].dot(Rgb::splat(1.0 / 3.0));
+                let mean = 0.25 * (at(x, y) + at(x + 1, y) + at(x, y + 1) + at(x + 1, y + 1));
+                total += (mean * sin * cell) as f64;
+            }
         }
         total as f32
     }
 
     /// Radiance arriving along `-direction`, i.e. seen when looking toward `direction`.
     pub fn radiance(&self, direction: Vec3) -> Rgb {
-        self.texel(self.uv(direction))
+        self.lookup(self.grid_uv(direction))
     }
 
     pub fn sample(&self, u: Vec2) -> Option<EnvironmentSample> {
-        let (uv, pdf_uv) = self.distribution.sample(u);
-        let sin = (std::f32::consts::PI * uv.y).sin();
+        let (grid_uv, pdf_uv) = self.distribution.sample(u);
+        let sin = (std::f32::consts::PI * grid_uv.y).sin();
         if pdf_uv <= 0.0 || sin <= 0.0 {
             return None;
         }
         let pdf = pdf_uv / (2.0 * std::f32::consts::PI * std::f32::consts::PI * sin);
-        Some(EnvironmentSample { direction: self.direction(uv), radiance: self.texel(uv), pdf })
+        Some(EnvironmentSample { direction: self.direction(grid_uv), radiance: self.lookup(grid_uv), pdf })
     }
 
     /// The solid-angle density of `sample` producing `direction`.
     pub fn pdf(&self, direction: Vec3) -> f32 {
-        let uv = self.uv(direction);
-        let sin = (std::f32::consts::PI * uv.y).sin();
+        let grid_uv = self.grid_uv(direction);
+        let sin = (std::f32::consts::PI * grid_uv.y).sin();
         if sin <= 0.0 {
             return 0.0;
         }
-        self.distribution.pdf(uv) / (2.0 * std::f32::consts::PI * std::f32::consts::PI * sin)
+        self.distribution.pdf(grid_uv) / (2.0 * std::f32::consts::PI * std::f32::consts::PI * sin)
     }
 }
 
@@ -203,15 +224,37 @@ mod tests {
         let map = sky();
         for i in 0..50 {
             let uv = Vec2::new((i as f32 * 0.137).fract(), 0.02 + 0.96 * (i as f32 * 0.311).fract());
-            let back = map.uv(map.direction(uv));
+            let back = map.grid_uv(map.direction(uv));
             let du = (back.x - uv.x).abs();
             assert!(du.min(1.0 - du) < 1e-4 && (back.y - uv.y).abs() < 1e-4, "{uv} → {back}");
         }
-        // Mitsuba's convention in the map's own frame: +y is the top row, −z is u = 0.
+        // Mitsuba's convention in the map's own frame: +y is the top row, −z is u = 0, and
+        // the grid is shifted by half a texel (4 columns: u = 0 is grid u = 1 − 1/8).
         let plain = EnvironmentMap::new(4, 2, vec![Rgb::ONE; 8], 1.0, Mat3::IDENTITY);
-        assert!((plain.uv(Vec3::Y).y).abs() < 1e-6);
-        assert!((plain.uv(-Vec3::Z) - Vec2::new(0.0, 0.5)).length() < 1e-6);
-        assert!((plain.uv(Vec3::X) - Vec2::new(0.25, 0.5)).length() < 1e-6);
+        assert!((plain.grid_uv(Vec3::Y).y).abs() < 1e-6);
+        assert!((plain.grid_uv(-Vec3::Z) - Vec2::new(0.875, 0.5)).length() < 1e-6);
+        assert!((plain.grid_uv(Vec3::X) - Vec2::new(0.125, 0.5)).length() < 1e-6);
+    }
+
+    #[test]
+    fn radiance_is_bilinear_between_pixel_centres_and_rows_on_the_poles() {
+        // 4 × 3: column x at u = (x + ½)/4, row y at v = y/2 (rows 0 and 2 on the poles).
+        let pixels: Vec<Rgb> = (0..12).map(|i| Rgb::splat(i as f32)).collect();
+        let map = EnvironmentMap::new(4, 3, pixels, 1.0, Mat3::IDENTITY);
+        let toward = |u: f32, v: f32| {
+            let (phi, theta) = (2.0 * std::f32::consts::PI * u, std::f32::consts::PI * v);
+            Vec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos())
+        };
+        let close = |a: Rgb, b: f32| (a.x - b).abs() < 1e-4;
+        // Pixel (1, 1): u = 3/8 on the equator.
+        assert!(close(map.radiance(toward(0.375, 0.5)), 5.0), "{}", map.radiance(toward(0.375, 0.5)));
+        // Halfway between columns 1 and 2, and between rows 1 and 2.
+        assert!(close(map.radiance(toward(0.5, 0.5)), 5.5));
+        assert!(close(map.radiance(toward(0.375, 0.75)), 7.0));
+        // Across the seam: between column 3 (u = 7/8) and column 0 (u = 1/8 + 1).
+        assert!(close(map.radiance(toward(0.0, 0.5)), 0.5 * (7.0 + 4.0)));
+        // Next to the north pole: row 0.
+        assert!(close(map.radiance(toward(0.375, 1e-5)), 1.0));
     }
 
     #[test]
@@ -222,10 +265,12 @@ mod tests {
         let r = chi2_test(|u| map.sample(u).map(|s| s.direction), |w| map.pdf(w) as f64, 200_000, 31, 61, 9);
         assert!(r.p_value > 0.01, "p = {}", r.p_value);
         for i in 0..200 {
-            let u = Vec2::new((i as f32 * 0.61).fract(), (i as f32 * 0.37 + 0.001).fract());
+            // Off the seam u = 0, where a direction may map back into the last column (measure zero).
+            let u = Vec2::new((i as f32 * 0.61 + 0.003).fract(), (i as f32 * 0.37 + 0.001).fract());
             let s = map.sample(u).expect("only the poles (v = 0 or 1, probability 0) give none");
-            assert!((map.pdf(s.direction) / s.pdf - 1.0).abs() < 1e-3);
-            assert_eq!(map.radiance(s.direction), s.radiance);
+            assert!((map.pdf(s.direction) / s.pdf - 1.0).abs() < 1e-3, "{u}: {} vs {}", map.pdf(s.direction), s.pdf);
+            let difference = (map.radiance(s.direction) - s.radiance).abs().max_element();
+            assert!(difference <= 1e-3 * s.radiance.max_element(), "{} vs {}", map.radiance(s.direction), s.radiance);
         }
     }
 
