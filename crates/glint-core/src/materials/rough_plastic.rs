@@ -1,10 +1,12 @@
-//! Rough plastic, Mitsuba's `roughplastic`: a diffuse base under a rough dielectric coat (GGX).
+//! Rough plastic, Mitsuba's `roughplastic`: a diffuse base under a rough dielectric coat (GGX
+//! or Beckmann).
 //! The coat reflects as a rough dielectric does; the base's light passes the coat in and out
 //! with the coat's transmittance t(cos θ) = 1 − (the rough coat's directional albedo), computed
 //! once per material by quadrature over visible microfacets (Mitsuba's model), and is reflected
 //! inside with the coat's internal diffuse reflectance F_dr' (the same quadrature, from inside).
 //!
-//! Scene parameters: those of `plastic`, and `alpha` (default 0.1).
+//! Scene parameters: those of `plastic`, `alpha` (default 0.1) and `distribution` (`ggx`, the
+//! default, or `beckmann`, Mitsuba's default).
 //! ```toml
 //! [materials.satin]
 //! type = "rough-plastic"
@@ -20,6 +22,7 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
+use super::microfacet::Distribution;
 use super::plastic::Coat;
 use super::{fresnel_dielectric, Microfacet, PhongPoint, Plastic};
 use crate::geometry::{reflect, refract};
@@ -34,6 +37,7 @@ const TABLE_SIZE: usize = 64;
 pub struct RoughPlastic {
     pub plastic: Plastic,
     pub alpha: f32,
+    pub distribution: Distribution,
     coat: Arc<CoatTables>,
 }
 
@@ -45,9 +49,9 @@ pub(super) struct CoatTables {
 }
 
 impl RoughPlastic {
-    pub fn new(plastic: Plastic, alpha: f32) -> Self {
-        let coat = Arc::new(CoatTables::new(Microfacet::separable(alpha, alpha), plastic.eta));
-        Self { plastic, alpha, coat }
+    pub fn new(plastic: Plastic, alpha: f32, distribution: Distribution) -> Self {
+        let coat = Arc::new(CoatTables::new(Microfacet::separable(alpha, alpha).with(distribution), plastic.eta));
+        Self { plastic, alpha, distribution, coat }
     }
 
     pub(super) fn bsdf<'a>(&'a self, query: &TextureQuery, wo: Vec3, frame: Frame) -> Leaf<'a> {
@@ -64,7 +68,7 @@ impl RoughPlastic {
         Leaf::RoughPlastic(RoughPlasticBsdf {
             frame,
             coat,
-            microfacet: Microfacet::separable(self.alpha, self.alpha),
+            microfacet: Microfacet::separable(self.alpha, self.alpha).with(self.distribution),
             tables: &self.coat,
             t_o,
             p_specular,
@@ -222,13 +226,17 @@ mod tests {
     use crate::textures::Texture;
 
     fn satin(diffuse: f32, alpha: f32) -> RoughPlastic {
+        satin_with(diffuse, alpha, Distribution::Ggx)
+    }
+
+    fn satin_with(diffuse: f32, alpha: f32, distribution: Distribution) -> RoughPlastic {
         let plastic = Plastic {
             diffuse: Texture::Constant(Rgb::splat(diffuse)),
             specular: Texture::Constant(Rgb::ONE),
             eta: 1.49,
             nonlinear: false,
         };
-        RoughPlastic::new(plastic, alpha)
+        RoughPlastic::new(plastic, alpha, distribution)
     }
 
     #[test]
@@ -244,22 +252,27 @@ mod tests {
     /// As the coat smooths, its tables tend to the smooth coat's: t = 1 − F and F_dr' = F_dr.
     #[test]
     fn tables_tend_to_the_smooth_coat() {
-        let tables = CoatTables::new(Microfacet::separable(0.01, 0.01), 1.49);
-        for cos in [0.3f32, 0.6, 0.95] {
-            let smooth = 1.0 - fresnel_dielectric(cos, 1.0 / 1.49);
-            assert!((tables.lookup(cos) - smooth).abs() < 0.01, "cos {cos}: {} vs {smooth}", tables.lookup(cos));
+        for distribution in [Distribution::Ggx, Distribution::Beckmann] {
+            let tables = CoatTables::new(Microfacet::separable(0.01, 0.01).with(distribution), 1.49);
+            for cos in [0.3f32, 0.6, 0.95] {
+                let smooth = 1.0 - fresnel_dielectric(cos, 1.0 / 1.49);
+                assert!((tables.lookup(cos) - smooth).abs() < 0.01, "cos {cos}: {} vs {smooth}", tables.lookup(cos));
+            }
+            let smooth = fresnel_diffuse_reflectance(1.0 / 1.49);
+            let internal = tables.internal_reflectance;
+            assert!((internal - smooth).abs() < 0.03, "{distribution:?}: {internal} vs {smooth}");
         }
-        let smooth = fresnel_diffuse_reflectance(1.0 / 1.49);
-        assert!((tables.internal_reflectance - smooth).abs() < 0.03, "{} vs {smooth}", tables.internal_reflectance);
     }
 
     #[test]
     fn sampling_matches_pdf() {
         let n = Vec3::new(0.2, -0.1, 1.0).normalize();
-        for (alpha, seed) in [(0.1, 71), (0.5, 72)] {
+        for (alpha, distribution, seed) in
+            [(0.1, Distribution::Ggx, 71), (0.5, Distribution::Ggx, 72), (0.2, Distribution::Beckmann, 73)]
+        {
             for wo in [Vec3::new(0.3, -0.2, 0.9), Vec3::new(-0.9, 0.3, 0.25)] {
                 let wo = wo.normalize();
-                let material = satin(0.5, alpha);
+                let material = satin_with(0.5, alpha, distribution);
                 let bsdf = at(&material.bsdf(&Default::default(), wo, frame_toward(wo, n)));
                 check_sampling(&bsdf, wo, n, seed);
             }

@@ -765,12 +765,6 @@ impl<'a> Translator<'a> {
                     }
                 } else {
                     let Roughness { alpha, alpha_u, alpha_v, distribution } = self.alphas(&p)?;
-                    if distribution != "ggx" {
-                        self.warn(
-                            &p.element.position,
-                            format!("roughplastic with microfacet distribution `{distribution}` (Mitsuba's default): glint's rough plastic is GGX, used with the same alpha"),
-                        );
-                    }
                     if alpha_u.is_some() {
                         return Err(self.error(&bsdf.position, "roughplastic is isotropic: give `alpha`, not `alpha_u`/`alpha_v` (as Mitsuba requires)"));
                     }
@@ -782,6 +776,7 @@ impl<'a> Translator<'a> {
                         ext_ior,
                         nonlinear,
                         alpha,
+                        distribution: Some(distribution),
                         two_sided: one_sided,
                     }
                 }

@@ -265,6 +265,7 @@ impl Builder<'_> {
                 ext_ior,
                 nonlinear,
                 alpha: a,
+                distribution: d,
                 two_sided,
             } => {
                 let plastic = plastic(diffuse_reflectance, specular_reflectance, int_ior, ext_ior, *nonlinear)?;
@@ -274,7 +275,8 @@ impl Builder<'_> {
                         "a rough plastic's coat needs `int_ior` different from `ext_ior`".into(),
                     ));
                 }
-                sided(Material::RoughPlastic(RoughPlastic::new(plastic, alpha("alpha", *a)?)), two_sided)
+                let material = RoughPlastic::new(plastic, alpha("alpha", *a)?, distribution(d)?);
+                sided(Material::RoughPlastic(material), two_sided)
             }
             MaterialDesc::Principled {
                 base_color,

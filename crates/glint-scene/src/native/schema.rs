@@ -301,6 +301,8 @@ pub enum MaterialDesc {
         #[serde(default)]
         nonlinear: bool,
         alpha: Option<f32>,
+        /// `"ggx"` (default) or `"beckmann"`.
+        distribution: Option<String>,
         two_sided: Option<bool>,
     },
     /// Disney's principled BSDF (Mitsuba's `principled`): each weight a number in [0, 1] or a
