@@ -37,7 +37,7 @@ pub use emission::Particle;
 pub use environment::{Environment, EnvironmentMap, EnvironmentSample};
 pub use point::{Falloff, PointLight};
 pub use set::Lights;
-pub use spot::SpotLight;
+pub use spot::{Slide, SpotLight, SpotProfile};
 
 use glam::{Vec2, Vec3};
 

@@ -872,7 +872,7 @@ impl<'a> Translator<'a> {
         Ok(radiance)
     }
 
-    fn emitter(&mut self, emitter: &Element) -> Result<()> {
+    fn emitter(&mut self, emitter: &'a Element) -> Result<()> {
         let kind = emitter.attribute("type").unwrap_or("");
         let p = self.properties(emitter);
         let at = &emitter.position;
@@ -896,12 +896,23 @@ impl<'a> Translator<'a> {
                 let intensity = p.rgb(self, "intensity")?.unwrap_or([1.0; 3]);
                 let cutoff = p.float(self, "cutoff_angle")?.unwrap_or(20.0);
                 let beam = p.float(self, "beam_width")?.unwrap_or(cutoff * 0.75);
+                // A constant `texture` is a tint, folded into the intensity.
+                let (texture, tint) = match p.color(self, "texture")? {
+                    Some(ColorDesc::Texture(name)) => (Some(name), [1.0; 3]),
+                    Some(ColorDesc::Rgb(rgb)) => (None, rgb),
+                    None => (None, [1.0; 3]),
+                };
                 LightDesc::Spot {
                     position: matrix.transform_point3(Vec3::ZERO).to_array(),
                     direction: matrix.transform_vector3(Vec3::Z).to_array(),
                     cone_angle: cutoff,
                     edge: (cutoff - beam).max(0.0),
-                    color: intensity,
+                    profile: Some("linear".into()),
+                    texture,
+                    // Mitsuba's slide v grows along the light's local +y down its image rows;
+                    // glint's image v grows upward: the slide's up is local −y.
+                    up: Some((-matrix.transform_vector3(Vec3::Y)).to_array()),
+                    color: [intensity[0] * tint[0], intensity[1] * tint[1], intensity[2] * tint[2]],
                     intensity: 1.0,
                     falloff: FalloffDesc::InverseSquare,
                 }

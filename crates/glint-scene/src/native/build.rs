@@ -11,7 +11,9 @@ use glint_core::filter::Filter;
 use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings, PhotonSettings};
 use glint_core::lights::TriangleSampling;
-use glint_core::lights::{DirectionalLight, Environment, EnvironmentMap, Falloff, Light, PointLight, SpotLight};
+use glint_core::lights::{
+    DirectionalLight, Environment, EnvironmentMap, Falloff, Light, PointLight, Slide, SpotLight, SpotProfile,
+};
 use glint_core::materials::Material;
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::{Geometry, Object, SceneBuilder};
@@ -79,7 +81,8 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
 
     let materials = super::materials::build_materials(&cx, &file.materials, &textures)?;
 
-    let lights = file.lights.iter().enumerate().map(|(i, l)| build_light(&cx, i, l)).collect::<Result<_, _>>()?;
+    let lights =
+        file.lights.iter().enumerate().map(|(i, l)| build_light(&cx, i, l, &textures)).collect::<Result<_, _>>()?;
 
     let mut library = MeshLibrary { descs: &file.meshes, built: Vec::new() };
     let mut objects = Vec::new();
@@ -195,7 +198,12 @@ fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneErro
     Ok(RenderOptions { spp: r.spp, integrator, seed: r.seed, integrator_settings, filter, sampler, light_sampling })
 }
 
-fn build_light(cx: &Context, index: usize, light: &Located<LightDesc>) -> Result<Light, SceneError> {
+fn build_light(
+    cx: &Context,
+    index: usize,
+    light: &Located<LightDesc>,
+    textures: &[(String, Texture)],
+) -> Result<Light, SceneError> {
     let at = |key: &str, m: String| cx.error(&light.span, Some(key), format!("lights[{index}]: {m}"));
     let intensity = |color: Vector, intensity: f32| -> Result<Vec3, SceneError> {
         if !(intensity.is_finite() && intensity >= 0.0) {
@@ -209,7 +217,18 @@ fn build_light(cx: &Context, index: usize, light: &Located<LightDesc>) -> Result
             intensity: intensity(*color, *i)?,
             falloff: falloff_of(*falloff),
         }),
-        LightDesc::Spot { position, direction, cone_angle, edge, color, intensity: i, falloff } => {
+        LightDesc::Spot {
+            position,
+            direction,
+            cone_angle,
+            edge,
+            profile,
+            texture,
+            up,
+            color,
+            intensity: i,
+            falloff,
+        } => {
             let axis = finite(*direction)
                 .map_err(|m| at("direction", m))?
                 .try_normalize()
@@ -223,14 +242,40 @@ fn build_light(cx: &Context, index: usize, light: &Located<LightDesc>) -> Result
             if !(*edge >= 0.0 && edge <= cone_angle) {
                 return Err(at("edge", format!("`edge` must be between 0 and `cone_angle` degrees, got {edge}")));
             }
-            Light::Spot(SpotLight::new(
+            let profile = match profile.as_deref() {
+                None | Some("smooth") => SpotProfile::Smooth,
+                Some("linear") => SpotProfile::Linear,
+                Some(other) => {
+                    return Err(at(
+                        "profile",
+                        format!("unknown spot profile `{other}`, expected \"smooth\" or \"linear\""),
+                    ))
+                }
+            };
+            let mut spot = SpotLight::new(
                 finite(*position).map_err(|m| at("position", m))?,
                 axis,
                 intensity(*color, *i)?,
                 falloff_of(*falloff),
                 *cone_angle,
                 *edge,
-            ))
+            )
+            .with_profile(profile);
+            if let Some(name) = texture {
+                let texture =
+                    resolve_colour(&ColorDesc::Texture(name.clone()), textures).map_err(|m| at("texture", m))?;
+                let default_up = if axis.y.abs() < 0.9 { Vec3::Y } else { Vec3::Z };
+                let up = match up {
+                    Some(u) => finite(*u).map_err(|m| at("up", m))?,
+                    None => default_up,
+                };
+                let right = axis
+                    .cross(up)
+                    .try_normalize()
+                    .ok_or_else(|| at("up", "`up` must not lie along `direction`".into()))?;
+                spot = spot.with_slide(Slide { texture, right, up: right.cross(axis) });
+            }
+            Light::Spot(spot)
         }
         LightDesc::Directional { direction, color, intensity: i } => Light::Directional(DirectionalLight {
             direction: finite(*direction)

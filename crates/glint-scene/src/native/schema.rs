@@ -444,6 +444,11 @@ pub enum LightDesc {
         cone_angle: f32,
         #[serde(default = "default_edge")]
         edge: f32,
+        /// `"smooth"` (default) or `"linear"` (in the angle, as Mitsuba's spot).
+        profile: Option<String>,
+        /// A texture projected across the cone, and the slide's up direction.
+        texture: Option<String>,
+        up: Option<Vector>,
         #[serde(default = "white")]
         color: Vector,
         #[serde(default = "one")]
