@@ -26,6 +26,7 @@ const PASSING: &[&str] = &[
     "test_roughdielectric_path",
     "test_textured_diffuse_path",
     "scene_path",
+    "test_orthographic_path",
 ];
 
 /// Mitsuba's budget: samples per image, divided among its pixels.

@@ -219,9 +219,11 @@ impl<'a> Translator<'a> {
             (None, None)
         };
         let matrix = p.transform(self, "to_world")?.unwrap_or(Mat4::IDENTITY);
-        // Mitsuba's orthographic view is the square [−1, 1]² (x scaled by the aspect ratio)
-        // under to_world: its height is twice to_world's scale along y.
-        let orthographic_height = (kind == "orthographic").then(|| 2.0 * matrix.transform_vector3(Vec3::Y).length());
+        // Mitsuba's orthographic view spans x ∈ [−1, 1] across the width and
+        // y ∈ [−1/aspect, 1/aspect] under to_world: its height is twice to_world's scale along
+        // x over the aspect ratio.
+        let orthographic_height =
+            (kind == "orthographic").then(|| 2.0 * matrix.transform_vector3(Vec3::X).length() / aspect);
         let position = matrix.transform_point3(Vec3::ZERO);
         let forward = matrix.transform_vector3(Vec3::Z);
         let up = matrix.transform_vector3(Vec3::Y);
