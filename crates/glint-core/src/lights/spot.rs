@@ -33,7 +33,8 @@ pub struct SpotLight {
     pub cos_cone: f32,
     pub cos_full: f32,
     pub profile: SpotProfile,
-    pub slide: Option<Slide>,
+    /// Boxed so a light stays small (the light set is read per shading point).
+    pub slide: Option<Box<Slide>>,
 }
 
 /// How the intensity fades across the edge.
@@ -81,7 +82,7 @@ impl SpotLight {
     }
 
     pub fn with_slide(self, slide: Slide) -> Self {
-        Self { slide: Some(slide), ..self }
+        Self { slide: Some(Box::new(slide)), ..self }
     }
 
     pub fn illuminate(&self, point: Vec3) -> Illumination {
