@@ -14,7 +14,7 @@ use glint_cli::output::{check_writable, check_writable_file, write_image, ImageF
 use glint_core::film::Film;
 use glint_core::filter::Filter;
 use glint_core::integrators::{heat_colour, IntegratorKind, IntegratorSettings};
-use glint_core::lights::TriangleSampling;
+use glint_core::lights::{LightSelection, TriangleSampling};
 use glint_core::render::{
     render_progressive, tile_count, PassRenderer, Progressive, RenderOutput, RenderSettings, StopReason,
 };
@@ -90,6 +90,11 @@ pub struct RenderArgs {
     /// the scene's `light_sampling`, else area.
     #[arg(long, value_parser = named::<TriangleSampling>())]
     light_sampling: Option<TriangleSampling>,
+    /// How lights are chosen for next-event estimation and particles: in proportion to their
+    /// power, or each emitter equally (Mitsuba's way). Default: the scene's `light_selection`
+    /// (Mitsuba scenes: uniform), else power.
+    #[arg(long, value_parser = named::<LightSelection>())]
+    light_selection: Option<LightSelection>,
     /// Path tracing: trace one path at a time instead of a tile's paths eight at a time in
     /// SIMD lanes. The
     /// image is the same bit for bit; for comparing the speed of the two.
@@ -696,5 +701,8 @@ fn apply_overrides(args: &RenderArgs, scene: &mut Scene) {
     });
     if let Some(sampling) = args.light_sampling {
         scene.set_triangle_sampling(sampling);
+    }
+    if let Some(selection) = args.light_selection {
+        scene.set_light_selection(selection);
     }
 }

@@ -27,6 +27,11 @@ const PASSING: &[&str] = &[
     "test_textured_diffuse_path",
     "scene_path",
     "test_orthographic_path",
+    "test_bumpmap_path",
+    "test_roughplastic_linear_path",
+    "test_roughplastic_nonlinear_path",
+    "test_texturedprincipled2_path",
+    "test_spot_direct",
 ];
 
 /// Mitsuba's budget: samples per image, divided among its pixels.

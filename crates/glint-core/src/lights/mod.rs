@@ -36,7 +36,7 @@ pub use directional::DirectionalLight;
 pub use emission::Particle;
 pub use environment::{Environment, EnvironmentMap, EnvironmentSample};
 pub use point::{Falloff, PointLight};
-pub use set::Lights;
+pub use set::{LightSelection, Lights};
 pub use spot::{Slide, SpotLight, SpotProfile};
 
 use glam::{Vec2, Vec3};

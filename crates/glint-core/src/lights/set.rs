@@ -1,6 +1,6 @@
-//! The scene's lights as one distribution: every light, chosen in proportion to its power, for
-//! next-event estimation (`sample_li`) and for particles leaving the lights (`sample_le`, in
-//! `emission.rs`) alike.
+//! The scene's lights as one distribution: every light, chosen in proportion to its power (or
+//! each emitter equally, Mitsuba's choice: see [`LightSelection`]), for next-event estimation
+//! (`sample_li`) and for particles leaving the lights (`sample_le`, in `emission.rs`) alike.
 //!
 //! The order is the scene's listed lights (point, spot, directional; Whitted's and `explain`'s
 //! light indices), then the environment if light arrives from outside, then each emitting
@@ -16,14 +16,43 @@ use super::{Asked, Environment, Light, LightSample, TriangleEmitter, TriangleSam
 use crate::accel::Object;
 use crate::geometry::Aabb;
 use crate::materials::Material;
+use crate::Named;
 
 const NONE: u32 = u32::MAX;
+
+/// How next-event estimation and particle tracing choose among the scene's emitters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum LightSelection {
+    /// Each light in proportion to its power: fewer samples wasted on dim lights.
+    #[default]
+    Power,
+    /// Each emitter (a listed light, the environment, an emitting object) equally, and an
+    /// object's primitives by their power within it: Mitsuba 3's choice, whose noise its
+    /// reference variances measure.
+    Uniform,
+}
+
+impl Named for LightSelection {
+    const ALL: &'static [Self] = &[LightSelection::Power, LightSelection::Uniform];
+
+    fn name(self) -> &'static str {
+        match self {
+            LightSelection::Power => "power",
+            LightSelection::Uniform => "uniform",
+        }
+    }
+}
 
 #[derive(Clone, Debug, Default)]
 pub struct Lights {
     lights: Vec<Light>,
-    /// Cumulative selection probabilities (by power), last = 1; empty if nothing emits.
+    /// Cumulative selection probabilities, last = 1; empty if nothing emits.
     cdf: Vec<f32>,
+    /// Each light's power (over π), and the end of each emitter's run of lights (an emitting
+    /// object's primitives are one emitter): what the selection is made from.
+    powers: Vec<f32>,
+    emitter_ends: Vec<usize>,
+    selection: LightSelection,
     /// Per object: the index of the light its first primitive is (its primitive p is
     /// `base + p`), or `NONE`.
     object_base: Vec<u32>,
@@ -54,36 +83,28 @@ impl Lights {
     ) -> Self {
         debug_assert!(listed.iter().all(Light::is_delta), "area lights and the environment come from the scene");
         let mut lights = listed;
+        let mut emitter_ends: Vec<usize> = (1..=lights.len()).collect();
         let environment_index = environment.emits().then(|| {
             lights.push(Light::Environment(environment.clone()));
+            emitter_ends.push(lights.len());
             lights.len() - 1
         });
         let mut object_base = vec![NONE; objects.len()];
         for (object, area) in area_lights(objects, materials) {
             object_base[object] = lights.len() as u32;
             lights.extend(area.into_iter().map(Light::Area));
+            emitter_ends.push(lights.len());
         }
         let (scene_center, scene_radius) =
             if bounds.is_empty() { (Vec3::ZERO, 1.0) } else { (bounds.centroid(), 0.5 * bounds.extent().length()) };
         let powers: Vec<f32> = lights.iter().map(|l| l.power_over_pi(scene_radius)).collect();
         let total: f32 = powers.iter().sum();
-        let mut cdf = Vec::with_capacity(powers.len());
-        let mut acc = 0.0;
-        for p in &powers {
-            acc += p / total;
-            cdf.push(acc);
-        }
-        if let Some(last) = cdf.last_mut() {
-            *last = 1.0;
-        }
-        if !(total > 0.0 && total.is_finite()) {
-            // Nothing to sample: no light is chosen, and no hit is a sampled light.
-            cdf.clear();
-            object_base.fill(NONE);
-        }
         let mut set = Self {
             lights,
-            cdf,
+            cdf: Vec::new(),
+            powers,
+            emitter_ends,
+            selection: LightSelection::default(),
             object_base,
             environment: environment_index,
             triangle_sampling: TriangleSampling::default(),
@@ -92,8 +113,52 @@ impl Lights {
             total_power: if total.is_finite() { total.max(0.0) * std::f32::consts::PI } else { total },
             triangle_table: None,
         };
-        set.triangle_table = set.build_triangle_table();
+        set.set_selection(LightSelection::default());
         set
+    }
+
+    pub fn selection(&self) -> LightSelection {
+        self.selection
+    }
+
+    /// The selection probabilities made again by `selection`.
+    pub fn set_selection(&mut self, selection: LightSelection) {
+        self.selection = selection;
+        let weights: Vec<f32> = match selection {
+            LightSelection::Power => self.powers.clone(),
+            LightSelection::Uniform => {
+                let mut weights = vec![0.0; self.powers.len()];
+                let mut start = 0;
+                for &end in &self.emitter_ends {
+                    let run = &self.powers[start..end];
+                    let power: f32 = run.iter().sum();
+                    if power > 0.0 && power.is_finite() {
+                        for (w, p) in weights[start..end].iter_mut().zip(run) {
+                            *w = p / power;
+                        }
+                    }
+                    start = end;
+                }
+                weights
+            }
+        };
+        let total: f32 = weights.iter().sum();
+        self.cdf.clear();
+        let mut acc = 0.0;
+        for w in &weights {
+            acc += w / total;
+            self.cdf.push(acc);
+        }
+        if let Some(last) = self.cdf.last_mut() {
+            *last = 1.0;
+        }
+        let powered: f32 = self.powers.iter().sum();
+        if !(total > 0.0 && total.is_finite() && powered > 0.0 && powered.is_finite()) {
+            // Nothing to sample: no light is chosen, and no hit is a sampled light.
+            self.cdf.clear();
+            self.object_base.fill(NONE);
+        }
+        self.triangle_table = self.build_triangle_table();
     }
 
     /// Every light, in order.
@@ -298,6 +363,37 @@ mod tests {
         let LightEnd::Surface { point, normal, .. } = s.end else { panic!("the triangle is sampled on its surface") };
         assert_eq!(s.pdf, lights.pdf_area(from, None, 0, 0, point, normal));
         assert!(lights.has_environment() && lights.triangle_table().is_none());
+    }
+
+    /// Chosen uniformly, each emitter gets an equal share whatever its power, an emitting
+    /// object's primitives sharing its share by power: a point light, the sky and two
+    /// triangles (powers 0.5 and 3) of one emitting mesh object get ⅓, ⅓, ⅓·1/7, ⅓·6/7;
+    /// the MIS densities follow, and power selection comes back.
+    #[test]
+    fn uniform_selection_gives_each_emitter_an_equal_share() {
+        let point =
+            Light::Point(PointLight { position: Vec3::Y, intensity: Rgb::ONE, falloff: Falloff::InverseSquare });
+        let sky = Environment { background: Rgb::splat(0.5), ..Environment::BLACK };
+        let mesh = crate::shapes::Mesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, 2.0 * Vec3::X, 3.0 * Vec3::Y],
+            indices: vec![[0, 1, 2], [0, 3, 4]],
+            ..Default::default()
+        };
+        let objects = [object(Shape::Mesh(mesh), None)];
+        let bounds = Aabb::new(Vec3::splat(-1.0), Vec3::ONE);
+        let mut lights = Lights::new(vec![point], &sky, &objects, &[emitting(1.0)], bounds);
+        let by_power: Vec<f32> = (0..4).map(|i| lights.selection_probability(i)).collect();
+        lights.set_selection(LightSelection::Uniform);
+        for (i, share) in [1.0 / 3.0, 1.0 / 3.0, 1.0 / 21.0, 6.0 / 21.0].into_iter().enumerate() {
+            let p = lights.selection_probability(i);
+            assert!((p - share).abs() < 1e-6, "light {i}: {p}");
+        }
+        assert!((lights.pdf_environment(Vec3::X) - 1.0 / 3.0 / (4.0 * std::f32::consts::PI)).abs() < 1e-6);
+        let s = lights.sample_li(Vec3::new(0.2, 0.2, 1.0), None, 0.99, Vec2::new(0.3, 0.7)).unwrap();
+        let LightEnd::Surface { point, normal, .. } = s.end else { panic!("the mesh is sampled on its surface") };
+        assert_eq!(s.pdf, lights.pdf_area(Vec3::new(0.2, 0.2, 1.0), None, 0, 1, point, normal));
+        lights.set_selection(LightSelection::Power);
+        assert_eq!(by_power, (0..4).map(|i| lights.selection_probability(i)).collect::<Vec<_>>());
     }
 
     /// A scene lit by triangles alone keeps the selection it always had (L·A·sides over the

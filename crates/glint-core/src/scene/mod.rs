@@ -9,7 +9,7 @@ pub(crate) use hit::{Spawn, SHADOW_EPSILON};
 pub use crate::accel::{Geometry, Object, PrimitiveHit};
 use crate::camera::Camera;
 use crate::geometry::Ray;
-use crate::lights::{Environment, Light, Lights, TriangleSampling};
+use crate::lights::{Environment, Light, LightSelection, Lights, TriangleSampling};
 use crate::materials::Material;
 use crate::shapes::IntersectMethods;
 use crate::Rgb;
@@ -38,6 +38,7 @@ pub struct SceneBuilder {
     environment: Environment,
     methods: IntersectMethods,
     triangle_sampling: Option<TriangleSampling>,
+    light_selection: LightSelection,
 }
 
 impl SceneBuilder {
@@ -50,6 +51,7 @@ impl SceneBuilder {
             environment: Environment { background: Rgb::ZERO, ambient_light: Rgb::ZERO, map: None },
             methods: IntersectMethods::default(),
             triangle_sampling: None,
+            light_selection: LightSelection::default(),
         }
     }
 
@@ -101,6 +103,12 @@ impl SceneBuilder {
         self
     }
 
+    /// How lights are chosen (by power unless said).
+    pub fn light_selection(mut self, selection: LightSelection) -> Self {
+        self.light_selection = selection;
+        self
+    }
+
     /// The BVH built and the lights derived.
     pub fn build(self) -> Scene {
         let (material_names, materials): (Vec<String>, Vec<Material>) = self.materials.into_iter().unzip();
@@ -109,6 +117,7 @@ impl SceneBuilder {
         if let Some(strategy) = self.triangle_sampling {
             lights.set_triangle_sampling(strategy);
         }
+        lights.set_selection(self.light_selection);
         Scene { camera: self.camera, geometry, materials, material_names, lights, environment: self.environment }
     }
 }
@@ -152,7 +161,7 @@ impl Scene {
         &self.material_names
     }
 
-    /// Every light, as one distribution by power.
+    /// Every light, as one distribution (by power unless said).
     pub fn lights(&self) -> &Lights {
         &self.lights
     }
@@ -184,10 +193,11 @@ impl Scene {
 
     /// New listed lights (point, spot and directional).
     pub fn set_lights(&mut self, listed: Vec<Light>) {
-        let strategy = self.lights.triangle_sampling();
+        let (strategy, selection) = (self.lights.triangle_sampling(), self.lights.selection());
         self.lights =
             Lights::new(listed, &self.environment, self.geometry.objects(), &self.materials, self.geometry.bounds());
         self.lights.set_triangle_sampling(strategy);
+        self.lights.set_selection(selection);
     }
 
     /// One more listed light.
@@ -210,6 +220,11 @@ impl Scene {
     /// How triangle lights are sampled (`--light-sampling`).
     pub fn set_triangle_sampling(&mut self, strategy: TriangleSampling) {
         self.lights.set_triangle_sampling(strategy);
+    }
+
+    /// How lights are chosen (`--light-selection`).
+    pub fn set_light_selection(&mut self, selection: LightSelection) {
+        self.lights.set_selection(selection);
     }
 
     /// The lights derived again from what they depend on.

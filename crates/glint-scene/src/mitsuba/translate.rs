@@ -58,6 +58,8 @@ impl<'a> Translator<'a> {
                 max_depth: -1,
                 spp: 4,
                 filter: "gaussian".into(),
+                // Mitsuba picks each emitter equally; its reference variances measure that.
+                light_selection: "uniform".into(),
                 ..RenderDesc::default()
             },
             intersection: IntersectionDesc::default(),

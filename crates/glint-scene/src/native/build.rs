@@ -10,10 +10,10 @@ use glint_core::camera::{Camera, Lens};
 use glint_core::filter::Filter;
 use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings, PhotonSettings};
-use glint_core::lights::TriangleSampling;
 use glint_core::lights::{
     DirectionalLight, Environment, EnvironmentMap, Falloff, Light, PointLight, Slide, SpotLight, SpotProfile,
 };
+use glint_core::lights::{LightSelection, TriangleSampling};
 use glint_core::materials::Material;
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::{Geometry, Object, SceneBuilder};
@@ -98,6 +98,7 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         .environment(environment)
         .methods(methods)
         .triangle_sampling(render.light_sampling)
+        .light_selection(render.light_selection)
         .build();
     let inputs = std::iter::once(path.to_path_buf()).chain(source.files_read()).collect();
     Ok(LoadedScene { scene, render, warnings, inputs })
@@ -195,7 +196,17 @@ fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneErro
     let filter: Filter = by_name(cx, "filter", "filter", &r.filter)?;
     let sampler: SamplerKind = by_name(cx, "sampler", "sampler", &r.sampler)?;
     let light_sampling: TriangleSampling = by_name(cx, "light_sampling", "light sampling", &r.light_sampling)?;
-    Ok(RenderOptions { spp: r.spp, integrator, seed: r.seed, integrator_settings, filter, sampler, light_sampling })
+    let light_selection: LightSelection = by_name(cx, "light_selection", "light selection", &r.light_selection)?;
+    Ok(RenderOptions {
+        spp: r.spp,
+        integrator,
+        seed: r.seed,
+        integrator_settings,
+        filter,
+        sampler,
+        light_sampling,
+        light_selection,
+    })
 }
 
 fn build_light(

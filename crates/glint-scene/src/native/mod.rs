@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use glint_core::filter::Filter;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
-use glint_core::lights::TriangleSampling;
+use glint_core::lights::{LightSelection, TriangleSampling};
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::Scene;
 
@@ -36,6 +36,8 @@ pub struct RenderOptions {
     pub sampler: SamplerKind,
     /// How the path tracer samples triangle lights (set on the scene's area lights too).
     pub light_sampling: TriangleSampling,
+    /// How lights are chosen: by power, or each emitter equally (Mitsuba's scenes).
+    pub light_selection: LightSelection,
 }
 
 pub struct LoadedScene {

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use glint_core::integrators::PhotonSettings;
-use glint_core::lights::TriangleSampling;
+use glint_core::lights::{LightSelection, TriangleSampling};
 use glint_core::sampling::SamplerKind;
 use glint_core::Named;
 use serde::Deserialize;
@@ -95,6 +95,8 @@ pub struct RenderDesc {
     pub sampler: String,
     #[serde(default = "default_light_sampling")]
     pub light_sampling: String,
+    #[serde(default = "default_light_selection")]
+    pub light_selection: String,
     /// Photon mapping (see `PhotonSettings`).
     #[serde(default = "default_photons")]
     pub photons: u32,
@@ -119,6 +121,9 @@ fn default_sampler() -> String {
 fn default_light_sampling() -> String {
     TriangleSampling::default().name().into()
 }
+fn default_light_selection() -> String {
+    LightSelection::default().name().into()
+}
 fn default_photons() -> u32 {
     PhotonSettings::default().global_photons
 }
@@ -142,6 +147,7 @@ impl Default for RenderDesc {
             filter: default_filter(),
             sampler: default_sampler(),
             light_sampling: default_light_sampling(),
+            light_selection: default_light_selection(),
             photons: default_photons(),
             caustic_photons: default_photons(),
             photon_nearest: default_photon_nearest(),
