@@ -12,7 +12,7 @@ mod common;
 use std::sync::Arc;
 
 use common::{object_with, scene};
-use glam::{Mat4, Vec2};
+use glam::Mat4;
 use glint_core::camera::Camera;
 use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
@@ -30,7 +30,7 @@ const TEXELS: u32 = 64;
 /// texel centres.
 fn ramp() -> Texture {
     let pixels = (0..TEXELS).map(|k| Rgb::splat(k as f32 / (TEXELS - 1) as f32)).collect();
-    Texture::Image(Arc::new(ImageTexture { width: TEXELS, height: 1, pixels, wrap: Wrap::Clamp, scale: Vec2::ONE }))
+    Texture::Image(Arc::new(ImageTexture { wrap: Wrap::Clamp, ..ImageTexture::new(TEXELS, 1, pixels) }))
 }
 
 fn diffuse() -> Material {

@@ -177,14 +177,14 @@ fn room_where(change: impl FnOnce(&mut Vec<Object>, &mut Vec<Material>)) -> Scen
 #[test]
 fn the_wavefront_serves_spheres_textures_open_rooms_and_solid_angle_light_sampling() {
     let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
-    let checker = Checker { even: Rgb::new(0.8, 0.7, 0.2), odd: Rgb::new(0.2, 0.3, 0.7), scale: Vec2::splat(4.0) };
+    let checker = Checker::new(Rgb::new(0.8, 0.7, 0.2), Rgb::new(0.2, 0.3, 0.7), Vec2::splat(4.0));
     let solid_angle = |mut s: Scene| {
         s.set_triangle_sampling(TriangleSampling::SolidAngle);
         s
     };
     let textured = room_where(|_, materials| {
         let Material::Phong(back) = &mut materials[2] else { unreachable!("the room is Phong") };
-        back.diffuse = Texture::Checker(checker);
+        back.diffuse = Texture::Checker(Box::new(checker));
     });
     let spheres = || {
         room_where(|objects, materials| {

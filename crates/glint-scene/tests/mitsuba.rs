@@ -578,3 +578,73 @@ fn environment_maps_with_infinite_or_negative_texels_are_refused() {
         assert!(e.contains("s.toml:5:") && e.contains("sky.exr") && e.contains("texel (5, 2)"), "{name}: {e}");
     }
 }
+
+/// Mitsuba's texture coordinates, checked against what Mitsuba 3.9 computes: its mesh loaders
+/// turn v over (`flip_tex_coords`, default true), its bitmaps put v = 0 on the top row, `to_uv`
+/// is a full affine map, its checkerboard read as one number (`eval_1`: here a principled
+/// `metallic`) swaps its colours, and a spot light's slide runs u along the light's local +x
+/// and v along +y.
+#[test]
+fn textures_see_mitsubas_uv() {
+    let path = scene_file(
+        "uv",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<texture type="bitmap" id="grid"><string name="filename" value="grid.png"/><string name="filter_type" value="nearest"/><boolean name="raw" value="true"/></texture>
+<shape type="obj" id="flipped"><string name="filename" value="uv.obj"/><bsdf type="diffuse" id="gridded"><ref name="reflectance" id="grid"/></bsdf></shape>
+<shape type="obj" id="kept"><string name="filename" value="uv.obj"/><boolean name="flip_tex_coords" value="false"/></shape>
+<shape type="rectangle"><bsdf type="diffuse" id="shifted"><texture type="bitmap" name="reflectance">
+  <string name="filename" value="grid.png"/><string name="filter_type" value="nearest"/><string name="wrap_mode" value="mirror"/><boolean name="raw" value="true"/>
+  <transform name="to_uv"><scale value="2"/><translate x="0.25" y="-0.5"/></transform></texture></bsdf></shape>
+<shape type="sphere"><bsdf type="principled" id="checked">
+  <texture name="metallic" type="checkerboard"><float name="color0" value="0.7"/><float name="color1" value="0.1"/></texture>
+  <texture name="base_color" type="checkerboard"><rgb name="color0" value="0.7"/><rgb name="color1" value="0.1"/></texture></bsdf></shape>
+<emitter type="spot"><ref name="texture" id="grid"/><float name="cutoff_angle" value="20"/>
+  <transform name="to_world"><lookat origin="0, 0, 0" target="0, 0, 1" up="0, 1, 0"/></transform></emitter>
+</scene>
+"#
+        ),
+    );
+    std::fs::write(
+        path.with_file_name("uv.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0.25\nvt 1 0.25\nvt 0 1\nf 1/1 2/2 3/3\n",
+    )
+    .unwrap();
+    // 2 × 2 texels, row 0 on top: A = 0.1 (top left), B = 0.3, C = 0.5, D = 0.7 (bottom right).
+    let texel = |v: f32| (v * 255.0).round() as u8;
+    let pixels = [0.1, 0.3, 0.5, 0.7].iter().flat_map(|&v| [texel(v); 3]).collect();
+    image::RgbImage::from_raw(2, 2, pixels).unwrap().save(path.with_file_name("grid.png")).unwrap();
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = &loaded.scene;
+    let uvs = |name: &str| match &scene.objects().iter().find(|o| o.name.contains(&format!("`{name}`"))).unwrap().shape
+    {
+        glint_core::shapes::Shape::Mesh(m) => m.uvs.clone().unwrap(),
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(uvs("flipped")[0], glam::Vec2::new(0.0, 0.75));
+    assert_eq!(uvs("kept")[0], glam::Vec2::new(0.0, 0.25));
+    let material = |name: &str| &scene.materials()[scene.material_names().iter().position(|n| n == name).unwrap()];
+    let at = |texture: &Texture, u: f32, v: f32| {
+        let query = glint_core::textures::TextureQuery { uv: glam::Vec2::new(u, v), ..Default::default() };
+        (texture.evaluate(&query).x * 10.0).round() / 10.0
+    };
+    // v = 0.1 is the top row in Mitsuba.
+    let Material::Diffuse(d) = material("gridded") else { panic!() };
+    assert_eq!([at(&d.reflectance, 0.2, 0.1), at(&d.reflectance, 0.8, 0.1)], [0.1, 0.3]);
+    assert_eq!([at(&d.reflectance, 0.2, 0.9), at(&d.reflectance, 0.8, 0.9)], [0.5, 0.7]);
+    // uv' = 2·uv + (¼, −½), mirrored beyond the edges: (0.1, 0.4) → (0.45, 0.3), top left;
+    // (0.4, 0.3) → (1.05, 0.1), just past the right edge, mirrored back onto B.
+    let Material::Diffuse(d) = material("shifted") else { panic!() };
+    assert_eq!([at(&d.reflectance, 0.1, 0.4), at(&d.reflectance, 0.4, 0.3)], [0.1, 0.3]);
+    // (0.1, 0.2) → (0.45, −0.1): mirrored above the top row onto A again.
+    assert_eq!(at(&d.reflectance, 0.1, 0.2), 0.1);
+    // The colour checker: color0 where both half-checks agree; the number checker: color1.
+    let Material::Principled(p) = material("checked") else { panic!() };
+    assert_eq!([at(&p.base_color, 0.2, 0.2), at(&p.base_color, 0.7, 0.2)], [0.7, 0.1]);
+    assert_eq!([at(&p.metallic, 0.2, 0.2), at(&p.metallic, 0.7, 0.2)], [0.1, 0.7]);
+    // The spot: toward local (+x, +y) Mitsuba reads u > ½, v > ½: the bottom right texel.
+    let Light::Spot(spot) = scene.listed_lights().next().unwrap() else { panic!() };
+    let seen = |x: f32, y: f32| (spot.illuminate(Vec3::new(x, y, 1.0)).intensity.x * 10.0).round() / 10.0;
+    assert_eq!([seen(0.05, 0.05), seen(-0.05, 0.05), seen(0.05, -0.05), seen(-0.05, -0.05)], [0.7, 0.5, 0.3, 0.1]);
+}

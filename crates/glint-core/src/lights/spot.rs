@@ -160,11 +160,8 @@ mod tests {
     fn a_slide_is_projected_across_the_cone() {
         // A 2 × 1 image: left half 1, right half 3, across the light's `right` axis.
         let texture = Texture::Image(std::sync::Arc::new(crate::textures::ImageTexture {
-            width: 2,
-            height: 1,
-            pixels: vec![Rgb::ONE, Rgb::splat(3.0)],
             wrap: crate::textures::Wrap::Clamp,
-            scale: Vec2::ONE,
+            ..crate::textures::ImageTexture::new(2, 1, vec![Rgb::ONE, Rgb::splat(3.0)])
         }));
         let slide = Slide { texture, right: Vec3::X, up: Vec3::Z };
         let spot = SpotLight::new(Vec3::ZERO, Vec3::Y, Rgb::ONE, Falloff::None, 45.0, 0.0).with_slide(slide);

@@ -80,11 +80,8 @@ mod tests {
     /// unit of u and not at all along v.
     fn ramp() -> Texture {
         Texture::Image(std::sync::Arc::new(ImageTexture {
-            width: 2,
-            height: 1,
-            pixels: vec![Rgb::ZERO, Rgb::ONE],
             wrap: Wrap::Clamp,
-            scale: Vec2::ONE,
+            ..ImageTexture::new(2, 1, vec![Rgb::ZERO, Rgb::ONE])
         }))
     }
 

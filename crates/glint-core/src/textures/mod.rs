@@ -8,7 +8,7 @@ mod noise;
 mod solid;
 
 pub use checker::{Checker, SolidChecker};
-pub use image::{ImageTexture, Wrap};
+pub use image::{ImageTexture, TexelFilter, Wrap};
 pub use noise::{perlin_noise, turbulence};
 pub use solid::{Marble, Wood};
 
@@ -35,7 +35,8 @@ pub struct TextureQuery {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Texture {
     Constant(Rgb),
-    Checker(Checker),
+    /// Boxed: its uv map would make every texture (a material holds several) larger.
+    Checker(Box<Checker>),
     SolidChecker(SolidChecker),
     Image(Arc<ImageTexture>),
     Marble(Marble),

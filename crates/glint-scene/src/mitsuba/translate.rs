@@ -7,7 +7,7 @@
 use std::cell::RefCell;
 use std::collections::{BTreeMap, HashMap, HashSet};
 
-use glam::{Mat4, Vec3};
+use glam::{Affine2, Mat4, Vec2, Vec3};
 
 use super::spectrum::{parse_sampled, sampled_to_rgb, SpectrumRole};
 use super::xml::{Element, Files, Position};
@@ -403,7 +403,8 @@ impl<'a> Translator<'a> {
             transform_matrix.map(|m| vec![TransformOp::Matrix(m.transpose().to_cols_array_2d())]).unwrap_or_default();
         let face_normals = p.boolean(self, "face_normals")?.unwrap_or(false);
         let flip_normals = p.boolean(self, "flip_normals")?.unwrap_or(false);
-        p.boolean(self, "flip_tex_coords")?;
+        // Mitsuba's mesh loaders turn v over (v ← 1 − v) unless told not to.
+        let flip_v = p.boolean(self, "flip_tex_coords")?.unwrap_or(true);
 
         let mut bsdf = None;
         let mut emission = None;
@@ -442,7 +443,7 @@ impl<'a> Translator<'a> {
                 let file = p.string(self, "filename")?.ok_or_else(|| {
                     self.error(&shape.position, format!("<shape type=\"{kind}\"> needs a `filename`"))
                 })?;
-                ShapeDesc::Mesh { file, smooth: !face_normals, material, transform, name }
+                ShapeDesc::Mesh { file, smooth: !face_normals, flip_v, material, transform, name }
             }
             "rectangle" => ShapeDesc::Quad {
                 vertices: [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]],
@@ -819,9 +820,26 @@ impl<'a> Translator<'a> {
     fn fraction(&mut self, p: &Properties<'a>, name: &str) -> Result<Option<FractionDesc>> {
         Ok(match p.color(self, name)? {
             None => None,
-            Some(ColorDesc::Texture(t)) => Some(FractionDesc::Texture(t)),
+            Some(ColorDesc::Texture(t)) => Some(FractionDesc::Texture(self.scalar_texture(&t))),
             Some(ColorDesc::Rgb(c)) => Some(FractionDesc::Number(((c[0] + c[1] + c[2]) / 3.0).clamp(0.0, 1.0))),
         })
+    }
+
+    /// Texture `name` where Mitsuba reads it as one number (`eval_1`: weights, opacities,
+    /// the principled parameters). Mitsuba's checkerboard swaps its colours there (`color0`
+    /// where the half-checks differ), which its references show; the checker is copied with
+    /// them swapped.
+    fn scalar_texture(&mut self, name: &str) -> String {
+        let Some(Located { value: TextureDesc::Checker { even, odd, scale, uv_transform }, span }) =
+            self.scene.textures.get(name)
+        else {
+            return name.to_string();
+        };
+        let swapped = TextureDesc::Checker { even: *odd, odd: *even, scale: *scale, uv_transform: *uv_transform };
+        let scalar = format!("{name}@scalar");
+        let span = span.clone();
+        self.scene.textures.insert(scalar.clone(), Located { value: swapped, span });
+        scalar
     }
 
     /// Mitsuba's roughness: `alpha`, or `alpha_u` and `alpha_v`, and the `distribution`
@@ -902,7 +920,7 @@ impl<'a> Translator<'a> {
                 let beam = p.float(self, "beam_width")?.unwrap_or(cutoff * 0.75);
                 // A constant `texture` is a tint, folded into the intensity.
                 let (texture, tint) = match p.color(self, "texture")? {
-                    Some(ColorDesc::Texture(name)) => (Some(name), [1.0; 3]),
+                    Some(ColorDesc::Texture(name)) => (Some(self.slide(&name)), [1.0; 3]),
                     Some(ColorDesc::Rgb(rgb)) => (None, rgb),
                     None => (None, [1.0; 3]),
                 };
@@ -913,8 +931,9 @@ impl<'a> Translator<'a> {
                     edge: (cutoff - beam).max(0.0),
                     profile: Some("linear".into()),
                     texture,
-                    // Mitsuba's slide v grows along the light's local +y down its image rows;
-                    // glint's image v grows upward: the slide's up is local −y.
+                    // glint's slide runs u along `right` = direction × up: local +x when up
+                    // is local −y, as Mitsuba's u runs. Its v then runs along local −y, and
+                    // `slide` turns the texture's v over to match.
                     up: Some((-matrix.transform_vector3(Vec3::Y)).to_array()),
                     color: [intensity[0] * tint[0], intensity[1] * tint[1], intensity[2] * tint[2]],
                     intensity: 1.0,
@@ -962,6 +981,28 @@ impl<'a> Translator<'a> {
         Ok(())
     }
 
+    /// Texture `name` as a spot light's slide: looked up at (u, 1 − v). Mitsuba's slide
+    /// coordinates (u along the light's local +x, v along +y) are mirrored against glint's,
+    /// whose (right, up, direction) turn the other way.
+    fn slide(&mut self, name: &str) -> String {
+        let mirrored = format!("{name}@slide");
+        let Some(texture) = self.scene.textures.get(name) else { return name.to_string() };
+        {
+            let mut desc = texture.value.clone();
+            if let TextureDesc::Image { uv_transform: Some(rows), .. }
+            | TextureDesc::Checker { uv_transform: Some(rows), .. } = &mut desc
+            {
+                // [a b c; d e f] · (u, 1 − v, 1) = [a −b b+c; d −e e+f] · (u, v, 1).
+                for row in rows.iter_mut() {
+                    *row = [row[0], -row[1], row[1] + row[2]];
+                }
+            }
+            let span = texture.span.clone();
+            self.scene.textures.insert(mirrored.clone(), Located { value: desc, span });
+        }
+        mirrored
+    }
+
     /// A texture element as a native texture; returns its name.
     fn texture(&mut self, texture: &Element) -> Result<String> {
         let name = texture
@@ -973,14 +1014,14 @@ impl<'a> Translator<'a> {
         }
         let kind = texture.attribute("type").unwrap_or("");
         let p = self.properties(texture);
-        let uv_scale =
-            match p.element.children.iter().find(|c| c.tag == "transform" && c.attribute("name") == Some("to_uv")) {
-                None => None,
-                Some(t) => {
-                    p.used.borrow_mut().insert("to_uv".into());
-                    Some(self.uv_scale(t)?)
-                }
-            };
+        // Mitsuba's `to_uv`: the 2 × 2 part and the translation of its 4 × 4 matrix.
+        let to_uv = p.transform(self, "to_uv")?.map_or(Affine2::IDENTITY, |m| {
+            Affine2::from_cols_array(&[m.x_axis.x, m.x_axis.y, m.y_axis.x, m.y_axis.y, m.w_axis.x, m.w_axis.y])
+        });
+        let rows = |a: Affine2| {
+            let [c0, c1, c2] = [a.matrix2.x_axis, a.matrix2.y_axis, a.translation];
+            [[c0.x, c1.x, c2.x], [c0.y, c1.y, c2.y]]
+        };
         let desc = match kind {
             "bitmap" => {
                 let file = p
@@ -989,21 +1030,41 @@ impl<'a> Translator<'a> {
                 let wrap = match p.string(self, "wrap_mode")?.as_deref() {
                     None | Some("repeat") => WrapDesc::Repeat,
                     Some("clamp") => WrapDesc::Clamp,
+                    Some("mirror") => WrapDesc::Mirror,
                     Some(other) => {
-                        self.warn(&texture.position, format!("wrap_mode `{other}`: glint repeats"));
-                        WrapDesc::Repeat
+                        return Err(self.error(
+                            &texture.position,
+                            format!("bitmap `wrap_mode` `{other}`: expected repeat, mirror or clamp"),
+                        ))
                     }
                 };
-                p.string(self, "filter_type")?;
+                let filter = match p.string(self, "filter_type")?.as_deref() {
+                    None | Some("bilinear") => TexelFilterDesc::Bilinear,
+                    Some("nearest") => TexelFilterDesc::Nearest,
+                    Some(other) => {
+                        return Err(self.error(
+                            &texture.position,
+                            format!("bitmap `filter_type` `{other}`: expected bilinear or nearest"),
+                        ))
+                    }
+                };
                 let raw = p.boolean(self, "raw")?.unwrap_or(false);
-                TextureDesc::Image { file, wrap, scale: uv_scale.map(Scale2Desc::PerAxis), raw }
+                // Mitsuba's bitmaps put v = 0 on the first (top) row; glint's images put it on
+                // the bottom one.
+                let flip_v = Affine2::from_cols_array(&[1.0, 0.0, 0.0, -1.0, 0.0, 1.0]);
+                TextureDesc::Image { file, wrap, filter, scale: None, uv_transform: Some(rows(flip_v * to_uv)), raw }
             }
             "checkerboard" => {
                 let even = p.rgb(self, "color0")?.unwrap_or([0.4; 3]);
                 let odd = p.rgb(self, "color1")?.unwrap_or([0.2; 3]);
                 // Mitsuba's checkerboard has 2 × 2 checks over the unit square.
-                let [su, sv] = uv_scale.unwrap_or([1.0, 1.0]);
-                TextureDesc::Checker { even, odd, scale: Some(Scale2Desc::PerAxis([2.0 * su, 2.0 * sv])) }
+                let checks = Affine2::from_scale(Vec2::splat(2.0)) * to_uv;
+                TextureDesc::Checker {
+                    even,
+                    odd,
+                    scale: Some(Scale2Desc::Uniform(1.0)),
+                    uv_transform: Some(rows(checks)),
+                }
             }
             _ => {
                 return Err(self.error(
@@ -1015,20 +1076,6 @@ impl<'a> Translator<'a> {
         self.scene.textures.insert(name.clone(), Located { value: desc, span: texture.position.span.clone() });
         self.unused(&p);
         Ok(name)
-    }
-
-    /// A `to_uv` transform made only of scales.
-    fn uv_scale(&self, transform: &Element) -> Result<[f32; 2]> {
-        let mut scale = [1.0f32, 1.0];
-        for op in &transform.children {
-            if op.tag != "scale" {
-                return Err(self
-                    .error(&op.position, format!("`to_uv` with <{}>: glint's textures take a uv scale only", op.tag)));
-            }
-            let v = xyz(self, op, 1.0)?;
-            scale = [scale[0] * v.x, scale[1] * v.y];
-        }
-        Ok(scale)
     }
 
     fn resolve(&self, reference: &Element) -> Result<&'a Element> {

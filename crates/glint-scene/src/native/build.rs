@@ -5,7 +5,7 @@ use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
 
-use glam::{Mat3, Mat4, Quat, Vec2, Vec3};
+use glam::{Affine2, Mat3, Mat4, Quat, Vec2, Vec3};
 use glint_core::camera::{Camera, Lens};
 use glint_core::filter::Filter;
 use glint_core::geometry::Transform;
@@ -18,7 +18,7 @@ use glint_core::materials::Material;
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::{Geometry, Object, SceneBuilder};
 use glint_core::shapes::{AaBox, Instance, IntersectMethods, Mesh, Plane, Polygon, Shape, Sphere, Triangle};
-use glint_core::textures::{Checker, ImageTexture, Marble, SolidChecker, Texture, Wood, Wrap};
+use glint_core::textures::{Checker, ImageTexture, Marble, SolidChecker, TexelFilter, Texture, Wood, Wrap};
 use glint_core::Named;
 
 use super::schema::*;
@@ -492,12 +492,15 @@ fn build_object(
             let geometry = library.get(cx, mesh, source, warnings, |m| at("mesh", m))?;
             Shape::Instance(Instance { geometry })
         }
-        ShapeDesc::Mesh { file, smooth, .. } => {
+        ShapeDesc::Mesh { file, smooth, flip_v, .. } => {
             let bytes = source.read(file).map_err(|m| at("file", format!("mesh file: {m}")))?;
             let mut mesh =
                 crate::mesh::read_mesh(file, &bytes).map_err(|m| at("file", format!("mesh file `{file}`: {m}")))?;
             if !smooth {
                 mesh.normals = None;
+            }
+            if let (true, Some(uvs)) = (*flip_v, &mut mesh.uvs) {
+                uvs.iter_mut().for_each(|uv| uv.y = 1.0 - uv.y);
             }
             let degenerate = mesh.degenerate_triangles().count();
             if degenerate > 0 {
@@ -600,15 +603,17 @@ fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'stat
         Ok(v)
     };
     Ok(match desc {
-        TextureDesc::Checker { even, odd, scale } => {
-            Texture::Checker(Checker { even: rgb("even", *even)?, odd: rgb("odd", *odd)?, scale: scale2(*scale, 8.0)? })
-        }
+        TextureDesc::Checker { even, odd, scale, uv_transform } => Texture::Checker(Box::new(Checker {
+            even: rgb("even", *even)?,
+            odd: rgb("odd", *odd)?,
+            uv_transform: uv_map(scale2(*scale, 8.0)?, uv_transform.as_ref())?,
+        })),
         TextureDesc::SolidChecker { even, odd, scale } => Texture::SolidChecker(SolidChecker {
             even: rgb("even", *even)?,
             odd: rgb("odd", *odd)?,
             scale: number("scale", *scale, 1.0)?,
         }),
-        TextureDesc::Image { file, wrap, scale, raw } => {
+        TextureDesc::Image { file, wrap, filter, scale, uv_transform, raw } => {
             let bytes = source.read(file).map_err(|m| ("file", format!("image file: {m}")))?;
             let (width, height, pixels) =
                 crate::image::decode(file, &bytes, *raw).map_err(|m| ("file", format!("image `{file}`: {m}")))?;
@@ -619,8 +624,13 @@ fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'stat
                 wrap: match wrap {
                     WrapDesc::Repeat => Wrap::Repeat,
                     WrapDesc::Clamp => Wrap::Clamp,
+                    WrapDesc::Mirror => Wrap::Mirror,
                 },
-                scale: scale2(*scale, 1.0)?,
+                filter: match filter {
+                    TexelFilterDesc::Bilinear => TexelFilter::Bilinear,
+                    TexelFilterDesc::Nearest => TexelFilter::Nearest,
+                },
+                uv_transform: uv_map(scale2(*scale, 1.0)?, uv_transform.as_ref())?,
             }))
         }
         TextureDesc::Marble { base, vein, scale, turbulence, octaves } => Texture::Marble(Marble {
@@ -699,4 +709,14 @@ fn by_name<T: Named>(cx: &Context, key: &str, what: &str, value: &str) -> Result
 
 pub(super) fn quoted(names: &[&str]) -> String {
     names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ")
+}
+
+/// A texture's uv map: its `scale`, then its `uv_transform` (two rows of an affine map).
+fn uv_map(scale: Vec2, rows: Option<&[[f32; 3]; 2]>) -> Result<Affine2, (&'static str, String)> {
+    let Some([[a, b, c], [d, e, f]]) = rows.copied() else { return Ok(Affine2::from_scale(scale)) };
+    let map = Affine2::from_cols_array(&[a, d, b, e, c, f]);
+    if !map.is_finite() || map.matrix2.determinant() == 0.0 {
+        return Err(("uv_transform", format!("`uv_transform` must be finite and invertible, got {rows:?}")));
+    }
+    Ok(map * Affine2::from_scale(scale))
 }

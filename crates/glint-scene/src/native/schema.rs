@@ -386,13 +386,15 @@ pub enum Scale2Desc {
     PerAxis([f32; 2]),
 }
 
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Debug, Clone)]
 #[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum TextureDesc {
     Checker {
         even: Vector,
         odd: Vector,
         scale: Option<Scale2Desc>,
+        /// An affine map of uv after `scale`: rows [a, b, c] and [d, e, f].
+        uv_transform: Option<[[f32; 3]; 2]>,
     },
     SolidChecker {
         even: Vector,
@@ -403,7 +405,10 @@ pub enum TextureDesc {
         file: String,
         #[serde(default)]
         wrap: WrapDesc,
+        #[serde(default)]
+        filter: TexelFilterDesc,
         scale: Option<Scale2Desc>,
+        uv_transform: Option<[[f32; 3]; 2]>,
         /// The stored values as they are (normal maps, data), not decoded from sRGB.
         #[serde(default)]
         raw: bool,
@@ -429,6 +434,15 @@ pub enum WrapDesc {
     #[default]
     Repeat,
     Clamp,
+    Mirror,
+}
+
+#[derive(Deserialize, Debug, Default, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub enum TexelFilterDesc {
+    #[default]
+    Bilinear,
+    Nearest,
 }
 
 #[derive(Deserialize, Debug)]
@@ -544,6 +558,9 @@ pub enum ShapeDesc {
         file: String,
         #[serde(default = "yes")]
         smooth: bool,
+        /// v ← 1 − v for the file's texture coordinates (files whose v runs down the image).
+        #[serde(default)]
+        flip_v: bool,
         material: String,
         #[serde(default)]
         transform: Vec<TransformOp>,
