@@ -34,6 +34,8 @@ const PASSING: &[&str] = &[
     "test_spot_direct",
     "test_texturedprincipled1_path",
     "test_texture_interp_direct",
+    "test_normalmap_path",
+    "test_normalmap_roughconductor_path",
     // In the media group, but its medium-free surfaces are all it has.
     "test_surf_area_light_volpath",
 ];

@@ -64,6 +64,10 @@ pub struct Frame {
     /// `wo` is on the side the geometric normal points to (as the shape defines it): the
     /// front of one-sided BSDFs, the outside of dielectrics.
     pub outside: bool,
+    /// Where a normal or bump map tilted `normal`: the shading normal it tilted (on `normal`'s
+    /// side) and the shadowing's α² (0: no map, no shadowing). See `terminator_shadowing`.
+    pub unmapped: Vec3,
+    pub shadowing_alpha2: f32,
 }
 
 impl Frame {
@@ -77,7 +81,33 @@ impl Frame {
             normal = geometric; // a shading normal facing away from the viewer: fall back
         }
         let (tangent, bitangent) = orthonormal_basis(normal);
-        Self { normal, tangent, bitangent, geometric, outside }
+        Self { normal, tangent, bitangent, geometric, outside, unmapped: Vec3::ZERO, shadowing_alpha2: 0.0 }
+    }
+
+    /// The frame of a normal mapped from `unmapped` (the surface's own shading normal), with
+    /// the map's shadowing (Conty Estevez et al. 2019, "A Microfacet-Based Shadowing Function
+    /// to Solve the Bump Terminator Problem", as Mitsuba's `normalmap` and `bumpmap` apply
+    /// it): a mapped normal tilted by θ_d from `unmapped` stands for microfacets of GGX
+    /// roughness α² = min(1, tan²θ_d / 8), and light arriving at θ_i from `unmapped` is
+    /// shadowed by their G1 = 2 / (1 + √(1 + α² tan²θ_i)). Smooth maps lose nothing (α² = 0);
+    /// steep ones no longer light the surface past its terminator.
+    pub fn with_map_shadowing(mut self, unmapped: Vec3) -> Self {
+        let unmapped = if unmapped.dot(self.normal) >= 0.0 { unmapped } else { -unmapped };
+        let cos_d = unmapped.dot(self.normal).clamp(1e-6, 1.0);
+        self.unmapped = unmapped;
+        self.shadowing_alpha2 = (0.125 * (1.0 - cos_d * cos_d) / (cos_d * cos_d)).min(1.0);
+        self
+    }
+
+    /// The map's shadowing of light from `wi` (1 where there is no map).
+    #[inline(always)]
+    pub fn terminator_shadowing(&self, wi: Vec3) -> f32 {
+        if self.shadowing_alpha2 == 0.0 {
+            return 1.0;
+        }
+        let cos2 = wi.dot(self.unmapped).powi(2).max(1e-12);
+        let tan2 = (1.0 - cos2).max(0.0) / cos2;
+        2.0 / (1.0 + (1.0 + self.shadowing_alpha2 * tan2).sqrt())
     }
 
     /// The same frame with its tangent along `dpdu` projected onto the plane of the normal
@@ -149,6 +179,7 @@ pub(super) trait Lobes {
         None
     }
     fn frame(&self) -> &Frame;
+    fn frame_mut(&mut self) -> &mut Frame;
 
     /// `wi`, drawn by a non-delta lobe, as a sample of the whole non-delta part: its pdf and
     /// the weight eval / pdf (`None` where the pdf vanishes).
@@ -196,27 +227,40 @@ macro_rules! dispatch {
 }
 
 impl Leaf<'_> {
+    /// f·|cos θ_i|, times a normal map's shadowing.
     #[inline(always)]
     fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        dispatch!(self, b => b.eval(wo, wi))
+        let value = dispatch!(self, b => b.eval(wo, wi));
+        value * self.frame().terminator_shadowing(wi)
     }
     #[inline(always)]
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         dispatch!(self, b => b.pdf(wo, wi))
     }
+    /// A direction from the lobes; the weight carries a normal map's shadowing (the pdf
+    /// does not: the shadowing is not sampled).
     #[inline(always)]
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        dispatch!(self, b => b.sample(wo, u_lobe, u))
+        let mut sample = dispatch!(self, b => b.sample(wo, u_lobe, u))?;
+        sample.weight *= self.frame().terminator_shadowing(sample.wi);
+        Some(sample)
     }
     #[inline(always)]
     fn non_delta_probability(&self) -> f32 {
         dispatch!(self, b => b.non_delta_probability())
     }
+    /// Lambert's k_d; `None` under a map's shadowing, which Lambert's lobe does not have.
     fn lambertian(&self) -> Option<Rgb> {
+        if self.frame().shadowing_alpha2 > 0.0 {
+            return None;
+        }
         dispatch!(self, b => b.lambertian())
     }
     fn frame(&self) -> &Frame {
         dispatch!(self, b => b.frame())
+    }
+    pub(super) fn frame_mut(&mut self) -> &mut Frame {
+        dispatch!(self, b => b.frame_mut())
     }
 }
 

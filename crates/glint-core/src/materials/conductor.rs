@@ -65,6 +65,9 @@ impl Lobes for ConductorBsdf {
     fn frame(&self) -> &Frame {
         &self.frame
     }
+    fn frame_mut(&mut self) -> &mut Frame {
+        &mut self.frame
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

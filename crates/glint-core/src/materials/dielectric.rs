@@ -84,6 +84,9 @@ impl Lobes for DielectricBsdf {
     fn frame(&self) -> &Frame {
         &self.frame
     }
+    fn frame_mut(&mut self) -> &mut Frame {
+        &mut self.frame
+    }
 }
 
 #[cfg(test)]

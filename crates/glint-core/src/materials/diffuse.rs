@@ -89,6 +89,9 @@ impl Lobes for DiffuseBsdf {
     fn frame(&self) -> &Frame {
         &self.frame
     }
+    fn frame_mut(&mut self) -> &mut Frame {
+        &mut self.frame
+    }
 }
 
 #[cfg(test)]

@@ -95,6 +95,27 @@ fn fraction(texture: &Texture, query: &TextureQuery) -> f32 {
     texture.evaluate(query).dot(Rgb::new(0.2126, 0.7152, 0.0722)).clamp(0.0, 1.0)
 }
 
+/// A mapped normal the viewer `wo` is behind, reflected about the surface's own shading normal
+/// (its tilt turned the other way), as Mitsuba 3 does: the map then shades what is seen
+/// rather than leaving it black.
+fn toward_viewer(mapped: Vec3, unmapped: Vec3, wo: Vec3) -> Vec3 {
+    if mapped.dot(wo) * unmapped.dot(wo) > 0.0 {
+        return mapped;
+    }
+    2.0 * mapped.dot(unmapped) * unmapped - mapped
+}
+
+/// The leaves a normal or bump map made, shadowed against the surface's own shading normal
+/// `unmapped` (`Frame::with_map_shadowing`). A map inside a map keeps the inner one's.
+fn shadow_mapped(leaves: &mut [Leaf], unmapped: Vec3) {
+    for leaf in leaves {
+        let frame = leaf.frame_mut();
+        if frame.shadowing_alpha2 == 0.0 {
+            *frame = frame.with_map_shadowing(unmapped);
+        }
+    }
+}
+
 impl Material {
     /// The BSDF at a hit seen from `wo`, with the normals as the shape defines them.
     #[inline]
@@ -169,12 +190,16 @@ impl Material {
                 return;
             }
             Material::NormalMap(m) => {
-                let mapped = m.shading_normal(query, shading);
-                return m.material.gather(query, wo, mapped, geometric, weight, mixture);
+                let mapped = toward_viewer(m.shading_normal(query, shading), shading, wo);
+                let first = mixture.count;
+                m.material.gather(query, wo, mapped, geometric, weight, mixture);
+                return shadow_mapped(&mut mixture.leaves[first..mixture.count], shading);
             }
             Material::BumpMap(m) => {
-                let bumped = m.shading_normal(query, shading, geometric);
-                return m.material.gather(query, wo, bumped, geometric, weight, mixture);
+                let bumped = toward_viewer(m.shading_normal(query, shading, geometric), shading, wo);
+                let first = mixture.count;
+                m.material.gather(query, wo, bumped, geometric, weight, mixture);
+                return shadow_mapped(&mut mixture.leaves[first..mixture.count], shading);
             }
             Material::Emitter(e) => return e.surface.gather(query, wo, shading, geometric, weight, mixture),
         };

@@ -147,6 +147,9 @@ impl Lobes for PlasticBsdf {
     fn frame(&self) -> &Frame {
         &self.frame
     }
+    fn frame_mut(&mut self) -> &mut Frame {
+        &mut self.frame
+    }
 }
 
 #[cfg(test)]

@@ -102,6 +102,9 @@ impl Lobes for RoughConductorBsdf {
     fn frame(&self) -> &Frame {
         &self.frame
     }
+    fn frame_mut(&mut self) -> &mut Frame {
+        &mut self.frame
+    }
 }
 
 #[cfg(test)]

@@ -114,6 +114,9 @@ impl Lobes for RoughDielectricBsdf {
     fn frame(&self) -> &Frame {
         &self.frame
     }
+    fn frame_mut(&mut self) -> &mut Frame {
+        &mut self.frame
+    }
 }
 
 #[cfg(test)]

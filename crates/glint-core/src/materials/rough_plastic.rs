@@ -216,6 +216,9 @@ impl Lobes for RoughPlasticBsdf<'_> {
     fn frame(&self) -> &Frame {
         &self.frame
     }
+    fn frame_mut(&mut self) -> &mut Frame {
+        &mut self.frame
+    }
 }
 
 #[cfg(test)]
