@@ -648,3 +648,30 @@ fn textures_see_mitsubas_uv() {
     let seen = |x: f32, y: f32| (spot.illuminate(Vec3::new(x, y, 1.0)).intensity.x * 10.0).round() / 10.0;
     assert_eq!([seen(0.05, 0.05), seen(-0.05, 0.05), seen(0.05, -0.05), seen(-0.05, -0.05)], [0.7, 0.5, 0.3, 0.1]);
 }
+
+/// `rawconstant`: the value as it is (a vector or a float, nothing clamped or converted),
+/// here as a normal map's normals, inline or by reference.
+#[test]
+fn a_rawconstant_texture_is_its_value() {
+    let path = scene_file(
+        "rawconstant",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<texture type="rawconstant" id="flat"><float name="value" value="0.5"/></texture>
+<bsdf type="normalmap" id="tilted"><texture name="normalmap" type="rawconstant"><vector name="value" value="0.25, 0.5, 1.5"/></texture><bsdf type="diffuse"/></bsdf>
+<bsdf type="normalmap" id="referred"><ref name="normalmap" id="flat"/><bsdf type="diffuse"/></bsdf>
+<shape type="sphere"><ref id="tilted"/></shape>
+<shape type="sphere"><ref id="referred"/><point name="center" x="3" y="0" z="0"/></shape>
+</scene>
+"#
+        ),
+    );
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = &loaded.scene;
+    let material = |name: &str| &scene.materials()[scene.material_names().iter().position(|n| n == name).unwrap()];
+    let Material::NormalMap(m) = material("tilted") else { panic!("{:?}", material("tilted")) };
+    assert_eq!(m.normals, Texture::Constant(Rgb::new(0.25, 0.5, 1.5)));
+    let Material::NormalMap(m) = material("referred") else { panic!("{:?}", material("referred")) };
+    assert_eq!(m.normals, Texture::Constant(Rgb::splat(0.5)));
+}

@@ -580,7 +580,11 @@ impl<'a> Translator<'a> {
     fn bsdf(&mut self, bsdf: &'a Element) -> Result<MaterialDesc> {
         let kind = bsdf.attribute("type").unwrap_or("");
         let p = self.properties(bsdf);
-        let nested: Vec<&'a Element> = bsdf.children.iter().filter(|c| c.tag == "bsdf" || c.tag == "ref").collect();
+        // Nested BSDFs, inline or by reference (a reference to a texture is a parameter).
+        let refers_to_bsdf =
+            |c: &Element| c.attribute("id").and_then(|id| self.ids.get(id)).is_none_or(|target| target.tag == "bsdf");
+        let nested: Vec<&'a Element> =
+            bsdf.children.iter().filter(|c| c.tag == "bsdf" || (c.tag == "ref" && refers_to_bsdf(c))).collect();
         let needs = |t: &Self, n: usize| -> Result<()> {
             if nested.len() != n {
                 let what = if n == 1 { "one nested <bsdf>".to_string() } else { format!("{n} nested <bsdf>s") };
@@ -605,7 +609,7 @@ impl<'a> Translator<'a> {
             }
             "normalmap" => {
                 needs(self, 1)?;
-                let Some(ColorDesc::Texture(normals)) = p.color(self, "normalmap")? else {
+                let Some(normals) = p.color(self, "normalmap")? else {
                     return Err(self.error(&bsdf.position, "a normalmap needs a `normalmap` texture (a raw bitmap)"));
                 };
                 let material = self.nested_material(bsdf, nested[0], "material")?;
@@ -1326,11 +1330,15 @@ impl<'e> Properties<'e> {
     fn color(&self, t: &mut Translator<'e>, name: &str) -> Result<Option<ColorDesc>> {
         let Some(e) = self.find(name) else { return Ok(None) };
         match e.tag.as_str() {
+            "texture" if e.attribute("type") == Some("rawconstant") => Ok(Some(ColorDesc::Rgb(raw_constant(t, e)?))),
             "texture" => Ok(Some(ColorDesc::Texture(t.texture(e)?))),
             "ref" => {
                 let target = t.resolve(e)?;
                 if target.tag != "texture" {
                     return Err(t.error(&e.position, format!("`{name}` refers to a <{}>, not a texture", target.tag)));
+                }
+                if target.attribute("type") == Some("rawconstant") {
+                    return Ok(Some(ColorDesc::Rgb(raw_constant(t, target)?)));
                 }
                 Ok(Some(ColorDesc::Texture(t.texture(target)?)))
             }
@@ -1428,6 +1436,37 @@ struct Roughness {
     alpha_u: Option<f32>,
     alpha_v: Option<f32>,
     distribution: String,
+}
+
+/// A `rawconstant` texture's `value` (a float, a vector or an RGB triple), as it is: no
+/// spectral conversion, no clamping (normal maps, data).
+fn raw_constant(t: &mut Translator, texture: &Element) -> Result<[f32; 3]> {
+    let p = t.properties(texture);
+    let value = p.element.children.iter().find(|c| c.attribute("name") == Some("value"));
+    let Some(value) = value else {
+        return Err(t.error(&texture.position, "a rawconstant texture needs a `value`"));
+    };
+    p.used.borrow_mut().insert("value".into());
+    let v = match value.tag.as_str() {
+        "float" => {
+            let x = value.attribute("value").ok_or_else(|| t.error(&value.position, "<float> needs a `value`"))?;
+            let x = parse_number(x).map_err(|m| t.error(&value.position, m))?;
+            [x; 3]
+        }
+        "vector" | "point" | "rgb" => {
+            let v = value.attribute("value").ok_or_else(|| t.error(&value.position, "needs a `value`"))?;
+            match parse_numbers(v).map_err(|m| t.error(&value.position, m))?.as_slice() {
+                [x] => [*x; 3],
+                [x, y, z] => [*x, *y, *z],
+                _ => return Err(t.error(&value.position, "a rawconstant `value` needs one or three numbers")),
+            }
+        }
+        other => {
+            return Err(t.error(&value.position, format!("a rawconstant `value` is a float or a vector, not <{other}>")))
+        }
+    };
+    t.unused(&p);
+    Ok(v)
 }
 
 #[cfg(test)]

@@ -344,8 +344,7 @@ impl Builder<'_> {
                 Material::Mask(Box::new(Mask { opacity, material }))
             }
             MaterialDesc::NormalMap { normals, material } => {
-                let normals =
-                    resolve_colour(&ColorDesc::Texture(normals.clone()), textures).map_err(|m| at("normals", m))?;
+                let normals = resolve_colour(normals, textures).map_err(|m| at("normals", m))?;
                 let material = self.reference(name, "material", material)?;
                 Material::NormalMap(Box::new(NormalMap { normals, material }))
             }

@@ -333,7 +333,7 @@ pub enum MaterialDesc {
     /// `material` where the surface is, passed through elsewhere (Mitsuba's `mask`).
     Mask { opacity: Option<FractionDesc>, material: String },
     /// `material` about the shading normal a texture gives (Mitsuba's `normalmap`).
-    NormalMap { normals: String, material: String },
+    NormalMap { normals: ColorDesc, material: String },
     /// `material` about a normal tilted by the height field `height` (a texture of uv, its
     /// luminance) times `scale` (Mitsuba's `bumpmap`).
     BumpMap {
