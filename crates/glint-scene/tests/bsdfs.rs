@@ -95,7 +95,7 @@ material = "shiny"
             match (&b.first, &b.second) {
                 (Material::TwoSided(metal), Material::RoughPlastic(coat)) => {
                     assert!(
-                        matches!(&metal.front, Material::RoughConductor(m) if (m.alpha_u, m.alpha_v) == (0.1, 0.4))
+                        matches!(&metal.front, Material::RoughConductor(m) if (&m.alpha_u, &m.alpha_v) == (&0.1.into(), &0.4.into()))
                     );
                     assert_eq!(coat.alpha, 0.2);
                 }

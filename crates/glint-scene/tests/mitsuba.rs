@@ -98,7 +98,7 @@ fn every_element_maps_onto_glint() {
     };
     match by_line(40) {
         Material::RoughConductor(rough) => {
-            assert_eq!((rough.alpha_u, rough.alpha_v), (0.09, 0.09));
+            assert_eq!((&rough.alpha_u, &rough.alpha_v), (&Texture::from(0.09), &Texture::from(0.09)));
             assert_eq!((rough.conductor.eta, rough.conductor.k), (Rgb::new(0.2, 0.9, 1.1), Rgb::new(3.9, 2.4, 2.2)));
             // Mitsuba's default distribution, read as such (no warning).
             assert_eq!(rough.distribution, glint_core::materials::Distribution::Beckmann);
@@ -674,4 +674,37 @@ fn a_rawconstant_texture_is_its_value() {
     assert_eq!(m.normals, Texture::Constant(Rgb::new(0.25, 0.5, 1.5)));
     let Material::NormalMap(m) = material("referred") else { panic!("{:?}", material("referred")) };
     assert_eq!(m.normals, Texture::Constant(Rgb::splat(0.5)));
+}
+
+/// A rough conductor's widths may be textures (read as numbers, so a checkerboard's colours
+/// swap as Mitsuba's do), and `a-C` is among the named conductors.
+#[test]
+fn a_rough_conductor_takes_textured_widths_and_amorphous_carbon() {
+    let path = scene_file(
+        "textured-alpha",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<bsdf type="roughconductor" id="carbon"><string name="material" value="a-C"/>
+  <texture name="alpha_u" type="checkerboard"><float name="color0" value="0.05"/><float name="color1" value="0.3"/></texture>
+  <float name="alpha_v" value="0.2"/></bsdf>
+<shape type="sphere"><ref id="carbon"/></shape>
+</scene>
+"#
+        ),
+    );
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = &loaded.scene;
+    let Material::RoughConductor(m) = &scene.materials()[0] else { panic!("{:?}", scene.materials()[0]) };
+    assert_eq!(m.alpha_v, Texture::Constant(Rgb::splat(0.2)));
+    let at = |u: f32, v: f32| {
+        m.alpha_u.evaluate(&glint_core::textures::TextureQuery { uv: glam::Vec2::new(u, v), ..Default::default() }).x
+    };
+    assert_eq!([at(0.2, 0.2), at(0.7, 0.2)], [0.3, 0.05]);
+    assert_eq!(m.conductor.eta, Rgb::new(2.94405, 2.22714, 1.96816));
+    let e = error_of(
+        "alpha-twice",
+        &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"sphere\"><bsdf type=\"roughconductor\"><float name=\"alpha\" value=\"0.1\"/><float name=\"alpha_u\" value=\"0.1\"/><float name=\"alpha_v\" value=\"0.1\"/></bsdf></shape>\n</scene>\n"),
+    );
+    assert!(e.contains("alpha-twice.xml:3:") && e.contains("not both"), "{e}");
 }

@@ -96,8 +96,8 @@ mod tests {
             let conductor = Conductor { eta: Rgb::ZERO, k: Rgb::ONE, specular: Texture::Constant(Rgb::ONE) };
             Material::RoughConductor(RoughConductor {
                 conductor,
-                alpha_u: 0.05,
-                alpha_v,
+                alpha_u: 0.05.into(),
+                alpha_v: alpha_v.into(),
                 distribution: Default::default(),
             })
         };

@@ -141,6 +141,8 @@ pub fn named_metal(name: &str) -> Option<(Rgb, Rgb)> {
         "Al" => measured([1.65746, 0.880369, 0.521229], [9.22387, 6.26952, 4.837]),
         "Cu" => measured([0.200438, 0.924033, 1.10221], [3.91295, 2.45285, 2.14219]),
         "Cr" => measured([4.36968, 2.9167, 1.6547], [5.20643, 4.23136, 3.75495]),
+        // Amorphous carbon, as Mitsuba 3's RGB variants convert its measured spectra.
+        "a-C" => measured([2.94405, 2.22714, 1.96816], [0.887465, 0.799299, 0.81529]),
         "Fe" => Some(from_reflectance(Rgb::new(0.562, 0.565, 0.578))),
         "Ni" => Some(from_reflectance(Rgb::new(0.660, 0.609, 0.526))),
         "Ti" => Some(from_reflectance(Rgb::new(0.542, 0.497, 0.449))),
@@ -149,7 +151,7 @@ pub fn named_metal(name: &str) -> Option<(Rgb, Rgb)> {
     }
 }
 
-pub const METAL_NAMES: [&str; 9] = ["Au", "Ag", "Al", "Cu", "Cr", "Fe", "Ni", "Ti", "Pt"];
+pub const METAL_NAMES: [&str; 10] = ["Au", "Ag", "Al", "Cu", "Cr", "a-C", "Fe", "Ni", "Ti", "Pt"];
 
 /// η and k with normal-incidence reflectance `r` (Gulbrandsen, "Artist Friendly Metallic
 /// Fresnel", JCGT 3(4), 2014, with the edge tint g = r).

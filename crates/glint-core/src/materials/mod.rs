@@ -396,8 +396,8 @@ mod tests {
         let conductor = Conductor { eta: Rgb::ZERO, k: Rgb::ONE, specular: Texture::Constant(Rgb::ONE) };
         Material::RoughConductor(RoughConductor {
             conductor,
-            alpha_u: 0.3,
-            alpha_v: 0.3,
+            alpha_u: 0.3.into(),
+            alpha_v: 0.3.into(),
             distribution: Default::default(),
         })
     }

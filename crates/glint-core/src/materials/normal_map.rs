@@ -63,8 +63,8 @@ mod tests {
         let conductor = Conductor { eta: Rgb::ZERO, k: Rgb::ONE, specular: Texture::Constant(Rgb::ONE) };
         Material::RoughConductor(RoughConductor {
             conductor,
-            alpha_u: 0.2,
-            alpha_v: 0.2,
+            alpha_u: 0.2.into(),
+            alpha_v: 0.2.into(),
             distribution: Default::default(),
         })
     }

@@ -3,7 +3,8 @@
 //! at the microfacet, sampled by visible normals. One-sided.
 //!
 //! Scene parameters: those of `conductor` (`metal`, or `eta` and `k`; `specular_reflectance`),
-//! and `alpha` (default 0.1), or `alpha_u` and `alpha_v`.
+//! and `alpha` (default 0.1), or `alpha_u` and `alpha_v`: each a number or a texture's name
+//! (read as its luminance, so the width may vary over the surface).
 //! ```toml
 //! [materials.brushed]
 //! type = "rough-conductor"
@@ -11,9 +12,9 @@
 //! alpha_u = 0.05
 //! alpha_v = 0.3
 //! ```
-//! f·cos θ_i = specular · F(wo·h) · D(h) · G1(wo) G1(wi) / (4 cos θ_o), h = (wo + wi)/|wo + wi|.
-//! (Mitsuba's default distribution is Beckmann; glint has GGX only, and the Mitsuba reader says
-//! so.) α_u lies along the surface's ∂p/∂u (`Frame::along`), as in Mitsuba.
+//! f·cos θ_i = specular · F(wo·h) · D(h) · G1(wo) G1(wi) / (4 cos θ_o), h = (wo + wi)/|wo + wi|,
+//! with GGX's D (glint's default) or Beckmann's (Mitsuba's). α_u lies along the surface's
+//! ∂p/∂u (`Frame::along`), as in Mitsuba.
 
 use glam::{Vec2, Vec3};
 
@@ -21,14 +22,15 @@ use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
 use super::conductor::fresnel_conductor;
 use super::{Conductor, Distribution, Microfacet, PhongPoint};
 use crate::geometry::reflect;
-use crate::textures::TextureQuery;
+use crate::textures::{luminance, Texture, TextureQuery};
 use crate::Rgb;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct RoughConductor {
     pub conductor: Conductor,
-    pub alpha_u: f32,
-    pub alpha_v: f32,
+    /// The widths along ∂p/∂u and across it, constant or textured.
+    pub alpha_u: Texture,
+    pub alpha_v: Texture,
     /// GGX (glint's default) or Beckmann (Mitsuba's).
     pub distribution: Distribution,
 }
@@ -36,13 +38,14 @@ pub struct RoughConductor {
 impl RoughConductor {
     pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
         let c = &self.conductor;
+        let (alpha_u, alpha_v) = (width(&self.alpha_u, query), width(&self.alpha_v, query));
         Leaf::RoughConductor(RoughConductorBsdf {
             // Anisotropic widths lie along the surface's ∂p/∂u.
-            frame: if self.alpha_u != self.alpha_v { frame.along(query.dpdu) } else { frame },
+            frame: if alpha_u != alpha_v { frame.along(query.dpdu) } else { frame },
             eta: c.eta,
             k: c.k,
             specular: c.specular.evaluate(query),
-            microfacet: Microfacet::separable(self.alpha_u, self.alpha_v).with(self.distribution),
+            microfacet: Microfacet::separable(alpha_u, alpha_v).with(self.distribution),
         })
     }
 
@@ -51,6 +54,16 @@ impl RoughConductor {
     pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
         self.conductor.whitted(query)
     }
+}
+
+/// A microfacet width from a texture: a constant's value, a varying texture's luminance (as
+/// Mitsuba reads a texture as one number), kept above 10⁻⁴ where the lobe is still finite.
+pub(super) fn width(texture: &Texture, query: &TextureQuery) -> f32 {
+    let alpha = match texture {
+        Texture::Constant(c) => c.x,
+        varying => luminance(varying.evaluate(query)),
+    };
+    alpha.max(1e-4)
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -117,8 +130,8 @@ mod tests {
     fn metal(alpha_u: f32, alpha_v: f32, eta: Rgb, k: Rgb) -> RoughConductor {
         RoughConductor {
             conductor: Conductor { eta, k, specular: Texture::Constant(Rgb::ONE) },
-            alpha_u,
-            alpha_v,
+            alpha_u: alpha_u.into(),
+            alpha_v: alpha_v.into(),
             distribution: Distribution::Ggx,
         }
     }
@@ -157,6 +170,34 @@ mod tests {
             let wo = Vec3::new(0.3, -0.2, 0.9).normalize();
             let bsdf = at(&m.bsdf(&query, frame_toward(wo, Vec3::Z)));
             check_sampling(&bsdf, wo, Vec3::Z, 77);
+        }
+    }
+
+    /// Textured widths: on each check the BSDF is the constant metal with that check's
+    /// widths (the tangent frame follows ∂p/∂u wherever they differ).
+    #[test]
+    fn textured_widths_are_read_where_the_hit_is() {
+        let checks = |a: f32, b: f32| {
+            Texture::Checker(Box::new(crate::textures::Checker::new(Rgb::splat(a), Rgb::splat(b), Vec2::splat(2.0))))
+        };
+        let textured = RoughConductor {
+            alpha_u: checks(0.05, 0.3),
+            alpha_v: checks(0.3, 0.05),
+            ..metal(0.1, 0.1, Rgb::ZERO, Rgb::ONE)
+        };
+        let wo = Vec3::new(0.3, -0.2, 0.9).normalize();
+        for (uv, (alpha_u, alpha_v)) in [(Vec2::new(0.2, 0.2), (0.05, 0.3)), (Vec2::new(0.7, 0.2), (0.3, 0.05))] {
+            let query = TextureQuery { uv, dpdu: Vec3::new(1.0, 0.5, 0.0), ..Default::default() };
+            let constant = metal(alpha_u, alpha_v, Rgb::ZERO, Rgb::ONE);
+            let (a, b) = (
+                at(&textured.bsdf(&query, frame_toward(wo, Vec3::Z))),
+                at(&constant.bsdf(&query, frame_toward(wo, Vec3::Z))),
+            );
+            for wi in [Vec3::new(-0.3, 0.2, 0.9), Vec3::new(-0.1, 0.4, 0.9), Vec3::new(-0.5, -0.1, 0.8)] {
+                let wi = wi.normalize();
+                assert_eq!(a.eval(wo, wi), b.eval(wo, wi), "{uv}");
+                assert_eq!(a.pdf(wo, wi), b.pdf(wo, wi), "{uv}");
+            }
         }
     }
 

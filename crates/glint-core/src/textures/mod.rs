@@ -108,3 +108,10 @@ impl From<Rgb> for Texture {
         Texture::Constant(c)
     }
 }
+
+/// A grey constant.
+impl From<f32> for Texture {
+    fn from(v: f32) -> Self {
+        Texture::Constant(Rgb::splat(v))
+    }
+}

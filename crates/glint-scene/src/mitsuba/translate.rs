@@ -698,7 +698,18 @@ impl<'a> Translator<'a> {
                 if kind == "conductor" {
                     MaterialDesc::Conductor { metal, eta, k, specular_reflectance, two_sided: one_sided }
                 } else {
-                    let Roughness { alpha, alpha_u, alpha_v, distribution } = self.alphas(&p)?;
+                    let distribution = self.distribution(&p)?;
+                    let (alpha, alpha_u, alpha_v) = (
+                        self.textured_alpha(&p, "alpha")?,
+                        self.textured_alpha(&p, "alpha_u")?,
+                        self.textured_alpha(&p, "alpha_v")?,
+                    );
+                    if alpha.is_some() && (alpha_u.is_some() || alpha_v.is_some()) {
+                        return Err(self.error(&bsdf.position, "give `alpha`, or `alpha_u` and `alpha_v`, not both"));
+                    }
+                    if alpha_u.is_some() != alpha_v.is_some() {
+                        return Err(self.error(&bsdf.position, "`alpha_u` and `alpha_v` go together"));
+                    }
                     MaterialDesc::RoughConductor {
                         metal,
                         eta,
@@ -846,9 +857,8 @@ impl<'a> Translator<'a> {
         scalar
     }
 
-    /// Mitsuba's roughness: `alpha`, or `alpha_u` and `alpha_v`, and the `distribution`
-    /// (`beckmann` unless given, as in Mitsuba), as the native description's strings.
-    fn alphas(&mut self, p: &Properties) -> Result<Roughness> {
+    /// The microfacet `distribution` (`beckmann` unless given, as in Mitsuba).
+    fn distribution(&mut self, p: &Properties) -> Result<String> {
         let distribution = p.string(self, "distribution")?.unwrap_or_else(|| "beckmann".into());
         if distribution != "ggx" && distribution != "beckmann" {
             return Err(self.error(
@@ -858,6 +868,23 @@ impl<'a> Translator<'a> {
         }
         // Visible-normal sampling or not changes only the noise.
         p.boolean(self, "sample_visible")?;
+        Ok(distribution)
+    }
+
+    /// A roughness that may be a texture (a conductor's): a number, or the texture as Mitsuba
+    /// reads it as one number.
+    fn textured_alpha(&mut self, p: &Properties<'a>, name: &str) -> Result<Option<FractionDesc>> {
+        Ok(match p.color(self, name)? {
+            None => None,
+            Some(ColorDesc::Texture(t)) => Some(FractionDesc::Texture(self.scalar_texture(&t))),
+            Some(ColorDesc::Rgb(c)) => Some(FractionDesc::Number(c[0])),
+        })
+    }
+
+    /// Mitsuba's roughness: `alpha`, or `alpha_u` and `alpha_v`, and the `distribution`
+    /// (`beckmann` unless given, as in Mitsuba), as the native description's strings.
+    fn alphas(&mut self, p: &Properties) -> Result<Roughness> {
+        let distribution = self.distribution(p)?;
         let alpha = p.float(self, "alpha")?;
         let (u, v) = (p.float(self, "alpha_u")?, p.float(self, "alpha_v")?);
         if alpha.is_some() && (u.is_some() || v.is_some()) {

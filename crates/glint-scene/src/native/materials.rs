@@ -150,6 +150,20 @@ impl Builder<'_> {
             (None, Some(_), Some(_)) => Ok((alpha("alpha_u", *u)?, alpha("alpha_v", *v)?)),
             _ => Err(at("alpha", "give `alpha`, or both `alpha_u` and `alpha_v`".into())),
         };
+        // A width that may be a texture: a number as `alpha` checks it, or a texture's name.
+        let textured_alpha = |key: &str, a: &Option<FractionDesc>| match a {
+            None => Ok(Texture::from(ALPHA)),
+            Some(FractionDesc::Number(x)) => alpha(key, Some(*x)).map(Texture::from),
+            Some(FractionDesc::Texture(t)) => {
+                resolve_colour(&ColorDesc::Texture(t.clone()), textures).map_err(|m| at(key, m))
+            }
+        };
+        let textured_widths =
+            |a: &Option<FractionDesc>, u: &Option<FractionDesc>, v: &Option<FractionDesc>| match (a, u, v) {
+                (a, None, None) => Ok((textured_alpha("alpha", a)?, textured_alpha("alpha", a)?)),
+                (None, Some(_), Some(_)) => Ok((textured_alpha("alpha_u", u)?, textured_alpha("alpha_v", v)?)),
+                _ => Err(at("alpha", "give `alpha`, or both `alpha_u` and `alpha_v`".into())),
+            };
         let dielectric =
             |int_ior: &Option<f32>, ext_ior: &Option<f32>, r: &Option<ColorDesc>, t: &Option<ColorDesc>| {
                 Ok::<_, SceneError>(Dielectric {
@@ -220,7 +234,7 @@ impl Builder<'_> {
             } => {
                 let (eta, k) = metal(m, eta, k)?;
                 let specular = colour("specular_reflectance", specular_reflectance, 1.0)?;
-                let (alpha_u, alpha_v) = widths(alpha, alpha_u, alpha_v)?;
+                let (alpha_u, alpha_v) = textured_widths(alpha, alpha_u, alpha_v)?;
                 let conductor = Conductor { eta, k, specular };
                 let distribution = distribution(d)?;
                 sided(Material::RoughConductor(RoughConductor { conductor, alpha_u, alpha_v, distribution }), two_sided)

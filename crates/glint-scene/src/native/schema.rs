@@ -249,15 +249,16 @@ pub enum MaterialDesc {
         specular_reflectance: Option<ColorDesc>,
         two_sided: Option<bool>,
     },
-    /// A rough metal (Mitsuba's `roughconductor`, GGX): `alpha`, or `alpha_u` and `alpha_v`.
+    /// A rough metal (Mitsuba's `roughconductor`): `alpha`, or `alpha_u` and `alpha_v`, each
+    /// a number or a texture's name.
     RoughConductor {
         metal: Option<String>,
         eta: Option<Vector>,
         k: Option<Vector>,
         specular_reflectance: Option<ColorDesc>,
-        alpha: Option<f32>,
-        alpha_u: Option<f32>,
-        alpha_v: Option<f32>,
+        alpha: Option<FractionDesc>,
+        alpha_u: Option<FractionDesc>,
+        alpha_v: Option<FractionDesc>,
         /// `"ggx"` (default) or `"beckmann"`.
         distribution: Option<String>,
         two_sided: Option<bool>,
