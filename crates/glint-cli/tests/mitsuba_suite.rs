@@ -38,6 +38,7 @@ const PASSING: &[&str] = &[
     "test_normalmap_roughconductor_path",
     "test_normalmap_identity_roughconductor_path",
     "test_textured_roughconductor_path",
+    "test_instancing_path",
     // In the media group, but its medium-free surfaces are all it has.
     "test_surf_area_light_volpath",
 ];

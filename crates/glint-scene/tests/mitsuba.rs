@@ -708,3 +708,59 @@ fn a_rough_conductor_takes_textured_widths_and_amorphous_carbon() {
     );
     assert!(e.contains("alpha-twice.xml:3:") && e.contains("not both"), "{e}");
 }
+
+/// `shapegroup` + `instance`: every instance places each of the group's shapes under its own
+/// `to_world` after the shape's; the group's mesh is loaded once and shared (glint's
+/// instancing). An instance of an unknown group and an emitter in a group are errors.
+#[test]
+fn instances_place_a_shapegroup_shared() {
+    let obj = fixture("tri.obj");
+    let path = scene_file(
+        "instances",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<shape type="shapegroup" id="pair">
+  <shape type="obj"><string name="filename" value="{}"/></shape>
+  <shape type="sphere"><transform name="to_world"><scale value="0.5"/><translate x="2"/></transform></shape>
+</shape>
+<shape type="instance"><ref id="pair"/></shape>
+<shape type="instance"><ref id="pair"/><transform name="to_world"><translate z="5"/></transform></shape>
+</scene>
+"#,
+            obj.display()
+        ),
+    );
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let objects = loaded.scene.objects();
+    assert_eq!(objects.len(), 4, "{:?}", objects.iter().map(|o| &o.name).collect::<Vec<_>>());
+    let instanced: Vec<_> = objects
+        .iter()
+        .filter_map(|o| match &o.shape {
+            glint_core::shapes::Shape::Instance(i) => Some(i.geometry.clone()),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(instanced.len(), 2);
+    assert!(std::sync::Arc::ptr_eq(&instanced[0], &instanced[1]), "the group's mesh is loaded once");
+    // The second sphere: scaled by ½, moved to x = 2, then by the instance to z = 5.
+    let spheres: Vec<Vec3> = objects
+        .iter()
+        .filter(|o| matches!(o.shape, glint_core::shapes::Shape::Sphere(_)))
+        .map(|o| o.transform.as_ref().map_or(Vec3::ZERO, |t| t.point(Vec3::ZERO)))
+        .collect();
+    assert_eq!(spheres.len(), 2);
+    assert!(spheres.iter().any(|c| (*c - Vec3::new(2.0, 0.0, 5.0)).length() < 1e-6), "{spheres:?}");
+    let e = error_of(
+        "no-group",
+        &format!(
+            "<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"instance\"><ref id=\"nothing\"/></shape>\n</scene>\n"
+        ),
+    );
+    assert!(e.contains("no-group.xml:3:") && e.contains("no shapegroup `nothing`"), "{e}");
+    let e = error_of(
+        "group-emitter",
+        &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"shapegroup\" id=\"g\"><shape type=\"sphere\"><emitter type=\"area\"/></shape></shape>\n</scene>\n"),
+    );
+    assert!(e.contains("emitter inside a shapegroup"), "{e}");
+}

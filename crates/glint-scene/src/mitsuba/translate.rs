@@ -29,6 +29,8 @@ pub(super) struct Translator<'a> {
     warnings: RefCell<Vec<String>>,
     /// Materials already made for a BSDF element (by its position), so shapes share them.
     materials_by_element: HashMap<(usize, u32, u32), String>,
+    /// Each `shapegroup`'s shapes by its id, placed by every `instance` of it.
+    groups: HashMap<String, Vec<Located<ShapeDesc>>>,
 }
 
 /// The properties of one plugin element, recording which ones were read.
@@ -70,7 +72,14 @@ impl<'a> Translator<'a> {
             lights: Vec::new(),
             shapes: Vec::new(),
         };
-        Ok(Self { files, ids, scene, warnings: RefCell::default(), materials_by_element: HashMap::new() })
+        Ok(Self {
+            files,
+            ids,
+            scene,
+            warnings: RefCell::default(),
+            materials_by_element: HashMap::new(),
+            groups: HashMap::new(),
+        })
     }
 
     fn error(&self, at: &Position, message: impl Into<String>) -> SceneError {
@@ -396,6 +405,11 @@ impl<'a> Translator<'a> {
 
     fn shape(&mut self, shape: &'a Element) -> Result<()> {
         let kind = shape.attribute("type").unwrap_or("");
+        match kind {
+            "shapegroup" => return self.shape_group(shape),
+            "instance" => return self.instance(shape),
+            _ => {}
+        }
         let p = self.properties(shape);
         let name = shape.attribute("id").map(str::to_string).or(Some(format!("{kind}@{}", shape.position.line)));
         let transform_matrix = p.transform(self, "to_world")?;
@@ -487,6 +501,70 @@ impl<'a> Translator<'a> {
             }
         };
         self.scene.shapes.push(Located { value: desc, span });
+        self.unused(&p);
+        Ok(())
+    }
+
+    /// A `shapegroup`: its shapes made, kept aside under its id until instances place them.
+    /// Its meshes become instanced meshes (loaded once however many instances there are).
+    fn shape_group(&mut self, group: &'a Element) -> Result<()> {
+        let id = group
+            .attribute("id")
+            .ok_or_else(|| self.error(&group.position, "a shapegroup needs an `id` for its instances to refer to"))?;
+        let first = self.scene.shapes.len();
+        for child in group.children.iter().filter(|c| c.tag == "shape") {
+            if matches!(child.attribute("type"), Some("shapegroup" | "instance")) {
+                return Err(self.error(&child.position, "a shapegroup holds plain shapes, not groups or instances"));
+            }
+            if let Some(emitter) = child.children.iter().find(|c| c.tag == "emitter") {
+                return Err(self.error(&emitter.position, "an emitter inside a shapegroup is not supported"));
+            }
+            self.shape(child)?;
+        }
+        let mut members: Vec<Located<ShapeDesc>> = self.scene.shapes.drain(first..).collect();
+        for (i, member) in members.iter_mut().enumerate() {
+            if let ShapeDesc::Mesh { file, smooth, flip_v, material, transform, name } = &member.value {
+                let mesh = format!("{id}#{i}");
+                let desc = MeshDesc { file: file.clone(), smooth: *smooth, flip_v: *flip_v };
+                self.scene.meshes.insert(mesh.clone(), Located { value: desc, span: member.span.clone() });
+                member.value = ShapeDesc::Instance {
+                    mesh,
+                    material: material.clone(),
+                    transform: transform.clone(),
+                    name: name.clone(),
+                };
+            }
+        }
+        self.unused(&self.properties(group));
+        self.groups.insert(id.to_string(), members);
+        Ok(())
+    }
+
+    /// An `instance` of a shapegroup: each of the group's shapes, moved by its `to_world`.
+    fn instance(&mut self, instance: &'a Element) -> Result<()> {
+        let p = self.properties(instance);
+        let to_world = p.transform(self, "to_world")?;
+        let reference = instance
+            .children
+            .iter()
+            .find(|c| c.tag == "ref")
+            .ok_or_else(|| self.error(&instance.position, "an instance needs a <ref> to its shapegroup"))?;
+        let id = reference.attribute("id").unwrap_or("");
+        let Some(members) = self.groups.get(id) else {
+            let hint = crate::error::did_you_mean(id, self.groups.keys().map(String::as_str));
+            return Err(
+                self.error(&reference.position, format!("no shapegroup `{id}` declared before this instance{hint}"))
+            );
+        };
+        let mut placed = members.clone();
+        for member in &mut placed {
+            let (transform, name) = member.value.placement_mut();
+            if let Some(m) = to_world {
+                transform.push(TransformOp::Matrix(m.transpose().to_cols_array_2d()));
+            }
+            *name = name.as_ref().map(|n| format!("{n}@instance:{}", instance.position.line));
+        }
+        self.scene.shapes.extend(placed);
         self.unused(&p);
         Ok(())
     }

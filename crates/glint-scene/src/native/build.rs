@@ -337,6 +337,9 @@ impl MeshLibrary<'_> {
         if !desc.smooth {
             mesh.normals = None;
         }
+        if let (true, Some(uvs)) = (desc.flip_v, &mut mesh.uvs) {
+            uvs.iter_mut().for_each(|uv| uv.y = 1.0 - uv.y);
+        }
         let degenerate = mesh.degenerate_triangles().count();
         if degenerate > 0 {
             warnings.push(format!(

@@ -42,6 +42,9 @@ pub struct MeshDesc {
     pub file: String,
     #[serde(default = "yes")]
     pub smooth: bool,
+    /// v ← 1 − v for the file's texture coordinates, as for a `mesh` shape.
+    #[serde(default)]
+    pub flip_v: bool,
 }
 
 #[derive(Deserialize, Debug)]
@@ -509,7 +512,7 @@ pub enum FalloffDesc {
 
 /// Shapes. `material` names an entry of `[materials]`; `transform` is a list of operations
 /// applied in order (the first one is applied to the shape first); `name` is for messages.
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Debug, Clone)]
 #[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum ShapeDesc {
     Sphere {
@@ -600,6 +603,20 @@ impl ShapeDesc {
             | ShapeDesc::Mesh { material, transform, name, .. }
             | ShapeDesc::Quad { material, transform, name, .. }
             | ShapeDesc::Instance { material, transform, name, .. } => (material, transform, name.as_deref()),
+        }
+    }
+
+    /// The shape's transform and name, to place a copy of it elsewhere.
+    pub fn placement_mut(&mut self) -> (&mut Vec<TransformOp>, &mut Option<String>) {
+        match self {
+            ShapeDesc::Sphere { transform, name, .. }
+            | ShapeDesc::Plane { transform, name, .. }
+            | ShapeDesc::Triangle { transform, name, .. }
+            | ShapeDesc::Polygon { transform, name, .. }
+            | ShapeDesc::Box { transform, name, .. }
+            | ShapeDesc::Mesh { transform, name, .. }
+            | ShapeDesc::Quad { transform, name, .. }
+            | ShapeDesc::Instance { transform, name, .. } => (transform, name),
         }
     }
 
