@@ -85,6 +85,22 @@ impl Environment {
     }
 }
 
+/// Each cell of the vertex grid (cell (x, y) spans columns x..x+1 and rows y..y+1, the last
+/// column wrapping to the first), row by row: the mean of `value` at its four corners times
+/// sin θ at its centre, its share of solid angle. What sampling weighs cells by (luminance)
+/// and what the radiance integral sums (the mean over RGB).
+fn cell_weights(pixels: &[Rgb], w: usize, h: usize, value: impl Fn(Rgb) -> f32) -> Vec<f32> {
+    (0..w * (h - 1))
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            let at = |x: usize, y: usize| value(pixels[y * w + x % w]);
+            let corners = at(x, y) + at(x + 1, y) + at(x, y + 1) + at(x + 1, y + 1);
+            let sin = (std::f32::consts::PI * (y as f32 + 0.5) / (h - 1) as f32).sin();
+            0.25 * corners * sin
+        })
+        .collect()
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvironmentMap {
     width: u32,
@@ -112,16 +128,7 @@ impl EnvironmentMap {
         assert!(width >= 1 && height >= 2, "an environment map needs at least two rows");
         let pixels: Vec<Rgb> = pixels.into_iter().map(|p| p * scale).collect();
         let (w, h) = (width as usize, height as usize);
-        let luminance = |x: usize, y: usize| pixels[y * w + x % w].dot(Rgb::new(0.2126, 0.7152, 0.0722)).max(0.0);
-        // Cell (x, y) spans columns x..x+1 and rows y..y+1 of the vertex grid.
-        let weights: Vec<f32> = (0..w * (h - 1))
-            .map(|i| {
-                let (x, y) = (i % w, i / w);
-                let corners = luminance(x, y) + luminance(x + 1, y) + luminance(x, y + 1) + luminance(x + 1, y + 1);
-                let sin = (std::f32::consts::PI * (y as f32 + 0.5) / (h - 1) as f32).sin();
-                0.25 * corners * sin
-            })
-            .collect();
+        let weights = cell_weights(&pixels, w, h, |p| p.dot(Rgb::new(0.2126, 0.7152, 0.0722)).max(0.0));
         let distribution = Distribution2D::new(&weights, w, h - 1);
         Self { width, height, pixels, to_world, to_map: to_world.transpose(), distribution }
     }
@@ -159,16 +166,8 @@ impl EnvironmentMap {
     pub fn radiance_integral(&self) -> f32 {
         let (w, h) = (self.width as usize, self.height as usize);
         let cell = 2.0 * std::f32::consts::PI / w as f32 * std::f32::consts::PI / (h - 1) as f32;
-        let mut total = 0.0f64;
-        for y in 0..h - 1 {
-            let sin = (std::f32::consts::PI * (y as f32 + 0.5) / (h - 1) as f32).sin();
-            for x in 0..w {
-                let at = |x: usize, y: usize| self.pixels[y * w + x % w].dot(Rgb::splat(1.0 / 3.0));
-                let mean = 0.25 * (at(x, y) + at(x + 1, y) + at(x, y + 1) + at(x + 1, y + 1));
-                total += (mean * sin * cell) as f64;
-            }
-        }
-        total as f32
+        let weights = cell_weights(&self.pixels, w, h, |p| p.dot(Rgb::splat(1.0 / 3.0)));
+        weights.iter().map(|&weight| (weight * cell) as f64).sum::<f64>() as f32
     }
 
     /// Radiance arriving along `-direction`, i.e. seen when looking toward `direction`.
