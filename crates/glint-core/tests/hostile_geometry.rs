@@ -3,7 +3,8 @@
 //! here passes through the interior of a closed mesh or of a triangle (or exactly through a
 //! shared vertex of a watertight sheet), so it must hit, by the BVH and by brute force alike,
 //! and at the right distance. (The t error bound had rejected most hits on small, far and
-//! thin triangles; the node test, not conservative, culled leaves of zero thickness.)
+//! thin triangles, and on scaled ones near the origin; the node test, not conservative, culled
+//! leaves of zero thickness.)
 //! `benchmarks/hostile_meshes.py` measures the same families against Embree.
 
 mod common;
@@ -111,6 +112,40 @@ fn rays_into_a_tiny_blob_from_afar_hit_its_front() {
         assert_hits(&blob, &ray, None, 0.0, "tiny blob");
         let hit = blob.intersect(&ray).unwrap();
         assert!(hit.geometry.geometric_normal.dot(ray.direction) < 0.0, "a back face: the front leaked");
+    }
+}
+
+/// A floor 2000 wide made of a unit quad under a scale of 1000 (how Mitsuba's rectangles and
+/// instances arrive), seen from 1 above: every ray down to it hits, in both queries, the
+/// transformed object's and the same quad's baked into world space. (The t error bound, mixing
+/// the sheared lengths with distances in the scaled ray's units, had dropped hits in an X
+/// through the point below the eye.)
+#[test]
+fn rays_from_near_a_scaled_floor_hit_it() {
+    use glint_core::geometry::Transform;
+    let quad = Mesh {
+        positions: vec![
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+        ],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        ..Default::default()
+    };
+    let scale = Transform::from_matrix(glam::Mat4::from_scale(Vec3::splat(1000.0))).unwrap();
+    let mut scaled = object(Shape::Mesh(quad.clone()));
+    scaled.transform = Some(scale);
+    let mut baked = quad;
+    baked.transform(&scale);
+    let eye = Vec3::new(0.0, 0.0, 1.0);
+    let mut rng = TestRng(9);
+    for floor in [scene(vec![scaled]), mesh_scene(baked)] {
+        for _ in 0..4000 {
+            let target = rng.vec3(-20.0, 20.0) * Vec3::new(1.0, 1.0, 0.0);
+            let ray = Ray::new(eye, (target - eye).normalize());
+            assert_hits(&floor, &ray, Some((target - eye).length()), 1e-4, "scaled floor");
+        }
     }
 }
 

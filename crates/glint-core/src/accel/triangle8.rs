@@ -201,13 +201,15 @@ impl WatertightRay8 {
             // ray in a room, say): skip the error bound.
             return Hits8::NONE;
         }
-        // The scalar test's bound on the error of t (pbrt-v4 §6.8.4), lane-wise.
+        // The scalar test's bound on the error of t (pbrt-v4 §6.8.4, the shear's error in
+        // lengths: see `WatertightRay::intersect`), lane-wise.
         let max_z = az.abs().fast_max(bz.abs()).fast_max(cz.abs());
+        let max_z_length = a_z.abs().fast_max(b_z.abs()).fast_max(c_z.abs());
         let max_x = ax.abs().fast_max(bx.abs()).fast_max(cx.abs());
         let max_y = ay.abs().fast_max(by.abs()).fast_max(cy.abs());
         let delta_z = Lanes::splat(gamma(3)) * max_z;
-        let delta_x = Lanes::splat(gamma(5)) * (max_x + max_z);
-        let delta_y = Lanes::splat(gamma(5)) * (max_y + max_z);
+        let delta_x = Lanes::splat(gamma(5)) * (max_x + max_z_length);
+        let delta_y = Lanes::splat(gamma(5)) * (max_y + max_z_length);
         let delta_e = Lanes::splat(2.0) * (Lanes::splat(gamma(2)) * max_x * max_y + delta_y * max_x + delta_x * max_y);
         let max_e = u.abs().fast_max(v_.abs()).fast_max(w.abs());
         let delta_t = Lanes::splat(3.0)

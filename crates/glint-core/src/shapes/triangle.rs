@@ -213,12 +213,18 @@ impl WatertightRay {
         // origin: the bound, which grows as t² over the triangle's size, is not asked. It had
         // rejected most hits on small, far or thin triangles (a blob of radius 1e-4 seen from
         // 1, a needle 1e-5 wide seen from 2.5), where it exceeded t itself.
+        // The sheared x and y are lengths, and so is the error the shear adds (γ of the
+        // vertices' extent along the ray's axis); the sheared z are distances in units of the
+        // ray's parameter. pbrt-v4 adds the latter to the former, which holds for a unit
+        // direction only: in an instance's scaled space (a 2000-wide floor under a scale of
+        // 1000, seen from 1 above) the bound outgrew t and dropped every hit near the origin.
         let max_z = az.abs().max(bz.abs()).max(cz.abs());
+        let max_z_length = a[kz].abs().max(b[kz].abs()).max(c[kz].abs());
         let max_x = ax.abs().max(bx.abs()).max(cx.abs());
         let max_y = ay.abs().max(by.abs()).max(cy.abs());
         let delta_z = gamma(3) * max_z;
-        let delta_x = gamma(5) * (max_x + max_z);
-        let delta_y = gamma(5) * (max_y + max_z);
+        let delta_x = gamma(5) * (max_x + max_z_length);
+        let delta_y = gamma(5) * (max_y + max_z_length);
         let delta_e = 2.0 * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
         let max_e = u.abs().max(v.abs()).max(w.abs());
         let delta_t = 3.0 * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs();
