@@ -39,6 +39,8 @@ const PASSING: &[&str] = &[
     "test_normalmap_identity_roughconductor_path",
     "test_textured_roughconductor_path",
     "test_instancing_path",
+    "test_projector_constant_direct",
+    "test_projector_textured_direct",
     // In the media group, but its medium-free surfaces are all it has.
     "test_surf_area_light_volpath",
 ];

@@ -764,3 +764,45 @@ fn instances_place_a_shapegroup_shared() {
     );
     assert!(e.contains("emitter inside a shapegroup"), "{e}");
 }
+
+/// `projector`: a spot light with the projector profile (irradiance π·E/cos³θ within the
+/// frame of half-angle fov/2), its `irradiance` times `scale` as the colour, a white slide
+/// setting the frame where no texture is given, an image's aspect where one is; no `fov` is
+/// an error.
+#[test]
+fn a_projector_is_a_spot_with_the_projector_profile() {
+    let path = scene_file(
+        "projector",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<emitter type="projector"><float name="fov" value="60"/><float name="scale" value="2"/><rgb name="irradiance" value="0.5, 1, 1.5"/>
+  <transform name="to_world"><lookat origin="0, 0, 1" target="0, 0, 0" up="0, 1, 0"/></transform></emitter>
+<emitter type="projector"><float name="fov" value="60"/><texture type="bitmap" name="irradiance"><string name="filename" value="wide.png"/></texture></emitter>
+</scene>
+"#
+        ),
+    );
+    image::RgbImage::from_raw(4, 2, vec![255; 24]).unwrap().save(path.with_file_name("wide.png")).unwrap();
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let spots: Vec<_> = loaded
+        .scene
+        .listed_lights()
+        .map(|l| match l {
+            Light::Spot(s) => s.clone(),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    let profile = glint_core::lights::SpotProfile::Projector;
+    assert!(spots.iter().all(|s| s.profile == profile && (s.cos_cone - 30f32.to_radians().cos()).abs() < 1e-6));
+    assert_eq!(spots[0].light.intensity, Rgb::new(1.0, 2.0, 3.0));
+    assert!((spots[0].direction + Vec3::Z).length() < 1e-6);
+    assert_eq!(spots[0].slide.as_ref().map(|s| s.aspect), Some(1.0));
+    assert_eq!(spots[1].slide.as_ref().map(|s| s.aspect), Some(2.0));
+    // Straight down from 1 above: E = 1 (times the colour), π·E/cos³0 at distance 1.
+    let below = spots[0].illuminate(Vec3::ZERO).intensity;
+    assert!((below - Rgb::new(1.0, 2.0, 3.0) * std::f32::consts::PI).abs().max_element() < 1e-5, "{below}");
+    let e =
+        error_of("no-fov", &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"projector\"/>\n</scene>\n"));
+    assert!(e.contains("no-fov.xml:3:") && e.contains("needs a `fov`"), "{e}");
+}

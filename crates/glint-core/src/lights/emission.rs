@@ -73,13 +73,14 @@ impl Lights {
             Light::Point(l) => (Ray::new(l.position, square_to_uniform_sphere(u_direction)), l.intensity * four_pi),
             Light::Spot(s) => {
                 // Uniform over the cone's solid angle 2π(1 − cos θ_cone); the profile weighs it.
-                let cos = 1.0 - u_direction.x * (1.0 - s.cos_cone);
+                let cos_cone = s.emission_cos();
+                let cos = 1.0 - u_direction.x * (1.0 - cos_cone);
                 let sin = (1.0 - cos * cos).max(0.0).sqrt();
                 let phi = 2.0 * std::f32::consts::PI * u_direction.y;
                 let (t, b) = orthonormal_basis(s.direction);
                 let direction = sin * phi.cos() * t + sin * phi.sin() * b + cos * s.direction;
                 let intensity = s.illuminate(s.light.position + direction).intensity;
-                let solid_angle = 2.0 * std::f32::consts::PI * (1.0 - s.cos_cone);
+                let solid_angle = 2.0 * std::f32::consts::PI * (1.0 - cos_cone);
                 // illuminate() at distance 1 returns the intensity for either falloff.
                 (Ray::new(s.light.position, direction), intensity * solid_angle)
             }

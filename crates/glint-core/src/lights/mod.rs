@@ -142,7 +142,7 @@ impl Light {
         let mean = |c: Rgb| c.dot(Rgb::splat(1.0 / 3.0));
         match self {
             Light::Point(l) => 4.0 * mean(l.intensity),
-            Light::Spot(s) => 2.0 * mean(s.light.intensity) * (1.0 - 0.5 * (s.cos_full + s.cos_cone)),
+            Light::Spot(s) => s.power_over_pi(),
             Light::Directional(d) => radius * radius * mean(d.intensity),
             Light::Area(a) => a.power_over_pi(),
             Light::Environment(e) => radius * radius * e.radiance_integral() * std::f32::consts::FRAC_1_PI,

@@ -3,7 +3,8 @@
 //!
 //! Scene parameters: `position` (point), `direction` (the cone's axis, where the light points),
 //! `cone_angle` (half-angle of the cone in degrees, default 30), `edge` (width in degrees of
-//! the soft edge inside the cone, default 5), `profile` (`"smooth"`, default, or `"linear"`),
+//! the soft edge inside the cone, default 5), `profile` (`"smooth"`, default, `"linear"` or
+//! `"projector"`),
 //! `texture` (a texture's name), `up` (the slide's up, default +y or +z), `color`,
 //! `intensity`, `falloff` (`"none"` or `"inverse-square"`), as for point lights.
 //! ```toml
@@ -15,6 +16,10 @@
 //! ```
 //! Full intensity inside `cone_angle − edge`, none outside `cone_angle`; between the two a
 //! smoothstep of the cosine (pbrt-v4's profile) or linear in the angle (Mitsuba's `spot`).
+//! The `projector` profile is Mitsuba's `projector`: the slide is the irradiance the light
+//! casts on a plane at unit distance across its axis, so the intensity is π·E(uv)/cos³θ inside
+//! the slide's frame (uv in [0, 1]², half-width tan cone_angle at unit distance, half-height
+//! that over the image's aspect) and nothing outside it; `edge` plays no part.
 //! A texture multiplies the intensity by its value at the direction's position on the slide:
 //! with d in the light's frame (x, y across the beam, z along it),
 //! uv = ½ + ½ (d_x, d_y) / (d_z tan cone_angle), Mitsuba's projection.
@@ -45,6 +50,8 @@ pub enum SpotProfile {
     Smooth,
     /// Linear in the angle from the axis (Mitsuba).
     Linear,
+    /// A slide projector (Mitsuba's `projector`): π/cos³θ within the slide's square frustum.
+    Projector,
 }
 
 /// A texture projected by a spot light.
@@ -54,6 +61,9 @@ pub struct Slide {
     /// The slide's axes in world space: u grows along `right`, v along `up`.
     pub right: Vec3,
     pub up: Vec3,
+    /// Width over height of the slide's frame: v spans 1/aspect of what u spans (1 for a
+    /// spot, whose slide is square; a projector's image keeps its proportions).
+    pub aspect: f32,
 }
 
 impl SpotLight {
@@ -92,16 +102,50 @@ impl SpotLight {
         illumination.intensity *= match self.profile {
             SpotProfile::Smooth => smoothstep(self.cos_cone, self.cos_full, cos),
             SpotProfile::Linear => linear_in_angle(self.cos_cone, self.cos_full, cos),
+            SpotProfile::Projector if cos > 0.0 => std::f32::consts::PI / (cos * cos * cos),
+            SpotProfile::Projector => 0.0,
         };
         if let Some(slide) = &self.slide {
             if cos > 0.0 {
                 let tan_cone = (1.0 - self.cos_cone * self.cos_cone).max(0.0).sqrt() / self.cos_cone;
-                let across = Vec2::new(outward.dot(slide.right), outward.dot(slide.up)) / (cos * tan_cone);
-                let query = TextureQuery { uv: Vec2::splat(0.5) + 0.5 * across, ..Default::default() };
-                illumination.intensity *= slide.texture.evaluate(&query);
+                let across =
+                    Vec2::new(outward.dot(slide.right), slide.aspect * outward.dot(slide.up)) / (cos * tan_cone);
+                let uv = Vec2::splat(0.5) + 0.5 * across;
+                if self.profile == SpotProfile::Projector && !(uv.cmpge(Vec2::ZERO).all() && uv.cmple(Vec2::ONE).all())
+                {
+                    illumination.intensity = Rgb::ZERO;
+                    return illumination;
+                }
+                illumination.intensity *= slide.texture.evaluate(&TextureQuery { uv, ..Default::default() });
             }
         }
         illumination
+    }
+
+    /// The cosine of the cone its light leaves within: the cone itself, or for a projector
+    /// the cone around the slide's frame (through its corners).
+    pub fn emission_cos(&self) -> f32 {
+        if self.profile != SpotProfile::Projector {
+            return self.cos_cone;
+        }
+        let tan_cone = (1.0 - self.cos_cone * self.cos_cone).max(0.0).sqrt() / self.cos_cone;
+        let aspect = self.slide.as_ref().map_or(1.0, |s| s.aspect);
+        let corner = tan_cone * tan_cone * (1.0 + 1.0 / (aspect * aspect));
+        (1.0 + corner).sqrt().recip()
+    }
+
+    /// The power over π: ∫ I dω / π. A projector sends π·E over the slide's frame, 2 tan θ
+    /// by 2 tan θ / aspect at unit distance (dω = cos³θ dA there), so its power over π is that
+    /// area times the slide's mean; the others integrate their profile over the cone, the soft
+    /// edge counted half.
+    pub fn power_over_pi(&self) -> f32 {
+        let mean = |c: Rgb| c.dot(Rgb::splat(1.0 / 3.0));
+        if self.profile == SpotProfile::Projector {
+            let tan_cone = (1.0 - self.cos_cone * self.cos_cone).max(0.0).sqrt() / self.cos_cone;
+            let (slide, aspect) = self.slide.as_ref().map_or((Rgb::ONE, 1.0), |s| (s.texture.mean_value(), s.aspect));
+            return 4.0 * tan_cone * tan_cone / aspect * mean(self.light.intensity * slide);
+        }
+        2.0 * mean(self.light.intensity) * (1.0 - 0.5 * (self.cos_full + self.cos_cone))
     }
 }
 
@@ -163,12 +207,58 @@ mod tests {
             wrap: crate::textures::Wrap::Clamp,
             ..crate::textures::ImageTexture::new(2, 1, vec![Rgb::ONE, Rgb::splat(3.0)])
         }));
-        let slide = Slide { texture, right: Vec3::X, up: Vec3::Z };
+        let slide = Slide { texture, right: Vec3::X, up: Vec3::Z, aspect: 1.0 };
         let spot = SpotLight::new(Vec3::ZERO, Vec3::Y, Rgb::ONE, Falloff::None, 45.0, 0.0).with_slide(slide);
         // On the axis: uv (½, ½), between the texels. Toward +x at 40°: u = ½ + ½ tan 40° / tan 45°.
         assert!((spot.illuminate(Vec3::Y).intensity.x - 2.0).abs() < 1e-4);
         let toward = |degrees: f32| Vec3::new(degrees.to_radians().tan(), 1.0, 0.0);
         assert!((spot.illuminate(toward(40.0)).intensity.x - 3.0).abs() < 1e-4);
         assert!((spot.illuminate(toward(-40.0)).intensity.x - 1.0).abs() < 1e-4);
+    }
+
+    /// A projector of half-angle 30° and aspect 2 down −z from the origin (no falloff, so
+    /// `illuminate` is the intensity): π·E/cos³θ inside x ∈ ±tan 30°, y ∈ ±tan 30°/2 at unit
+    /// distance, nothing outside, the slide's texels where Mitsuba puts them (Mitsuba 3.9's
+    /// `projector` gives the same, measured from Python); its emission cone holds the frame's
+    /// corners, and its power is the integral of its intensity over the sphere.
+    #[test]
+    fn a_projector_lights_its_frame_with_irradiance() {
+        let texture = Texture::Image(std::sync::Arc::new(crate::textures::ImageTexture {
+            filter: crate::textures::TexelFilter::Nearest,
+            ..crate::textures::ImageTexture::new(2, 1, vec![Rgb::ONE, Rgb::splat(3.0)])
+        }));
+        let slide = Slide { texture, right: Vec3::X, up: Vec3::Y, aspect: 2.0 };
+        let projector = SpotLight::new(Vec3::ZERO, -Vec3::Z, Rgb::ONE, Falloff::None, 30.0, 0.0)
+            .with_profile(SpotProfile::Projector)
+            .with_slide(slide);
+        let t = 30f32.to_radians().tan();
+        let seen = |x: f32, y: f32| {
+            let d = Vec3::new(x, y, -1.0);
+            let cos = 1.0 / d.length();
+            projector.illuminate(d).intensity.x * cos * cos * cos / std::f32::consts::PI
+        };
+        assert!((seen(-0.3 * t, 0.0) - 1.0).abs() < 1e-5 && (seen(0.3 * t, 0.2 * t) - 3.0).abs() < 1e-5);
+        assert!((seen(0.99 * t, 0.49 * t) - 3.0).abs() < 1e-5, "a corner is lit");
+        assert_eq!([seen(1.01 * t, 0.0), seen(0.0, 0.51 * t), seen(-0.2, -0.51 * t)], [0.0; 3]);
+        assert_eq!(projector.illuminate(Vec3::Z).intensity, Rgb::ZERO, "nothing behind");
+        let corner = Vec3::new(t, 0.5 * t, -1.0).normalize();
+        assert!((corner.dot(-Vec3::Z) - projector.emission_cos()).abs() < 1e-6);
+        // ∫ I dω by the midpoint rule over the emission cone, in (cos θ, φ).
+        let (n, cos_min) = (600, projector.emission_cos());
+        let mut integral = 0.0f64;
+        for i in 0..n {
+            for j in 0..n {
+                let cos = cos_min + (1.0 - cos_min) * (i as f32 + 0.5) / n as f32;
+                let phi = 2.0 * std::f32::consts::PI * (j as f32 + 0.5) / n as f32;
+                let sin = (1.0 - cos * cos).sqrt();
+                let d = Vec3::new(sin * phi.cos(), sin * phi.sin(), -cos);
+                integral += projector.illuminate(d).intensity.x as f64;
+            }
+        }
+        integral *= (2.0 * std::f64::consts::PI * (1.0 - cos_min as f64)) / (n * n) as f64;
+        // The frame is 2t × t at unit distance, its texels' mean 2: power π·(2t²)·2.
+        let expected = std::f64::consts::PI * projector.power_over_pi() as f64;
+        assert!((projector.power_over_pi() - 4.0 * t * t).abs() < 1e-5);
+        assert!((integral / expected - 1.0).abs() < 0.01, "{integral} vs {expected}");
     }
 }

@@ -90,6 +90,17 @@ impl Texture {
         matches!(self, Texture::Constant(_) | Texture::Checker(_) | Texture::Image(_))
     }
 
+    /// The mean over the unit uv square (an image's texels, a checker's two colours), or the
+    /// largest value for the solid textures, which have no square.
+    pub fn mean_value(&self) -> Rgb {
+        match self {
+            Texture::Constant(c) => *c,
+            Texture::Checker(t) => 0.5 * (t.even + t.odd),
+            Texture::Image(t) => t.pixels.iter().fold(Rgb::ZERO, |m, p| m + *p) / t.pixels.len().max(1) as f32,
+            _ => self.max_value(),
+        }
+    }
+
     /// The largest value of each channel anywhere (textures blend between their colours).
     pub fn max_value(&self) -> Rgb {
         match self {

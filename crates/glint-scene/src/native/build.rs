@@ -256,10 +256,11 @@ fn build_light(
             let profile = match profile.as_deref() {
                 None | Some("smooth") => SpotProfile::Smooth,
                 Some("linear") => SpotProfile::Linear,
+                Some("projector") => SpotProfile::Projector,
                 Some(other) => {
                     return Err(at(
                         "profile",
-                        format!("unknown spot profile `{other}`, expected \"smooth\" or \"linear\""),
+                        format!("unknown spot profile `{other}`, expected \"smooth\", \"linear\" or \"projector\""),
                     ))
                 }
             };
@@ -272,9 +273,14 @@ fn build_light(
                 *edge,
             )
             .with_profile(profile);
-            if let Some(name) = texture {
-                let texture =
-                    resolve_colour(&ColorDesc::Texture(name.clone()), textures).map_err(|m| at("texture", m))?;
+            // A projector's slide is its frustum: a white one where no texture is given.
+            let slide = match texture {
+                Some(name) => {
+                    Some(resolve_colour(&ColorDesc::Texture(name.clone()), textures).map_err(|m| at("texture", m))?)
+                }
+                None => (profile == SpotProfile::Projector).then_some(Texture::from(1.0)),
+            };
+            if let Some(texture) = slide {
                 let default_up = if axis.y.abs() < 0.9 { Vec3::Y } else { Vec3::Z };
                 let up = match up {
                     Some(u) => finite(*u).map_err(|m| at("up", m))?,
@@ -284,7 +290,12 @@ fn build_light(
                     .cross(up)
                     .try_normalize()
                     .ok_or_else(|| at("up", "`up` must not lie along `direction`".into()))?;
-                spot = spot.with_slide(Slide { texture, right, up: right.cross(axis) });
+                // A projector's frame has its image's proportions; a spot's slide is square.
+                let aspect = match (&texture, profile) {
+                    (Texture::Image(image), SpotProfile::Projector) => image.width as f32 / image.height as f32,
+                    _ => 1.0,
+                };
+                spot = spot.with_slide(Slide { texture, right, up: right.cross(axis), aspect });
             }
             Light::Spot(spot)
         }
