@@ -106,7 +106,7 @@ material = "shiny"
     }
     assert!(matches!(material(&loaded, "glass"), Material::Dielectric(g) if g.eta == 1.5 / 1.000277));
     assert!(matches!(material(&loaded, "frost"), Material::RoughDielectric(f)
-        if f.alpha_u == 0.1 && f.distribution == glint_core::materials::Distribution::Beckmann));
+        if f.alpha_u == 0.1.into() && f.distribution == glint_core::materials::Distribution::Beckmann));
     assert!(matches!(material(&loaded, "pane"), Material::ThinDielectric(_)));
     assert!(matches!(material(&loaded, "leaf"), Material::Mask(m) if matches!(m.material, Material::Emitter(_))));
     assert!(matches!(material(&loaded, "paper"), Material::Emitter(e) if e.radiance == Rgb::ONE));

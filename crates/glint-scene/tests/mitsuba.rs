@@ -114,7 +114,9 @@ fn every_element_maps_onto_glint() {
         other => panic!("{other:?}"),
     }
     match by_line(76) {
-        Material::RoughDielectric(frosted) => assert_eq!((frosted.alpha_u, frosted.alpha_v), (0.2, 0.2)),
+        Material::RoughDielectric(frosted) => {
+            assert_eq!((&frosted.alpha_u, &frosted.alpha_v), (&0.2.into(), &0.2.into()))
+        }
         other => panic!("{other:?}"),
     }
     match by_line(59) {
@@ -676,8 +678,8 @@ fn a_rawconstant_texture_is_its_value() {
     assert_eq!(m.normals, Texture::Constant(Rgb::splat(0.5)));
 }
 
-/// A rough conductor's widths may be textures (read as numbers, so a checkerboard's colours
-/// swap as Mitsuba's do), and `a-C` is among the named conductors.
+/// A rough conductor's and a rough dielectric's widths may be textures (read as numbers, so a
+/// checkerboard's colours swap as Mitsuba's do), and `a-C` is among the named conductors.
 #[test]
 fn a_rough_conductor_takes_textured_widths_and_amorphous_carbon() {
     let path = scene_file(
@@ -689,6 +691,8 @@ fn a_rough_conductor_takes_textured_widths_and_amorphous_carbon() {
   <texture name="alpha_u" type="checkerboard"><float name="color0" value="0.05"/><float name="color1" value="0.3"/></texture>
   <float name="alpha_v" value="0.2"/></bsdf>
 <shape type="sphere"><ref id="carbon"/></shape>
+<bsdf type="roughdielectric" id="frost"><texture name="alpha" type="checkerboard"><float name="color0" value="0.05"/><float name="color1" value="0.3"/></texture></bsdf>
+<shape type="sphere"><ref id="frost"/></shape>
 </scene>
 "#
         ),
@@ -702,6 +706,9 @@ fn a_rough_conductor_takes_textured_widths_and_amorphous_carbon() {
     };
     assert_eq!([at(0.2, 0.2), at(0.7, 0.2)], [0.3, 0.05]);
     assert_eq!(m.conductor.eta, Rgb::new(2.94405, 2.22714, 1.96816));
+    let frost = scene.material_names().iter().position(|n| n == "frost").unwrap();
+    let Material::RoughDielectric(g) = &scene.materials()[frost] else { panic!("{:?}", scene.materials()[frost]) };
+    assert!(matches!(g.alpha_u, Texture::Checker(_)) && g.alpha_u == g.alpha_v, "{g:?}");
     let e = error_of(
         "alpha-twice",
         &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"sphere\"><bsdf type=\"roughconductor\"><float name=\"alpha\" value=\"0.1\"/><float name=\"alpha_u\" value=\"0.1\"/><float name=\"alpha_v\" value=\"0.1\"/></bsdf></shape>\n</scene>\n"),

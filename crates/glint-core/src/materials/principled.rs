@@ -544,8 +544,8 @@ mod tests {
         let m = Principled { base_color: grey(1.0), spec_trans: grey(1.0), roughness: grey(0.6), ..Default::default() };
         let glass = RoughDielectric {
             dielectric: Dielectric { eta: m.eta, specular_reflectance: grey(1.0), specular_transmittance: grey(1.0) },
-            alpha_u: 0.36,
-            alpha_v: 0.36,
+            alpha_u: 0.36.into(),
+            alpha_v: 0.36.into(),
             distribution: Distribution::Ggx,
         };
         let mut rng = crate::sampling::Rng::new(3, 3);

@@ -2,7 +2,8 @@
 //! et al. 2007), the Fresnel reflectance taken at each microfacet, a visible normal sampled
 //! and then reflection or refraction chosen with probability F(wo·h). Two-sided.
 //!
-//! Scene parameters: those of `dielectric`, and `alpha` (default 0.1), or `alpha_u`, `alpha_v`.
+//! Scene parameters: those of `dielectric`, and `alpha` (default 0.1), or `alpha_u`, `alpha_v`:
+//! each a number or a texture's name (read as its luminance).
 //! ```toml
 //! [materials.frosted]
 //! type = "rough-dielectric"
@@ -16,16 +17,18 @@ use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
 use super::dielectric::side_eta;
+use super::rough_conductor::width;
 use super::{fresnel_dielectric, Dielectric, Distribution, Microfacet, PhongPoint};
 use crate::geometry::{reflect, refract};
-use crate::textures::TextureQuery;
+use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct RoughDielectric {
     pub dielectric: Dielectric,
-    pub alpha_u: f32,
-    pub alpha_v: f32,
+    /// The widths along ∂p/∂u and across it, constant or textured.
+    pub alpha_u: Texture,
+    pub alpha_v: Texture,
     /// GGX (glint's default) or Beckmann (Mitsuba's).
     pub distribution: Distribution,
 }
@@ -33,13 +36,14 @@ pub struct RoughDielectric {
 impl RoughDielectric {
     pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
         let d = &self.dielectric;
+        let (alpha_u, alpha_v) = (width(&self.alpha_u, query), width(&self.alpha_v, query));
         Leaf::RoughDielectric(RoughDielectricBsdf {
             // Anisotropic widths lie along the surface's ∂p/∂u.
-            frame: if self.alpha_u != self.alpha_v { frame.along(query.dpdu) } else { frame },
+            frame: if alpha_u != alpha_v { frame.along(query.dpdu) } else { frame },
             eta: side_eta(d.eta, &frame),
             reflectance: d.specular_reflectance.evaluate(query),
             transmittance: d.specular_transmittance.evaluate(query),
-            microfacet: Microfacet::separable(self.alpha_u, self.alpha_v).with(self.distribution),
+            microfacet: Microfacet::separable(alpha_u, alpha_v).with(self.distribution),
         })
     }
 
@@ -123,7 +127,6 @@ impl Lobes for RoughDielectricBsdf {
 mod tests {
     use super::*;
     use crate::materials::testing::{albedo, at, check_sampling, frame_toward, furnace};
-    use crate::textures::Texture;
 
     fn frosted(alpha: f32) -> RoughDielectric {
         let dielectric = Dielectric {
@@ -131,7 +134,31 @@ mod tests {
             specular_reflectance: Texture::Constant(Rgb::ONE),
             specular_transmittance: Texture::Constant(Rgb::ONE),
         };
-        RoughDielectric { dielectric, alpha_u: alpha, alpha_v: alpha, distribution: Distribution::Ggx }
+        RoughDielectric { dielectric, alpha_u: alpha.into(), alpha_v: alpha.into(), distribution: Distribution::Ggx }
+    }
+
+    /// Textured widths: on each check the BSDF (reflection and refraction) is the constant
+    /// glass with that check's widths.
+    #[test]
+    fn textured_widths_are_read_where_the_hit_is() {
+        let checks = |a: f32, b: f32| {
+            Texture::Checker(Box::new(crate::textures::Checker::new(Rgb::splat(a), Rgb::splat(b), Vec2::splat(2.0))))
+        };
+        let textured = RoughDielectric { alpha_u: checks(0.05, 0.3), alpha_v: checks(0.3, 0.05), ..frosted(0.1) };
+        let wo = Vec3::new(0.3, -0.2, 0.9).normalize();
+        for (uv, (alpha_u, alpha_v)) in [(Vec2::new(0.2, 0.2), (0.05, 0.3)), (Vec2::new(0.7, 0.2), (0.3, 0.05))] {
+            let query = TextureQuery { uv, dpdu: Vec3::new(1.0, 0.5, 0.0), ..Default::default() };
+            let constant = RoughDielectric { alpha_u: alpha_u.into(), alpha_v: alpha_v.into(), ..frosted(0.1) };
+            let (a, b) = (
+                at(&textured.bsdf(&query, frame_toward(wo, Vec3::Z))),
+                at(&constant.bsdf(&query, frame_toward(wo, Vec3::Z))),
+            );
+            for wi in [Vec3::new(-0.3, 0.2, 0.9), Vec3::new(-0.2, 0.3, -0.9), Vec3::new(-0.5, -0.1, -0.8)] {
+                let wi = wi.normalize();
+                assert_eq!(a.eval(wo, wi), b.eval(wo, wi), "{uv}");
+                assert_eq!(a.pdf(wo, wi), b.pdf(wo, wi), "{uv}");
+            }
+        }
     }
 
     /// Over the whole sphere, from outside and from inside (where total internal reflection

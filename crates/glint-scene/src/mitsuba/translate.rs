@@ -776,18 +776,7 @@ impl<'a> Translator<'a> {
                 if kind == "conductor" {
                     MaterialDesc::Conductor { metal, eta, k, specular_reflectance, two_sided: one_sided }
                 } else {
-                    let distribution = self.distribution(&p)?;
-                    let (alpha, alpha_u, alpha_v) = (
-                        self.textured_alpha(&p, "alpha")?,
-                        self.textured_alpha(&p, "alpha_u")?,
-                        self.textured_alpha(&p, "alpha_v")?,
-                    );
-                    if alpha.is_some() && (alpha_u.is_some() || alpha_v.is_some()) {
-                        return Err(self.error(&bsdf.position, "give `alpha`, or `alpha_u` and `alpha_v`, not both"));
-                    }
-                    if alpha_u.is_some() != alpha_v.is_some() {
-                        return Err(self.error(&bsdf.position, "`alpha_u` and `alpha_v` go together"));
-                    }
+                    let TexturedRoughness { alpha, alpha_u, alpha_v, distribution } = self.textured_alphas(&p)?;
                     MaterialDesc::RoughConductor {
                         metal,
                         eta,
@@ -814,7 +803,8 @@ impl<'a> Translator<'a> {
                         MaterialDesc::ThinDielectric { int_ior, ext_ior, specular_reflectance, specular_transmittance }
                     }
                     _ => {
-                        let Roughness { alpha, alpha_u, alpha_v, distribution } = self.alphas(&p)?;
+                        let TexturedRoughness { alpha, alpha_u, alpha_v, distribution } =
+                            self.textured_alphas(&p)?;
                         MaterialDesc::RoughDielectric {
                             int_ior,
                             ext_ior,
@@ -947,6 +937,21 @@ impl<'a> Translator<'a> {
         // Visible-normal sampling or not changes only the noise.
         p.boolean(self, "sample_visible")?;
         Ok(distribution)
+    }
+
+    /// Roughness that may be textured (a conductor's, a dielectric's): `alpha`, or `alpha_u`
+    /// and `alpha_v`, each a number or a texture, and the `distribution`.
+    fn textured_alphas(&mut self, p: &Properties<'a>) -> Result<TexturedRoughness> {
+        let distribution = self.distribution(p)?;
+        let (alpha, alpha_u, alpha_v) =
+            (self.textured_alpha(p, "alpha")?, self.textured_alpha(p, "alpha_u")?, self.textured_alpha(p, "alpha_v")?);
+        if alpha.is_some() && (alpha_u.is_some() || alpha_v.is_some()) {
+            return Err(self.error(&p.element.position, "give `alpha`, or `alpha_u` and `alpha_v`, not both"));
+        }
+        if alpha_u.is_some() != alpha_v.is_some() {
+            return Err(self.error(&p.element.position, "`alpha_u` and `alpha_v` go together"));
+        }
+        Ok(TexturedRoughness { alpha, alpha_u, alpha_v, distribution })
     }
 
     /// A roughness that may be a texture (a conductor's): a number, or the texture as Mitsuba
@@ -1572,6 +1577,14 @@ struct Roughness {
     alpha: Option<f32>,
     alpha_u: Option<f32>,
     alpha_v: Option<f32>,
+    distribution: String,
+}
+
+/// `Roughness` where the widths may be textures.
+struct TexturedRoughness {
+    alpha: Option<FractionDesc>,
+    alpha_u: Option<FractionDesc>,
+    alpha_v: Option<FractionDesc>,
     distribution: String,
 }
 

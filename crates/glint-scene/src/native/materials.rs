@@ -145,11 +145,6 @@ impl Builder<'_> {
             Some(a) => Ok(a),
             None => Ok(ALPHA),
         };
-        let widths = |a: &Option<f32>, u: &Option<f32>, v: &Option<f32>| match (a, u, v) {
-            (a, None, None) => Ok((alpha("alpha", *a)?, alpha("alpha", *a)?)),
-            (None, Some(_), Some(_)) => Ok((alpha("alpha_u", *u)?, alpha("alpha_v", *v)?)),
-            _ => Err(at("alpha", "give `alpha`, or both `alpha_u` and `alpha_v`".into())),
-        };
         // A width that may be a texture: a number as `alpha` checks it, or a texture's name.
         let textured_alpha = |key: &str, a: &Option<FractionDesc>| match a {
             None => Ok(Texture::from(ALPHA)),
@@ -253,7 +248,7 @@ impl Builder<'_> {
                 distribution: d,
             } => {
                 let dielectric = dielectric(int_ior, ext_ior, specular_reflectance, specular_transmittance)?;
-                let (alpha_u, alpha_v) = widths(alpha, alpha_u, alpha_v)?;
+                let (alpha_u, alpha_v) = textured_widths(alpha, alpha_u, alpha_v)?;
                 let distribution = distribution(d)?;
                 Material::RoughDielectric(RoughDielectric { dielectric, alpha_u, alpha_v, distribution })
             }

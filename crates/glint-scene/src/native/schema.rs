@@ -273,15 +273,15 @@ pub enum MaterialDesc {
         specular_reflectance: Option<ColorDesc>,
         specular_transmittance: Option<ColorDesc>,
     },
-    /// Rough glass (Mitsuba's `roughdielectric`, GGX).
+    /// Rough glass (Mitsuba's `roughdielectric`): widths as numbers or texture names.
     RoughDielectric {
         int_ior: Option<f32>,
         ext_ior: Option<f32>,
         specular_reflectance: Option<ColorDesc>,
         specular_transmittance: Option<ColorDesc>,
-        alpha: Option<f32>,
-        alpha_u: Option<f32>,
-        alpha_v: Option<f32>,
+        alpha: Option<FractionDesc>,
+        alpha_u: Option<FractionDesc>,
+        alpha_v: Option<FractionDesc>,
         /// `"ggx"` (default) or `"beckmann"`.
         distribution: Option<String>,
     },
