@@ -813,3 +813,44 @@ fn a_projector_is_a_spot_with_the_projector_profile() {
         error_of("no-fov", &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"projector\"/>\n</scene>\n"));
     assert!(e.contains("no-fov.xml:3:") && e.contains("needs a `fov`"), "{e}");
 }
+
+/// `<spectrum filename="…"/>`: wavelength–value lines, converted as the same spectrum inline
+/// (a point light's intensity here: Mitsuba 3.9's RGB variant gives (4.02061, 2.31368,
+/// 1.24453) for this file). A malformed line names the file and line; a blackbody is refused
+/// as Mitsuba's RGB variants refuse it.
+#[test]
+fn spectra_from_files_and_blackbodies() {
+    let path = scene_file(
+        "spectrum-file",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<emitter type="point"><spectrum name="intensity" filename="ramp.spd"/></emitter>
+<emitter type="point"><spectrum name="intensity" value="400:1, 500:2, 600:3, 700:4"/></emitter>
+</scene>
+"#
+        ),
+    );
+    std::fs::write(path.with_file_name("ramp.spd"), "# a ramp\n400 1.0\n500 2.0\n\n600 3.0 # comment\n700 4.0\n")
+        .unwrap();
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let intensities: Vec<Rgb> = loaded
+        .scene
+        .listed_lights()
+        .map(|l| match l {
+            Light::Point(p) => p.intensity,
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(intensities[0], intensities[1]);
+    let mitsuba = Rgb::new(4.02061, 2.31368, 1.24453);
+    assert!(((intensities[0] - mitsuba) / mitsuba).abs().max_element() < 2e-3, "{}", intensities[0]);
+    std::fs::write(path.with_file_name("ramp.spd"), "400 1.0\n500 two\n").unwrap();
+    let e = load_scene(&path).err().unwrap().to_string();
+    assert!(e.contains("ramp.spd:2") && e.contains("expected a wavelength and a value"), "{e}");
+    let e = error_of(
+        "blackbody",
+        &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"point\"><spectrum name=\"intensity\" type=\"blackbody\"><float name=\"temperature\" value=\"3000\"/></spectrum></emitter>\n</scene>\n"),
+    );
+    assert!(e.contains("blackbody.xml:3:") && e.contains("blackbody spectrum has no RGB value"), "{e}");
+}

@@ -1441,6 +1441,9 @@ impl<'e> Properties<'e> {
     /// A constant colour: `<rgb>`, a uniform `<spectrum>` or a `<float>`.
     fn rgb(&self, t: &Translator, name: &str) -> Result<Option<[f32; 3]>> {
         let Some(e) = self.find(name) else { return Ok(None) };
+        if e.tag == "spectrum" && e.attribute("value").is_none() {
+            return self.spectrum_file(t, name, e).map(Some);
+        }
         let v = match e.tag.as_str() {
             "rgb" | "spectrum" | "float" => self.value(t, e)?,
             "texture" | "ref" => {
@@ -1466,6 +1469,61 @@ impl<'e> Properties<'e> {
             [r, g, b] => Ok(Some([*r, *g, *b])),
             _ => Err(t.error(&e.position, format!("`{name}`: expected one or three numbers, got `{v}`"))),
         }
+    }
+
+    /// A `<spectrum>` without a `value`: a `filename` of wavelength–value lines (Mitsuba's
+    /// `.spd`: "λ value" per line, `#` comments), converted as an inline sampled spectrum; a
+    /// `blackbody` is refused, as Mitsuba's RGB variants refuse it.
+    fn spectrum_file(&self, t: &Translator, name: &str, e: &Element) -> Result<[f32; 3]> {
+        if e.attribute("type") == Some("blackbody") {
+            return Err(t.error(
+                &e.position,
+                format!("`{name}`: a blackbody spectrum has no RGB value (Mitsuba's RGB variants refuse it too); give an <rgb>"),
+            ));
+        }
+        let Some(filename) = e.attribute("filename") else {
+            return Err(t.error(&e.position, format!("`{name}`: a <spectrum> needs a `value` or a `filename`")));
+        };
+        let path = crate::source::resolve(&t.files.search_path, std::path::Path::new(filename));
+        let text = std::fs::read_to_string(&path).map_err(|err| {
+            t.error(&e.position, format!("`{name}`: spectrum file `{filename}` ({}): {err}", path.display()))
+        })?;
+        let mut samples = Vec::new();
+        for (number, line) in text.lines().enumerate() {
+            let line = line.split('#').next().unwrap_or_default().trim();
+            if line.is_empty() {
+                continue;
+            }
+            let pair: Vec<f64> = line.split_whitespace().filter_map(|x| x.parse().ok()).collect();
+            match pair.as_slice() {
+                [lambda, value] if lambda.is_finite() && value.is_finite() => samples.push((*lambda, *value)),
+                _ => {
+                    return Err(t.error(
+                        &e.position,
+                        format!(
+                            "`{name}`: {}:{}: expected a wavelength and a value, got `{line}`",
+                            path.display(),
+                            number + 1
+                        ),
+                    ))
+                }
+            }
+        }
+        if samples.len() < 2 || samples.windows(2).any(|w| w[1].0 <= w[0].0) {
+            return Err(t.error(
+                &e.position,
+                format!("`{name}`: spectrum file `{filename}` needs two or more wavelengths, increasing"),
+            ));
+        }
+        let role = SpectrumRole::of(name, self.element.tag == "emitter");
+        let (rgb, clamped) = sampled_to_rgb(&samples, role);
+        if clamped {
+            t.warn(
+                &e.position,
+                format!("`{name}`: the spectrum's colour lies outside sRGB and was clamped, as Mitsuba does"),
+            );
+        }
+        Ok(rgb)
     }
 
     /// A colour or a texture (nested, or by `<ref name="…" id="…"/>`).
