@@ -1039,11 +1039,7 @@ impl<'a> Translator<'a> {
                     return Err(self.error(&emitter.position, format!("projector `fov` must be in (0, 180) degrees, got {fov}")));
                 }
                 let scale = p.float(self, "scale")?.unwrap_or(1.0);
-                let (texture, tint) = match p.color(self, "irradiance")? {
-                    Some(ColorDesc::Texture(name)) => (Some(self.slide(&name)), [1.0; 3]),
-                    Some(ColorDesc::Rgb(rgb)) => (None, rgb),
-                    None => (None, [1.0; 3]),
-                };
+                let (texture, tint) = self.slide_or_tint(&p, "irradiance")?;
                 LightDesc::Spot {
                     position: matrix.transform_point3(Vec3::ZERO).to_array(),
                     direction: matrix.transform_vector3(Vec3::Z).to_array(),
@@ -1064,12 +1060,7 @@ impl<'a> Translator<'a> {
                 let intensity = p.rgb(self, "intensity")?.unwrap_or([1.0; 3]);
                 let cutoff = p.float(self, "cutoff_angle")?.unwrap_or(20.0);
                 let beam = p.float(self, "beam_width")?.unwrap_or(cutoff * 0.75);
-                // A constant `texture` is a tint, folded into the intensity.
-                let (texture, tint) = match p.color(self, "texture")? {
-                    Some(ColorDesc::Texture(name)) => (Some(self.slide(&name)), [1.0; 3]),
-                    Some(ColorDesc::Rgb(rgb)) => (None, rgb),
-                    None => (None, [1.0; 3]),
-                };
+                let (texture, tint) = self.slide_or_tint(&p, "texture")?;
                 LightDesc::Spot {
                     position: matrix.transform_point3(Vec3::ZERO).to_array(),
                     direction: matrix.transform_vector3(Vec3::Z).to_array(),
@@ -1125,6 +1116,16 @@ impl<'a> Translator<'a> {
         self.scene.lights.push(Located { value: light, span: at.span.clone() });
         self.unused(&p);
         Ok(())
+    }
+
+    /// A light's projected colour `name`: a texture becomes its slide (`slide`), a constant
+    /// colour a tint to fold into its intensity.
+    fn slide_or_tint(&mut self, p: &Properties<'a>, name: &str) -> Result<(Option<String>, [f32; 3])> {
+        Ok(match p.color(self, name)? {
+            Some(ColorDesc::Texture(texture)) => (Some(self.slide(&texture)), [1.0; 3]),
+            Some(ColorDesc::Rgb(rgb)) => (None, rgb),
+            None => (None, [1.0; 3]),
+        })
     }
 
     /// Texture `name` as a spot light's slide: looked up at (u, 1 − v). Mitsuba's slide
