@@ -107,7 +107,7 @@ impl SpotLight {
         };
         if let Some(slide) = &self.slide {
             if cos > 0.0 {
-                let tan_cone = (1.0 - self.cos_cone * self.cos_cone).max(0.0).sqrt() / self.cos_cone;
+                let tan_cone = self.tan_cone();
                 let across =
                     Vec2::new(outward.dot(slide.right), slide.aspect * outward.dot(slide.up)) / (cos * tan_cone);
                 let uv = Vec2::splat(0.5) + 0.5 * across;
@@ -122,13 +122,18 @@ impl SpotLight {
         illumination
     }
 
+    /// tan of the cone's half-angle: the slide's half-width at unit distance.
+    fn tan_cone(&self) -> f32 {
+        (1.0 - self.cos_cone * self.cos_cone).max(0.0).sqrt() / self.cos_cone
+    }
+
     /// The cosine of the cone its light leaves within: the cone itself, or for a projector
     /// the cone around the slide's frame (through its corners).
     pub fn emission_cos(&self) -> f32 {
         if self.profile != SpotProfile::Projector {
             return self.cos_cone;
         }
-        let tan_cone = (1.0 - self.cos_cone * self.cos_cone).max(0.0).sqrt() / self.cos_cone;
+        let tan_cone = self.tan_cone();
         let aspect = self.slide.as_ref().map_or(1.0, |s| s.aspect);
         let corner = tan_cone * tan_cone * (1.0 + 1.0 / (aspect * aspect));
         (1.0 + corner).sqrt().recip()
@@ -141,7 +146,7 @@ impl SpotLight {
     pub fn power_over_pi(&self) -> f32 {
         let mean = |c: Rgb| c.dot(Rgb::splat(1.0 / 3.0));
         if self.profile == SpotProfile::Projector {
-            let tan_cone = (1.0 - self.cos_cone * self.cos_cone).max(0.0).sqrt() / self.cos_cone;
+            let tan_cone = self.tan_cone();
             let (slide, aspect) = self.slide.as_ref().map_or((Rgb::ONE, 1.0), |s| (s.texture.mean_value(), s.aspect));
             return 4.0 * tan_cone * tan_cone / aspect * mean(self.light.intensity * slide);
         }

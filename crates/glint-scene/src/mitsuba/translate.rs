@@ -852,11 +852,11 @@ impl<'a> Translator<'a> {
                         two_sided: one_sided,
                     }
                 } else {
-                    let Roughness { alpha, alpha_u, alpha_v, distribution } = self.alphas(&p)?;
-                    if alpha_u.is_some() {
+                    let distribution = self.distribution(&p)?;
+                    let alpha = p.float(self, "alpha")?;
+                    if p.find("alpha_u").is_some() || p.find("alpha_v").is_some() {
                         return Err(self.error(&bsdf.position, "roughplastic is isotropic: give `alpha`, not `alpha_u`/`alpha_v` (as Mitsuba requires)"));
                     }
-                    let _ = alpha_v;
                     MaterialDesc::RoughPlastic {
                         diffuse_reflectance,
                         specular_reflectance,
@@ -962,21 +962,6 @@ impl<'a> Translator<'a> {
             Some(ColorDesc::Texture(t)) => Some(FractionDesc::Texture(self.scalar_texture(&t))),
             Some(ColorDesc::Rgb(c)) => Some(FractionDesc::Number(c[0])),
         })
-    }
-
-    /// Mitsuba's roughness: `alpha`, or `alpha_u` and `alpha_v`, and the `distribution`
-    /// (`beckmann` unless given, as in Mitsuba), as the native description's strings.
-    fn alphas(&mut self, p: &Properties) -> Result<Roughness> {
-        let distribution = self.distribution(p)?;
-        let alpha = p.float(self, "alpha")?;
-        let (u, v) = (p.float(self, "alpha_u")?, p.float(self, "alpha_v")?);
-        if alpha.is_some() && (u.is_some() || v.is_some()) {
-            return Err(self.error(&p.element.position, "give `alpha`, or `alpha_u` and `alpha_v`, not both"));
-        }
-        if u.is_some() != v.is_some() {
-            return Err(self.error(&p.element.position, "`alpha_u` and `alpha_v` go together"));
-        }
-        Ok(Roughness { alpha, alpha_u: u, alpha_v: v, distribution })
     }
 
     /// int_ior / ext_ior, each a number or a named material.
@@ -1454,15 +1439,7 @@ impl<'e> Properties<'e> {
         };
         if e.tag == "spectrum" && v.contains(':') {
             let samples = parse_sampled(v).map_err(|m| t.error(&e.position, format!("`{name}`: {m}")))?;
-            let role = SpectrumRole::of(name, self.element.tag == "emitter");
-            let (rgb, clamped) = sampled_to_rgb(&samples, role);
-            if clamped {
-                t.warn(
-                    &e.position,
-                    format!("`{name}`: the spectrum's colour lies outside sRGB and was clamped, as Mitsuba does"),
-                );
-            }
-            return Ok(Some(rgb));
+            return Ok(Some(self.spectrum_rgb(t, name, e, &samples)));
         }
         let numbers = parse_numbers(v).map_err(|m| t.error(&e.position, format!("`{name}`: {m}")))?;
         match numbers.as_slice() {
@@ -1516,15 +1493,21 @@ impl<'e> Properties<'e> {
                 format!("`{name}`: spectrum file `{filename}` needs two or more wavelengths, increasing"),
             ));
         }
+        Ok(self.spectrum_rgb(t, name, e, &samples))
+    }
+
+    /// A sampled spectrum's RGB as parameter `name` uses it (a reflectance or a radiance),
+    /// with a warning where its colour was clamped.
+    fn spectrum_rgb(&self, t: &Translator, name: &str, e: &Element, samples: &[(f64, f64)]) -> [f32; 3] {
         let role = SpectrumRole::of(name, self.element.tag == "emitter");
-        let (rgb, clamped) = sampled_to_rgb(&samples, role);
+        let (rgb, clamped) = sampled_to_rgb(samples, role);
         if clamped {
             t.warn(
                 &e.position,
                 format!("`{name}`: the spectrum's colour lies outside sRGB and was clamped, as Mitsuba does"),
             );
         }
-        Ok(rgb)
+        rgb
     }
 
     /// A colour or a texture (nested, or by `<ref name="…" id="…"/>`).
@@ -1631,15 +1614,7 @@ fn look_at(origin: Vec3, target: Vec3, up: Vec3) -> Option<Mat4> {
     Some(Mat4::from_cols(left.extend(0.0), new_up.extend(0.0), dir.extend(0.0), origin.extend(1.0)))
 }
 
-/// A rough BSDF's widths and microfacet distribution as Mitsuba gives them.
-struct Roughness {
-    alpha: Option<f32>,
-    alpha_u: Option<f32>,
-    alpha_v: Option<f32>,
-    distribution: String,
-}
-
-/// `Roughness` where the widths may be textures.
+/// Microfacet widths, each a number or a texture, and the distribution's name.
 struct TexturedRoughness {
     alpha: Option<FractionDesc>,
     alpha_u: Option<FractionDesc>,
