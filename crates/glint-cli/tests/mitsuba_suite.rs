@@ -41,6 +41,7 @@ const PASSING: &[&str] = &[
     "test_instancing_path",
     "test_projector_constant_direct",
     "test_projector_textured_direct",
+    "test_texturedprincipledthin_path",
     // In the media group, but its medium-free surfaces are all it has.
     "test_surf_area_light_volpath",
 ];

@@ -194,6 +194,47 @@ eta = 1
     assert!(e.contains("`sheen` must be between 0 and 1"), "{e}");
 }
 
+/// `principled-thin`: Mitsuba's defaults, `diff_trans` up to 2, a textured `eta`, sampling
+/// rates; out-of-range values refused at the line.
+#[test]
+fn principled_thin_builds_with_defaults_and_checked_ranges() {
+    let loaded = parse(
+        r#"
+[textures.checks]
+type = "checker"
+even = [1.3, 1.3, 1.3]
+odd = [1.6, 1.6, 1.6]
+
+[materials.a]
+type = "principled-thin"
+base_color = [0.2, 0.6, 0.1]
+diff_trans = 1.6
+eta = "checks"
+specular_transmittance_sampling_rate = 3
+"#,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    match material(&loaded, "a") {
+        Material::PrincipledThin(p) => {
+            assert_eq!(p.base_color, Texture::Constant(Rgb::new(0.2, 0.6, 0.1)));
+            assert_eq!((&p.roughness, &p.spec_trans), (&Texture::from(0.5), &Texture::from(0.0)));
+            assert_eq!(p.diff_trans, Texture::from(1.6));
+            assert!(matches!(p.eta, Texture::Checker(_)), "{:?}", p.eta);
+            assert_eq!((p.rates.specular_transmission, p.rates.diffuse_reflection), (3.0, 1.0));
+        }
+        other => panic!("{other:?}"),
+    }
+    for (line, message) in [
+        ("diff_trans = 2.5", "`diff_trans` must be between 0 and 2"),
+        ("sheen = 1.5", "`sheen` must be between 0 and 1"),
+        ("eta = 0", "`eta` must be between"),
+        ("diffuse_reflectance_sampling_rate = -1", "sampling rate ≥ 0"),
+    ] {
+        let e = parse(&format!("[materials.a]\ntype = \"principled-thin\"\n{line}\n")).err().unwrap().to_string();
+        assert!(e.contains("bsdfs.toml:") && e.contains(message), "{line}: {e}");
+    }
+}
+
 /// `normal-map` names its texture and material; an unknown texture is an error at its line.
 #[test]
 fn normal_map_wraps_a_material_about_a_texture() {

@@ -146,6 +146,8 @@ fn wrappers_map_onto_the_bsdf_set() {
 <shape type="sphere"><bsdf type="plastic"/><emitter type="area"><rgb name="radiance" value="2, 2, 2"/></emitter></shape>
 <bsdf type="principled" id="paint"><rgb name="base_color" value="0.2, 0.8, 0.1"/><float name="roughness" value="0.15"/><texture name="sheen" type="checkerboard"><float name="color0" value="0.2"/><float name="color1" value="0.9"/></texture><float name="specular" value="0.7"/></bsdf>
 <shape type="sphere"><ref id="paint"/></shape>
+<bsdf type="principledthin" id="sheet"><float name="spec_trans" value="0.3"/><texture name="diff_trans" type="checkerboard"><float name="color0" value="0.4"/><float name="color1" value="1.4"/></texture><float name="eta" value="1.33"/><float name="diffuse_transmittance_sampling_rate" value="2"/></bsdf>
+<shape type="sphere"><ref id="sheet"/></shape>
 </scene>
 "#
         ),
@@ -181,6 +183,15 @@ fn wrappers_map_onto_the_bsdf_set() {
             assert_eq!(p.roughness, Texture::Constant(Rgb::splat(0.15)));
             assert!(matches!(p.sheen, Texture::Checker(_)), "{:?}", p.sheen);
             assert!((p.eta - glint_core::materials::Principled::eta_from_specular(0.7)).abs() < 1e-6);
+        }
+        other => panic!("{other:?}"),
+    }
+    match material("sheet") {
+        // `diff_trans` keeps its range of [0, 2] (no clamping to a fraction).
+        Material::PrincipledThin(p) => {
+            assert_eq!((&p.spec_trans, &p.eta), (&Texture::from(0.3), &Texture::from(1.33)));
+            assert_eq!(p.diff_trans.max_value(), Rgb::splat(1.4));
+            assert_eq!((p.rates.diffuse_transmission, p.rates.diffuse_reflection), (2.0, 1.0));
         }
         other => panic!("{other:?}"),
     }

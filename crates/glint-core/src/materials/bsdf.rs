@@ -22,6 +22,7 @@ use super::mask::NullBsdf;
 use super::mixed::MixedBsdf;
 use super::plastic::PlasticBsdf;
 use super::principled::PrincipledBsdf;
+use super::principled_thin::PrincipledThinBsdf;
 use super::rough_conductor::RoughConductorBsdf;
 use super::rough_dielectric::RoughDielectricBsdf;
 use super::rough_plastic::RoughPlasticBsdf;
@@ -205,6 +206,7 @@ pub(super) enum Leaf<'a> {
     Plastic(PlasticBsdf),
     RoughPlastic(RoughPlasticBsdf<'a>),
     Principled(PrincipledBsdf),
+    PrincipledThin(PrincipledThinBsdf),
     Null(NullBsdf),
 }
 
@@ -221,6 +223,7 @@ macro_rules! dispatch {
             Leaf::Plastic($b) => $call,
             Leaf::RoughPlastic($b) => $call,
             Leaf::Principled($b) => $call,
+            Leaf::PrincipledThin($b) => $call,
             Leaf::Null($b) => $call,
         }
     };

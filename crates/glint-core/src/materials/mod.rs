@@ -21,6 +21,7 @@ mod normal_map;
 mod phong;
 mod plastic;
 mod principled;
+mod principled_thin;
 mod rough_conductor;
 mod rough_dielectric;
 mod rough_plastic;
@@ -42,6 +43,7 @@ pub use normal_map::NormalMap;
 pub use phong::{fresnel_dielectric, fresnel_schlick, Fresnel, Phong, PhongPoint};
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
 pub use principled::Principled;
+pub use principled_thin::{PrincipledThin, SamplingRates};
 pub use rough_conductor::RoughConductor;
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::RoughPlastic;
@@ -70,6 +72,7 @@ pub enum Material {
     Plastic(Plastic),
     RoughPlastic(RoughPlastic),
     Principled(Box<Principled>),
+    PrincipledThin(Box<PrincipledThin>),
     Blend(Box<Blend>),
     Mask(Box<Mask>),
     TwoSided(Box<TwoSided>),
@@ -161,6 +164,7 @@ impl Material {
             Material::Plastic(m) => (m.bsdf(query, wo, frame()), weight),
             Material::RoughPlastic(m) => (m.bsdf(query, wo, frame()), weight),
             Material::Principled(m) => (m.bsdf(query, frame()), weight),
+            Material::PrincipledThin(m) => (m.bsdf(query, frame()), weight),
             Material::Blend(b) => {
                 let w = fraction(&b.weight, query);
                 if w < 1.0 {
@@ -217,6 +221,7 @@ impl Material {
             Material::RoughConductor(m) => m.alpha_u != m.alpha_v,
             Material::RoughDielectric(m) => m.alpha_u != m.alpha_v,
             Material::Principled(m) => m.anisotropic != Texture::Constant(Rgb::ZERO),
+            Material::PrincipledThin(m) => m.anisotropic != Texture::Constant(Rgb::ZERO),
             Material::Blend(b) => b.first.needs_tangent() || b.second.needs_tangent(),
             Material::Mask(m) => m.material.needs_tangent(),
             Material::TwoSided(t) => t.front.needs_tangent() || t.back.needs_tangent(),
@@ -256,6 +261,7 @@ impl Material {
             Material::Plastic(m) => m.whitted(query),
             Material::RoughPlastic(m) => m.whitted(query),
             Material::Principled(m) => m.whitted(query),
+            Material::PrincipledThin(m) => m.whitted(query),
             Material::Blend(b) => {
                 let w = fraction(&b.weight, query);
                 let (first, second) = (b.first.whitted(query, outside), b.second.whitted(query, outside));
@@ -371,6 +377,7 @@ impl Material {
             Material::Plastic(m) => max(&m.diffuse).max(max(&m.specular)),
             Material::RoughPlastic(m) => max(&m.plastic.diffuse).max(max(&m.plastic.specular)),
             Material::Principled(m) => max(&m.base_color),
+            Material::PrincipledThin(m) => max(&m.base_color),
             Material::Blend(b) => b.first.largest_factor().max(b.second.largest_factor()),
             Material::Mask(m) => m.material.largest_factor(),
             Material::TwoSided(t) => t.front.largest_factor().max(t.back.largest_factor()),

@@ -91,14 +91,7 @@ impl Principled {
     pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
         let scalar = |t: &Texture| t.evaluate(query).dot(LUMINANCE);
         let (roughness, anisotropic) = (scalar(&self.roughness), scalar(&self.anisotropic));
-        let aspect = (1.0 - 0.9 * anisotropic).max(0.0).sqrt();
-        let r2 = roughness * roughness;
-        let microfacet = Microfacet {
-            alpha_x: (r2 / aspect).max(1e-3),
-            alpha_y: (r2 * aspect).max(1e-3),
-            separable: true,
-            distribution: Distribution::Ggx,
-        };
+        let microfacet = disney_microfacet(roughness, anisotropic);
         let gloss = scalar(&self.clearcoat_gloss);
         Leaf::Principled(PrincipledBsdf {
             // Anisotropic widths lie along the surface's ∂p/∂u.
@@ -138,7 +131,42 @@ impl Principled {
 }
 
 /// Mitsuba's luminance of linear sRGB (its tints and scalar textures).
-const LUMINANCE: Rgb = Rgb::new(0.212671, 0.715160, 0.072169);
+pub(super) const LUMINANCE: Rgb = Rgb::new(0.212671, 0.715160, 0.072169);
+
+/// The base colour's hue at luminance 1 (white where it is black): what the tints lean to.
+pub(super) fn tint(base: Rgb) -> Rgb {
+    let lum = base.dot(LUMINANCE);
+    if lum > 0.0 {
+        base / lum
+    } else {
+        Rgb::ONE
+    }
+}
+
+/// Burley's diffuse with retro-reflection, leaning by `flatness` toward the Hanrahan–Krueger
+/// fake subsurface: the factor of base/π·cos θ_i for a reflection between `o` and `i` (local,
+/// both above) with half vector `h`.
+pub(super) fn burley_diffuse(o: Vec3, i: Vec3, h: Vec3, roughness: f32, flatness: f32) -> f32 {
+    let (fo, fi) = (schlick_weight(o.z), schlick_weight(i.z));
+    let cos_d = h.dot(i);
+    let diffuse = (1.0 - 0.5 * fo) * (1.0 - 0.5 * fi);
+    let rr = 2.0 * roughness * cos_d * cos_d;
+    let retro = rr * (fo + fi + fo * fi * (rr - 1.0));
+    let lobe = diffuse + retro;
+    if flatness == 0.0 {
+        return lobe;
+    }
+    let fss90 = rr / 2.0;
+    let fss = (1.0 + (fss90 - 1.0) * fi) * (1.0 + (fss90 - 1.0) * fo);
+    let subsurface = 1.25 * (fss * (1.0 / (i.z + o.z) - 0.5) + 0.5);
+    lobe + flatness * (subsurface - lobe)
+}
+
+/// The sheen's colour and Fresnel-like rise toward grazing, for a reflection whose half vector
+/// makes cosine `cos_d` with the light: the factor of sheen·cos θ_i.
+pub(super) fn sheen(base: Rgb, sheen_tint: f32, cos_d: f32) -> Rgb {
+    (Rgb::ONE + (tint(base) - Rgb::ONE) * sheen_tint) * schlick_weight(cos_d.abs())
+}
 
 #[derive(Clone, Copy, Debug)]
 pub(super) struct PrincipledBsdf {
@@ -158,15 +186,28 @@ pub(super) struct PrincipledBsdf {
     eta: f32,
 }
 
+/// GGX of width roughness², stretched along ∂p/∂u by 1/√(1 − 0.9·anisotropic) and narrowed
+/// across it by as much (Burley 2012), never below 10⁻³; separable masking, as Mitsuba's.
+pub(super) fn disney_microfacet(roughness: f32, anisotropic: f32) -> Microfacet {
+    let aspect = (1.0 - 0.9 * anisotropic).max(0.0).sqrt();
+    let r2 = roughness * roughness;
+    Microfacet {
+        alpha_x: (r2 / aspect).max(1e-3),
+        alpha_y: (r2 * aspect).max(1e-3),
+        separable: true,
+        distribution: Distribution::Ggx,
+    }
+}
+
 /// (1 − cos)⁵, clamped: Schlick's weight.
-fn schlick_weight(cos: f32) -> f32 {
+pub(super) fn schlick_weight(cos: f32) -> f32 {
     let m = (1.0 - cos).clamp(0.0, 1.0);
     (m * m) * (m * m) * m
 }
 
 /// Schlick's Fresnel from the front of an interface of relative index `eta` (n_t / n_i): with
 /// the incident cosine when η > 1, else with the transmitted one (1 past the critical angle).
-fn schlick(r0: Rgb, cos_i: f32, eta: f32) -> Rgb {
+pub(super) fn schlick(r0: Rgb, cos_i: f32, eta: f32) -> Rgb {
     let cos = if eta > 1.0 { cos_i.abs() } else { (1.0 - (1.0 - cos_i * cos_i) / (eta * eta)).max(0.0).sqrt() };
     r0 + (Rgb::ONE - r0) * schlick_weight(cos)
 }
@@ -230,16 +271,6 @@ struct Choice {
 }
 
 impl PrincipledBsdf {
-    /// The base colour's hue at luminance 1 (white where it is black): what the tints lean to.
-    fn tint(&self) -> Rgb {
-        let lum = self.base.dot(LUMINANCE);
-        if lum > 0.0 {
-            self.base / lum
-        } else {
-            Rgb::ONE
-        }
-    }
-
     fn brdf(&self) -> f32 {
         (1.0 - self.metallic) * (1.0 - self.spec_trans)
     }
@@ -301,7 +332,7 @@ impl PrincipledBsdf {
             return Rgb::splat(self.bsdf_weight() * f);
         }
         let m = self.metallic;
-        let tint = self.tint();
+        let tint = tint(self.base);
         let r0 = ((self.eta - 1.0) / (self.eta + 1.0)).powi(2);
         Rgb::splat((1.0 - m) * (1.0 - self.spec_tint) * f)
             + m * schlick(self.base, cos, self.eta)
@@ -311,26 +342,13 @@ impl PrincipledBsdf {
     /// Burley's diffuse, retro-reflection and fake subsurface, and the sheen (both ·cos θ_i),
     /// for a reflection with half vector `h` (front only).
     fn diffuse_and_sheen(&self, o: Vec3, i: Vec3, h: Vec3) -> Rgb {
-        let (fo, fi) = (schlick_weight(o.z), schlick_weight(i.z));
-        let cos_d = h.dot(i);
         let mut value = Rgb::ZERO;
         let brdf = self.brdf();
         if brdf > 0.0 {
-            let diffuse = (1.0 - 0.5 * fo) * (1.0 - 0.5 * fi);
-            let rr = 2.0 * self.roughness * cos_d * cos_d;
-            let retro = rr * (fo + fi + fo * fi * (rr - 1.0));
-            let mut lobe = diffuse + retro;
-            if self.flatness != 0.0 {
-                let fss90 = rr / 2.0;
-                let fss = (1.0 + (fss90 - 1.0) * fi) * (1.0 + (fss90 - 1.0) * fo);
-                let subsurface = 1.25 * (fss * (1.0 / (i.z + o.z) - 0.5) + 0.5);
-                lobe += self.flatness * (subsurface - lobe);
-            }
-            value += self.base * (brdf * i.z / PI * lobe);
+            value += self.base * (brdf * i.z / PI * burley_diffuse(o, i, h, self.roughness, self.flatness));
         }
         if self.sheen > 0.0 && self.metallic < 1.0 {
-            let colour = Rgb::ONE + (self.tint() - Rgb::ONE) * self.sheen_tint;
-            value += colour * (self.sheen * (1.0 - self.metallic) * schlick_weight(cos_d.abs()) * i.z);
+            value += sheen(self.base, self.sheen_tint, h.dot(i)) * (self.sheen * (1.0 - self.metallic) * i.z);
         }
         value
     }

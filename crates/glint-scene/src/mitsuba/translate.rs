@@ -836,6 +836,29 @@ impl<'a> Translator<'a> {
                     eta: p.float(self, "eta")?,
                 }
             }
+            "principledthin" => {
+                let mut weight = |name: &str| self.fraction(&p, name);
+                let (roughness, anisotropic, spec_trans) =
+                    (weight("roughness")?, weight("anisotropic")?, weight("spec_trans")?);
+                let (spec_tint, sheen, sheen_tint, flatness) =
+                    (weight("spec_tint")?, weight("sheen")?, weight("sheen_tint")?, weight("flatness")?);
+                MaterialDesc::PrincipledThin {
+                    base_color: p.color(self, "base_color")?,
+                    roughness,
+                    anisotropic,
+                    spec_trans,
+                    diff_trans: self.scalar(&p, "diff_trans")?,
+                    eta: self.scalar(&p, "eta")?,
+                    spec_tint,
+                    sheen,
+                    sheen_tint,
+                    flatness,
+                    diffuse_reflectance_sampling_rate: p.float(self, "diffuse_reflectance_sampling_rate")?,
+                    specular_reflectance_sampling_rate: p.float(self, "specular_reflectance_sampling_rate")?,
+                    specular_transmittance_sampling_rate: p.float(self, "specular_transmittance_sampling_rate")?,
+                    diffuse_transmittance_sampling_rate: p.float(self, "diffuse_transmittance_sampling_rate")?,
+                }
+            }
             "plastic" | "roughplastic" => {
                 let diffuse_reflectance = Some(p.color(self, "diffuse_reflectance")?.unwrap_or(ColorDesc::Rgb([0.5; 3])));
                 let specular_reflectance = p.color(self, "specular_reflectance")?;
@@ -901,10 +924,18 @@ impl<'a> Translator<'a> {
 
     /// A blend weight or an opacity: a number or a texture (default: unset, glint's 0.5).
     fn fraction(&mut self, p: &Properties<'a>, name: &str) -> Result<Option<FractionDesc>> {
+        Ok(self.scalar(p, name)?.map(|f| match f {
+            FractionDesc::Number(x) => FractionDesc::Number(x.clamp(0.0, 1.0)),
+            texture => texture,
+        }))
+    }
+
+    /// Property `name` where Mitsuba reads one number of a texture (`eval_1`), unbounded.
+    fn scalar(&mut self, p: &Properties<'a>, name: &str) -> Result<Option<FractionDesc>> {
         Ok(match p.color(self, name)? {
             None => None,
             Some(ColorDesc::Texture(t)) => Some(FractionDesc::Texture(self.scalar_texture(&t))),
-            Some(ColorDesc::Rgb(c)) => Some(FractionDesc::Number(((c[0] + c[1] + c[2]) / 3.0).clamp(0.0, 1.0))),
+            Some(ColorDesc::Rgb(c)) => Some(FractionDesc::Number((c[0] + c[1] + c[2]) / 3.0)),
         })
     }
 

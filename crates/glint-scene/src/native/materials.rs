@@ -5,8 +5,8 @@ use std::collections::BTreeMap;
 
 use glint_core::materials::{
     named_metal, Blend, BumpMap, Conductor, Dielectric, Diffuse, Distribution, Emitter, Fresnel, Mask, Material,
-    NormalMap, Phong, Plastic, Principled, RoughConductor, RoughDielectric, RoughPlastic, ThinDielectric, TwoSided,
-    MAX_LEAVES, METAL_NAMES,
+    NormalMap, Phong, Plastic, Principled, PrincipledThin, RoughConductor, RoughDielectric, RoughPlastic,
+    SamplingRates, ThinDielectric, TwoSided, MAX_LEAVES, METAL_NAMES,
 };
 use glint_core::textures::Texture;
 use glint_core::{Named, Rgb};
@@ -339,6 +339,81 @@ impl Builder<'_> {
                     clearcoat: weight("clearcoat", clearcoat, 0.0)?,
                     clearcoat_gloss: weight("clearcoat_gloss", clearcoat_gloss, 0.0)?,
                     eta,
+                }))
+            }
+            MaterialDesc::PrincipledThin {
+                base_color,
+                roughness,
+                anisotropic,
+                spec_trans,
+                diff_trans,
+                eta,
+                spec_tint,
+                sheen,
+                sheen_tint,
+                flatness,
+                diffuse_reflectance_sampling_rate,
+                specular_reflectance_sampling_rate,
+                specular_transmittance_sampling_rate,
+                diffuse_transmittance_sampling_rate,
+            } => {
+                let weight = |key: &str, f: &Option<FractionDesc>, default: f32| match f {
+                    None => Ok(Texture::Constant(Rgb::splat(default))),
+                    Some(_) => fraction(key, f),
+                };
+                // A number in `range`, or a texture read as given.
+                let ranged =
+                    |key: &str, f: &Option<FractionDesc>, default: f32, range: std::ops::RangeInclusive<f32>| match f {
+                        None => Ok(Texture::Constant(Rgb::splat(default))),
+                        Some(FractionDesc::Number(x)) if range.contains(x) => Ok(Texture::Constant(Rgb::splat(*x))),
+                        Some(FractionDesc::Number(x)) => Err(at(
+                            key,
+                            format!("`{key}` must be between {} and {}, got {x}", range.start(), range.end()),
+                        )),
+                        Some(FractionDesc::Texture(t)) => {
+                            resolve_colour(&ColorDesc::Texture(t.clone()), textures).map_err(|m| at(key, m))
+                        }
+                    };
+                let rate = |key: &str, r: &Option<f32>| match r {
+                    None => Ok(1.0),
+                    Some(r) if *r >= 0.0 && r.is_finite() => Ok(*r),
+                    Some(r) => Err(at(key, format!("`{key}` must be a sampling rate ≥ 0, got {r}"))),
+                };
+                let rates = SamplingRates {
+                    diffuse_reflection: rate("diffuse_reflectance_sampling_rate", diffuse_reflectance_sampling_rate)?,
+                    specular_reflection: rate(
+                        "specular_reflectance_sampling_rate",
+                        specular_reflectance_sampling_rate,
+                    )?,
+                    specular_transmission: rate(
+                        "specular_transmittance_sampling_rate",
+                        specular_transmittance_sampling_rate,
+                    )?,
+                    diffuse_transmission: rate(
+                        "diffuse_transmittance_sampling_rate",
+                        diffuse_transmittance_sampling_rate,
+                    )?,
+                };
+                if rates.diffuse_reflection
+                    + rates.specular_reflection
+                    + rates.specular_transmission
+                    + rates.diffuse_transmission
+                    <= 0.0
+                {
+                    return Err(at("diffuse_reflectance_sampling_rate", "the sampling rates cannot all be 0".into()));
+                }
+                Material::PrincipledThin(Box::new(PrincipledThin {
+                    base_color: colour("base_color", base_color, 0.5)?,
+                    roughness: weight("roughness", roughness, 0.5)?,
+                    anisotropic: weight("anisotropic", anisotropic, 0.0)?,
+                    spec_trans: weight("spec_trans", spec_trans, 0.0)?,
+                    diff_trans: ranged("diff_trans", diff_trans, 0.0, 0.0..=2.0)?,
+                    eta: ranged("eta", eta, 1.5, 1e-3..=f32::MAX)?,
+                    spec_tint: weight("spec_tint", spec_tint, 0.0)?,
+                    sheen: weight("sheen", sheen, 0.0)?,
+                    sheen_tint: weight("sheen_tint", sheen_tint, 0.0)?,
+                    flatness: weight("flatness", flatness, 0.0)?,
+                    rates,
                 }))
             }
             MaterialDesc::Blend { weight, first, second } => {

@@ -332,6 +332,25 @@ pub enum MaterialDesc {
         clearcoat: Option<FractionDesc>,
         clearcoat_gloss: Option<FractionDesc>,
     },
+    /// Disney's thin-sheet principled BSDF (Mitsuba's `principledthin`): the weights as in
+    /// `principled`, `diff_trans` in [0, 2], `eta` a number or texture, and the lobes'
+    /// sampling rates.
+    PrincipledThin {
+        base_color: Option<ColorDesc>,
+        roughness: Option<FractionDesc>,
+        anisotropic: Option<FractionDesc>,
+        spec_trans: Option<FractionDesc>,
+        diff_trans: Option<FractionDesc>,
+        eta: Option<FractionDesc>,
+        spec_tint: Option<FractionDesc>,
+        sheen: Option<FractionDesc>,
+        sheen_tint: Option<FractionDesc>,
+        flatness: Option<FractionDesc>,
+        diffuse_reflectance_sampling_rate: Option<f32>,
+        specular_reflectance_sampling_rate: Option<f32>,
+        specular_transmittance_sampling_rate: Option<f32>,
+        diffuse_transmittance_sampling_rate: Option<f32>,
+    },
     /// (1 − weight)·first + weight·second (Mitsuba's `blendbsdf`); materials by name.
     Blend { weight: Option<FractionDesc>, first: String, second: String },
     /// `material` where the surface is, passed through elsewhere (Mitsuba's `mask`).

@@ -1,0 +1,461 @@
+//! The thin principled BSDF (Burley 2015's thin-surface mode) as Mitsuba 3 defines it
+//! (`principledthin`): a sheet with no inside, such as a leaf, paper or a curtain, the same from
+//! both sides. It reflects and transmits diffusely and through rough microfacets, and light
+//! leaves the other side without bending.
+//!
+//! Scene parameters (each a number or a texture's luminance, except `base_color`, a colour or
+//! texture): `base_color` (0.5), `roughness` (0.5), `anisotropic` (0), `spec_trans` (0),
+//! `diff_trans` (0, in [0, 2]: the share of the diffuse light sent through, ×2), `eta` (1.5),
+//! `spec_tint` (0), `sheen` (0), `sheen_tint` (0), `flatness` (0), and the lobes' sampling rates
+//! `diffuse_reflectance_sampling_rate`, `specular_reflectance_sampling_rate`,
+//! `specular_transmittance_sampling_rate`, `diffuse_transmittance_sampling_rate` (1 each).
+//! ```toml
+//! [materials.leaf]
+//! type = "principled-thin"
+//! base_color = [0.2, 0.6, 0.1]
+//! roughness = 0.4
+//! spec_trans = 0.3
+//! diff_trans = 0.8
+//! eta = 1.33
+//! ```
+//! Lobes, with diffuse transmission dt = diff_trans / 2 (each ·|cos θ_i|):
+//! * specular reflection, spec_trans·F·D·G / (4 cos θ_o): GGX of width roughness² (stretched
+//!   by anisotropy), F the dielectric Fresnel at η leaning by `spec_tint` to Schlick's tinted
+//!   by the base colour. As Mitsuba's, it is weighed by `spec_trans`: without transmission
+//!   there is no glossy reflection;
+//! * specular transmission, spec_trans·base·(1 − F)·D′·G′ / (4 cos θ_o) at the mirror image
+//!   through the sheet of a reflection, with widths scaled by (0.65η − 0.35) (Burley 2015,
+//!   fig. 15), where the image still sees its microfacet from behind;
+//! * Burley's diffuse and retro-reflection (toward the fake subsurface by `flatness`) and the
+//!   sheen, (1 − spec_trans)(1 − dt);
+//! * Lambert's transmission, (1 − spec_trans)·dt·base/π.
+//!
+//! Sampling: the four lobes with Mitsuba's probabilities (∝ rate × spec_trans/2,
+//! spec_trans/2, (1 − spec_trans)(1 − dt), (1 − spec_trans)·dt), the glossy ones by visible
+//! normals; a microfacet sample that lands on the wrong side is lost light (as in Mitsuba), not
+//! a sample of another lobe. The pdf is the same mixture, so sampling and pdf agree exactly.
+
+use std::f32::consts::PI;
+
+use glam::{Vec2, Vec3};
+
+use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
+use super::principled::{burley_diffuse, disney_microfacet, schlick, sheen, tint, LUMINANCE};
+use super::{fresnel_dielectric, Fresnel, Microfacet, PhongPoint};
+use crate::geometry::reflect;
+use crate::sampling::warp::square_to_cosine_hemisphere;
+use crate::textures::{Texture, TextureQuery};
+use crate::Rgb;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct PrincipledThin {
+    pub base_color: Texture,
+    pub roughness: Texture,
+    pub anisotropic: Texture,
+    pub spec_trans: Texture,
+    /// In [0, 2]: 0 reflects all the diffuse light, 2 transmits it all.
+    pub diff_trans: Texture,
+    /// The sheet's index relative to its surroundings.
+    pub eta: Texture,
+    pub spec_tint: Texture,
+    pub sheen: Texture,
+    pub sheen_tint: Texture,
+    pub flatness: Texture,
+    /// The lobes' relative sampling rates (they change the noise, not the image).
+    pub rates: SamplingRates,
+}
+
+/// How often each lobe is drawn, relative to Mitsuba's default split.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SamplingRates {
+    pub diffuse_reflection: f32,
+    pub specular_reflection: f32,
+    pub specular_transmission: f32,
+    pub diffuse_transmission: f32,
+}
+
+impl Default for SamplingRates {
+    fn default() -> Self {
+        Self {
+            diffuse_reflection: 1.0,
+            specular_reflection: 1.0,
+            specular_transmission: 1.0,
+            diffuse_transmission: 1.0,
+        }
+    }
+}
+
+impl Default for PrincipledThin {
+    /// Mitsuba's defaults.
+    fn default() -> Self {
+        let grey = |v: f32| Texture::Constant(Rgb::splat(v));
+        Self {
+            base_color: grey(0.5),
+            roughness: grey(0.5),
+            anisotropic: grey(0.0),
+            spec_trans: grey(0.0),
+            diff_trans: grey(0.0),
+            eta: grey(1.5),
+            spec_tint: grey(0.0),
+            sheen: grey(0.0),
+            sheen_tint: grey(0.0),
+            flatness: grey(0.0),
+            rates: SamplingRates::default(),
+        }
+    }
+}
+
+impl PrincipledThin {
+    pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
+        let scalar = |t: &Texture| t.evaluate(query).dot(LUMINANCE);
+        let (roughness, anisotropic) = (scalar(&self.roughness), scalar(&self.anisotropic));
+        let eta = scalar(&self.eta);
+        let (spec_trans, diff_trans) = (scalar(&self.spec_trans), 0.5 * scalar(&self.diff_trans));
+        let reflection = disney_microfacet(roughness, anisotropic);
+        let transmission = disney_microfacet((0.65 * eta - 0.35) * roughness, anisotropic);
+        let rates = self.rates;
+        let mut probabilities = [
+            rates.specular_reflection * spec_trans / 2.0,
+            rates.specular_transmission * spec_trans / 2.0,
+            rates.diffuse_reflection * (1.0 - spec_trans) * (1.0 - diff_trans),
+            rates.diffuse_transmission * (1.0 - spec_trans) * diff_trans,
+        ];
+        let total: f32 = probabilities.iter().sum();
+        for p in &mut probabilities {
+            *p /= total;
+        }
+        Leaf::PrincipledThin(PrincipledThinBsdf {
+            // Anisotropic widths lie along the surface's ∂p/∂u.
+            frame: if reflection.alpha_x != reflection.alpha_y { frame.along(query.dpdu) } else { frame },
+            base: self.base_color.evaluate(query),
+            roughness,
+            spec_trans,
+            diff_trans,
+            eta,
+            spec_tint: scalar(&self.spec_tint),
+            sheen: scalar(&self.sheen),
+            sheen_tint: scalar(&self.sheen_tint),
+            flatness: scalar(&self.flatness),
+            reflection,
+            transmission,
+            probabilities,
+        })
+    }
+
+    /// Whitted's view: the diffuse reflection, a mirror of the specular share's Fresnel
+    /// reflectance seen head-on, and the rest of it passed straight through (index 1: the sheet
+    /// does not bend light). Diffuse transmission has no Whitted reading and is left out.
+    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
+        let scalar = |t: &Texture| t.evaluate(query).dot(LUMINANCE);
+        let base = self.base_color.evaluate(query);
+        let spec_trans = scalar(&self.spec_trans).clamp(0.0, 1.0);
+        let diff_trans = (0.5 * scalar(&self.diff_trans)).clamp(0.0, 1.0);
+        let f = fresnel_dielectric(1.0, 1.0 / scalar(&self.eta));
+        PhongPoint {
+            diffuse: base * ((1.0 - spec_trans) * (1.0 - diff_trans)),
+            reflection: Rgb::splat(spec_trans * f),
+            transmission: base * (spec_trans * (1.0 - f)),
+            ior: 1.0,
+            fresnel: Fresnel::None,
+            ..PhongPoint::BLACK
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PrincipledThinBsdf {
+    frame: Frame,
+    base: Rgb,
+    roughness: f32,
+    spec_trans: f32,
+    /// Halved: in [0, 1].
+    diff_trans: f32,
+    eta: f32,
+    spec_tint: f32,
+    sheen: f32,
+    sheen_tint: f32,
+    flatness: f32,
+    reflection: Microfacet,
+    /// The reflection's widths scaled by (0.65η − 0.35).
+    transmission: Microfacet,
+    /// Specular reflection, specular transmission, diffuse reflection, diffuse transmission.
+    probabilities: [f32; 4],
+}
+
+/// `v` mirrored through the sheet's plane (local).
+fn through(v: Vec3) -> Vec3 {
+    Vec3::new(v.x, v.y, -v.z)
+}
+
+impl PrincipledThinBsdf {
+    /// The dielectric Fresnel reflectance at a micro-normal seen at cosine `cos`, leaning by
+    /// `spec_tint` toward Schlick's tinted by the base colour.
+    fn reflectance(&self, cos: f32) -> Rgb {
+        let f = fresnel_dielectric(cos, 1.0 / self.eta);
+        if self.spec_tint == 0.0 {
+            return Rgb::splat(f);
+        }
+        let r0 = ((self.eta - 1.0) / (self.eta + 1.0)).powi(2);
+        let tinted = schlick(tint(self.base) * r0, cos, self.eta);
+        Rgb::splat(f) + (tinted - Rgb::splat(f)) * self.spec_tint
+    }
+
+    /// The half vector of a transmission to `i` (below): that of the reflection `i` mirrors,
+    /// where the transmitted direction still sees its microfacet from behind (Mitsuba's
+    /// macro–micro compatibility); `None` elsewhere.
+    fn transmission_half_vector(o: Vec3, i: Vec3) -> Option<Vec3> {
+        let h = (o + through(i)).try_normalize()?;
+        (o.dot(h) > 0.0 && i.dot(h) < 0.0).then_some(h)
+    }
+}
+
+impl Lobes for PrincipledThinBsdf {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        if o.z <= 0.0 {
+            return Rgb::ZERO;
+        }
+        let (st, dt) = (self.spec_trans, self.diff_trans);
+        let mut value = Rgb::ZERO;
+        if self.frame.reflects(wi) {
+            let h = (o + i).normalize();
+            if st > 0.0 {
+                value += self.reflectance(o.dot(h)) * (st * self.reflection.reflection_eval(o, i));
+            }
+            if st < 1.0 && dt < 1.0 {
+                let diffuse = self.base * (i.z / PI * burley_diffuse(o, i, h, self.roughness, self.flatness));
+                let sheen = sheen(self.base, self.sheen_tint, h.dot(i)) * (self.sheen * i.z);
+                value += (diffuse + sheen) * ((1.0 - st) * (1.0 - dt));
+            }
+        } else if self.frame.transmits(wi) {
+            if st > 0.0 {
+                if let Some(h) = Self::transmission_half_vector(o, i) {
+                    let f = fresnel_dielectric(o.dot(h), 1.0 / self.eta);
+                    value += self.base * (st * (1.0 - f) * self.transmission.reflection_eval(o, through(i)));
+                }
+            }
+            if st < 1.0 && dt > 0.0 {
+                value += self.base * ((1.0 - st) * dt * -i.z / PI);
+            }
+        }
+        value
+    }
+
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        if o.z <= 0.0 {
+            return 0.0;
+        }
+        let [specular_reflection, specular_transmission, diffuse_reflection, diffuse_transmission] = self.probabilities;
+        if self.frame.reflects(wi) {
+            let glossy = if specular_reflection > 0.0 { self.reflection.reflection_pdf(o, i) } else { 0.0 };
+            return specular_reflection * glossy + diffuse_reflection * i.z / PI;
+        }
+        if self.frame.transmits(wi) {
+            let glossy = match Self::transmission_half_vector(o, i) {
+                Some(_) if specular_transmission > 0.0 => self.transmission.reflection_pdf(o, through(i)),
+                _ => 0.0,
+            };
+            return specular_transmission * glossy + diffuse_transmission * -i.z / PI;
+        }
+        0.0
+    }
+
+    fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let o = self.frame.to_local(wo);
+        if o.z <= 0.0 {
+            return None;
+        }
+        let [specular_reflection, specular_transmission, diffuse_reflection, _] = self.probabilities;
+        let local = if u_lobe < specular_reflection {
+            let i = reflect(-o, self.reflection.sample_normal(o, u));
+            if i.z <= 0.0 {
+                return None;
+            }
+            i
+        } else if u_lobe < specular_reflection + specular_transmission {
+            let h = self.transmission.sample_normal(o, u);
+            let i = through(reflect(-o, h));
+            if i.z >= 0.0 || i.dot(h) >= 0.0 || o.dot(h) <= 0.0 {
+                return None;
+            }
+            i
+        } else if u_lobe < specular_reflection + specular_transmission + diffuse_reflection {
+            square_to_cosine_hemisphere(u)
+        } else {
+            through(square_to_cosine_hemisphere(u))
+        };
+        let wi = self.frame.to_world(local);
+        if local.z > 0.0 && !self.frame.reflects(wi) || local.z < 0.0 && !self.frame.transmits(wi) {
+            return None;
+        }
+        self.weighed(wo, wi, 1.0)
+    }
+
+    fn non_delta_probability(&self) -> f32 {
+        1.0
+    }
+
+    fn frame(&self) -> &Frame {
+        &self.frame
+    }
+    fn frame_mut(&mut self) -> &mut Frame {
+        &mut self.frame
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::materials::testing::{albedo, albedo_by_quadrature, at, check_sampling, frame_toward};
+
+    fn grey(v: f32) -> Texture {
+        Texture::Constant(Rgb::splat(v))
+    }
+
+    /// A leaf with every lobe, a brushed sheet (anisotropic, tinted, skewed sampling rates),
+    /// and a mostly transmitting film.
+    fn members() -> Vec<(&'static str, PrincipledThin)> {
+        vec![
+            (
+                "leaf",
+                PrincipledThin {
+                    base_color: Texture::Constant(Rgb::new(0.2, 0.7, 0.1)),
+                    roughness: grey(0.4),
+                    spec_trans: grey(0.3),
+                    diff_trans: grey(0.8),
+                    eta: grey(1.33),
+                    sheen: grey(0.5),
+                    sheen_tint: grey(0.4),
+                    flatness: grey(0.3),
+                    ..Default::default()
+                },
+            ),
+            (
+                "brushed sheet",
+                PrincipledThin {
+                    base_color: Texture::Constant(Rgb::new(0.9, 0.5, 0.3)),
+                    roughness: grey(0.5),
+                    anisotropic: grey(0.8),
+                    spec_trans: grey(0.6),
+                    diff_trans: grey(1.4),
+                    spec_tint: grey(0.5),
+                    rates: SamplingRates {
+                        diffuse_reflection: 0.5,
+                        specular_reflection: 2.0,
+                        specular_transmission: 1.0,
+                        diffuse_transmission: 3.0,
+                    },
+                    ..Default::default()
+                },
+            ),
+            (
+                "film",
+                PrincipledThin {
+                    base_color: grey(0.9),
+                    roughness: grey(0.3),
+                    spec_trans: grey(0.9),
+                    diff_trans: grey(0.2),
+                    eta: grey(1.6),
+                    ..Default::default()
+                },
+            ),
+        ]
+    }
+
+    /// Over the whole sphere, from both sides: the sheet has no inside.
+    #[test]
+    fn sampling_matches_pdf_from_both_sides() {
+        let n = Vec3::new(0.1, -0.2, 1.0).normalize();
+        for (k, (_, m)) in members().into_iter().enumerate() {
+            for wo in [Vec3::new(0.4, -0.3, 0.8), Vec3::new(0.9, 0.1, 0.2), Vec3::new(-0.3, 0.2, -0.9)] {
+                let wo = wo.normalize();
+                let bsdf = at(&m.bsdf(&Default::default(), frame_toward(wo, n)));
+                check_sampling(&bsdf, wo, n, 71 + k as u64);
+            }
+        }
+    }
+
+    /// The albedo by sampling equals the albedo by quadrature of `eval`; a white sheet keeps
+    /// at most what it receives.
+    #[test]
+    fn albedo_by_sampling_equals_quadrature_and_a_white_sheet_conserves_energy() {
+        let wo = Vec3::new(0.3, 0.0, 0.95).normalize();
+        for (name, m) in members() {
+            let bsdf = at(&m.bsdf(&Default::default(), frame_toward(wo, Vec3::Z)));
+            let a = albedo(&bsdf, wo, 200_000, 9);
+            let q = albedo_by_quadrature(&bsdf, wo);
+            assert!((a.mean - q).abs() < 5.0 * a.standard_error + 0.015 * q, "{name}: sampled {a:?}, quadrature {q}");
+        }
+        for (spec_trans, diff_trans) in [(1.0, 0.0), (0.0, 2.0), (0.5, 1.0)] {
+            let white = PrincipledThin {
+                base_color: grey(1.0),
+                roughness: grey(0.3),
+                spec_trans: grey(spec_trans),
+                diff_trans: grey(diff_trans),
+                ..Default::default()
+            };
+            for wo in [wo, Vec3::new(0.5, 0.2, -0.8).normalize()] {
+                let bsdf = at(&white.bsdf(&Default::default(), frame_toward(wo, Vec3::Z)));
+                let a = albedo(&bsdf, wo, 200_000, 10);
+                assert!(a.mean <= 1.0 + 1e-5 + 4.0 * a.standard_error, "{spec_trans}/{diff_trans} from {wo}: {a:?}");
+            }
+        }
+    }
+
+    /// Values by hand. All diffuse transmission (diff_trans 2, spec_trans 0): Lambert's
+    /// transmission base/π·|cos θ_i| and no reflection. All specular (spec_trans 1), seen and
+    /// lit head-on: reflection F(1)·D(z)·G / 4 with D(z) = 1/(πα²), and through the sheet the
+    /// same with the scaled width and 1 − F, times the base colour.
+    #[test]
+    fn lambert_transmission_and_head_on_specular_values_by_hand() {
+        let base = Rgb::new(0.2, 0.5, 0.7);
+        let frame = frame_toward(Vec3::Z, Vec3::Z);
+        let wi = Vec3::new(0.6, 0.0, -0.8);
+        let translucent =
+            PrincipledThin { base_color: Texture::Constant(base), diff_trans: grey(2.0), ..Default::default() };
+        let bsdf = at(&translucent.bsdf(&Default::default(), frame));
+        let value = bsdf.eval(Vec3::Z, wi);
+        let expected = base / PI * 0.8;
+        assert!((value - expected).abs().max_element() < 1e-6, "{value} vs {expected}");
+        assert_eq!(bsdf.eval(Vec3::Z, Vec3::new(0.6, 0.0, 0.8)), Rgb::ZERO);
+
+        let eta = 1.5f32;
+        let specular = PrincipledThin {
+            base_color: Texture::Constant(base),
+            roughness: grey(0.5),
+            spec_trans: grey(1.0),
+            eta: grey(eta),
+            ..Default::default()
+        };
+        let bsdf = at(&specular.bsdf(&Default::default(), frame));
+        let f = ((eta - 1.0) / (eta + 1.0)).powi(2);
+        let alpha = 0.25f32;
+        let reflected = bsdf.eval(Vec3::Z, Vec3::Z);
+        let expected = f / (4.0 * PI * alpha * alpha);
+        assert!((reflected - Rgb::splat(expected)).abs().max_element() < 1e-4 * expected, "{reflected} vs {expected}");
+        let scaled = (0.65 * eta - 0.35) * 0.5;
+        let alpha = scaled * scaled;
+        let transmitted = bsdf.eval(Vec3::Z, -Vec3::Z);
+        let expected = base * ((1.0 - f) / (4.0 * PI * alpha * alpha));
+        assert!(
+            (transmitted - expected).abs().max_element() < 1e-4 * expected.max_element(),
+            "{transmitted} vs {expected}"
+        );
+    }
+
+    /// The sheet has no inside: seen from behind, it answers as from the front mirrored.
+    #[test]
+    fn both_sides_are_alike() {
+        let (_, m) = members().remove(0);
+        let (wo, wi) = (Vec3::new(0.3, 0.4, 0.7).normalize(), Vec3::new(-0.5, 0.1, 0.6).normalize());
+        let front = at(&m.bsdf(&Default::default(), frame_toward(wo, Vec3::Z)));
+        let back = at(&m.bsdf(&Default::default(), frame_toward(through(wo), Vec3::Z)));
+        for wi in [wi, through(wi)] {
+            let (a, b) = (front.eval(wo, wi), back.eval(through(wo), through(wi)));
+            assert!((a - b).abs().max_element() < 1e-6, "{a} vs {b}");
+            let (a, b) = (front.pdf(wo, wi), back.pdf(through(wo), through(wi)));
+            assert!((a - b).abs() < 1e-6, "{a} vs {b}");
+        }
+    }
+}
