@@ -42,6 +42,7 @@ const PASSING: &[&str] = &[
     "test_projector_constant_direct",
     "test_projector_textured_direct",
     "test_texturedprincipledthin_path",
+    "test_various_emitters_ptracer",
     // In the media group, but its medium-free surfaces are all it has.
     "test_surf_area_light_volpath",
 ];

@@ -27,12 +27,12 @@ use glint_core::camera::Camera;
 use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
 use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight, SpotLight, TriangleSampling};
-use glint_core::materials::{Material, Phong};
+use glint_core::materials::{Emitter, Material, Phong};
 use glint_core::render::{render_with, RenderSettings};
 use glint_core::scene::Scene;
-use glint_core::shapes::{AaBox, Plane, Polygon, Shape, Sphere, Triangle};
-use glint_core::textures::Texture;
-use glint_core::{Rgb, Vec3};
+use glint_core::shapes::{AaBox, Mesh, Plane, Polygon, Shape, Sphere, Triangle};
+use glint_core::textures::{Checker, Texture};
+use glint_core::{Rgb, Vec2, Vec3};
 
 #[test]
 fn a_floor_under_a_spherical_light_has_the_analytic_radiance() {
@@ -122,6 +122,63 @@ fn a_floor_under_polygon_and_box_lights_matches_lamberts_formula() {
     }
     let mut s = scene(vec![floor(), aabox]);
     check(&mut s, irradiance, "turned box light");
+}
+
+/// A light whose radiance is a texture: a checker of two cells across u, so the quad's two
+/// halves shine at L₀ and L₁ and the irradiance is Lambert's formula over each half. As a
+/// mesh (its triangles sampled by area, uv by barycentrics) and as a polygon (one light, uv
+/// bilinear over its corners), under the path tracers and light tracing, whose particles
+/// start with the texture's radiance where they leave.
+#[test]
+fn a_floor_under_a_textured_quad_light_matches_lamberts_formula_over_each_half() {
+    let (dim, bright, albedo) = (1.0f32, 5.0f32, 0.5f32);
+    // Facing down, u along +x: the halves are x < −0.1 (dim) and x > −0.1 (bright).
+    let quad =
+        [Vec3::new(-0.5, 1.0, -0.2), Vec3::new(0.3, 1.0, -0.2), Vec3::new(0.3, 1.0, 0.6), Vec3::new(-0.5, 1.0, 0.6)];
+    let uvs = vec![Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0), Vec2::new(0.0, 1.0)];
+    let middle = |z: f32| Vec3::new(-0.1, 1.0, z);
+    let halves =
+        [(dim, [quad[0], middle(-0.2), middle(0.6), quad[3]]), (bright, [middle(-0.2), quad[1], quad[2], middle(0.6)])];
+    let irradiance_at =
+        |at: Vec3| -> f64 { halves.iter().map(|(l, half)| lambert_irradiance(*l as f64, &half.map(|v| v - at))).sum() };
+    let mesh = Mesh {
+        positions: quad.to_vec(),
+        uvs: Some(uvs.clone()),
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        ..Mesh::default()
+    };
+    let polygon = Polygon::new(quad.to_vec()).unwrap().with_uvs(uvs).unwrap();
+    let checker = Texture::Checker(Box::new(Checker::new(Rgb::splat(dim), Rgb::splat(bright), Vec2::new(2.0, 1.0))));
+    let lamp =
+        Material::Emitter(Box::new(Emitter { radiance: checker, two_sided: false, surface: material(0.0, 0.0) }));
+    for (name, light) in [("mesh", Shape::Mesh(mesh)), ("polygon", Shape::Polygon(polygon))] {
+        let mut s = scene(vec![object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0), object_with(light, 1)]);
+        s.set_materials(vec![material(albedo, 0.0), lamp.clone()]);
+        s.set_camera(Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap());
+        let expected = albedo as f64 / std::f64::consts::PI * irradiance_at(Vec3::ZERO);
+        check_image_mean(&s, IntegratorKind::Path, 64, expected, None, &format!("textured {name} light, path"));
+        check_image_mean(&s, IntegratorKind::PathNaive, 1024, expected, None, &format!("textured {name} light, naive"));
+
+        // Light tracing, over a wide view of the floor beside the light (out of view).
+        s.set_camera(Camera::new(Vec3::new(1.2, 2.5, -2.0), Vec3::new(1.2, 0.0, 0.6), Vec3::Y, 20.0, 16, 16).unwrap());
+        let expected: f64 = (0..16 * 16)
+            .map(|i| {
+                let ray = s.camera().generate_ray((i % 16) as f32 + 0.5, (i / 16) as f32 + 0.5);
+                let hit = s.intersect(&ray).expect("every pixel sees the floor");
+                assert_eq!(hit.object, 0, "the light is out of view");
+                albedo as f64 / std::f64::consts::PI * irradiance_at(hit.geometry.point)
+            })
+            .sum::<f64>()
+            / 256.0;
+        let settings = IntegratorSettings { max_depth: 1, ..Default::default() };
+        let mut renderer = IntegratorKind::Light.renderer(&settings, &s, 1).expect("a physical light");
+        let image =
+            render_with(&s, renderer.as_mut(), &RenderSettings { spp: 4096, seed: 4, ..Default::default() }, &|| {})
+                .film
+                .to_rgb();
+        let mean = image.iter().map(|p| p.x as f64).sum::<f64>() / image.len() as f64;
+        assert!((mean / expected - 1.0).abs() < 0.005, "textured {name} light, light tracing: {mean} vs {expected}");
+    }
 }
 
 #[test]

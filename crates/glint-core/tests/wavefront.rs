@@ -394,7 +394,7 @@ fn the_wavefront_serves_one_sided_and_two_sided_diffuse() {
             *m = if p.emission != Rgb::ZERO {
                 let two_sided = Material::TwoSided(Box::new(TwoSided { front: lambert.clone(), back: lambert }));
                 Material::Emitter(Box::new(Emitter {
-                    radiance: p.emission,
+                    radiance: Texture::Constant(p.emission),
                     two_sided: p.two_sided_emission,
                     surface: two_sided,
                 }))
@@ -413,4 +413,38 @@ fn the_wavefront_serves_one_sided_and_two_sided_diffuse() {
     for (seed, index) in [(0, 0), (5, 2), (9, 17)] {
         assert_same(&scene, &tracer, SamplerKind::Sobol, seed, index);
     }
+}
+
+/// Textured emitters (Mitsuba's textured `radiance`): the lanes read the texture where paths
+/// hit them, and light samples, which the lanes' triangle table cannot hold, come from the
+/// scalar code. Bit for bit as the scalar code, and the texture shows.
+#[test]
+fn the_wavefront_serves_textured_emitters() {
+    use glint_core::materials::{Diffuse, Emitter};
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 3 } };
+    let textured = |bright: f32| {
+        room_where(|_, materials| {
+            for m in materials.iter_mut() {
+                let Material::Phong(p) = m.clone() else { unreachable!("the room is Phong") };
+                if p.emission != Rgb::ZERO {
+                    let checker = Checker::new(p.emission, p.emission * bright, Vec2::splat(4.0));
+                    *m = Material::Emitter(Box::new(Emitter {
+                        radiance: Texture::Checker(Box::new(checker)),
+                        two_sided: p.two_sided_emission,
+                        surface: Material::Diffuse(Diffuse { reflectance: p.diffuse.clone() }),
+                    }));
+                }
+            }
+        })
+    };
+    let (plain, checkered) = (textured(1.0), textured(3.0));
+    for (seed, index) in [(0, 0), (5, 2), (9, 17)] {
+        assert_same(&checkered, &tracer, SamplerKind::Sobol, seed, index);
+    }
+    let mean = |scene: &Scene| {
+        let (rays, mut contexts) = camera_samples(scene, SamplerKind::Sobol, 1, 0);
+        let total: f64 = rays.iter().zip(&mut contexts).map(|(ray, c)| tracer.radiance(scene, ray, c).x as f64).sum();
+        total / rays.len() as f64
+    };
+    assert!(mean(&checkered) > 1.2 * mean(&plain), "the brighter checks light the room");
 }

@@ -109,7 +109,7 @@ material = "shiny"
         if f.alpha_u == 0.1.into() && f.distribution == glint_core::materials::Distribution::Beckmann));
     assert!(matches!(material(&loaded, "pane"), Material::ThinDielectric(_)));
     assert!(matches!(material(&loaded, "leaf"), Material::Mask(m) if matches!(m.material, Material::Emitter(_))));
-    assert!(matches!(material(&loaded, "paper"), Material::Emitter(e) if e.radiance == Rgb::ONE));
+    assert!(matches!(material(&loaded, "paper"), Material::Emitter(e) if e.radiance == Texture::Constant(Rgb::ONE)));
     assert!(matches!(material(&loaded, "lamp"), Material::Emitter(e) if matches!(e.surface, Material::TwoSided(_))));
     assert!(matches!(material(&loaded, "card"), Material::TwoSided(t) if t.front != t.back));
 }
@@ -192,6 +192,39 @@ eta = 1
     assert!(e.contains("bsdfs.toml:") && e.contains("`specular` or `eta`"), "{e}");
     let e = parse("[materials.a]\ntype = \"principled\"\nsheen = 1.5\n").err().unwrap().to_string();
     assert!(e.contains("`sheen` must be between 0 and 1"), "{e}");
+}
+
+/// Emission given as a texture, on `diffuse` and on `emitter`; an unknown texture is refused
+/// at its line.
+#[test]
+fn emission_may_be_a_texture() {
+    let loaded = parse(
+        r#"
+[textures.checks]
+type = "checker"
+even = [1, 1, 1]
+odd = [4, 4, 4]
+
+[materials.a]
+type = "diffuse"
+emission = "checks"
+
+[materials.sign]
+type = "emitter"
+radiance = "checks"
+material = "a"
+"#,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    for name in ["a", "sign"] {
+        match material(&loaded, name) {
+            Material::Emitter(e) => assert!(matches!(e.radiance, Texture::Checker(_)), "{name}: {:?}", e.radiance),
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+    assert!(loaded.scene.lights().area_count() > 0, "a textured emitter is an area light");
+    let e = parse("[materials.a]\ntype = \"diffuse\"\nemission = \"nowhere\"\n").err().unwrap().to_string();
+    assert!(e.contains("bsdfs.toml:") && e.contains("unknown texture `nowhere`"), "{e}");
 }
 
 /// `principled-thin`: Mitsuba's defaults, `diff_trans` up to 2, a textured `eta`, sampling

@@ -198,11 +198,42 @@ fn wrappers_map_onto_the_bsdf_set() {
     let emitters: Vec<&Material> = scene.materials().iter().filter(|m| matches!(m, Material::Emitter(_))).collect();
     match emitters.as_slice() {
         [Material::Emitter(e)] => {
-            assert!(matches!(e.surface, Material::Plastic(_)) && e.radiance == Rgb::splat(2.0) && !e.two_sided)
+            assert!(
+                matches!(e.surface, Material::Plastic(_))
+                    && e.radiance == Texture::Constant(Rgb::splat(2.0))
+                    && !e.two_sided
+            )
         }
         other => panic!("{other:?}"),
     }
     assert!(scene.lights().area_count() > 0, "the emitting plastic is an area light");
+}
+
+/// An `area` emitter with a textured `radiance`, on Mitsuba's default diffuse and on a
+/// plastic: the texture becomes the emitter's radiance, and the shape an area light.
+#[test]
+fn a_textured_area_emitter_keeps_its_texture() {
+    let path = scene_file(
+        "textured-emitter",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<shape type="rectangle"><emitter type="area"><texture name="radiance" type="checkerboard"><rgb name="color0" value="1, 2, 3"/></texture></emitter></shape>
+<shape type="sphere"><bsdf type="plastic"/><emitter type="area"><texture name="radiance" type="checkerboard"/></emitter></shape>
+</scene>
+"#
+        ),
+    );
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = &loaded.scene;
+    let emitters: Vec<&Material> = scene.materials().iter().filter(|m| matches!(m, Material::Emitter(_))).collect();
+    assert_eq!(emitters.len(), 2, "{emitters:?}");
+    for m in emitters {
+        let Material::Emitter(e) = m else { unreachable!() };
+        let Texture::Checker(checker) = &e.radiance else { panic!("{:?}", e.radiance) };
+        assert!(checker.even == Rgb::new(1.0, 2.0, 3.0) || checker.even == Rgb::splat(0.4), "{checker:?}");
+    }
+    assert_eq!(scene.lights().area_count(), 2 + 1, "the rectangle's two triangles and the sphere");
 }
 
 /// `normalmap` around a BSDF, its bitmap read raw: the stored (128, 128, 255) is the flat
@@ -786,7 +817,7 @@ fn instances_place_a_shapegroup_shared() {
 /// `projector`: a spot light with the projector profile (irradiance π·E/cos³θ within the
 /// frame of half-angle fov/2), its `irradiance` times `scale` as the colour, a white slide
 /// setting the frame where no texture is given, an image's aspect where one is; no `fov` is
-/// an error.
+/// Mitsuba's 50 mm lens.
 #[test]
 fn a_projector_is_a_spot_with_the_projector_profile() {
     let path = scene_file(
@@ -820,9 +851,48 @@ fn a_projector_is_a_spot_with_the_projector_profile() {
     // Straight down from 1 above: E = 1 (times the colour), π·E/cos³0 at distance 1.
     let below = spots[0].illuminate(Vec3::ZERO).intensity;
     assert!((below - Rgb::new(1.0, 2.0, 3.0) * std::f32::consts::PI).abs().max_element() < 1e-5, "{below}");
-    let e =
-        error_of("no-fov", &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"projector\"/>\n</scene>\n"));
-    assert!(e.contains("no-fov.xml:3:") && e.contains("needs a `fov`"), "{e}");
+
+    // Without `fov`, Mitsuba's 50 mm lens spans the slide's diagonal: the half-width of a
+    // square frame is atan(21.63 / 50 / √2) = 17.011° (Mitsuba 3.9's x_fov: 34.0221°), of a
+    // 2 : 1 frame atan(21.63 / 50 · 2 / √5) = 21.15°.
+    let path = scene_file(
+        "projector-lens",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<emitter type="projector"/>
+<emitter type="projector"><texture type="bitmap" name="irradiance"><string name="filename" value="wide.png"/></texture></emitter>
+<emitter type="projector"><string name="focal_length" value="25mm"/></emitter>
+</scene>
+"#
+        ),
+    );
+    image::RgbImage::from_raw(4, 2, vec![255; 24]).unwrap().save(path.with_file_name("wide.png")).unwrap();
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let cones: Vec<f32> = loaded
+        .scene
+        .listed_lights()
+        .map(|l| match l {
+            Light::Spot(s) => s.cos_cone.acos().to_degrees(),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    let half_diagonal = 36f32.hypot(24.0) / 2.0;
+    let expected = [
+        (half_diagonal / 50.0 / 2f32.sqrt()).atan(),
+        (half_diagonal / 50.0 * 2.0 / 5f32.sqrt()).atan(),
+        (half_diagonal / 25.0 / 2f32.sqrt()).atan(),
+    ]
+    .map(f32::to_degrees);
+    assert!((expected[0] - 34.0221 / 2.0).abs() < 1e-3, "{expected:?}");
+    for (cone, expected) in cones.iter().zip(expected) {
+        assert!((cone - expected).abs() < 1e-3, "{cones:?} vs {expected}");
+    }
+    let e = error_of(
+        "fov-and-lens",
+        &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"projector\"><float name=\"fov\" value=\"30\"/><string name=\"focal_length\" value=\"50mm\"/></emitter>\n</scene>\n"),
+    );
+    assert!(e.contains("fov-and-lens.xml:3:") && e.contains("not both"), "{e}");
 }
 
 /// `<spectrum filename="…"/>`: wavelength–value lines, converted as the same spectrum inline

@@ -13,6 +13,7 @@ use crate::shapes::{
     intersect_cramer, moller_trumbore_edges, InstancedGeometry, IntersectMethods, PrimHit, Shape, SurfaceGeometry,
     TriangleMethod,
 };
+use crate::textures::TextureQuery;
 
 /// A shape placed in the scene with a material and, optionally, a transform (object → world).
 #[derive(Clone, Debug)]
@@ -51,6 +52,22 @@ impl Object {
                 (t.vector(dpdu), t.vector(dpdv))
             }
         }
+    }
+
+    /// What a texture reads at `point` (world space) on primitive `prim`, a point no ray found
+    /// (one sampled on a light); a triangle's point also by its barycentric coordinates (of
+    /// its second and third corners) in `hit`. `None` for an instance.
+    pub(crate) fn texture_query_at(&self, prim: u32, point: Vec3, hit: &PrimHit) -> Option<TextureQuery> {
+        let (local, object_point) = match (&self.transform, &self.shape) {
+            (Some(t), _) => {
+                let local = t.to_object.transform_point3(point);
+                (local, local)
+            }
+            (None, Shape::Mesh(m)) => (point, m.object_point(point)),
+            (None, _) => (point, point),
+        };
+        let surface = self.shape.surface_at(prim, local, hit)?;
+        Some(TextureQuery { uv: surface.uv, point: object_point, dpdu: Vec3::ZERO, dpdv: Vec3::ZERO })
     }
 
     pub(crate) fn surface(&self, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry {

@@ -42,7 +42,7 @@ impl<'s> Vertex<'s> {
 
     /// The radiance the surface emits toward `wo`.
     pub fn emitted(&self) -> Rgb {
-        self.material.emitted(self.wo, self.hit.geometry.geometric_normal)
+        self.material.emitted(self.wo, self.hit.geometry.geometric_normal, || self.hit.texture_query())
     }
 
     /// The material's BSDF at the hit (textures evaluated, the shading frame set).

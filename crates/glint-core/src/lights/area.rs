@@ -16,11 +16,18 @@
 //!   triangles on its plane (`Polygon::triangles`), the box into its twelve
 //!   (`AaBox::triangles`), a triangle chosen by its share of the area (`TriangleSurface`).
 //!
+//! A radiance given as a texture is read at the sampled point's texture coordinates, which
+//! the emitting object's own shape gives (`Object::texture_query_at`), so light samples,
+//! particles and paths that hit the surface see the same radiance. Points are still sampled by
+//! area (as Mitsuba samples a textured area emitter), not by the texture's brightness.
+//!
 //! Sampled: triangles (triangle shapes, mesh triangles, quads; any transform, taken in world
 //! space), spheres, polygons and boxes. The geometry of each sampling routine lives in its
 //! shape's file. Other emissive shapes (planes, instances, self-intersecting polygons) still
 //! emit: a path finds them by BSDF sampling, whose multiple-importance weight is then 1 since
 //! their light pdf is 0, so the estimate stays unbiased, only noisier.
+
+use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use wide::{f32x8, CmpGt};
@@ -34,8 +41,9 @@ use crate::sampling::spherical::SphericalTriangle;
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::shapes::{
     sample_sphere, sample_sphere_seen_from, sample_triangle, sphere_solid_angle_from, triangle_point_along, Ellipsoid,
-    Shape, TriangleSurface,
+    PrimHit, Shape, TriangleSurface,
 };
+use crate::textures::Texture;
 use crate::Named;
 use crate::Rgb;
 
@@ -95,8 +103,35 @@ impl EmitterShape {
 #[derive(Clone, Debug, PartialEq)]
 pub struct AreaLight {
     pub(crate) shape: EmitterShape,
+    /// L_e; where `texture` is given, its mean (what the light's power reads).
     pub radiance: Rgb,
     pub two_sided: bool,
+    /// A radiance that varies over the surface (boxed: few lights have one, and a light stays
+    /// about a triangle's size).
+    pub(crate) texture: Option<Box<TexturedPrimitive>>,
+}
+
+/// A textured emitter's primitive: the texture is read at a sampled point's texture
+/// coordinates, which the object's own shape gives (`Object::texture_query_at`), so a point a
+/// light sample lands on and a ray that hits it see the same radiance.
+#[derive(Clone, Debug)]
+pub(crate) struct TexturedPrimitive {
+    pub emitter: Arc<TexturedEmitter>,
+    pub prim: u32,
+}
+
+/// The object of a textured emitter and its radiance, shared by its primitives' lights.
+#[derive(Debug)]
+pub(crate) struct TexturedEmitter {
+    pub object: Object,
+    pub radiance: Texture,
+}
+
+impl PartialEq for TexturedPrimitive {
+    /// The same primitive of the same emitter.
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.emitter, &other.emitter) && self.prim == other.prim
+    }
 }
 
 /// A point sampled on an emitter, before its radiance toward the shading point is known.
@@ -182,7 +217,12 @@ pub(crate) fn area_lights(objects: &[Object], materials: &[Material]) -> Vec<(us
         if radiance == Rgb::ZERO {
             continue;
         }
-        let light = |shape: EmitterShape| AreaLight { shape, radiance, two_sided };
+        let textured = material
+            .emission_texture()
+            .map(|texture| Arc::new(TexturedEmitter { object: object.clone(), radiance: texture.clone() }));
+        let texture =
+            |prim: u32| textured.as_ref().map(|emitter| Box::new(TexturedPrimitive { emitter: emitter.clone(), prim }));
+        let light = |shape: EmitterShape| AreaLight { shape, radiance, two_sided, texture: texture(0) };
         let triangles: Vec<[Vec3; 3]> = match &object.shape {
             Shape::Mesh(mesh) => (0..mesh.triangle_count()).map(|i| mesh.triangle_vertices(i)).collect(),
             Shape::Triangle(t) => vec![t.vertices],
@@ -218,7 +258,8 @@ pub(crate) fn area_lights(objects: &[Object], materials: &[Material]) -> Vec<(us
         };
         let lights = triangles
             .into_iter()
-            .map(|[a, b, c]| {
+            .enumerate()
+            .map(|(prim, [a, b, c])| {
                 let (a, b, c) = match &object.transform {
                     Some(t) => (t.point(a), t.point(b), t.point(c)),
                     None => (a, b, c),
@@ -229,6 +270,7 @@ pub(crate) fn area_lights(objects: &[Object], materials: &[Material]) -> Vec<(us
                     shape: EmitterShape::Triangle { a, b, c, normal: cross.normalize_or(Vec3::Z), area },
                     radiance: if area > 0.0 { radiance } else { Rgb::ZERO },
                     two_sided,
+                    texture: texture(prim as u32),
                 }
             })
             .collect();
@@ -263,6 +305,22 @@ fn similarity_scale(t: &Transform) -> Option<f32> {
 }
 
 impl AreaLight {
+    /// L_e at `point`, a point on the light.
+    #[inline]
+    fn radiance_at(&self, point: Vec3) -> Rgb {
+        let Some(textured) = &self.texture else { return self.radiance };
+        let barycentrics = match self.shape {
+            EmitterShape::Triangle { a, b, c, .. } => barycentrics(point, [a, b, c]),
+            _ => Vec2::ZERO,
+        };
+        let hit = PrimHit { t: 0.0, u: barycentrics.x, v: barycentrics.y, inner: 0 };
+        let emitter = &textured.emitter;
+        match emitter.object.texture_query_at(textured.prim, point, &hit) {
+            Some(query) => emitter.radiance.evaluate(&query),
+            None => self.radiance,
+        }
+    }
+
     /// L·A·sides: the emitter's power over π (mean over RGB).
     pub(super) fn power_over_pi(&self) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
@@ -308,7 +366,7 @@ impl AreaLight {
         if !(pdf > 0.0 && pdf.is_finite()) || cos_light == 0.0 {
             return None;
         }
-        let radiance = if self.two_sided || cos_light > 0.0 { self.radiance } else { Rgb::ZERO };
+        let radiance = if self.two_sided || cos_light > 0.0 { self.radiance_at(point) } else { Rgb::ZERO };
         Some(LightSample {
             direction: (point - from).normalize(),
             end: LightEnd::Surface { point, normal, error },
@@ -393,15 +451,18 @@ impl AreaLight {
             normal,
             error,
             direction,
-            radiance: self.radiance,
+            radiance: self.radiance_at(point),
             two_sided: self.two_sided,
             pdf_area,
             pdf_direction,
         })
     }
 
-    /// The light as the lanes read a triangle, if it is one.
+    /// The light as the lanes read a triangle, if it is one of constant radiance.
     pub(super) fn as_triangle(&self, selection: f32) -> Option<TriangleEmitter> {
+        if self.texture.is_some() {
+            return None;
+        }
         match self.shape {
             EmitterShape::Triangle { a, b, c, normal, area } => Some(TriangleEmitter {
                 corners: [a, b, c],
@@ -414,6 +475,21 @@ impl AreaLight {
             _ => None,
         }
     }
+}
+
+/// The barycentric coordinates of `point` (in the triangle's plane) for the second and third
+/// corners: p = a + u (b − a) + v (c − a).
+fn barycentrics(point: Vec3, [a, b, c]: [Vec3; 3]) -> Vec2 {
+    let (e1, e2, d) = (b - a, c - a, point - a);
+    let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let (d1, d2) = (d.dot(e1), d.dot(e2));
+    let denominator = d11 * d22 - d12 * d12;
+    if denominator <= 0.0 {
+        return Vec2::ZERO;
+    }
+    let u = (d22 * d1 - d12 * d2) / denominator;
+    let v = (d11 * d2 - d12 * d1) / denominator;
+    Vec2::new(u, v).clamp(Vec2::ZERO, Vec2::ONE)
 }
 
 /// The triangle as seen from `from`, when it is sampled by solid angle and that is accurate

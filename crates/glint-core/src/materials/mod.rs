@@ -87,7 +87,8 @@ pub enum Material {
 /// Emitted radiance on a surface of any material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Emitter {
-    pub radiance: Rgb,
+    /// L_e, a constant or a texture over the surface's uv (Mitsuba's textured `radiance`).
+    pub radiance: Texture,
     /// Emit from both sides (default: only the side the geometric normal points to).
     pub two_sided: bool,
     pub surface: Material,
@@ -277,26 +278,49 @@ impl Material {
             Material::NormalMap(m) => m.material.whitted(query, outside),
             Material::BumpMap(m) => m.material.whitted(query, outside),
             Material::Emitter(e) => PhongPoint {
-                emission: e.radiance,
+                emission: e.radiance.evaluate(query),
                 two_sided_emission: e.two_sided,
                 ..e.surface.whitted(query, outside)
             },
         }
     }
 
-    /// The radiance the material emits, and whether from both sides.
+    /// The radiance the material emits (its mean over the uv square where it is a texture:
+    /// what decides whether it emits and how much power), and whether from both sides.
     pub fn emission(&self) -> (Rgb, bool) {
         match self {
             Material::Phong(p) => (p.emission, p.two_sided_emission),
-            Material::Emitter(e) => (e.radiance, e.two_sided),
+            Material::Emitter(e) => (e.radiance.mean_value(), e.two_sided),
             _ => (Rgb::ZERO, false),
         }
     }
 
-    /// Radiance emitted toward `wo` from a surface with geometric normal `geometric_normal`.
+    /// The emitted radiance where it is a texture (it varies over the surface).
+    pub fn emission_texture(&self) -> Option<&Texture> {
+        match self {
+            Material::Emitter(e) if !matches!(e.radiance, Texture::Constant(_)) => Some(&e.radiance),
+            _ => None,
+        }
+    }
+
+    /// The radiance the material emits at the point `query` describes (asked only where the
+    /// emission is a texture), and whether from both sides.
     #[inline]
-    pub fn emitted(&self, wo: Vec3, geometric_normal: Vec3) -> Rgb {
-        let (radiance, two_sided) = self.emission();
+    pub fn emission_at(&self, query: impl FnOnce() -> TextureQuery) -> (Rgb, bool) {
+        match self {
+            Material::Emitter(e) => match &e.radiance {
+                Texture::Constant(c) => (*c, e.two_sided),
+                texture => (texture.evaluate(&query()), e.two_sided),
+            },
+            _ => self.emission(),
+        }
+    }
+
+    /// Radiance emitted toward `wo` from a surface with geometric normal `geometric_normal`, at
+    /// the point `query` describes.
+    #[inline]
+    pub fn emitted(&self, wo: Vec3, geometric_normal: Vec3, query: impl FnOnce() -> TextureQuery) -> Rgb {
+        let (radiance, two_sided) = self.emission_at(query);
         if two_sided || wo.dot(geometric_normal) > 0.0 {
             radiance
         } else {
@@ -470,9 +494,29 @@ mod tests {
 
     #[test]
     fn emitters_emit_on_their_side() {
-        let lamp = Material::Emitter(Box::new(Emitter { radiance: Rgb::ONE, two_sided: false, surface: diffuse(0.5) }));
-        assert_eq!(lamp.emitted(N, N), Rgb::ONE);
-        assert_eq!(lamp.emitted(-N, N), Rgb::ZERO);
+        let lamp = Material::Emitter(Box::new(Emitter {
+            radiance: Texture::from(1.0),
+            two_sided: false,
+            surface: diffuse(0.5),
+        }));
+        let query = TextureQuery::default;
+        assert_eq!(lamp.emitted(N, N, query), Rgb::ONE);
+        assert_eq!(lamp.emitted(-N, N, query), Rgb::ZERO);
         assert_eq!(lamp.emission(), (Rgb::ONE, false));
+        assert!(lamp.emission_texture().is_none());
+    }
+
+    /// A textured radiance is read where the query says; its mean stands for it in the light's
+    /// power.
+    #[test]
+    fn a_textured_emitter_emits_its_texture() {
+        let checker = crate::textures::Checker::new(Rgb::splat(1.0), Rgb::splat(3.0), glam::Vec2::splat(2.0));
+        let radiance = Texture::Checker(Box::new(checker));
+        let lamp = Material::Emitter(Box::new(Emitter { radiance, two_sided: true, surface: diffuse(0.5) }));
+        let at = |u: f32, v: f32| move || TextureQuery { uv: glam::Vec2::new(u, v), ..Default::default() };
+        assert_eq!(lamp.emitted(N, N, at(0.25, 0.25)), Rgb::splat(1.0));
+        assert_eq!(lamp.emitted(-N, N, at(0.75, 0.25)), Rgb::splat(3.0), "two-sided");
+        assert_eq!(lamp.emission(), (Rgb::splat(2.0), true));
+        assert!(lamp.emission_texture().is_some());
     }
 }

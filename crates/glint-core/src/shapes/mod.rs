@@ -143,14 +143,26 @@ impl Shape {
     #[inline]
     pub fn surface(&self, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry {
         match self {
-            Shape::Plane(p) => p.surface(ray.at(hit.t)),
-            Shape::Sphere(s) => s.surface(ray.at(hit.t)),
-            Shape::Triangle(t) => t.surface(hit),
-            Shape::Polygon(p) => p.surface(ray.at(hit.t)),
-            Shape::AaBox(b) => b.surface(ray.at(hit.t)),
-            Shape::Mesh(m) => m.surface(prim as usize, hit),
             Shape::Instance(i) => i.surface(ray, hit),
+            _ => self.surface_at(prim, ray.at(hit.t), hit).expect("every shape but an instance answers"),
         }
+    }
+
+    /// The surface at `point` (in the shape's space) of primitive `prim`, a triangle's point
+    /// read from `hit`'s barycentric coordinates instead: what a hit there finds, for a point
+    /// no ray found (one sampled on a light). `None` for an instance, whose surface needs the
+    /// ray.
+    #[inline]
+    pub fn surface_at(&self, prim: u32, point: Vec3, hit: &PrimHit) -> Option<SurfaceGeometry> {
+        Some(match self {
+            Shape::Plane(p) => p.surface(point),
+            Shape::Sphere(s) => s.surface(point),
+            Shape::Triangle(t) => t.surface(hit),
+            Shape::Polygon(p) => p.surface(point),
+            Shape::AaBox(b) => b.surface(point),
+            Shape::Mesh(m) => m.surface(prim as usize, hit),
+            Shape::Instance(_) => return None,
+        })
     }
 
     /// The shape's name as written in scene files.

@@ -592,7 +592,12 @@ impl<'a> Translator<'a> {
     }
 
     /// The material of a shape: its BSDF (Mitsuba's default: diffuse 0.5) plus its emission.
-    fn material_for(&mut self, bsdf: Option<&'a Element>, emission: Option<[f32; 3]>, at: &Position) -> Result<String> {
+    fn material_for(
+        &mut self,
+        bsdf: Option<&'a Element>,
+        emission: Option<ColorDesc>,
+        at: &Position,
+    ) -> Result<String> {
         let key = bsdf.map(|b| (b.position.file, b.position.line, b.position.column));
         if emission.is_none() {
             if let Some(name) = key.and_then(|k| self.materials_by_element.get(&k)) {
@@ -612,13 +617,13 @@ impl<'a> Translator<'a> {
             Some(b) => b.attribute("id").map(str::to_string).unwrap_or(format!("bsdf@{}", b.position.line)),
             None => "default-diffuse".into(),
         };
+        let emits = emission.is_some();
         let name = match emission {
             Some(e) => {
-                match &mut desc {
-                    MaterialDesc::Diffuse { emission, .. } | MaterialDesc::Phong { emission, .. } => {
-                        *emission = Some(e)
-                    }
-                    _ => {
+                match (&mut desc, e) {
+                    (MaterialDesc::Diffuse { emission, .. }, e) => *emission = Some(e),
+                    (MaterialDesc::Phong { emission, .. }, ColorDesc::Rgb(e)) => *emission = Some(e),
+                    (_, e) => {
                         // Any other BSDF: the surface under its own name, wrapped by the emitter.
                         let surface = format!("{base}+surface@{}", at.line);
                         let span = bsdf.and_then(|b| b.position.span.clone());
@@ -635,7 +640,7 @@ impl<'a> Translator<'a> {
         };
         let span = bsdf.and_then(|b| b.position.span.clone());
         self.scene.materials.insert(name.clone(), Located { value: desc, span });
-        if emission.is_none() {
+        if !emits {
             if let Some(k) = key {
                 self.materials_by_element.insert(k, name.clone());
             }
@@ -1012,14 +1017,15 @@ impl<'a> Translator<'a> {
 
     // ----- emitters and textures ------------------------------------------------------------
 
-    fn area_emitter(&mut self, emitter: &Element) -> Result<[f32; 3]> {
+    /// A shape's `area` emitter: its radiance, a colour or a texture over the shape's uv.
+    fn area_emitter(&mut self, emitter: &'a Element) -> Result<ColorDesc> {
         let kind = emitter.attribute("type").unwrap_or("");
         if kind != "area" {
             return Err(self
                 .error(&emitter.position, format!("a shape's emitter must be `area`, got <emitter type=\"{kind}\">")));
         }
         let p = self.properties(emitter);
-        let radiance = p.rgb(self, "radiance")?.unwrap_or([1.0; 3]);
+        let radiance = p.color(self, "radiance")?.unwrap_or(ColorDesc::Rgb([1.0; 3]));
         self.unused(&p);
         Ok(radiance)
     }
@@ -1048,18 +1054,27 @@ impl<'a> Translator<'a> {
                 // distance, π·E/cos³θ inside the square frustum (Mitsuba's, whatever the
                 // texture's aspect: measured on Mitsuba 3.9).
                 let matrix = p.transform(self, "to_world")?.unwrap_or(Mat4::IDENTITY);
-                let fov = p
-                    .float(self, "fov")?
-                    .ok_or_else(|| self.error(&emitter.position, "a projector needs a `fov` (degrees)"))?;
-                if !(fov > 0.0 && fov < 180.0) {
+                // Without `fov`, Mitsuba's 50 mm lens on 35 mm film spans the slide's diagonal.
+                let fov = p.float(self, "fov")?;
+                if let Some(fov) = fov.filter(|fov| !(*fov > 0.0 && *fov < 180.0)) {
                     return Err(self.error(&emitter.position, format!("projector `fov` must be in (0, 180) degrees, got {fov}")));
                 }
+                let focal_length = match p.string(self, "focal_length")? {
+                    None => fov.is_none().then_some(50.0),
+                    Some(_) if fov.is_some() => {
+                        return Err(self.error(&emitter.position, "give a projector `fov` or `focal_length`, not both"))
+                    }
+                    Some(f) => Some(f.trim_end_matches("mm").trim().parse::<f32>().map_err(|_| {
+                        self.error(&emitter.position, format!("`focal_length` must be like \"50mm\", got `{f}`"))
+                    })?),
+                };
                 let scale = p.float(self, "scale")?.unwrap_or(1.0);
                 let (texture, tint) = self.slide_or_tint(&p, "irradiance")?;
                 LightDesc::Spot {
                     position: matrix.transform_point3(Vec3::ZERO).to_array(),
                     direction: matrix.transform_vector3(Vec3::Z).to_array(),
-                    cone_angle: 0.5 * fov,
+                    cone_angle: fov.map(|fov| 0.5 * fov),
+                    focal_length,
                     edge: 0.0,
                     profile: Some("projector".into()),
                     texture,
@@ -1080,7 +1095,8 @@ impl<'a> Translator<'a> {
                 LightDesc::Spot {
                     position: matrix.transform_point3(Vec3::ZERO).to_array(),
                     direction: matrix.transform_vector3(Vec3::Z).to_array(),
-                    cone_angle: cutoff,
+                    cone_angle: Some(cutoff),
+                    focal_length: None,
                     edge: (cutoff - beam).max(0.0),
                     profile: Some("linear".into()),
                     texture,

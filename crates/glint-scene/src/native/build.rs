@@ -232,6 +232,7 @@ fn build_light(
             position,
             direction,
             cone_angle,
+            focal_length,
             edge,
             profile,
             texture,
@@ -244,15 +245,6 @@ fn build_light(
                 .map_err(|m| at("direction", m))?
                 .try_normalize()
                 .ok_or_else(|| at("direction", "`direction` must not be the zero vector".into()))?;
-            if !(*cone_angle > 0.0 && *cone_angle <= 180.0) {
-                return Err(at(
-                    "cone_angle",
-                    format!("`cone_angle` is a half-angle in degrees in (0, 180], got {cone_angle}"),
-                ));
-            }
-            if !(*edge >= 0.0 && edge <= cone_angle) {
-                return Err(at("edge", format!("`edge` must be between 0 and `cone_angle` degrees, got {edge}")));
-            }
             let profile = match profile.as_deref() {
                 None | Some("smooth") => SpotProfile::Smooth,
                 Some("linear") => SpotProfile::Linear,
@@ -264,15 +256,6 @@ fn build_light(
                     ))
                 }
             };
-            let mut spot = SpotLight::new(
-                finite(*position).map_err(|m| at("position", m))?,
-                axis,
-                intensity(*color, *i)?,
-                falloff_of(*falloff),
-                *cone_angle,
-                *edge,
-            )
-            .with_profile(profile);
             // A projector's slide is its frustum: a white one where no texture is given.
             let slide = match texture {
                 Some(name) => {
@@ -280,6 +263,45 @@ fn build_light(
                 }
                 None => (profile == SpotProfile::Projector).then_some(Texture::from(1.0)),
             };
+            // A projector's frame has its image's proportions; a spot's slide is square.
+            let aspect = match (&slide, profile) {
+                (Some(Texture::Image(image)), SpotProfile::Projector) => image.width as f32 / image.height as f32,
+                _ => 1.0,
+            };
+            let cone_angle = match (cone_angle, focal_length) {
+                (Some(_), Some(_)) => {
+                    return Err(at("focal_length", "give `cone_angle` or `focal_length`, not both".into()))
+                }
+                (Some(c), None) => *c,
+                (None, None) => DEFAULT_CONE,
+                (None, Some(f)) if profile == SpotProfile::Projector && *f > 0.0 && f.is_finite() => {
+                    projector_cone(*f, aspect)
+                }
+                (None, Some(f)) => {
+                    return Err(at(
+                        "focal_length",
+                        format!("`focal_length` (mm, > 0) sets a projector's cone, got {f} on a {profile:?} spot"),
+                    ))
+                }
+            };
+            if !(cone_angle > 0.0 && cone_angle <= 180.0) {
+                return Err(at(
+                    "cone_angle",
+                    format!("`cone_angle` is a half-angle in degrees in (0, 180], got {cone_angle}"),
+                ));
+            }
+            if !(*edge >= 0.0 && *edge <= cone_angle) {
+                return Err(at("edge", format!("`edge` must be between 0 and `cone_angle` degrees, got {edge}")));
+            }
+            let mut spot = SpotLight::new(
+                finite(*position).map_err(|m| at("position", m))?,
+                axis,
+                intensity(*color, *i)?,
+                falloff_of(*falloff),
+                cone_angle,
+                *edge,
+            )
+            .with_profile(profile);
             if let Some(texture) = slide {
                 let default_up = if axis.y.abs() < 0.9 { Vec3::Y } else { Vec3::Z };
                 let up = match up {
@@ -290,11 +312,6 @@ fn build_light(
                     .cross(up)
                     .try_normalize()
                     .ok_or_else(|| at("up", "`up` must not lie along `direction`".into()))?;
-                // A projector's frame has its image's proportions; a spot's slide is square.
-                let aspect = match (&texture, profile) {
-                    (Texture::Image(image), SpotProfile::Projector) => image.width as f32 / image.height as f32,
-                    _ => 1.0,
-                };
                 spot = spot.with_slide(Slide { texture, right, up: right.cross(axis), aspect });
             }
             Light::Spot(spot)
@@ -307,6 +324,17 @@ fn build_light(
             intensity: intensity(*color, *i)?,
         }),
     })
+}
+
+/// A spot's half-angle when none is given, in degrees.
+const DEFAULT_CONE: f32 = 30.0;
+
+/// The half-angle (degrees) across the width of a projector's frame of this aspect (width /
+/// height) for a lens of `focal_length` mm on 35 mm film, the film's diagonal (43.3 mm)
+/// spanning the frame's, as Mitsuba sizes a projector without `fov`.
+fn projector_cone(focal_length: f32, aspect: f32) -> f32 {
+    let half_diagonal = 0.5 * 36f32.hypot(24.0) / focal_length;
+    (half_diagonal * aspect / aspect.hypot(1.0)).atan().to_degrees()
 }
 
 fn falloff_of(f: FalloffDesc) -> Falloff {

@@ -182,9 +182,9 @@ impl Builder<'_> {
                 material
             }
         };
-        let emitting = |material: Material, emission: &Option<[f32; 3]>, two_sided: bool| match emission {
-            Some(e) => Ok(Material::Emitter(Box::new(Emitter {
-                radiance: non_negative(*e).map_err(|m| at("emission", m))?,
+        let emitting = |material: Material, emission: Option<(&str, &ColorDesc)>, two_sided: bool| match emission {
+            Some((key, e)) => Ok(Material::Emitter(Box::new(Emitter {
+                radiance: resolve_colour(e, textures).map_err(|m| at(key, m))?,
                 two_sided,
                 surface: material,
             }))),
@@ -209,7 +209,7 @@ impl Builder<'_> {
             }
             MaterialDesc::Diffuse { reflectance, emission, two_sided_emission, two_sided } => {
                 let diffuse = Material::Diffuse(Diffuse { reflectance: colour("reflectance", reflectance, 0.8)? });
-                emitting(sided(diffuse, two_sided), emission, *two_sided_emission)?
+                emitting(sided(diffuse, two_sided), emission.as_ref().map(|e| ("emission", e)), *two_sided_emission)?
             }
             MaterialDesc::Conductor { metal: m, eta, k, specular_reflectance, two_sided } => {
                 let (eta, k) = metal(m, eta, k)?;
@@ -457,7 +457,7 @@ impl Builder<'_> {
             }
             MaterialDesc::Emitter { radiance, two_sided, material } => {
                 let surface = self.reference(name, "material", material)?;
-                emitting(surface, &Some(*radiance), *two_sided)?
+                emitting(surface, Some(("radiance", radiance)), *two_sided)?
             }
         })
     }

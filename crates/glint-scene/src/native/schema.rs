@@ -239,7 +239,8 @@ pub enum MaterialDesc {
     /// A Lambertian surface (Mitsuba's `diffuse`), two-sided unless `two_sided = false`.
     Diffuse {
         reflectance: Option<ColorDesc>,
-        emission: Option<Vector>,
+        /// Radiance emitted: a colour or a texture over the surface's uv.
+        emission: Option<ColorDesc>,
         #[serde(default)]
         two_sided_emission: bool,
         two_sided: Option<bool>,
@@ -367,9 +368,10 @@ pub enum MaterialDesc {
     },
     /// One material per side (Mitsuba's `twosided` with two BSDFs); `back` defaults to `front`.
     TwoSided { front: String, back: Option<String> },
-    /// `material` emitting `radiance` (Mitsuba's `area` emitter on a shape).
+    /// `material` emitting `radiance`, a colour or a texture over the surface's uv (Mitsuba's
+    /// `area` emitter on a shape).
     Emitter {
-        radiance: Vector,
+        radiance: ColorDesc,
         #[serde(default)]
         two_sided: bool,
         material: String,
@@ -483,8 +485,11 @@ pub enum LightDesc {
     Spot {
         position: Vector,
         direction: Vector,
-        #[serde(default = "default_cone")]
-        cone_angle: f32,
+        /// Half-angle in degrees (30 unless `focal_length` gives it).
+        cone_angle: Option<f32>,
+        /// A projector's lens in mm on 35 mm film (36 × 24), the film's diagonal spanning the
+        /// slide's: its cone follows (Mitsuba's projector without `fov`: 50).
+        focal_length: Option<f32>,
         #[serde(default = "default_edge")]
         edge: f32,
         /// `"smooth"` (default) or `"linear"` (in the angle, as Mitsuba's spot).
@@ -508,9 +513,6 @@ pub enum LightDesc {
     },
 }
 
-fn default_cone() -> f32 {
-    30.0
-}
 fn default_edge() -> f32 {
     5.0
 }

@@ -76,16 +76,19 @@ impl LaneMaterial {
     /// A Lambert material evaluated at a point (black for any other: the lanes never read one).
     fn at(material: &Material, query: &TextureQuery) -> Self {
         let Some((diffuse, one_sided)) = material.lambert() else { return Self::BLACK };
-        let (emission, two_sided) = material.emission();
+        let (emission, two_sided) = material.emission_at(|| *query);
         Self::new(diffuse.evaluate(query), one_sided, emission, two_sided)
     }
 
     /// A Lambert material with a constant colour, evaluated once; black for any other material
     /// (its bounces are the scalar code's, so the lanes never read it); `None` for a textured
-    /// Lambert material.
+    /// Lambert material or emission.
     fn constant(material: &Material) -> Option<Self> {
         let Some(lambert) = material.lambert() else { return Some(Self::BLACK) };
         let (Texture::Constant(diffuse), one_sided) = lambert else { return None };
+        if material.emission_texture().is_some() {
+            return None;
+        }
         let (emission, two_sided) = material.emission();
         Some(Self::new(*diffuse, one_sided, emission, two_sided))
     }
