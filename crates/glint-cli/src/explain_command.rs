@@ -107,7 +107,12 @@ pub fn explain_photons(
     };
     let wo = -ray.direction.normalize();
     let material = &scene.materials()[hit.material as usize];
-    let bsdf = material.bsdf(&hit.texture_query(), wo, hit.geometry.shading_normal, hit.geometry.geometric_normal);
+    let bsdf = material.bsdf(
+        &hit.texture_query(scene.geometry()),
+        wo,
+        hit.geometry.shading_normal,
+        hit.geometry.geometric_normal,
+    );
     let _ = writeln!(
         out,
         "photons near the first hit {} (search radius at most {:.6}, seed {seed}):",

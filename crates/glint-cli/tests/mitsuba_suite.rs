@@ -43,6 +43,9 @@ const PASSING: &[&str] = &[
     "test_projector_textured_direct",
     "test_texturedprincipledthin_path",
     "test_various_emitters_ptracer",
+    "test_mesh_attributes_1_face_direct",
+    "test_mesh_attributes_3_face_direct",
+    "test_mesh_attributes_3_vertex_direct",
     // In the media group, but its medium-free surfaces are all it has.
     "test_surf_area_light_volpath",
 ];

@@ -71,7 +71,7 @@ fn room() -> Scene {
         normals: Some(smooth.map(bent).to_vec()),
         uvs: None,
         indices: vec![[0, 2, 3]],
-        baked_transform: None,
+        ..Mesh::default()
     };
     objects.push(object_with(Shape::Mesh(mesh), 0));
     let mut s = scene(objects);

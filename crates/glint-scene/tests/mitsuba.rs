@@ -236,6 +236,49 @@ fn a_textured_area_emitter_keeps_its_texture() {
     assert_eq!(scene.lights().area_count(), 2 + 1, "the rectangle's two triangles and the sphere");
 }
 
+/// `mesh_attribute` textures read a PLY file's colours where a ray hits: per face as they
+/// are, per vertex interpolated; a name no mesh has is refused at the texture's line.
+#[test]
+fn mesh_attribute_textures_read_the_ply_files_values_where_rays_hit() {
+    // A quad in z = 0 facing the camera (at z = −5, looking along +z), corners red, green,
+    // blue and white; its two triangles' face colours differ.
+    let ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float color_0\nproperty float color_1\nproperty float color_2\nelement face 2\nproperty list uchar int vertex_indices\nproperty float color_0\nproperty float color_1\nproperty float color_2\nend_header\n-1 -1 0 1 0 0\n1 -1 0 0 1 0\n1 1 0 0 0 1\n-1 1 0 1 1 1\n3 0 1 2 0.1 0.2 0.3\n3 0 2 3 0.6 0.5 0.4\n";
+    let scene_with = |attribute: &str| {
+        let path = scene_file(
+            &format!("attributes-{attribute}"),
+            &format!(
+                r#"<scene version="3.0.0">
+<sensor type="perspective"><transform name="to_world"><lookat origin="0, 0, -5" target="0, 0, 0" up="0, 1, 0"/></transform><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
+<texture type="mesh_attribute" id="tex"><string name="name" value="{attribute}"/></texture>
+<bsdf type="diffuse" id="painted"><ref name="reflectance" id="tex"/></bsdf>
+<shape type="ply"><string name="filename" value="quad.ply"/><ref id="painted"/></shape>
+</scene>
+"#
+            ),
+        );
+        std::fs::write(path.with_file_name("quad.ply"), ply).unwrap();
+        load_scene(&path)
+    };
+    let colour_at = |scene: &glint_core::scene::Scene, x: f32, y: f32| {
+        let ray = glint_core::geometry::Ray::new(Vec3::new(x, y, -5.0), Vec3::Z);
+        let hit = scene.intersect(&ray).expect("the quad");
+        scene.materials()[hit.material as usize].whitted(&hit.texture_query(scene.geometry()), true).diffuse
+    };
+    let faces = scene_with("face_color").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(colour_at(&faces.scene, 0.5, -0.5), Rgb::new(0.1, 0.2, 0.3));
+    assert_eq!(colour_at(&faces.scene, -0.5, 0.5), Rgb::new(0.6, 0.5, 0.4));
+    let vertices = scene_with("vertex_color").unwrap_or_else(|e| panic!("{e}"));
+    // (0.5, −0.5) on triangle 0, 1, 2: barycentrics ½ of corner 1 and ¼ each of corners 0, 2.
+    let mixed = colour_at(&vertices.scene, 0.5, -0.5);
+    assert!((mixed - Rgb::new(0.25, 0.5, 0.25)).abs().max_element() < 1e-5, "{mixed}");
+    let e = scene_with("vertex_colour").err().unwrap().to_string();
+    assert!(
+        e.contains("attributes-vertex_colour.xml:3:")
+            && e.contains("no mesh of the scene has the attribute `vertex_colour`"),
+        "{e}"
+    );
+}
+
 /// `normalmap` around a BSDF, its bitmap read raw: the stored (128, 128, 255) is the flat
 /// normal (0, 0, 1) after 2·rgb − 1, up to 8-bit rounding.
 #[test]

@@ -13,7 +13,7 @@ use crate::shapes::{
     intersect_cramer, moller_trumbore_edges, InstancedGeometry, IntersectMethods, PrimHit, Shape, SurfaceGeometry,
     TriangleMethod,
 };
-use crate::textures::TextureQuery;
+use crate::textures::{MeshPoint, TextureQuery};
 
 /// A shape placed in the scene with a material and, optionally, a transform (object → world).
 #[derive(Clone, Debug)]
@@ -57,7 +57,7 @@ impl Object {
     /// What a texture reads at `point` (world space) on primitive `prim`, a point no ray found
     /// (one sampled on a light); a triangle's point also by its barycentric coordinates (of
     /// its second and third corners) in `hit`. `None` for an instance.
-    pub(crate) fn texture_query_at(&self, prim: u32, point: Vec3, hit: &PrimHit) -> Option<TextureQuery> {
+    pub(crate) fn texture_query_at(&self, prim: u32, point: Vec3, hit: &PrimHit) -> Option<TextureQuery<'_>> {
         let (local, object_point) = match (&self.transform, &self.shape) {
             (Some(t), _) => {
                 let local = t.to_object.transform_point3(point);
@@ -67,7 +67,18 @@ impl Object {
             (None, _) => (point, point),
         };
         let surface = self.shape.surface_at(prim, local, hit)?;
-        Some(TextureQuery { uv: surface.uv, point: object_point, dpdu: Vec3::ZERO, dpdv: Vec3::ZERO })
+        let mesh = self.mesh_point(prim, || local);
+        Some(TextureQuery { uv: surface.uv, point: object_point, dpdu: Vec3::ZERO, dpdv: Vec3::ZERO, mesh })
+    }
+
+    /// The point on triangle `prim` of a mesh with attributes (in the space of its vertices,
+    /// from `local`, asked only then), for `mesh-attribute` textures; `None` on other shapes.
+    #[inline]
+    pub(crate) fn mesh_point(&self, prim: u32, local: impl FnOnce() -> Vec3) -> Option<MeshPoint<'_>> {
+        match &self.shape {
+            Shape::Mesh(m) if !m.attributes.is_empty() => Some(MeshPoint { mesh: m, triangle: prim, point: local() }),
+            _ => None,
+        }
     }
 
     pub(crate) fn surface(&self, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry {

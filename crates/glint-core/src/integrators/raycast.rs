@@ -17,7 +17,7 @@ impl Integrator for Raycast {
             return scene.environment().radiance(ray.direction);
         };
         let outside = ray.direction.dot(hit.geometry.geometric_normal) < 0.0;
-        let material = scene.materials()[hit.material as usize].whitted(&hit.texture_query(), outside);
+        let material = scene.materials()[hit.material as usize].whitted(&hit.texture_query(scene.geometry()), outside);
         let normal = hit.facing(ray.direction);
         let wo = -ray.direction.normalize();
         let mut radiance = material.ambient * scene.environment().ambient_light;

@@ -5,6 +5,7 @@
 
 use glam::Vec3;
 
+use crate::accel::Geometry;
 use crate::geometry::Ray;
 use crate::materials::{Bsdf, Material};
 use crate::scene::{Scene, SurfaceHit};
@@ -20,6 +21,8 @@ pub(super) struct Vertex<'s> {
     pub material: &'s Material,
     /// The surface's (∂p/∂u, ∂p/∂v) where the material reads them (zero elsewhere: no one asks).
     tangents: (Vec3, Vec3),
+    /// The scene's aggregate, where the hit's mesh attributes are.
+    geometry: &'s Geometry,
 }
 
 impl<'s> Vertex<'s> {
@@ -37,19 +40,19 @@ impl<'s> Vertex<'s> {
         } else {
             (Vec3::ZERO, Vec3::ZERO)
         };
-        Self { hit, wo, material, tangents }
+        Self { hit, wo, material, tangents, geometry: scene.geometry() }
     }
 
     /// The radiance the surface emits toward `wo`.
     pub fn emitted(&self) -> Rgb {
-        self.material.emitted(self.wo, self.hit.geometry.geometric_normal, || self.hit.texture_query())
+        self.material.emitted(self.wo, self.hit.geometry.geometric_normal, || self.hit.texture_query(self.geometry))
     }
 
     /// The material's BSDF at the hit (textures evaluated, the shading frame set).
     pub fn bsdf(&self) -> Bsdf<'s> {
         let geometry = &self.hit.geometry;
         let (dpdu, dpdv) = self.tangents;
-        let query = TextureQuery { dpdu, dpdv, ..self.hit.texture_query() };
+        let query = TextureQuery { dpdu, dpdv, ..self.hit.texture_query(self.geometry) };
         self.material.bsdf(&query, self.wo, geometry.shading_normal, geometry.geometric_normal)
     }
 }

@@ -138,7 +138,7 @@ impl Whitted {
     ) -> Rgb {
         let incident = ray.direction.normalize();
         let entering = incident.dot(hit.geometry.geometric_normal) < 0.0;
-        let material = scene.materials()[hit.material as usize].whitted(&hit.texture_query(), entering);
+        let material = scene.materials()[hit.material as usize].whitted(&hit.texture_query(scene.geometry()), entering);
         let normal = hit.facing(incident);
         let wo = -incident;
 
@@ -234,8 +234,9 @@ impl Whitted {
                 return visibility;
             };
             let outside = ray.direction.dot(hit.geometry.geometric_normal) < 0.0;
-            let transmission =
-                scene.materials()[hit.material as usize].whitted(&hit.texture_query(), outside).transmission;
+            let transmission = scene.materials()[hit.material as usize]
+                .whitted(&hit.texture_query(scene.geometry()), outside)
+                .transmission;
             visibility *= transmission;
             if visibility == Rgb::ZERO {
                 break;

@@ -40,8 +40,8 @@ use crate::materials::Material;
 use crate::sampling::spherical::SphericalTriangle;
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::shapes::{
-    sample_sphere, sample_sphere_seen_from, sample_triangle, sphere_solid_angle_from, triangle_point_along, Ellipsoid,
-    PrimHit, Shape, TriangleSurface,
+    barycentrics, sample_sphere, sample_sphere_seen_from, sample_triangle, sphere_solid_angle_from,
+    triangle_point_along, Ellipsoid, PrimHit, Shape, TriangleSurface,
 };
 use crate::textures::Texture;
 use crate::Named;
@@ -475,21 +475,6 @@ impl AreaLight {
             _ => None,
         }
     }
-}
-
-/// The barycentric coordinates of `point` (in the triangle's plane) for the second and third
-/// corners: p = a + u (b − a) + v (c − a).
-fn barycentrics(point: Vec3, [a, b, c]: [Vec3; 3]) -> Vec2 {
-    let (e1, e2, d) = (b - a, c - a, point - a);
-    let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
-    let (d1, d2) = (d.dot(e1), d.dot(e2));
-    let denominator = d11 * d22 - d12 * d12;
-    if denominator <= 0.0 {
-        return Vec2::ZERO;
-    }
-    let u = (d22 * d1 - d12 * d2) / denominator;
-    let v = (d11 * d2 - d12 * d1) / denominator;
-    Vec2::new(u, v).clamp(Vec2::ZERO, Vec2::ONE)
 }
 
 /// The triangle as seen from `from`, when it is sampled by solid angle and that is accurate

@@ -306,7 +306,7 @@ impl Material {
     /// The radiance the material emits at the point `query` describes (asked only where the
     /// emission is a texture), and whether from both sides.
     #[inline]
-    pub fn emission_at(&self, query: impl FnOnce() -> TextureQuery) -> (Rgb, bool) {
+    pub fn emission_at<'q>(&self, query: impl FnOnce() -> TextureQuery<'q>) -> (Rgb, bool) {
         match self {
             Material::Emitter(e) => match &e.radiance {
                 Texture::Constant(c) => (*c, e.two_sided),
@@ -319,7 +319,7 @@ impl Material {
     /// Radiance emitted toward `wo` from a surface with geometric normal `geometric_normal`, at
     /// the point `query` describes.
     #[inline]
-    pub fn emitted(&self, wo: Vec3, geometric_normal: Vec3, query: impl FnOnce() -> TextureQuery) -> Rgb {
+    pub fn emitted<'q>(&self, wo: Vec3, geometric_normal: Vec3, query: impl FnOnce() -> TextureQuery<'q>) -> Rgb {
         let (radiance, two_sided) = self.emission_at(query);
         if two_sided || wo.dot(geometric_normal) > 0.0 {
             radiance

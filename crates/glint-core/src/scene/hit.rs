@@ -25,10 +25,21 @@ pub struct SurfaceHit {
 }
 
 impl SurfaceHit {
-    /// Where the hit's textures are looked up; ∂p/∂u is left zero (only anisotropic materials
-    /// ask for it: `Geometry::dpdu`).
-    pub fn texture_query(&self) -> TextureQuery {
-        TextureQuery { uv: self.geometry.uv, point: self.object_point, dpdu: Vec3::ZERO, dpdv: Vec3::ZERO }
+    /// Where the hit's textures are looked up (on `geometry`, the aggregate it was found in,
+    /// which holds a mesh's attributes); ∂p/∂u is left zero (only anisotropic materials ask for
+    /// it: `Geometry::dpdu`).
+    pub fn texture_query<'g>(&self, geometry: &'g Geometry) -> TextureQuery<'g> {
+        let object = &geometry.objects()[self.object as usize];
+        TextureQuery {
+            uv: self.geometry.uv,
+            point: self.object_point,
+            dpdu: Vec3::ZERO,
+            dpdv: Vec3::ZERO,
+            mesh: object.mesh_point(self.prim, || match &object.transform {
+                Some(t) => t.to_object.transform_point3(self.geometry.point),
+                None => self.geometry.point,
+            }),
+        }
     }
 
     /// A ray leaving the surface in `direction`, from an origin just past the point's error

@@ -27,8 +27,38 @@ pub struct Mesh {
     pub uvs: Option<Vec<Vec2>>,
     pub indices: Vec<[u32; 3]>,
     /// The transform baked into the vertices, kept to map hit points back to the mesh's own
-    /// space for solid textures.
-    pub baked_transform: Option<Transform>,
+    /// space for solid textures (boxed: a shape stays small).
+    pub baked_transform: Option<Box<Transform>>,
+    /// Other values the file gives per vertex or per face (colours, weights), for
+    /// `mesh-attribute` textures.
+    pub attributes: Vec<MeshAttribute>,
+}
+
+/// Values a mesh carries per vertex or per face beside positions, normals and uvs (a PLY
+/// file's other properties: Mitsuba's mesh attributes).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshAttribute {
+    /// `vertex_NAME` or `face_NAME`, as Mitsuba names them (`vertex_color`, `face_weight`).
+    pub name: String,
+    /// Values per element, `dim` each (1 to 4): per vertex, or per triangle (a polygon cut
+    /// into a fan repeats its face's values).
+    pub values: Vec<f32>,
+    pub dim: usize,
+    pub per_vertex: bool,
+}
+
+impl MeshAttribute {
+    /// Element `i`'s value as a colour: three channels as they are, one spread over all three
+    /// (the first three of four; two and a zero).
+    fn colour(&self, i: usize) -> Vec3 {
+        let v = &self.values[i * self.dim..(i + 1) * self.dim];
+        match *v {
+            [x] => Vec3::splat(x),
+            [x, y] => Vec3::new(x, y, 0.0),
+            [x, y, z, ..] => Vec3::new(x, y, z),
+            [] => Vec3::ZERO,
+        }
+    }
 }
 
 impl Mesh {
@@ -75,6 +105,19 @@ impl Mesh {
         triangle_tangents(self.triangle_vertices(i), self.triangle_uvs(i))
     }
 
+    /// Attribute `name` on triangle `i` at barycentric coordinates `(u, v)` (of its second and
+    /// third corners): a vertex attribute interpolated, a face attribute as it is; `None` if
+    /// the mesh has no such attribute.
+    pub fn attribute(&self, name: &str, i: usize, barycentrics: Vec2) -> Option<Vec3> {
+        let attribute = self.attributes.iter().find(|a| a.name == name)?;
+        if !attribute.per_vertex {
+            return Some(attribute.colour(i));
+        }
+        let [a, b, c] = self.indices[i].map(|k| attribute.colour(k as usize));
+        let (u, v) = (barycentrics.x, barycentrics.y);
+        Some((1.0 - u - v) * a + u * b + v * c)
+    }
+
     fn triangle_uvs(&self, i: usize) -> Option<[Vec2; 3]> {
         self.uvs.as_ref().map(|t| self.indices[i].map(|k| t[k as usize]))
     }
@@ -90,11 +133,11 @@ impl Mesh {
     /// the winding so that geometric normals keep facing the same way relative to the surface.
     /// A world-space point in the mesh's own (file) space.
     pub fn object_point(&self, p: Vec3) -> Vec3 {
-        self.baked_transform.map_or(p, |t| t.to_object.transform_point3(p))
+        self.baked_transform.as_ref().map_or(p, |t| t.to_object.transform_point3(p))
     }
 
     pub fn transform(&mut self, t: &Transform) {
-        self.baked_transform = Some(self.baked_transform.map_or(*t, |b| t.after(&b)));
+        self.baked_transform = Some(Box::new(self.baked_transform.as_ref().map_or(*t, |b| t.after(b))));
         for p in &mut self.positions {
             *p = t.point(*p);
         }

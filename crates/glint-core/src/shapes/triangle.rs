@@ -239,6 +239,21 @@ impl WatertightRay {
 
 /// Point, normals and uv from barycentrics. The point is interpolated from the vertices
 /// rather than computed as O + tD, which is more accurate (pbrt-v4 §6.5.3).
+/// The barycentric coordinates of `point` (in the triangle's plane) for the second and third
+/// corners: p = a + u (b − a) + v (c − a).
+pub(crate) fn barycentrics(point: Vec3, [a, b, c]: [Vec3; 3]) -> Vec2 {
+    let (e1, e2, d) = (b - a, c - a, point - a);
+    let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let (d1, d2) = (d.dot(e1), d.dot(e2));
+    let denominator = d11 * d22 - d12 * d12;
+    if denominator <= 0.0 {
+        return Vec2::ZERO;
+    }
+    let u = (d22 * d1 - d12 * d2) / denominator;
+    let v = (d11 * d2 - d12 * d1) / denominator;
+    Vec2::new(u, v).clamp(Vec2::ZERO, Vec2::ONE)
+}
+
 pub(crate) fn triangle_surface(
     [a, b, c]: [Vec3; 3],
     normals: Option<[Vec3; 3]>,

@@ -2,11 +2,13 @@
 //! textures read the hit point in the object's own space, so they move with the object.
 //! Any colour parameter of a material can be a texture.
 
+mod attribute;
 mod checker;
 mod image;
 mod noise;
 mod solid;
 
+pub use attribute::AttributeTexture;
 pub use checker::{Checker, SolidChecker};
 pub use image::{ImageTexture, TexelFilter, Wrap};
 pub use noise::{perlin_noise, turbulence};
@@ -16,11 +18,12 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
+use crate::shapes::Mesh;
 use crate::Rgb;
 
 /// Where a texture is looked up.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct TextureQuery {
+pub struct TextureQuery<'a> {
     pub uv: Vec2,
     /// The hit point in object space (world space for shapes without a transform).
     pub point: Vec3,
@@ -30,6 +33,17 @@ pub struct TextureQuery {
     /// The surface's ∂p/∂v in world space (zero if unknown): with ∂p/∂u, what a bump map
     /// tilts.
     pub dpdv: Vec3,
+    /// The point on a mesh with attributes, for `AttributeTexture` (none elsewhere).
+    pub mesh: Option<MeshPoint<'a>>,
+}
+
+/// A point on a mesh's triangle, in the space of the mesh's vertices (its barycentric
+/// coordinates are found only by the textures that read attributes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshPoint<'a> {
+    pub mesh: &'a Mesh,
+    pub triangle: u32,
+    pub point: Vec3,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -41,6 +55,8 @@ pub enum Texture {
     Image(Arc<ImageTexture>),
     Marble(Marble),
     Wood(Wood),
+    /// Boxed: its name would make every texture larger.
+    Attribute(Box<AttributeTexture>),
 }
 
 impl Texture {
@@ -63,6 +79,7 @@ impl Texture {
             Texture::Image(t) => t.evaluate(query.uv),
             Texture::Marble(t) => t.evaluate(query.point),
             Texture::Wood(t) => t.evaluate(query.point),
+            Texture::Attribute(t) => t.evaluate(query),
         }
     }
 }
@@ -91,7 +108,7 @@ impl Texture {
     }
 
     /// The mean over the unit uv square (an image's texels, a checker's two colours), or the
-    /// largest value for the solid textures, which have no square.
+    /// largest value for the solid textures and mesh attributes, which have no square.
     pub fn mean_value(&self) -> Rgb {
         match self {
             Texture::Constant(c) => *c,
@@ -110,6 +127,8 @@ impl Texture {
             Texture::Image(t) => t.pixels.iter().fold(Rgb::ZERO, |m, p| m.max(*p)),
             Texture::Marble(t) => t.base.max(t.vein),
             Texture::Wood(t) => t.light.max(t.dark),
+            // Unknown until a mesh is hit: taken as colours are, at most 1 (times the scale).
+            Texture::Attribute(t) => Rgb::splat(t.scale),
         }
     }
 }

@@ -71,6 +71,39 @@ mod tests {
         assert!(m.normals.is_some() && m.uvs.is_some());
     }
 
+    /// Mitsuba's grouping of a PLY file's other properties: 8-bit `r, g, b` as `vertex_color`
+    /// in [0, 1], `n_x, n_y` as `vertex_n`, a lone `quality`; per face `color_0 … color_2`
+    /// as `face_color` and `weight_0` as `face_weight`, repeated over a quad's two triangles.
+    #[test]
+    fn ply_attributes_are_grouped_as_mitsuba_groups_them() {
+        let ply = b"ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty uchar r\nproperty uchar g\nproperty uchar b\nproperty float n_x\nproperty float n_y\nproperty float quality\nelement face 2\nproperty list uchar int vertex_indices\nproperty float color_0\nproperty float color_1\nproperty float color_2\nproperty float weight_0\nend_header\n0 0 0 255 0 51 1 2 0.5\n1 0 0 0 255 0 3 4 0.25\n1 1 0 0 0 255 5 6 1\n0 1 0 255 255 255 7 8 2\n4 0 1 2 3 0.1 0.2 0.3 0.9\n3 0 2 3 0.4 0.5 0.6 0.7\n";
+        let m = read_mesh("a.ply", ply).unwrap();
+        let names: Vec<(&str, usize, bool)> =
+            m.attributes.iter().map(|a| (a.name.as_str(), a.dim, a.per_vertex)).collect();
+        assert_eq!(
+            names,
+            [
+                ("vertex_color", 3, true),
+                ("vertex_n", 2, true),
+                ("vertex_quality", 1, true),
+                ("face_color", 3, false),
+                ("face_weight", 1, false)
+            ]
+        );
+        assert_eq!(&m.attributes[0].values[..3], &[1.0, 0.0, 0.2]);
+        assert_eq!(m.attributes[1].values, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0]);
+        // Three triangles: the quad's two carry its values, the triangle its own.
+        assert_eq!(m.attributes[4].values, [0.9, 0.9, 0.7]);
+        assert_eq!(&m.attributes[3].values[3..], &[0.1, 0.2, 0.3, 0.4, 0.5, 0.6]);
+        // Interpolated by hand: the centre of triangle 1 (corners 0, 2, 3) averages their
+        // colours; a face value is the same anywhere on its face.
+        let centre = m.attribute("vertex_color", 1, glam::Vec2::splat(1.0 / 3.0)).unwrap();
+        let expected = (glam::Vec3::new(1.0, 0.0, 0.2) + glam::Vec3::new(0.0, 0.0, 1.0) + glam::Vec3::ONE) / 3.0;
+        assert!((centre - expected).abs().max_element() < 1e-6, "{centre}");
+        assert_eq!(m.attribute("face_weight", 2, glam::Vec2::new(0.1, 0.7)), Some(glam::Vec3::splat(0.7)));
+        assert_eq!(m.attribute("vertex_missing", 0, glam::Vec2::ZERO), None);
+    }
+
     #[test]
     fn ascii_ply_triangle() {
         let ply = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";

@@ -1,7 +1,7 @@
 use std::io::BufReader;
 
 use glam::{Vec2, Vec3};
-use glint_core::shapes::Mesh;
+use glint_core::shapes::{Mesh, MeshAttribute};
 use ply_rs::parser::Parser;
 use ply_rs::ply::{Property, PropertyAccess};
 
@@ -10,7 +10,14 @@ struct Vertex {
     position: Vec3,
     normal: Option<Vec3>,
     uv: Option<Vec2>,
+    /// The other properties' values, in the file's order.
+    extra: Vec<f32>,
 }
+
+/// The properties a vertex reads itself (any other is an attribute).
+const VERTEX_NAMES: [&str; 14] =
+    ["x", "y", "z", "nx", "ny", "nz", "u", "v", "s", "t", "texture_u", "texture_v", "texture_s", "texture_t"];
+const FACE_NAMES: [&str; 2] = ["vertex_indices", "vertex_index"];
 
 fn scalar(p: &Property) -> Option<f32> {
     Some(match *p {
@@ -41,23 +48,40 @@ impl PropertyAccess for Vertex {
             "nz" => self.normal.get_or_insert(Vec3::ZERO).z = v,
             "u" | "s" | "texture_u" | "texture_s" => self.uv.get_or_insert(Vec2::ZERO).x = v,
             "v" | "t" | "texture_v" | "texture_t" => self.uv.get_or_insert(Vec2::ZERO).y = v,
-            _ => {}
+            _ => self.extra.push(attribute_value(&name, &property, v)),
         }
     }
 }
 
+/// An attribute's value: a colour channel stored as an integer read as a fraction of its
+/// largest value (as Mitsuba reads 8- and 16-bit colours), any other number as it is.
+fn attribute_value(name: &str, property: &Property, v: f32) -> f32 {
+    let colour = matches!(name, "r" | "g" | "b" | "a" | "red" | "green" | "blue" | "alpha");
+    match property {
+        Property::UChar(_) if colour => v / 255.0,
+        Property::UShort(_) if colour => v / 65535.0,
+        _ => v,
+    }
+}
+
 #[derive(Default)]
-struct Face(Vec<u32>);
+struct Face {
+    indices: Vec<u32>,
+    extra: Vec<f32>,
+}
 
 impl PropertyAccess for Face {
     fn new() -> Self {
         Self::default()
     }
     fn set_property(&mut self, name: String, property: Property) {
-        if name != "vertex_indices" && name != "vertex_index" {
+        if !FACE_NAMES.contains(&name.as_str()) {
+            if let Some(v) = scalar(&property) {
+                self.extra.push(attribute_value(&name, &property, v));
+            }
             return;
         }
-        self.0 = match property {
+        self.indices = match property {
             Property::ListInt(v) => v.into_iter().map(|i| i as u32).collect(),
             Property::ListUInt(v) => v,
             Property::ListShort(v) => v.into_iter().map(|i| i as u32).collect(),
@@ -100,6 +124,18 @@ pub(super) fn read(data: &[u8]) -> Result<Mesh, String> {
             other => return Err(format!("unsupported PLY element `{other}` (expected `vertex` and `face`)")),
         }
     }
+    let extra_names = |element: &str, reserved: &[&str]| -> Vec<String> {
+        header.elements.get(element).map_or(Vec::new(), |e| {
+            e.properties
+                .iter()
+                .filter(|(name, p)| {
+                    !reserved.contains(&name.as_str()) && matches!(p.data_type, ply_rs::ply::PropertyType::Scalar(_))
+                })
+                .map(|(name, _)| name.clone())
+                .collect()
+        })
+    };
+    let (vertex_extras, face_extras) = (extra_names("vertex", &VERTEX_NAMES), extra_names("face", &FACE_NAMES));
     let mut mesh = Mesh { positions: vertices.iter().map(|v| v.position).collect(), ..Default::default() };
     if vertices.iter().all(|v| v.normal.is_some()) && !vertices.is_empty() {
         mesh.normals = Some(vertices.iter().map(|v| v.normal.unwrap_or(Vec3::Z).normalize_or(Vec3::Z)).collect());
@@ -107,15 +143,61 @@ pub(super) fn read(data: &[u8]) -> Result<Mesh, String> {
     if vertices.iter().all(|v| v.uv.is_some()) && !vertices.is_empty() {
         mesh.uvs = Some(vertices.iter().map(|v| v.uv.unwrap_or_default()).collect());
     }
-    for (f, Face(indices)) in faces.iter().enumerate() {
+    // Each face's triangles, to repeat its attributes over its fan.
+    let mut face_of_triangle = Vec::new();
+    for (f, Face { indices, .. }) in faces.iter().enumerate() {
         if indices.len() < 3 {
             return Err(format!("face {f} has {} vertices; at least 3 are needed", indices.len()));
         }
         for k in 1..indices.len() - 1 {
             mesh.indices.push([indices[0], indices[k], indices[k + 1]]);
+            face_of_triangle.push(f);
         }
     }
+    for (name, first, dim) in attribute_groups(&vertex_extras) {
+        let values = vertices.iter().flat_map(|v| v.extra[first..first + dim].iter().copied()).collect();
+        mesh.attributes.push(MeshAttribute { name: format!("vertex_{name}"), values, dim, per_vertex: true });
+    }
+    for (name, first, dim) in attribute_groups(&face_extras) {
+        let values =
+            face_of_triangle.iter().flat_map(|&f| faces[f].extra[first..first + dim].iter().copied()).collect();
+        mesh.attributes.push(MeshAttribute { name: format!("face_{name}"), values, dim, per_vertex: false });
+    }
     Ok(mesh)
+}
+
+/// The other properties of an element grouped as Mitsuba groups them into attributes: runs of
+/// `PREFIX_x, _y, _z, _w` (or `_r, _g, _b, _a`, `_0 … _3`, `_1 … _4`) as one attribute `PREFIX`
+/// of up to four values, `r, g, b (, a)` or `red, green, blue (, alpha)` as `color`, any
+/// other property alone under its own name. (name, first index, dimension) each.
+fn attribute_groups(names: &[String]) -> Vec<(String, usize, usize)> {
+    const SCHEMES: [[&str; 4]; 4] =
+        [["x", "y", "z", "w"], ["r", "g", "b", "a"], ["0", "1", "2", "3"], ["1", "2", "3", "4"]];
+    const COLOURS: [[&str; 4]; 2] = [["r", "g", "b", "a"], ["red", "green", "blue", "alpha"]];
+    // How many of `names[i..]` follow `run` (at most four).
+    let run_length = |i: usize, run: &dyn Fn(usize) -> String| {
+        (0..4).take_while(|&k| names.get(i + k).is_some_and(|n| *n == run(k))).count()
+    };
+    let mut groups = Vec::new();
+    let mut i = 0;
+    while i < names.len() {
+        let colour = COLOURS.iter().map(|c| run_length(i, &|k| c[k].to_string())).max().unwrap_or(0);
+        let (name, dim) = if colour >= 3 {
+            ("color".to_string(), colour)
+        } else if let Some((prefix, _)) = names[i].rsplit_once('_') {
+            let dim = SCHEMES.iter().map(|s| run_length(i, &|k| format!("{prefix}_{}", s[k]))).max().unwrap_or(0);
+            if dim > 0 {
+                (prefix.to_string(), dim)
+            } else {
+                (names[i].clone(), 1)
+            }
+        } else {
+            (names[i].clone(), 1)
+        };
+        groups.push((name, i, dim));
+        i += dim;
+    }
+    groups
 }
 
 /// In an ASCII PLY, every word after the header is a finite number: the parser's own message

@@ -1245,12 +1245,18 @@ impl<'a> Translator<'a> {
                     uv_transform: Some(rows(checks)),
                 }
             }
-            _ => {
-                return Err(self.error(
-                    &texture.position,
-                    format!("<texture type=\"{kind}\"> is not supported; glint reads bitmap and checkerboard"),
-                ))
+            "mesh_attribute" => {
+                let attribute = p.string(self, "name")?.ok_or_else(|| {
+                    self.error(&texture.position, "a mesh_attribute needs a `name` (vertex_… or face_…)")
+                })?;
+                TextureDesc::MeshAttribute { name: attribute, scale: p.float(self, "scale")? }
             }
+            _ => return Err(self.error(
+                &texture.position,
+                format!(
+                    "<texture type=\"{kind}\"> is not supported; glint reads bitmap, checkerboard and mesh_attribute"
+                ),
+            )),
         };
         self.scene.textures.insert(name.clone(), Located { value: desc, span: texture.position.span.clone() });
         self.unused(&p);

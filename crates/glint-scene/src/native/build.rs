@@ -18,7 +18,9 @@ use glint_core::materials::Material;
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::{Geometry, Object, SceneBuilder};
 use glint_core::shapes::{AaBox, Instance, IntersectMethods, Mesh, Plane, Polygon, Shape, Sphere, Triangle};
-use glint_core::textures::{Checker, ImageTexture, Marble, SolidChecker, TexelFilter, Texture, Wood, Wrap};
+use glint_core::textures::{
+    AttributeTexture, Checker, ImageTexture, Marble, SolidChecker, TexelFilter, Texture, Wood, Wrap,
+};
 use glint_core::Named;
 
 use super::schema::*;
@@ -90,6 +92,7 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         objects.push(build_object(&cx, i, entry, &materials, &mut library, source, &mut warnings)?);
     }
 
+    check_mesh_attributes(&cx, &file, &textures, &objects)?;
     warnings.extend(materials.iter().filter_map(|(name, m)| m.energy_warning(name)));
     let scene = SceneBuilder::new(camera)
         .objects(objects)
@@ -102,6 +105,41 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         .build();
     let inputs = std::iter::once(path.to_path_buf()).chain(source.files_read()).collect();
     Ok(LoadedScene { scene, render, warnings, inputs })
+}
+
+/// Every `mesh-attribute` texture names an attribute some mesh of the scene has: a typo would
+/// otherwise render black.
+fn check_mesh_attributes(
+    cx: &Context,
+    file: &SceneFile,
+    textures: &[(String, Texture)],
+    objects: &[Object],
+) -> Result<(), SceneError> {
+    let present: Vec<&str> = objects
+        .iter()
+        .filter_map(|o| match &o.shape {
+            Shape::Mesh(m) => Some(m.attributes.iter().map(|a| a.name.as_str())),
+            _ => None,
+        })
+        .flatten()
+        .collect();
+    for (name, texture) in textures {
+        let Texture::Attribute(t) = texture else { continue };
+        if !present.contains(&t.name.as_str()) {
+            let span = file.textures.get(name).map(|e| e.span.clone());
+            let known = if present.is_empty() {
+                "no mesh has attributes".to_string()
+            } else {
+                format!("the meshes have {}", present.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", "))
+            };
+            return Err(cx.error(
+                &span.flatten(),
+                Some("name"),
+                format!("texture `{name}`: no mesh of the scene has the attribute `{}` ({known})", t.name),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn build_camera(cx: &Context, camera: &Located<CameraDesc>) -> Result<Camera, SceneError> {
@@ -523,7 +561,7 @@ fn build_object(
                 normals: None,
                 uvs: Some(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]),
                 indices: vec![[0, 1, 2], [0, 2, 3]],
-                baked_transform: None,
+                ..Mesh::default()
             };
             if mesh.degenerate_triangles().count() > 0 {
                 return Err(at("vertices", "the quad has a zero-area half (three collinear corners)".into()));
@@ -688,6 +726,16 @@ fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'stat
             rings: number("rings", *rings, 8.0)?,
             turbulence: number("turbulence", *turbulence, 0.3)?,
         }),
+        TextureDesc::MeshAttribute { name, scale } => {
+            if !(name.starts_with("vertex_") || name.starts_with("face_")) {
+                return Err(("name", format!("a mesh attribute is named `vertex_…` or `face_…`, got `{name}`")));
+            }
+            let scale = scale.unwrap_or(1.0);
+            if !(scale >= 0.0 && scale.is_finite()) {
+                return Err(("scale", format!("`scale` must be ≥ 0, got {scale}")));
+            }
+            Texture::Attribute(Box::new(AttributeTexture { name: name.clone(), scale }))
+        }
     })
 }
 

@@ -451,6 +451,11 @@ pub enum TextureDesc {
         rings: Option<f32>,
         turbulence: Option<f32>,
     },
+    /// A mesh's own values (`vertex_color`, `face_weight`, …: Mitsuba's `mesh_attribute`).
+    MeshAttribute {
+        name: String,
+        scale: Option<f32>,
+    },
 }
 
 #[derive(Deserialize, Debug, Default, Clone, Copy)]

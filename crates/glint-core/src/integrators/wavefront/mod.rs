@@ -553,7 +553,9 @@ impl<'a> Wavefront<'a> {
             geometric: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.geometric_normal)),
             shading: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.shading_normal)),
             material: std::array::from_fn(|k| match &hits[k] {
-                Some(h) => LaneMaterial::at(&scene.materials()[h.material as usize], &h.texture_query()),
+                Some(h) => {
+                    LaneMaterial::at(&scene.materials()[h.material as usize], &h.texture_query(scene.geometry()))
+                }
                 None => LaneMaterial::BLACK,
             }),
         }
