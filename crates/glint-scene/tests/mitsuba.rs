@@ -236,6 +236,42 @@ fn a_textured_area_emitter_keeps_its_texture() {
     assert_eq!(scene.lights().area_count(), 2 + 1, "the rectangle's two triangles and the sphere");
 }
 
+/// `serialized` meshes with `shape_index` (the suite's `matpreview.serialized`, whose second
+/// mesh has 3936 triangles, as Mitsuba 3.9 reads it); `shape_index` on another format is
+/// refused.
+#[test]
+fn serialized_meshes_load_by_shape_index() {
+    let file =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/mitsuba-suite/common/meshes/matpreview.serialized");
+    if !file.exists() {
+        eprintln!("skipped: {} is not here", file.display());
+        return;
+    }
+    let path = scene_file(
+        "serialized",
+        &format!(
+            "<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"serialized\"><string name=\"filename\" value=\"{}\"/><integer name=\"shape_index\" value=\"1\"/></shape>\n</scene>\n",
+            file.display()
+        ),
+    );
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let meshes: Vec<usize> = loaded
+        .scene
+        .objects()
+        .iter()
+        .filter_map(|o| match &o.shape {
+            glint_core::shapes::Shape::Mesh(m) => Some(m.triangle_count()),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(meshes, [3936]);
+    let e = error_of(
+        "index-on-obj",
+        &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"obj\"><string name=\"filename\" value=\"x.obj\"/><integer name=\"shape_index\" value=\"1\"/></shape>\n</scene>\n"),
+    );
+    assert!(e.contains("index-on-obj.xml:3:") && e.contains("`shape_index` belongs to serialized meshes"), "{e}");
+}
+
 /// `mesh_attribute` textures read a PLY file's colours where a ray hits: per face as they
 /// are, per vertex interpolated; a name no mesh has is refused at the texture's line.
 #[test]

@@ -1,8 +1,10 @@
 //! Mesh files: OBJ (through `tobj`) and PLY (through `ply-rs`), optionally gzipped
-//! (`.ply.gz`, `.obj.gz`). Errors are plain messages; the caller adds the scene location.
+//! (`.ply.gz`, `.obj.gz`), and Mitsuba's `.serialized` meshes. Errors are plain messages; the
+//! caller adds the scene location.
 
 mod obj;
 mod ply;
+mod serialized;
 
 use std::io::Read;
 use std::path::Path;
@@ -11,6 +13,12 @@ use glint_core::shapes::Mesh;
 
 /// Reads a mesh from its bytes, choosing the format by the file name.
 pub fn read_mesh(name: &str, bytes: &[u8]) -> Result<Mesh, String> {
+    read_mesh_part(name, bytes, 0)
+}
+
+/// Mesh `shape_index` of a file that holds several (a `.serialized` file; any other holds
+/// one, index 0).
+pub fn read_mesh_part(name: &str, bytes: &[u8], shape_index: u32) -> Result<Mesh, String> {
     let (stem, data) = match name.strip_suffix(".gz") {
         Some(stem) => {
             let limit = crate::limits::memory_limit();
@@ -30,10 +38,21 @@ pub fn read_mesh(name: &str, bytes: &[u8]) -> Result<Mesh, String> {
         }
         None => (name, bytes.to_vec()),
     };
-    let mesh = match Path::new(stem).extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+    let extension = Path::new(stem).extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if shape_index != 0 && extension.as_deref() != Some("serialized") {
+        return Err(format!(
+            "`shape_index` {shape_index} asks for one of several meshes, but only a .serialized file holds several"
+        ));
+    }
+    let mesh = match extension.as_deref() {
         Some("obj") => obj::read(&data)?,
         Some("ply") => ply::read(&data)?,
-        _ => return Err("unknown mesh format: expected a file ending in .obj, .ply, .obj.gz or .ply.gz".into()),
+        Some("serialized") => serialized::read(&data, shape_index)?,
+        _ => {
+            return Err(
+                "unknown mesh format: expected a file ending in .obj, .ply, .serialized, .obj.gz or .ply.gz".into()
+            )
+        }
     };
     validate(&mesh)?;
     Ok(mesh)

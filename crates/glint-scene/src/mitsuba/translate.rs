@@ -453,11 +453,22 @@ impl<'a> Translator<'a> {
         let material = self.material_for(bsdf, emission, &shape.position)?;
         let span = shape.position.span.clone();
         let desc = match kind {
-            "obj" | "ply" => {
+            "obj" | "ply" | "serialized" => {
                 let file = p.string(self, "filename")?.ok_or_else(|| {
                     self.error(&shape.position, format!("<shape type=\"{kind}\"> needs a `filename`"))
                 })?;
-                ShapeDesc::Mesh { file, smooth: !face_normals, flip_v, material, transform, name }
+                let shape_index = match (kind, p.integer(self, "shape_index")?) {
+                    (_, None) => 0,
+                    ("serialized", Some(i)) => u32::try_from(i).map_err(|_| {
+                        self.error(&shape.position, format!("`shape_index` must be ≥ 0, got {i}"))
+                    })?,
+                    (_, Some(_)) => {
+                        return Err(self.error(&shape.position, "`shape_index` belongs to serialized meshes"))
+                    }
+                };
+                // Mitsuba turns v over in obj and ply files, not in serialized ones.
+                let flip_v = flip_v && kind != "serialized";
+                ShapeDesc::Mesh { file, shape_index, smooth: !face_normals, flip_v, material, transform, name }
             }
             "rectangle" => ShapeDesc::Quad {
                 vertices: [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]],
@@ -523,9 +534,9 @@ impl<'a> Translator<'a> {
         }
         let mut members: Vec<Located<ShapeDesc>> = self.scene.shapes.drain(first..).collect();
         for (i, member) in members.iter_mut().enumerate() {
-            if let ShapeDesc::Mesh { file, smooth, flip_v, material, transform, name } = &member.value {
+            if let ShapeDesc::Mesh { file, shape_index, smooth, flip_v, material, transform, name } = &member.value {
                 let mesh = format!("{id}#{i}");
-                let desc = MeshDesc { file: file.clone(), smooth: *smooth, flip_v: *flip_v };
+                let desc = MeshDesc { file: file.clone(), shape_index: *shape_index, smooth: *smooth, flip_v: *flip_v };
                 self.scene.meshes.insert(mesh.clone(), Located { value: desc, span: member.span.clone() });
                 member.value = ShapeDesc::Instance {
                     mesh,
@@ -1251,12 +1262,14 @@ impl<'a> Translator<'a> {
                 })?;
                 TextureDesc::MeshAttribute { name: attribute, scale: p.float(self, "scale")? }
             }
-            _ => return Err(self.error(
-                &texture.position,
-                format!(
+            _ => {
+                return Err(self.error(
+                    &texture.position,
+                    format!(
                     "<texture type=\"{kind}\"> is not supported; glint reads bitmap, checkerboard and mesh_attribute"
                 ),
-            )),
+                ))
+            }
         };
         self.scene.textures.insert(name.clone(), Located { value: desc, span: texture.position.span.clone() });
         self.unused(&p);

@@ -409,8 +409,8 @@ impl MeshLibrary<'_> {
         let desc = &entry.value;
         let at_file = |m: String| cx.error(&entry.span, Some("file"), format!("mesh `{name}`: {m}"));
         let bytes = source.read(&desc.file).map_err(at_file)?;
-        let mut mesh =
-            crate::mesh::read_mesh(&desc.file, &bytes).map_err(|m| at_file(format!("`{}`: {m}", desc.file)))?;
+        let mut mesh = crate::mesh::read_mesh_part(&desc.file, &bytes, desc.shape_index)
+            .map_err(|m| at_file(format!("`{}`: {m}", desc.file)))?;
         if !desc.smooth {
             mesh.normals = None;
         }
@@ -572,10 +572,10 @@ fn build_object(
             let geometry = library.get(cx, mesh, source, warnings, |m| at("mesh", m))?;
             Shape::Instance(Instance { geometry })
         }
-        ShapeDesc::Mesh { file, smooth, flip_v, .. } => {
+        ShapeDesc::Mesh { file, shape_index, smooth, flip_v, .. } => {
             let bytes = source.read(file).map_err(|m| at("file", format!("mesh file: {m}")))?;
-            let mut mesh =
-                crate::mesh::read_mesh(file, &bytes).map_err(|m| at("file", format!("mesh file `{file}`: {m}")))?;
+            let mut mesh = crate::mesh::read_mesh_part(file, &bytes, *shape_index)
+                .map_err(|m| at("file", format!("mesh file `{file}`: {m}")))?;
             if !smooth {
                 mesh.normals = None;
             }

@@ -40,6 +40,9 @@ pub struct SceneFile {
 #[serde(deny_unknown_fields)]
 pub struct MeshDesc {
     pub file: String,
+    /// Which mesh of a file that holds several, as for a `mesh` shape.
+    #[serde(default)]
+    pub shape_index: u32,
     #[serde(default = "yes")]
     pub smooth: bool,
     /// v ← 1 − v for the file's texture coordinates, as for a `mesh` shape.
@@ -586,6 +589,9 @@ pub enum ShapeDesc {
     },
     Mesh {
         file: String,
+        /// Which mesh of a file that holds several (a Mitsuba `.serialized` file).
+        #[serde(default)]
+        shape_index: u32,
         #[serde(default = "yes")]
         smooth: bool,
         /// v ← 1 − v for the file's texture coordinates (files whose v runs down the image).
