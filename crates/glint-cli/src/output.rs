@@ -123,7 +123,9 @@ pub fn write_file_atomically(path: &Path, bytes: &[u8], what: &'static str) -> R
 }
 
 /// Writes row-major pixels (row 0 = top). `exposure` (in stops) applies to PNG only;
-/// `metadata` (name, value) pairs go into the EXR header as string attributes.
+/// `metadata` (name, value) pairs go into the EXR header as string attributes; `layers`
+/// (name, pixels) go into an EXR as channels NAME.R, NAME.G, NAME.B beside the image (other
+/// formats hold the image alone).
 pub fn write_image(
     path: &Path,
     width: u32,
@@ -131,8 +133,9 @@ pub fn write_image(
     pixels: &[Rgb],
     exposure: f32,
     metadata: &[(&str, String)],
+    layers: &[(&str, &[Rgb])],
 ) -> Result<(), OutputError> {
-    let bytes = encode_image(ImageFormat::from_path(path)?, width, height, pixels, exposure, metadata)
+    let bytes = encode_image(ImageFormat::from_path(path)?, width, height, pixels, exposure, metadata, layers)
         .map_err(|reason| OutputError::Unencodable { path: path.to_path_buf(), reason })?;
     write_file_atomically(path, &bytes, "output")
 }
@@ -145,9 +148,29 @@ fn encode_image(
     pixels: &[Rgb],
     exposure: f32,
     metadata: &[(&str, String)],
+    layers: &[(&str, &[Rgb])],
 ) -> Result<Vec<u8>, String> {
     let mut bytes = Vec::new();
     match format {
+        ImageFormat::Exr if !layers.is_empty() => {
+            use exr::prelude::*;
+            let mut list = SmallVec::<[AnyChannel<FlatSamples>; 4]>::new();
+            let planes = std::iter::once(("", pixels)).chain(layers.iter().copied());
+            for (layer, values) in planes {
+                for (c, name) in ["R", "G", "B"].into_iter().enumerate() {
+                    let name = if layer.is_empty() { name.to_string() } else { format!("{layer}.{name}") };
+                    let samples = values.iter().map(|p| p.to_array()[c]).collect();
+                    list.push(AnyChannel::new(name.as_str(), FlatSamples::F32(samples)));
+                }
+            }
+            let size = (width as usize, height as usize);
+            let layer = Layer::new(size, LayerAttributes::default(), Encoding::FAST_LOSSLESS, AnyChannels::sort(list));
+            let mut image = Image::from_layer(layer);
+            for (name, value) in metadata {
+                image.attributes.other.insert(Text::from(*name), AttributeValue::Text(Text::from(value.as_str())));
+            }
+            image.write().to_buffered(std::io::Cursor::new(&mut bytes)).map_err(|e| e.to_string())?;
+        }
         ImageFormat::Exr => {
             use exr::prelude::*;
             let channels = SpecificChannels::rgb(|position: Vec2<usize>| {

@@ -100,6 +100,12 @@ pub struct RenderArgs {
     /// image is the same bit for bit; for comparing the speed of the two.
     #[arg(long)]
     no_wavefront: bool,
+    /// Keep each pixel's second moment (the mean of its samples' squares, Mitsuba's `moment`)
+    /// and write it as the EXR layer `m2` (m2.R, m2.G, m2.B): a sample's variance is
+    /// m2 − mean², the pixel's that over the sample count. Camera integrators only; the
+    /// scene's `moment` (a Mitsuba `moment` integrator) turns it on too.
+    #[arg(long)]
+    moment: bool,
     /// No progress bar and no summary line.
     #[arg(short, long)]
     quiet: bool,
@@ -197,7 +203,8 @@ pub fn run(args: RenderArgs) -> Result<Outcome, CliError> {
     };
     let progress = progress_bar(&args, &plan, &scene, resume.as_ref().map(|(_, spp_done)| *spp_done));
     let result = {
-        let progressive = Progressive { settings: plan.settings, time_limit: plan.time_limit };
+        let progressive =
+            Progressive { settings: plan.settings, time_limit: plan.time_limit, second_moment: plan.moment };
         let mut saver = CheckpointSaver::new(&args, &plan);
         let result = pool.install(|| {
             render_progressive(
@@ -248,6 +255,8 @@ struct Plan {
     /// What makes the image what it is (`RenderIdentity`): a checkpoint resumes only the
     /// render it was written by.
     fingerprint: u64,
+    /// Keep and write each pixel's second moment.
+    moment: bool,
 }
 
 /// The output image's path: `--output`, else the scene's name as a PNG.
@@ -332,7 +341,27 @@ fn load(args: &RenderArgs) -> Result<(Scene, Plan), CliError> {
         triangle_sampling: scene.lights().triangle_sampling(),
     };
     let fingerprint = checkpoint::fingerprint_of(&identity);
-    Ok((scene, Plan { kind, integrator, settings, time_limit, fingerprint }))
+    let moment = (args.moment || options.moment) && moment_possible(args, kind)?;
+    Ok((scene, Plan { kind, integrator, settings, time_limit, fingerprint, moment }))
+}
+
+/// Whether this render can keep the second moment it is asked for: a camera integrator's
+/// samples each land in the film (particles' splats do not), from a fresh film (checkpoints
+/// keep no second moment). Asked on the command line, a render that cannot is refused; asked
+/// by the scene, it goes on without, with a warning.
+fn moment_possible(args: &RenderArgs, kind: IntegratorKind) -> Result<bool, CliError> {
+    let why = if kind.traces_particles() || kind == IntegratorKind::Sppm {
+        format!("`{}` splats particles into the film, so its pixels have no samples of their own", kind.name())
+    } else if args.resume.is_some() {
+        "a checkpoint keeps no second moment, so a resumed render cannot write one".to_string()
+    } else {
+        return Ok(true);
+    };
+    if args.moment {
+        return Err(CliError::Setting(format!("--moment: {why}")));
+    }
+    say!("warning: the scene asks for the second moment (`moment`), which is not written: {why}");
+    Ok(false)
 }
 
 /// Everything that makes a render's image what it is, but the seed (which a checkpoint
@@ -493,7 +522,12 @@ fn write_outputs(
         ("glint:integrator", plan.kind.name().to_string()),
         ("glint:version", env!("CARGO_PKG_VERSION").to_string()),
     ];
-    write_image(output, width, height, &pixels, exposure, &metadata)?;
+    let moments = result.film.second_moments();
+    let layers: Vec<(&str, &[Rgb])> = moments.iter().map(|m| ("m2", m.as_slice())).collect();
+    if !layers.is_empty() && ImageFormat::from_path(output)? != ImageFormat::Exr {
+        say!("warning: the second moment is written only into EXR images; `{}` has the image alone", output.display());
+    }
+    write_image(output, width, height, &pixels, exposure, &metadata, &layers)?;
     if let Some(path) = &args.checkpoint {
         let state = renderer.state();
         checkpoint::save(path, &result.film, result.spp_done, plan.settings.seed, plan.fingerprint, &state)?;

@@ -170,3 +170,46 @@ fn resume_from_a_checkpoint_equals_an_uninterrupted_render() {
     assert_eq!(std::fs::read(path("full.pfm")).unwrap(), std::fs::read(path("scalar.pfm")).unwrap());
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `--moment` writes each pixel's second moment beside the image as the EXR layer `m2`, at
+/// least the square of the pixel's mean (its sample variance is m2 − mean² ≥ 0), and the
+/// image itself is the one a render without it gives; a particle integrator is refused, and a
+/// PNG output says it holds the image alone.
+#[test]
+fn moment_writes_the_second_moment_as_an_exr_layer() {
+    use exr::prelude::*;
+    let dir = temp_dir("moment");
+    let (with, without) = (dir.join("m.exr"), dir.join("plain.exr"));
+    let common = ["render", &cornell_box(), "--width", "24", "--spp", "4", "--seed", "3", "--quiet"];
+    run(&[&common[..], &["--moment", "-o", with.to_str().unwrap()]].concat());
+    run(&[&common[..], &["-o", without.to_str().unwrap()]].concat());
+    let read = |path: &Path| {
+        read_all_flat_layers_from_file(path).unwrap().layer_data.into_iter().next().unwrap().channel_data.list
+    };
+    let channels = read(&with);
+    let names: Vec<String> = channels.iter().map(|c| c.name.to_string()).collect();
+    assert_eq!(names, ["B", "G", "R", "m2.B", "m2.G", "m2.R"]);
+    let values = |name: &str| -> Vec<f32> {
+        channels.iter().find(|c| c.name.to_string() == name).unwrap().sample_data.values_as_f32().collect()
+    };
+    let plain = read(&without);
+    let plain_red: Vec<f32> =
+        plain.iter().find(|c| c.name.to_string() == "R").unwrap().sample_data.values_as_f32().collect();
+    assert_eq!(values("R"), plain_red, "the image does not change");
+    let (red, m2) = (values("R"), values("m2.R"));
+    assert!(red.iter().zip(&m2).all(|(r, m)| *m >= r * r * (1.0 - 1e-5)), "m2 ≥ mean²");
+    assert!(red.iter().zip(&m2).any(|(r, m)| *m > 1.01 * r * r), "four samples of a path tracer differ somewhere");
+
+    let o = glint()
+        .args(common)
+        .args(["--moment", "--integrator", "light", "-o", with.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("--moment") && err.contains("splats particles"), "{err}");
+    let png = dir.join("m.png");
+    let o = run(&[&common[..], &["--moment", "-o", png.to_str().unwrap()]].concat());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("written only into EXR"), "{err}");
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -46,6 +46,9 @@ impl Default for RenderSettings {
 pub struct Progressive {
     pub settings: RenderSettings,
     pub time_limit: Option<Duration>,
+    /// Keep each pixel's second moment in the film (`Film::second_moments`): camera
+    /// integrators only, whose samples each land in the film.
+    pub second_moment: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -84,7 +87,7 @@ pub fn render_with(
     settings: &RenderSettings,
     on_tile: &(dyn Fn() + Sync),
 ) -> RenderOutput {
-    let progressive = Progressive { settings: *settings, time_limit: None };
+    let progressive = Progressive { settings: *settings, time_limit: None, second_moment: false };
     render_progressive(scene, renderer, &progressive, None, &AtomicBool::new(false), on_tile, &mut |_, _, _| {})
 }
 
@@ -104,7 +107,10 @@ pub fn render_progressive(
     let start = Instant::now();
     let settings = progressive.settings;
     let (width, height) = (scene.camera().width, scene.camera().height);
-    let (mut film, mut spp_done) = resume.unwrap_or_else(|| (Film::new(width, height), 0));
+    let (mut film, mut spp_done) = resume.unwrap_or_else(|| {
+        let film = Film::new(width, height);
+        (if progressive.second_moment { film.with_second_moment() } else { film }, 0)
+    });
     let mut rays = RayCounts::default();
     let mut samples = 0u64;
     let mut stopped_early = None;

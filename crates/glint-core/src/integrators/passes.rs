@@ -177,7 +177,7 @@ fn camera_passes(
                     let (_, radiance, pass_counts) = render_tile(pass, (x0, y0, x1, y1));
                     let mut band = bands[(y0 / TILE_SIZE) as usize].lock().expect("no tile panicked");
                     for (i, &r) in radiance.iter().enumerate() {
-                        band.add_samples(x0 + i as u32 % (x1 - x0), y0 + i as u32 / (x1 - x0), r, 1.0);
+                        band.add_sample(x0 + i as u32 % (x1 - x0), y0 + i as u32 / (x1 - x0), r, 1.0);
                     }
                     drop(band);
                     on_tile();
@@ -222,7 +222,7 @@ pub fn splat(film: &mut Film, filter: Filter, fx: f32, fy: f32, radiance: Rgb) {
         for x in x0 as i64..=x1 {
             let w = filter.weight(x as f32 + 0.5 - fx, y as f32 + 0.5 - fy);
             if w != 0.0 {
-                film.add_samples(x as u32, y as u32, radiance * w, w);
+                film.add_sample(x as u32, y as u32, radiance, w);
             }
         }
     }

@@ -384,7 +384,8 @@ impl<'a> Translator<'a> {
     }
 
     /// Mitsuba's `moment` wraps integrators and adds each one's second moment as extra film
-    /// channels; the image is its first nested integrator's, which glint renders.
+    /// channels: glint renders its first nested integrator keeping each pixel's second moment
+    /// (written as the EXR layer `m2`).
     fn moment(&mut self, moment: &Element) -> Result<()> {
         let nested: Vec<&Element> = moment.children.iter().filter(|c| c.tag == "integrator").collect();
         let Some(first) = nested.first() else {
@@ -393,11 +394,8 @@ impl<'a> Translator<'a> {
         for extra in &nested[1..] {
             self.warn(&extra.position, "a second integrator inside `moment`: glint renders the first one only");
         }
-        self.warn(
-            &moment.position,
-            "<integrator type=\"moment\">: glint renders the nested integrator's image; the second-moment channels are not written",
-        );
         self.unused(&self.properties(moment));
+        self.scene.render.moment = true;
         self.integrator(first)
     }
 

@@ -244,6 +244,7 @@ fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneErro
         sampler,
         light_sampling,
         light_selection,
+        moment: r.moment,
     })
 }
 

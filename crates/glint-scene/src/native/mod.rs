@@ -38,6 +38,8 @@ pub struct RenderOptions {
     pub light_sampling: TriangleSampling,
     /// How lights are chosen: by power, or each emitter equally (Mitsuba's scenes).
     pub light_selection: LightSelection,
+    /// Keep each pixel's second moment (Mitsuba's `moment`), written beside the image.
+    pub moment: bool,
 }
 
 pub struct LoadedScene {

@@ -103,6 +103,9 @@ pub struct RenderDesc {
     pub light_sampling: String,
     #[serde(default = "default_light_selection")]
     pub light_selection: String,
+    /// Keep each pixel's second moment and write it beside the image (Mitsuba's `moment`).
+    #[serde(default)]
+    pub moment: bool,
     /// Photon mapping (see `PhotonSettings`).
     #[serde(default = "default_photons")]
     pub photons: u32,
@@ -154,6 +157,7 @@ impl Default for RenderDesc {
             sampler: default_sampler(),
             light_sampling: default_light_sampling(),
             light_selection: default_light_selection(),
+            moment: false,
             photons: default_photons(),
             caustic_photons: default_photons(),
             photon_nearest: default_photon_nearest(),
