@@ -23,6 +23,7 @@ mod common;
 
 use common::{object_with, scene};
 use glam::Mat4;
+use glint_core::accel::Geometry;
 use glint_core::camera::Camera;
 use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings};
@@ -30,7 +31,7 @@ use glint_core::lights::{DirectionalLight, Falloff, Light, PointLight, SpotLight
 use glint_core::materials::{Emitter, Material, Phong};
 use glint_core::render::{render_with, RenderSettings};
 use glint_core::scene::Scene;
-use glint_core::shapes::{AaBox, Mesh, Plane, Polygon, Shape, Sphere, Triangle};
+use glint_core::shapes::{AaBox, Instance, Mesh, Plane, Polygon, Shape, Sphere, Triangle};
 use glint_core::textures::{Checker, Texture};
 use glint_core::{Rgb, Vec2, Vec3};
 
@@ -179,6 +180,73 @@ fn a_floor_under_a_textured_quad_light_matches_lamberts_formula_over_each_half()
         let mean = image.iter().map(|p| p.x as f64).sum::<f64>() / image.len() as f64;
         assert!((mean / expected - 1.0).abs() < 0.005, "textured {name} light, light tracing: {mean} vs {expected}");
     }
+}
+
+/// An emitting instance is a light of its mesh's triangles, placed by the instance's
+/// transform (turned and scaled here): Lambert's formula over its corners where they land,
+/// under the path tracers (the light sampled, and found by BSDF paths through the instance's
+/// inner primitive) and light tracing.
+#[test]
+fn a_floor_under_an_instanced_quad_light_matches_lamberts_formula() {
+    let (radiance, albedo) = (3.0f32, 0.5f32);
+    // A quad facing down in its own space (its two triangles of unequal area, so a light
+    // sample and a hit must agree on which is which), turned, stretched and lifted.
+    let local =
+        [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.6, 0.0, 1.0), Vec3::new(0.0, 0.0, 1.0)];
+    let placed = Mat4::from_translation(Vec3::new(-0.4, 1.0, -0.3))
+        * Mat4::from_rotation_y(0.4)
+        * Mat4::from_scale(Vec3::new(0.8, 1.0, 0.7));
+    let corners = local.map(|p| placed.transform_point3(p));
+    let mesh = Mesh { positions: local.to_vec(), indices: vec![[0, 1, 2], [0, 2, 3]], ..Mesh::default() };
+    let geometry = Geometry::new(vec![object_with(Shape::Mesh(mesh), 0)], Default::default());
+    let mut instance = object_with(Shape::Instance(Instance { geometry: std::sync::Arc::new(geometry) }), 1);
+    instance.transform = Transform::from_matrix(placed);
+    let mut s = scene(vec![object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0), instance]);
+    s.set_materials(vec![material(albedo, 0.0), material(0.0, radiance)]);
+    assert_eq!(s.lights().area_count(), 2, "the instance's two triangles");
+    // A hit names the triangle inside the instance (the light's own index within it): the
+    // centroid of each triangle, seen from below.
+    for (prim, [a, b, c]) in [[0, 1, 2], [0, 2, 3]].into_iter().enumerate() {
+        let centroid = (corners[a] + corners[b] + corners[c]) / 3.0;
+        let hit = s.intersect(&glint_core::geometry::Ray::new(centroid - Vec3::Y, Vec3::Y)).expect("the light");
+        assert_eq!((hit.object, hit.prim), (1, prim as u32));
+    }
+    s.set_camera(Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap());
+    let expected = albedo as f64 / std::f64::consts::PI * lambert_irradiance(radiance as f64, &corners);
+    // By solid angle, a light sample's density depends on which triangle it is: a path that
+    // hits the instance must name the same one for its MIS weight.
+    for strategy in [TriangleSampling::Area, TriangleSampling::SolidAngle] {
+        s.set_triangle_sampling(strategy);
+        check_image_mean(
+            &s,
+            IntegratorKind::Path,
+            64,
+            expected,
+            None,
+            &format!("instanced quad light, path, {strategy:?}"),
+        );
+    }
+    check_image_mean(&s, IntegratorKind::PathNaive, 1024, expected, None, "instanced quad light, path-naive");
+    // Light tracing over the floor beside it.
+    s.set_camera(Camera::new(Vec3::new(1.8, 2.5, -2.0), Vec3::new(1.8, 0.0, 0.6), Vec3::Y, 20.0, 16, 16).unwrap());
+    let expected: f64 = (0..16 * 16)
+        .map(|i| {
+            let ray = s.camera().generate_ray((i % 16) as f32 + 0.5, (i / 16) as f32 + 0.5);
+            let hit = s.intersect(&ray).expect("the floor");
+            assert_eq!(hit.object, 0, "the light is out of view");
+            let at = hit.geometry.point;
+            albedo as f64 / std::f64::consts::PI * lambert_irradiance(radiance as f64, &corners.map(|c| c - at))
+        })
+        .sum::<f64>()
+        / 256.0;
+    let settings = IntegratorSettings { max_depth: 1, ..Default::default() };
+    let mut renderer = IntegratorKind::Light.renderer(&settings, &s, 1).expect("a physical light");
+    let image =
+        render_with(&s, renderer.as_mut(), &RenderSettings { spp: 16384, seed: 4, ..Default::default() }, &|| {})
+            .film
+            .to_rgb();
+    let mean = image.iter().map(|p| p.x as f64).sum::<f64>() / image.len() as f64;
+    assert!((mean / expected - 1.0).abs() < 0.005, "instanced light, light tracing: {mean} vs {expected}");
 }
 
 #[test]

@@ -448,3 +448,33 @@ fn the_wavefront_serves_textured_emitters() {
     };
     assert!(mean(&checkered) > 1.2 * mean(&plain), "the brighter checks light the room");
 }
+
+/// The lamp as an emitting instance of a two-triangle mesh (placed by a shift): its triangles
+/// are lights in the lanes' table, and a lane that hits it names the triangle inside the
+/// instance. Bit for bit as the scalar code.
+#[test]
+fn the_wavefront_serves_an_emitting_instance() {
+    use glint_core::accel::Geometry;
+    use glint_core::geometry::Transform;
+    use glint_core::shapes::Instance;
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: 4, rr_depth: 2 } };
+    let scene = room_where(|objects, _| {
+        // The room's lamp is objects 12 and 13 (its quad's triangles, material 3).
+        let lamp: Vec<Object> = objects.drain(12..14).collect();
+        assert!(lamp.iter().all(|o| o.material == 3));
+        let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+        // A quad of unequal triangles, facing down, shifted into place.
+        let positions = vec![v(-0.3, 0.0, -0.2), v(0.3, 0.0, -0.2), v(0.5, 0.0, 0.4), v(-0.3, 0.0, 0.4)];
+        let mesh = Mesh { positions, indices: vec![[0, 1, 2], [0, 2, 3]], ..Mesh::default() };
+        let geometry = Geometry::new(vec![object_with(Shape::Mesh(mesh), 0)], Default::default());
+        let mut instance = object_with(Shape::Instance(Instance { geometry: std::sync::Arc::new(geometry) }), 3);
+        instance.transform = Transform::from_matrix(glam::Mat4::from_translation(v(0.0, 0.98, 0.0)));
+        objects.push(instance);
+    });
+    assert!(scene.lights().area_count() >= 2);
+    let mut lit = 0;
+    for (seed, index) in [(0, 0), (5, 2), (9, 17)] {
+        lit += assert_same(&scene, &tracer, SamplerKind::Sobol, seed, index);
+    }
+    assert!(lit > 0, "the instance lights the room");
+}

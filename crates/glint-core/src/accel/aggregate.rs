@@ -66,7 +66,11 @@ impl Object {
             (None, Shape::Mesh(m)) => (point, m.object_point(point)),
             (None, _) => (point, point),
         };
-        let surface = self.shape.surface_at(prim, local, hit)?;
+        let surface = match &self.shape {
+            // The instanced geometry is one object (a mesh), its primitive `prim`.
+            Shape::Instance(i) => i.geometry.surface_at(0, prim, local, hit)?,
+            shape => shape.surface_at(prim, local, hit)?,
+        };
         let mesh = self.mesh_point(prim, || local);
         Some(TextureQuery { uv: surface.uv, point: object_point, dpdu: Vec3::ZERO, dpdv: Vec3::ZERO, mesh })
     }
@@ -136,6 +140,13 @@ pub struct PrimitiveHit {
 impl PrimitiveHit {
     /// A placeholder before a query.
     pub const NONE: Self = Self { object: u32::MAX, prim: u32::MAX, at: PrimHit { t: 0.0, u: 0.0, v: 0.0, inner: 0 } };
+
+    /// The primitive that emits where the hit is an emitter's (the one inside an instance,
+    /// which is one primitive of the scene's: as `SurfaceHit::prim` counts it).
+    #[inline]
+    pub fn emitting_prim(&self) -> u32 {
+        self.prim + self.at.inner
+    }
 }
 
 /// Objects and the acceleration structure over them: the closest-hit and any-hit queries.
@@ -573,6 +584,18 @@ impl InstancedGeometry for Geometry {
 
     fn primitive_count(&self) -> usize {
         Geometry::primitive_count(self)
+    }
+
+    fn triangle_corners(&self, object: u32, prim: u32) -> Option<[Vec3; 3]> {
+        world_triangle(self.objects().get(object as usize)?, prim)
+    }
+
+    fn surface_at(&self, object: u32, prim: u32, point: Vec3, hit: &PrimHit) -> Option<SurfaceGeometry> {
+        let object = self.objects().get(object as usize)?;
+        match object.transform {
+            None => object.shape.surface_at(prim, point, hit),
+            Some(_) => None,
+        }
     }
 }
 

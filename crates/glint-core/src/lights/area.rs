@@ -21,11 +21,12 @@
 //! particles and paths that hit the surface see the same radiance. Points are still sampled by
 //! area (as Mitsuba samples a textured area emitter), not by the texture's brightness.
 //!
-//! Sampled: triangles (triangle shapes, mesh triangles, quads; any transform, taken in world
-//! space), spheres, polygons and boxes. The geometry of each sampling routine lives in its
-//! shape's file. Other emissive shapes (planes, instances, self-intersecting polygons) still
-//! emit: a path finds them by BSDF sampling, whose multiple-importance weight is then 1 since
-//! their light pdf is 0, so the estimate stays unbiased, only noisier.
+//! Sampled: triangles (triangle shapes, mesh triangles, quads, the triangles of an instanced
+//! mesh; any transform, taken in world space), spheres, polygons and boxes. The geometry of
+//! each sampling routine lives in its shape's file. Other emissive shapes (planes,
+//! self-intersecting polygons) still emit: a path finds them by BSDF sampling, whose
+//! multiple-importance weight is then 1 since their light pdf is 0, so the estimate stays
+//! unbiased, only noisier.
 
 use std::sync::Arc;
 
@@ -245,6 +246,15 @@ pub(crate) fn area_lights(objects: &[Object], materials: &[Material]) -> Vec<(us
                     found.push((o, vec![light(shape)]));
                 }
                 continue;
+            }
+            // Every primitive of the instanced geometry, in its order (a hit's inner
+            // primitive is its light's index within the instance), if all are triangles.
+            Shape::Instance(i) => {
+                let count = i.geometry.primitive_count() as u32;
+                match (0..count).map(|p| i.geometry.triangle_corners(0, p)).collect::<Option<Vec<_>>>() {
+                    Some(triangles) => triangles,
+                    None => continue,
+                }
             }
             Shape::AaBox(b) => {
                 let triangles = b.triangles().to_vec();

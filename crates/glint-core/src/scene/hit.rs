@@ -18,6 +18,7 @@ pub struct SurfaceHit {
     pub t: f32,
     pub geometry: SurfaceGeometry,
     pub object: u32,
+    /// The primitive of `object` hit (for an instance, the one inside it).
     pub prim: u32,
     pub material: u32,
     /// The hit point in the object's own space (for solid textures).
@@ -172,6 +173,7 @@ impl Geometry {
             (None, Shape::Mesh(m)) => m.object_point(geometry.point),
             (None, _) => geometry.point,
         };
-        SurfaceHit { t: hit.t, geometry, object: o, prim: p, material: object.material, object_point }
+        // An instance is one primitive of the scene's; its hit's own is the one inside it.
+        SurfaceHit { t: hit.t, geometry, object: o, prim: p + hit.inner, material: object.material, object_point }
     }
 }

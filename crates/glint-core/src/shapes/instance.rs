@@ -13,6 +13,8 @@
 
 use std::sync::Arc;
 
+use glam::Vec3;
+
 use super::{PrimHit, SurfaceGeometry};
 use crate::geometry::{Aabb, Ray};
 
@@ -24,6 +26,12 @@ pub trait InstancedGeometry: Send + Sync {
     fn closest_primitive(&self, ray: &mut Ray) -> Option<((u32, u32), PrimHit)>;
     fn primitive_surface(&self, object: u32, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfaceGeometry;
     fn primitive_count(&self) -> usize;
+    /// The corners of primitive `prim` of `object` in the geometry's space, if it is a
+    /// triangle (an emitting instance's lights).
+    fn triangle_corners(&self, object: u32, prim: u32) -> Option<[Vec3; 3]>;
+    /// The surface at `point` (the geometry's space) of primitive `prim` of `object`, a
+    /// triangle's point by `hit`'s barycentric coordinates (`Shape::surface_at`).
+    fn surface_at(&self, object: u32, prim: u32, point: Vec3, hit: &PrimHit) -> Option<SurfaceGeometry>;
 }
 
 #[derive(Clone)]

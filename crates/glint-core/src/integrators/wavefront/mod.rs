@@ -331,8 +331,10 @@ impl<'a> Wavefront<'a> {
                     Some(emitters) => {
                         let none = emitters.len() - 1;
                         let emitter: [&TriangleEmitter; LANES] = std::array::from_fn(|k| {
-                            &emitters
-                                [scene.lights().emitter_index(path(k).hit.object, path(k).hit.prim).unwrap_or(none)]
+                            &emitters[scene
+                                .lights()
+                                .emitter_index(path(k).hit.object, path(k).hit.emitting_prim())
+                                .unwrap_or(none)]
                         });
                         let to_light = point - Vec3x8::from_fn(|k| path(k).last_point);
                         let (pdf, seen) = area_to_solid_angle8(
@@ -350,7 +352,7 @@ impl<'a> Wavefront<'a> {
                             p.last_point,
                             Some(p.last_normal),
                             p.hit.object,
-                            p.hit.prim,
+                            p.hit.emitting_prim(),
                             hit_point,
                             hit_normal,
                         )
