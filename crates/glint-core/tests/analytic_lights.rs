@@ -128,8 +128,8 @@ fn a_floor_under_polygon_and_box_lights_matches_lamberts_formula() {
 /// A light whose radiance is a texture: a checker of two cells across u, so the quad's two
 /// halves shine at L₀ and L₁ and the irradiance is Lambert's formula over each half. As a
 /// mesh (its triangles sampled by area, uv by barycentrics) and as a polygon (one light, uv
-/// bilinear over its corners), under the path tracers and light tracing, whose particles
-/// start with the texture's radiance where they leave.
+/// bilinear over its corners), as an instance of the mesh, under the path tracers and light
+/// tracing, whose particles start with the texture's radiance where they leave.
 #[test]
 fn a_floor_under_a_textured_quad_light_matches_lamberts_formula_over_each_half() {
     let (dim, bright, albedo) = (1.0f32, 5.0f32, 0.5f32);
@@ -152,7 +152,9 @@ fn a_floor_under_a_textured_quad_light_matches_lamberts_formula_over_each_half()
     let checker = Texture::Checker(Box::new(Checker::new(Rgb::splat(dim), Rgb::splat(bright), Vec2::new(2.0, 1.0))));
     let lamp =
         Material::Emitter(Box::new(Emitter { radiance: checker, two_sided: false, surface: material(0.0, 0.0) }));
-    for (name, light) in [("mesh", Shape::Mesh(mesh)), ("polygon", Shape::Polygon(polygon))] {
+    let instanced = Geometry::new(vec![object_with(Shape::Mesh(mesh.clone()), 0)], Default::default());
+    let instance = Shape::Instance(Instance { geometry: std::sync::Arc::new(instanced) });
+    for (name, light) in [("mesh", Shape::Mesh(mesh)), ("polygon", Shape::Polygon(polygon)), ("instance", instance)] {
         let mut s = scene(vec![object_with(Shape::Plane(Plane::new(Vec3::Y, 0.0)), 0), object_with(light, 1)]);
         s.set_materials(vec![material(albedo, 0.0), lamp.clone()]);
         s.set_camera(Camera::new(Vec3::new(0.0, 0.5, -2.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8).unwrap());
