@@ -95,6 +95,7 @@ pub(super) fn furnace(bsdf: &Bsdf, wo: Vec3, seed: u64) -> Albedo {
     let a = albedo(bsdf, wo, 200_000, seed);
     let q = albedo_by_quadrature(bsdf, wo);
     assert!((a.mean - q).abs() < 5.0 * a.standard_error + 0.015 * q, "sampled {a:?}, quadrature {q}");
-    assert!(a.mean < 1.0 + 5.0 * a.standard_error, "gains energy: {a:?}");
+    // A lossless lobe sums to 1 within rounding (with no spread at all: Lambert transmission).
+    assert!(a.mean <= 1.0 + 1e-5 + 5.0 * a.standard_error, "gains energy: {a:?}");
     a
 }
