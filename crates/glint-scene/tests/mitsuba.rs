@@ -236,6 +236,34 @@ fn a_textured_area_emitter_keeps_its_texture() {
     assert_eq!(scene.lights().area_count(), 2 + 1, "the rectangle's two triangles and the sphere");
 }
 
+/// A mesh file without normals is shaded smooth, its normals made as Mitsuba makes them;
+/// `face_normals` keeps it flat.
+#[test]
+fn meshes_without_normals_get_mitsubas_smooth_normals() {
+    let scene_with = |face_normals: bool| {
+        let path = scene_file(
+            &format!("normals-{face_normals}"),
+            &format!(
+                "<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"obj\"><string name=\"filename\" value=\"pyramid.obj\"/><boolean name=\"face_normals\" value=\"{face_normals}\"/></shape>\n</scene>\n"
+            ),
+        );
+        std::fs::write(
+            path.with_file_name("pyramid.obj"),
+            "v 0 0 0\nv 2 0 0\nv 0 1 0\nv 0 0 3\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+        )
+        .unwrap();
+        let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+        match &loaded.scene.objects()[0].shape {
+            glint_core::shapes::Shape::Mesh(m) => m.normals.clone(),
+            other => panic!("{other:?}"),
+        }
+    };
+    let normals = scene_with(false).expect("made");
+    let corner = normals[0];
+    assert!((corner - Vec3::splat(-1.0 / 3f32.sqrt())).length() < 1e-5, "{corner}");
+    assert!(scene_with(true).is_none());
+}
+
 /// `serialized` meshes with `shape_index` (the suite's `matpreview.serialized`, whose second
 /// mesh has 3936 triangles, as Mitsuba 3.9 reads it); `shape_index` on another format is
 /// refused.

@@ -466,7 +466,17 @@ impl<'a> Translator<'a> {
                 };
                 // Mitsuba turns v over in obj and ply files, not in serialized ones.
                 let flip_v = flip_v && kind != "serialized";
-                ShapeDesc::Mesh { file, shape_index, smooth: !face_normals, flip_v, material, transform, name }
+                // Mitsuba makes smooth normals for a file without them.
+                ShapeDesc::Mesh {
+                    file,
+                    shape_index,
+                    smooth: !face_normals,
+                    flip_v,
+                    compute_normals: true,
+                    material,
+                    transform,
+                    name,
+                }
             }
             "rectangle" => ShapeDesc::Quad {
                 vertices: [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]],
@@ -532,9 +542,17 @@ impl<'a> Translator<'a> {
         }
         let mut members: Vec<Located<ShapeDesc>> = self.scene.shapes.drain(first..).collect();
         for (i, member) in members.iter_mut().enumerate() {
-            if let ShapeDesc::Mesh { file, shape_index, smooth, flip_v, material, transform, name } = &member.value {
+            if let ShapeDesc::Mesh { file, shape_index, smooth, flip_v, compute_normals, material, transform, name } =
+                &member.value
+            {
                 let mesh = format!("{id}#{i}");
-                let desc = MeshDesc { file: file.clone(), shape_index: *shape_index, smooth: *smooth, flip_v: *flip_v };
+                let desc = MeshDesc {
+                    file: file.clone(),
+                    shape_index: *shape_index,
+                    smooth: *smooth,
+                    flip_v: *flip_v,
+                    compute_normals: *compute_normals,
+                };
                 self.scene.meshes.insert(mesh.clone(), Located { value: desc, span: member.span.clone() });
                 member.value = ShapeDesc::Instance {
                     mesh,

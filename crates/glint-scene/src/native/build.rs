@@ -365,6 +365,16 @@ fn build_light(
     })
 }
 
+/// A mesh's shading normals: none (flat) unless `smooth`; then the file's, or, where it has
+/// none and `compute` asks, smooth ones made from the faces.
+fn shade(mesh: &mut Mesh, smooth: bool, compute: bool) {
+    if !smooth {
+        mesh.normals = None;
+    } else if compute && mesh.normals.is_none() {
+        mesh.compute_vertex_normals();
+    }
+}
+
 /// A spot's half-angle when none is given, in degrees.
 const DEFAULT_CONE: f32 = 30.0;
 
@@ -412,9 +422,7 @@ impl MeshLibrary<'_> {
         let bytes = source.read(&desc.file).map_err(at_file)?;
         let mut mesh = crate::mesh::read_mesh_part(&desc.file, &bytes, desc.shape_index)
             .map_err(|m| at_file(format!("`{}`: {m}", desc.file)))?;
-        if !desc.smooth {
-            mesh.normals = None;
-        }
+        shade(&mut mesh, desc.smooth, desc.compute_normals);
         if let (true, Some(uvs)) = (desc.flip_v, &mut mesh.uvs) {
             uvs.iter_mut().for_each(|uv| uv.y = 1.0 - uv.y);
         }
@@ -573,13 +581,11 @@ fn build_object(
             let geometry = library.get(cx, mesh, source, warnings, |m| at("mesh", m))?;
             Shape::Instance(Instance { geometry })
         }
-        ShapeDesc::Mesh { file, shape_index, smooth, flip_v, .. } => {
+        ShapeDesc::Mesh { file, shape_index, smooth, flip_v, compute_normals, .. } => {
             let bytes = source.read(file).map_err(|m| at("file", format!("mesh file: {m}")))?;
             let mut mesh = crate::mesh::read_mesh_part(file, &bytes, *shape_index)
                 .map_err(|m| at("file", format!("mesh file `{file}`: {m}")))?;
-            if !smooth {
-                mesh.normals = None;
-            }
+            shade(&mut mesh, *smooth, *compute_normals);
             if let (true, Some(uvs)) = (*flip_v, &mut mesh.uvs) {
                 uvs.iter_mut().for_each(|uv| uv.y = 1.0 - uv.y);
             }

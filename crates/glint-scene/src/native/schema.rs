@@ -48,6 +48,9 @@ pub struct MeshDesc {
     /// v ← 1 − v for the file's texture coordinates, as for a `mesh` shape.
     #[serde(default)]
     pub flip_v: bool,
+    /// Smooth normals where the file has none, as for a `mesh` shape.
+    #[serde(default)]
+    pub compute_normals: bool,
 }
 
 #[derive(Deserialize, Debug)]
@@ -601,6 +604,9 @@ pub enum ShapeDesc {
         /// v ← 1 − v for the file's texture coordinates (files whose v runs down the image).
         #[serde(default)]
         flip_v: bool,
+        /// Where the file has no normals (and `smooth`), make smooth ones as Mitsuba does.
+        #[serde(default)]
+        compute_normals: bool,
         material: String,
         #[serde(default)]
         transform: Vec<TransformOp>,
