@@ -190,6 +190,14 @@ pub fn run(args: RenderArgs) -> Result<Outcome, CliError> {
         return Ok(Outcome::Interrupted);
     }
     let mut renderer = renderer?;
+    // Once the render will run: a refused one says why alone.
+    if plan.kind.is_monte_carlo() {
+        for (name, material) in scene.material_names().iter().zip(scene.materials()) {
+            if let Some(w) = material.highlight_warning(name) {
+                say!("warning: {w}");
+            }
+        }
+    }
     if plan.kind == IntegratorKind::Photon && !args.quiet {
         say!("photon maps built in {:.2} s", started.elapsed().as_secs_f64());
     }
@@ -350,7 +358,7 @@ fn load(args: &RenderArgs) -> Result<(Scene, Plan), CliError> {
 /// keep no second moment). Asked on the command line, a render that cannot is refused; asked
 /// by the scene, it goes on without, with a warning.
 fn moment_possible(args: &RenderArgs, kind: IntegratorKind) -> Result<bool, CliError> {
-    let why = if kind.traces_particles() || kind == IntegratorKind::Sppm {
+    let why = if !kind.samples_pixels() {
         format!("`{}` splats particles into the film, so its pixels have no samples of their own", kind.name())
     } else if args.resume.is_some() {
         "a checkpoint keeps no second moment, so a resumed render cannot write one".to_string()

@@ -226,6 +226,19 @@ impl IntegratorKind {
         matches!(self, IntegratorKind::Light | IntegratorKind::Photon | IntegratorKind::Sppm)
     }
 
+    /// Whether each of its camera samples lands in its own pixel (not light tracing's splats,
+    /// nor SPPM's estimate made once a pass): what a pixel's second moment needs.
+    pub fn samples_pixels(self) -> bool {
+        !matches!(self, IntegratorKind::Light | IntegratorKind::Sppm)
+    }
+
+    /// Whether it estimates light transport by random paths (every integrator but ray casting,
+    /// Whitted's recursion and the BVH heat map), so that Phong's highlight is one of a
+    /// material's lobes.
+    pub fn is_monte_carlo(self) -> bool {
+        !matches!(self, IntegratorKind::Raycast | IntegratorKind::Whitted | IntegratorKind::BvhHeat)
+    }
+
     /// The integrator, for those that need nothing but the camera ray (`None` for those that
     /// must first look at the scene: use `renderer`).
     pub fn create(self, settings: &IntegratorSettings) -> Option<Box<dyn Integrator>> {

@@ -337,6 +337,7 @@ impl Material {
                 let glossy = p.roughness > 0.0;
                 let plain = p.reflection == Texture::Constant(Rgb::ZERO)
                     && p.transmission == Texture::Constant(Rgb::ZERO)
+                    && p.specular == Texture::Constant(Rgb::ZERO)
                     && !glossy;
                 plain.then_some((&p.diffuse, false))
             }
@@ -353,10 +354,10 @@ impl Material {
     }
 
     /// A warning if the material passes on more light than it receives somewhere, per channel:
-    /// for the course's material, k_d + k_r + k_t above 1 (the lobes the Monte Carlo integrators
-    /// choose among), or k_r + k_t above 1 (the weights of Whitted's child rays). The Phong
-    /// highlight k_s is left out: only the local model reads it, and it does not recurse. For
-    /// the other members, a reflectance or transmittance above 1.
+    /// for the course's material, k_d + k_r + k_t above 1 (the lobes every integrator that
+    /// recurses follows), or k_r + k_t above 1 (the weights of Whitted's child rays). Phong's
+    /// highlight k_s is the Monte Carlo integrators' alone: `highlight_warning`. For the other
+    /// members, a reflectance or transmittance above 1.
     pub fn energy_warning(&self, name: &str) -> Option<String> {
         let p = match self {
             Material::Phong(p) => p,
@@ -382,6 +383,25 @@ impl Material {
         };
         Some(format!(
             "material `{name}` passes on more light than it receives (k_d + k_r + k_t = {all} on some channel): the path tracers, light tracing and photon mapping follow it as given, so each bounce off it adds light and pixel values can grow without bound (Russian roulette survives at most 0.95 a bounce); {whitted}. Keep k_d + k_r + k_t ≤ 1 on every channel"
+        ))
+    }
+
+    /// A warning for the Monte Carlo integrators if the course's material passes on more
+    /// light than it receives once Phong's highlight is one of its lobes (k_d + k_s + k_r + k_t
+    /// above 1 where k_d + k_r + k_t alone is not, which `energy_warning` says). Whitted's
+    /// local model reads k_s once per light and does not recurse through it: classic scenes
+    /// made for it often sum above 1, so this is asked only when a Monte Carlo integrator
+    /// renders.
+    pub fn highlight_warning(&self, name: &str) -> Option<String> {
+        let p = match self {
+            Material::Phong(p) => p,
+            Material::Emitter(e) => return e.surface.highlight_warning(name),
+            _ => return None,
+        };
+        let others = p.diffuse.max_value() + p.reflection.max_value() + p.transmission.max_value();
+        let all = (others + p.specular.max_value()).max_element();
+        (all > 1.0 && others.max_element() <= 1.0).then(|| format!(
+            "material `{name}` passes on more light than it receives with Phong's highlight as a lobe (k_d + k_s + k_r + k_t = {all} on some channel): the Monte Carlo integrators sample the highlight (the normalised Phong lobe), so each bounce off it adds light; Whitted's model, which does not recurse through the highlight, is unaffected. Keep k_d + k_s + k_r + k_t ≤ 1 for them"
         ))
     }
 
@@ -504,6 +524,23 @@ mod tests {
         assert_eq!(lamp.emitted(-N, N, query), Rgb::ZERO);
         assert_eq!(lamp.emission(), (Rgb::ONE, false));
         assert!(lamp.emission_texture().is_none());
+    }
+
+    /// Phong's highlight counts toward the Monte Carlo integrators' energy, not Whitted's:
+    /// k_d 0.8 with k_s 0.5 gains light as a lobe (`highlight_warning`) though its recursing
+    /// lobes do not (`energy_warning`); k_d 0.5 with k_s 0.3 is sound.
+    #[test]
+    fn the_highlight_counts_for_the_monte_carlo_integrators_alone() {
+        let phong = |kd: f32, ks: f32| {
+            Material::Phong(Phong { diffuse: Texture::from(kd), specular: Texture::from(ks), ..Phong::default() })
+        };
+        let bright = phong(0.8, 0.5);
+        assert!(bright.energy_warning("m").is_none());
+        let w = bright.highlight_warning("m").expect("1.3 > 1");
+        assert!(w.contains("k_d + k_s + k_r + k_t = 1.3"), "{w}");
+        assert!(phong(0.5, 0.3).highlight_warning("m").is_none());
+        // Both sums above 1: `energy_warning` says it, once.
+        assert!(phong(1.2, 0.3).highlight_warning("m").is_none() && phong(1.2, 0.3).energy_warning("m").is_some());
     }
 
     /// A textured radiance is read where the query says; its mean stands for it in the light's
