@@ -5,9 +5,11 @@ use std::path::PathBuf;
 
 use clap::Args;
 use glint_cli::error::CliError;
+use glint_core::integrators::passes::{pixel_sample, Pass};
+use glint_core::integrators::path_record::{PathEnd, PathEvent};
 use glint_core::integrators::recorder::{RayRecord, RayTree};
 use glint_core::integrators::whitted::{DEPTH_CEILING, TREE_RAY_LIMIT};
-use glint_core::integrators::{IntegratorSettings, PhotonMapper, SampleContext, Whitted};
+use glint_core::integrators::{IntegratorSettings, PathTracer, PhotonMapper, SampleContext, Whitted};
 use glint_core::photons::NearestPhotons;
 use glint_core::sampling::Rng;
 use glint_core::scene::Scene;
@@ -39,6 +41,14 @@ pub struct ExplainArgs {
     min_contribution: Option<f32>,
     #[arg(long)]
     transparent_shadows: bool,
+    /// Which integrator's path to show: `whitted` (the default: the ray tree) or `path` (the
+    /// path tracer's path of the pixel's first sample: each vertex, its emission, light sample,
+    /// BSDF sample and roulette, and what each adds to the pixel).
+    #[arg(long, default_value = "whitted", value_parser = ["whitted", "path"])]
+    integrator: String,
+    /// The seed of the sample streams (default: the scene's), as for `render`.
+    #[arg(long)]
+    seed: Option<u64>,
     /// Also shoot the scene's photon maps (photon mapping's first pass, with the scene's
     /// settings and seed) and list the K photons of each map nearest to the pixel's first hit,
     /// with the radiance estimates made from them.
@@ -75,6 +85,18 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
         settings.min_contribution = c;
     }
     settings.transparent_shadows |= args.transparent_shadows;
+    if args.integrator == "path" {
+        let pass = Pass {
+            seed: args.seed.unwrap_or(loaded.render.seed),
+            index: 0,
+            centre: true,
+            filter: loaded.render.filter,
+            sampler: loaded.render.sampler,
+            samples: 1,
+        };
+        print!("{}", explain_path(&scene, &settings, &pass, x, y));
+        return Ok(());
+    }
     let (tree, colour, cut) = explain_pixel(&scene, &settings, x, y);
     print!("{}", format_tree(&scene, &settings, x, y, &tree, colour));
     if cut {
@@ -86,6 +108,86 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
         print!("{}", explain_photons(&scene, &settings, loaded.render.seed, x, y, k)?);
     }
     Ok(())
+}
+
+/// The path tracer's path of pixel (x, y)'s sample `pass.index` (as `render --spp 1` takes
+/// it), event by event; the last line is the pixel's value, the sum of the lines that add.
+pub fn explain_path(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u32, y: u32) -> String {
+    let (ray, mut context) = pixel_sample(scene, pass, x, y);
+    let (radiance, log) = PathTracer::new(settings).explain(scene, &ray, &mut context);
+    let mut out = String::new();
+    let depth = if settings.max_depth == u32::MAX { "unbounded".to_string() } else { settings.max_depth.to_string() };
+    let _ = writeln!(
+        out,
+        "pixel {x},{y}: the path tracer's path through the pixel centre (seed {}, max depth {depth}, roulette from bounce {})",
+        pass.seed, settings.rr_depth
+    );
+    let names = scene.material_names();
+    for event in &log.events {
+        let _ = match event {
+            PathEvent::Vertex { depth, point, object, material, throughput } => writeln!(
+                out,
+                "vertex {depth}: `{}` (material `{}`) at {}, throughput {}",
+                scene.objects()[*object as usize].name,
+                names.get(*material as usize).map_or("?", String::as_str),
+                v(*point),
+                v(*throughput)
+            ),
+            PathEvent::Emission { emitted, mis_weight, added } => {
+                writeln!(out, "  emission {} × MIS weight {mis_weight:.6} → adds {}", v(*emitted), full(*added))
+            }
+            PathEvent::Light(l) if l.occluded => writeln!(
+                out,
+                "  light sample toward {}, pdf {:.6}: its shadow ray is blocked → adds (0, 0, 0)",
+                v(l.direction),
+                l.pdf
+            ),
+            PathEvent::Light(l) => writeln!(
+                out,
+                "  light sample toward {}, pdf {:.6}, MIS weight {:.6} → adds {}",
+                v(l.direction),
+                l.pdf,
+                l.mis_weight,
+                full(l.added)
+            ),
+            PathEvent::Scatter { direction, weight, pdf, delta, throughput } => writeln!(
+                out,
+                "  BSDF sample ({} lobe) toward {}, pdf {pdf:.6}, weight f·cos/pdf {} → throughput {}",
+                if *delta { "delta" } else { "non-delta" },
+                v(*direction),
+                v(*weight),
+                v(*throughput)
+            ),
+            PathEvent::Roulette { survival, survived } => writeln!(
+                out,
+                "  Russian roulette: survives with probability {survival:.6}: {}",
+                if *survived { "survived (throughput divided by it)" } else { "ended" }
+            ),
+            PathEvent::Escape { radiance, mis_weight, added } => writeln!(
+                out,
+                "escaped: environment {} × MIS weight {mis_weight:.6} → adds {}",
+                v(*radiance),
+                full(*added)
+            ),
+            PathEvent::End(why) => writeln!(
+                out,
+                "path ends: {}",
+                match why {
+                    PathEnd::Escaped => "it left the scene",
+                    PathEnd::Depth => "max depth reached",
+                    PathEnd::Absorbed => "the BSDF gave no direction",
+                    PathEnd::Roulette => "Russian roulette",
+                }
+            ),
+        };
+    }
+    let _ = writeln!(out, "pixel value = the sum of what each line adds = {}", full(radiance));
+    out
+}
+
+/// A colour printed so that it reads back to the same bits.
+fn full(c: Rgb) -> String {
+    format!("({}, {}, {})", c.x, c.y, c.z)
 }
 
 /// The photons of both maps nearest to the first surface the pixel-centre ray hits, and the

@@ -247,6 +247,59 @@ fn explain_prints_the_rendered_pixel_colour() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// `glint explain --integrator path` follows the path the renderer follows through a pixel's
+/// centre at 1 spp: what its lines add sums to its last line, the rendered pixel's value,
+/// bit for bit; somewhere the path bounces more than once and meets roulette or a light.
+#[test]
+fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
+    let dir = temp_dir("explain-path");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
+    let out = dir.join("c.pfm");
+    let o =
+        glint(&["render", scene.to_str().unwrap(), "--spp", "1", "--width", "48", "-q", "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (w, _, pixels) = read_pfm(&out).unwrap();
+    let triple = |text: &str| -> [f32; 3] {
+        let inner = text.trim().trim_start_matches('(').trim_end_matches(')');
+        let v: Vec<f32> = inner.split(", ").map(|n| n.parse().unwrap()).collect();
+        [v[0], v[1], v[2]]
+    };
+    let mut vertices = 0;
+    for (x, y) in [(24, 30), (10, 20), (40, 40), (24, 2), (30, 44)] {
+        let o = glint(&[
+            "explain",
+            scene.to_str().unwrap(),
+            "--width",
+            "48",
+            "--pixel",
+            &format!("{x},{y}"),
+            "--integrator",
+            "path",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = String::from_utf8_lossy(&o.stdout).to_string();
+        vertices += text.lines().filter(|l| l.starts_with("vertex ")).count();
+        let mut sum = [0.0f32; 3];
+        for line in text.lines().filter(|l| l.contains("→ adds")) {
+            let added = triple(line.rsplit("→ adds").next().unwrap());
+            for c in 0..3 {
+                sum[c] += added[c];
+            }
+        }
+        let total = triple(text.lines().last().unwrap().rsplit('=').next().unwrap());
+        let rendered = pixels[(y * w + x) as usize].to_array();
+        assert_eq!(total.map(f32::to_bits), rendered.map(f32::to_bits), "pixel {x},{y}: {text}");
+        for c in 0..3 {
+            assert!(
+                (sum[c] - total[c]).abs() <= 1e-6 * total[c].max(1.0),
+                "pixel {x},{y}: lines add to {sum:?}: {text}"
+            );
+        }
+    }
+    assert!(vertices > 5, "the paths bounce: {vertices} vertices in five pixels");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 /// `glint explain --photons K` lists the photons around a pixel's hit point: in the caustic
 /// under the glass ball the caustic map is dense and its estimate bright; on the far wall
 /// there is no caustic at all.

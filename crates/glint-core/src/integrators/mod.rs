@@ -9,6 +9,7 @@ mod particle;
 pub mod passes;
 mod path;
 mod path_naive;
+pub mod path_record;
 mod photon_mapping;
 mod raycast;
 pub mod recorder;

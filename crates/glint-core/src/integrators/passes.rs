@@ -228,6 +228,13 @@ pub fn splat(film: &mut Film, filter: Filter, fx: f32, fy: f32, radiance: Rgb) {
     }
 }
 
+/// Camera sample `pass.index` of pixel (x, y), as a render takes it: its ray and the context
+/// its path draws the rest of its numbers from (for explaining one pixel's path).
+pub fn pixel_sample(scene: &Scene, pass: &Pass, x: u32, y: u32) -> (Ray, SampleContext) {
+    let (_, mut rays, mut contexts) = camera_samples(scene, pass, (x, y, x + 1, y + 1));
+    (rays.remove(0), contexts.remove(0))
+}
+
 /// Camera sample `pass.index` of every pixel of a tile (x0, y0, x1, y1), row by row: the
 /// film positions, the rays, and the contexts the samples draw the rest of their numbers from.
 pub(super) fn camera_samples(

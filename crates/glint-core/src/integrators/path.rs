@@ -14,6 +14,7 @@
 use glam::{Vec2, Vec3};
 use wide::{f32x8, CmpEq};
 
+use super::path_record::{LightSampleRecord, PathEnd, PathLog, PathRecorder};
 use super::vertex::Vertex;
 use super::{Integrator, IntegratorSettings, SampleContext};
 use crate::geometry::Ray;
@@ -124,6 +125,26 @@ pub(crate) fn power_heuristic8(a: f32x8, b: f32x8) -> f32x8 {
 
 impl Integrator for PathTracer {
     fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
+        self.trace(scene, camera_ray, context, &mut ())
+    }
+}
+
+impl PathTracer {
+    /// The radiance along `camera_ray` and the log of its path: each vertex, what it adds
+    /// (`PathLog::total` is the radiance, bit for bit).
+    pub fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> (Rgb, PathLog) {
+        let mut log = PathLog::default();
+        let radiance = self.trace(scene, camera_ray, context, &mut log);
+        (radiance, log)
+    }
+
+    fn trace(
+        &self,
+        scene: &Scene,
+        camera_ray: &Ray,
+        context: &mut SampleContext,
+        recorder: &mut impl PathRecorder,
+    ) -> Rgb {
         let mut path = PathState::CAMERA;
         let mut ray = *camera_ray;
         loop {
@@ -140,10 +161,14 @@ impl Integrator for PathTracer {
                     }
                     _ => 1.0,
                 };
-                path.radiance += path.throughput * scene.environment().radiance(ray.direction) * weight;
+                let background = scene.environment().radiance(ray.direction);
+                let added = path.throughput * background * weight;
+                path.radiance += added;
+                recorder.escape(background, weight, added);
+                recorder.end(PathEnd::Escaped);
                 break;
             };
-            match self.bounce(scene, &ray, &hit, &mut path, context) {
+            match self.bounce_recorded(scene, &ray, &hit, &mut path, context, recorder) {
                 Some(next) => ray = next,
                 None => break,
             }
@@ -165,6 +190,21 @@ impl PathTracer {
         path: &mut PathState,
         context: &mut SampleContext,
     ) -> Option<Ray> {
+        self.bounce_recorded(scene, ray, hit, path, context, &mut ())
+    }
+
+    /// `bounce`, telling `recorder` what happens.
+    #[inline(always)]
+    fn bounce_recorded(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: &SurfaceHit,
+        path: &mut PathState,
+        context: &mut SampleContext,
+        recorder: &mut impl PathRecorder,
+    ) -> Option<Ray> {
+        recorder.vertex(path.depth, hit, path.throughput);
         let vertex = Vertex::at(scene, ray, *hit);
         let (wo, geometric) = (vertex.wo, hit.geometry.geometric_normal);
         let emitted = vertex.emitted();
@@ -183,18 +223,30 @@ impl PathTracer {
                 }
                 _ => 1.0,
             };
-            path.radiance += path.throughput * emitted * weight;
+            let added = path.throughput * emitted * weight;
+            path.radiance += added;
+            recorder.emission(emitted, weight, added);
         }
         if path.depth >= self.max_depth {
+            recorder.end(PathEnd::Depth);
             return None;
         }
         let bsdf = vertex.bsdf();
         if bsdf.has_diffuse() {
-            path.radiance += path.throughput * sample_lights(scene, hit, &bsdf, wo, Weighting::Mis, context);
+            let event = next_event(scene, hit, &bsdf, wo, Weighting::Mis, context);
+            let added = path.throughput * event.contribution;
+            path.radiance += added;
+            if let Some(sample) = event.sample {
+                recorder.light_sample(LightSampleRecord { added, ..sample });
+            }
         }
         let (u_lobe, u) = BounceDraws::scatter(&mut context.sampler);
-        let sample = bsdf.sample(wo, u_lobe, u)?;
+        let Some(sample) = bsdf.sample(wo, u_lobe, u) else {
+            recorder.end(PathEnd::Absorbed);
+            return None;
+        };
         path.throughput *= sample.weight;
+        recorder.scatter(&sample, path.throughput);
         path.eta_scale *= sample.eta_squared;
         path.previous = Some(Scatter {
             point: hit.geometry.point,
@@ -203,10 +255,17 @@ impl PathTracer {
             delta: sample.delta,
         });
         path.depth += 1;
-        if path.depth >= self.rr_depth && !russian_roulette(&mut path.throughput, path.eta_scale, context) {
-            return None;
+        if path.depth >= self.rr_depth {
+            let survival = (path.throughput.max_element() * path.eta_scale).min(0.95);
+            let survived = russian_roulette(&mut path.throughput, path.eta_scale, context);
+            recorder.roulette(survival, survived);
+            if !survived {
+                recorder.end(PathEnd::Roulette);
+                return None;
+            }
         }
         if path.throughput == Rgb::ZERO {
+            recorder.end(PathEnd::Absorbed);
             return None;
         }
         Some(hit.spawn_ray(sample.wi))
@@ -248,24 +307,52 @@ pub(super) fn sample_lights(
     weighting: Weighting,
     context: &mut SampleContext,
 ) -> Rgb {
+    next_event(scene, hit, bsdf, wo, weighting, context).contribution
+}
+
+/// What next-event estimation adds (before the path's throughput), and its light sample where
+/// one carried light toward the surface (its `added` left for the caller).
+struct NextEvent {
+    contribution: Rgb,
+    sample: Option<LightSampleRecord>,
+}
+
+/// `sample_lights`, with its light sample.
+#[inline(always)]
+fn next_event(
+    scene: &Scene,
+    hit: &SurfaceHit,
+    bsdf: &Bsdf,
+    wo: Vec3,
+    weighting: Weighting,
+    context: &mut SampleContext,
+) -> NextEvent {
+    let none = NextEvent { contribution: Rgb::ZERO, sample: None };
     let p = hit.geometry.point;
     let (u_select, u) = BounceDraws::light(&mut context.sampler);
     let receiver = Some(hit.geometry.shading_normal);
-    let Some(light) = scene.lights().sample_li(p, receiver, u_select, u) else { return Rgb::ZERO };
+    let Some(light) = scene.lights().sample_li(p, receiver, u_select, u) else { return none };
     let f = bsdf.eval(wo, light.direction);
     let carries_light = light.radiance != Rgb::ZERO && f != Rgb::ZERO && light.pdf > 0.0;
     if !carries_light {
-        return Rgb::ZERO;
+        return none;
     }
     context.rays.shadow += 1;
+    let record = |mis_weight: f32, occluded: bool| LightSampleRecord {
+        direction: light.direction,
+        pdf: light.pdf,
+        mis_weight,
+        occluded,
+        added: Rgb::ZERO,
+    };
     if scene.occluded(&hit.spawn_shadow_ray(&light)) {
-        return Rgb::ZERO;
+        return NextEvent { contribution: Rgb::ZERO, sample: Some(record(0.0, true)) };
     }
     let weight = match weighting {
         Weighting::Mis if !light.delta => power_heuristic(light.pdf, bsdf.pdf(wo, light.direction)),
         _ => 1.0,
     };
-    f * light.radiance * (weight / light.pdf)
+    NextEvent { contribution: f * light.radiance * (weight / light.pdf), sample: Some(record(weight, false)) }
 }
 
 #[cfg(test)]

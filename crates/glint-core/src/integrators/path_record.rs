@@ -1,0 +1,110 @@
+//! What the path tracer reports about each vertex of a path, so one code path both renders and
+//! explains (`glint explain --integrator path`). `()` records nothing and compiles away;
+//! `PathLog` keeps every event of one path, and the radiance each adds to the pixel, so the
+//! explanation adds up to the value the render computes.
+
+use glam::Vec3;
+
+use crate::materials::BsdfSample;
+use crate::scene::SurfaceHit;
+use crate::Rgb;
+
+/// Next-event estimation at a vertex: the light sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightSampleRecord {
+    pub direction: Vec3,
+    /// The sample's solid-angle density, the light's choice included.
+    pub pdf: f32,
+    /// The power heuristic's weight against BSDF sampling (1 for a delta light).
+    pub mis_weight: f32,
+    /// The shadow ray found something in the way.
+    pub occluded: bool,
+    /// What it adds to the pixel (the path's throughput included).
+    pub added: Rgb,
+}
+
+/// Where a path ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PathEnd {
+    /// The ray left the scene.
+    Escaped,
+    /// `max_depth` scattering events.
+    Depth,
+    /// The BSDF gave no direction (black, or a sample below the surface).
+    Absorbed,
+    /// Russian roulette ended it.
+    Roulette,
+}
+
+pub trait PathRecorder {
+    /// A vertex at `depth` (0: the camera ray's hit), the path's throughput arriving there.
+    fn vertex(&mut self, _depth: u32, _hit: &SurfaceHit, _throughput: Rgb) {}
+    /// Emission found at the vertex, its MIS weight against light sampling, and what it adds.
+    fn emission(&mut self, _emitted: Rgb, _mis_weight: f32, _added: Rgb) {}
+    fn light_sample(&mut self, _record: LightSampleRecord) {}
+    /// The BSDF's sample (its direction, weight, pdf, lobe kind) and the throughput after it.
+    fn scatter(&mut self, _sample: &BsdfSample, _throughput: Rgb) {}
+    /// Russian roulette's survival probability and verdict.
+    fn roulette(&mut self, _survival: f32, _survived: bool) {}
+    /// The environment found by a ray that left the scene, its MIS weight, what it adds.
+    fn escape(&mut self, _radiance: Rgb, _mis_weight: f32, _added: Rgb) {}
+    fn end(&mut self, _why: PathEnd) {}
+}
+
+/// Records nothing.
+impl PathRecorder for () {}
+
+/// One event of a path, as `PathLog` keeps it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PathEvent {
+    Vertex { depth: u32, point: Vec3, object: u32, material: u32, throughput: Rgb },
+    Emission { emitted: Rgb, mis_weight: f32, added: Rgb },
+    Light(LightSampleRecord),
+    Scatter { direction: Vec3, weight: Rgb, pdf: f32, delta: bool, throughput: Rgb },
+    Roulette { survival: f32, survived: bool },
+    Escape { radiance: Rgb, mis_weight: f32, added: Rgb },
+    End(PathEnd),
+}
+
+/// Every event of one path.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PathLog {
+    pub events: Vec<PathEvent>,
+}
+
+impl PathLog {
+    /// The sum of what the events add to the pixel, in the order the path tracer adds them.
+    pub fn total(&self) -> Rgb {
+        self.events.iter().fold(Rgb::ZERO, |sum, event| match event {
+            PathEvent::Emission { added, .. } | PathEvent::Escape { added, .. } => sum + *added,
+            PathEvent::Light(record) => sum + record.added,
+            _ => sum,
+        })
+    }
+}
+
+impl PathRecorder for PathLog {
+    fn vertex(&mut self, depth: u32, hit: &SurfaceHit, throughput: Rgb) {
+        let (point, object, material) = (hit.geometry.point, hit.object, hit.material);
+        self.events.push(PathEvent::Vertex { depth, point, object, material, throughput });
+    }
+    fn emission(&mut self, emitted: Rgb, mis_weight: f32, added: Rgb) {
+        self.events.push(PathEvent::Emission { emitted, mis_weight, added });
+    }
+    fn light_sample(&mut self, record: LightSampleRecord) {
+        self.events.push(PathEvent::Light(record));
+    }
+    fn scatter(&mut self, sample: &BsdfSample, throughput: Rgb) {
+        let (direction, weight, pdf, delta) = (sample.wi, sample.weight, sample.pdf, sample.delta);
+        self.events.push(PathEvent::Scatter { direction, weight, pdf, delta, throughput });
+    }
+    fn roulette(&mut self, survival: f32, survived: bool) {
+        self.events.push(PathEvent::Roulette { survival, survived });
+    }
+    fn escape(&mut self, radiance: Rgb, mis_weight: f32, added: Rgb) {
+        self.events.push(PathEvent::Escape { radiance, mis_weight, added });
+    }
+    fn end(&mut self, why: PathEnd) {
+        self.events.push(PathEvent::End(why));
+    }
+}
