@@ -9,7 +9,7 @@ use glint_core::integrators::passes::{pixel_sample, Pass};
 use glint_core::integrators::path_record::{PathEnd, PathEvent};
 use glint_core::integrators::recorder::{RayRecord, RayTree};
 use glint_core::integrators::whitted::{DEPTH_CEILING, TREE_RAY_LIMIT};
-use glint_core::integrators::{IntegratorSettings, PathTracer, PhotonMapper, SampleContext, Whitted};
+use glint_core::integrators::{IntegratorSettings, NaivePathTracer, PathTracer, PhotonMapper, SampleContext, Whitted};
 use glint_core::photons::NearestPhotons;
 use glint_core::sampling::Rng;
 use glint_core::scene::Scene;
@@ -41,10 +41,10 @@ pub struct ExplainArgs {
     min_contribution: Option<f32>,
     #[arg(long)]
     transparent_shadows: bool,
-    /// Which integrator's path to show: `whitted` (the default: the ray tree) or `path` (the
-    /// path tracer's path of the pixel's first sample: each vertex, its emission, light sample,
-    /// BSDF sample and roulette, and what each adds to the pixel).
-    #[arg(long, default_value = "whitted", value_parser = ["whitted", "path"])]
+    /// Which integrator's path to show: `whitted` (the default: the ray tree), `path` or
+    /// `path-naive` (the path of the pixel's first sample: each vertex, its emission, light
+    /// sample, BSDF sample and roulette, and what each adds to the pixel).
+    #[arg(long, default_value = "whitted", value_parser = ["whitted", "path", "path-naive"])]
     integrator: String,
     /// The seed of the sample streams (default: the scene's), as for `render`.
     #[arg(long)]
@@ -85,7 +85,7 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
         settings.min_contribution = c;
     }
     settings.transparent_shadows |= args.transparent_shadows;
-    if args.integrator == "path" {
+    if args.integrator != "whitted" {
         let pass = Pass {
             seed: args.seed.unwrap_or(loaded.render.seed),
             index: 0,
@@ -94,7 +94,7 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
             sampler: loaded.render.sampler,
             samples: 1,
         };
-        print!("{}", explain_path(&scene, &settings, &pass, x, y));
+        print!("{}", explain_path(&scene, &settings, &pass, x, y, args.integrator == "path-naive"));
         return Ok(());
     }
     let (tree, colour, cut) = explain_pixel(&scene, &settings, x, y);
@@ -110,17 +110,28 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The path tracer's path of pixel (x, y)'s sample `pass.index` (as `render --spp 1` takes
-/// it), event by event; the last line is the pixel's value, the sum of the lines that add.
-pub fn explain_path(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u32, y: u32) -> String {
+/// The path tracer's (or, `naive`, the naive path tracer's) path of pixel (x, y)'s sample
+/// `pass.index` (as `render --spp 1` takes it), event by event; the last line is the pixel's
+/// value, the sum of the lines that add.
+pub fn explain_path(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u32, y: u32, naive: bool) -> String {
     let (ray, mut context) = pixel_sample(scene, pass, x, y);
-    let (radiance, log) = PathTracer::new(settings).explain(scene, &ray, &mut context);
+    let (radiance, log) = if naive {
+        NaivePathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth }.explain(
+            scene,
+            &ray,
+            &mut context,
+        )
+    } else {
+        PathTracer::new(settings).explain(scene, &ray, &mut context)
+    };
     let mut out = String::new();
     let depth = if settings.max_depth == u32::MAX { "unbounded".to_string() } else { settings.max_depth.to_string() };
     let _ = writeln!(
         out,
-        "pixel {x},{y}: the path tracer's path through the pixel centre (seed {}, max depth {depth}, roulette from bounce {})",
-        pass.seed, settings.rr_depth
+        "pixel {x},{y}: the {} path through the pixel centre (seed {}, max depth {depth}, roulette from bounce {})",
+        if naive { "naive path tracer's (light found only by hitting it)" } else { "path tracer's" },
+        pass.seed,
+        settings.rr_depth
     );
     let names = scene.material_names();
     for event in &log.events {

@@ -247,35 +247,29 @@ fn explain_prints_the_rendered_pixel_colour() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// `glint explain --integrator path` follows the path the renderer follows through a pixel's
-/// centre at 1 spp: what its lines add sums to its last line, the rendered pixel's value,
+/// `glint explain --integrator path` (and `path-naive`) follows the path the renderer follows
+/// through a pixel's centre at 1 spp: what its lines add sums to its last line, the rendered pixel's value,
 /// bit for bit; somewhere the path bounces more than once and meets roulette or a light.
 #[test]
 fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
     let dir = temp_dir("explain-path");
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
-    let out = dir.join("c.pfm");
-    let o =
-        glint(&["render", scene.to_str().unwrap(), "--spp", "1", "--width", "48", "-q", "-o", out.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let (w, _, pixels) = read_pfm(&out).unwrap();
     let triple = |text: &str| -> [f32; 3] {
         let inner = text.trim().trim_start_matches('(').trim_end_matches(')');
         let v: Vec<f32> = inner.split(", ").map(|n| n.parse().unwrap()).collect();
         [v[0], v[1], v[2]]
     };
     let mut vertices = 0;
-    for (x, y) in [(24, 30), (10, 20), (40, 40), (24, 2), (30, 44)] {
-        let o = glint(&[
-            "explain",
-            scene.to_str().unwrap(),
-            "--width",
-            "48",
-            "--pixel",
-            &format!("{x},{y}"),
-            "--integrator",
-            "path",
-        ]);
+    let pixels_and_kinds =
+        [(24, 30), (10, 20), (40, 40), (24, 2), (30, 44)].into_iter().flat_map(|p| [(p, "path"), (p, "path-naive")]);
+    for ((x, y), kind) in pixels_and_kinds {
+        let out = dir.join(format!("{kind}.pfm"));
+        let (scene, out) = (scene.to_str().unwrap(), out.to_str().unwrap());
+        let o = glint(&["render", scene, "--spp", "1", "--width", "48", "--integrator", kind, "-q", "-o", out]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let (w, _, pixels) = read_pfm(Path::new(out)).unwrap();
+        let pixel = format!("{x},{y}");
+        let o = glint(&["explain", scene, "--width", "48", "--pixel", &pixel, "--integrator", kind]);
         assert!(o.status.success(), "{}", stderr(&o));
         let text = String::from_utf8_lossy(&o.stdout).to_string();
         vertices += text.lines().filter(|l| l.starts_with("vertex ")).count();
@@ -288,7 +282,7 @@ fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
         }
         let total = triple(text.lines().last().unwrap().rsplit('=').next().unwrap());
         let rendered = pixels[(y * w + x) as usize].to_array();
-        assert_eq!(total.map(f32::to_bits), rendered.map(f32::to_bits), "pixel {x},{y}: {text}");
+        assert_eq!(total.map(f32::to_bits), rendered.map(f32::to_bits), "{kind}, pixel {x},{y}: {text}");
         for c in 0..3 {
             assert!(
                 (sum[c] - total[c]).abs() <= 1e-6 * total[c].max(1.0),
@@ -296,7 +290,7 @@ fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
             );
         }
     }
-    assert!(vertices > 5, "the paths bounce: {vertices} vertices in five pixels");
+    assert!(vertices > 10, "the paths bounce: {vertices} vertices in ten paths");
     std::fs::remove_dir_all(dir).unwrap();
 }
 

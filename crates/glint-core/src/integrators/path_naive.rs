@@ -8,7 +8,8 @@
 use glam::Vec2;
 
 use super::path::russian_roulette;
-use super::vertex::trace_seeing_light;
+use super::path_record::{PathEnd, PathLog, PathRecorder};
+use super::vertex::Vertex;
 use super::{Integrator, SampleContext};
 use crate::geometry::Ray;
 use crate::scene::Scene;
@@ -21,6 +22,26 @@ pub struct NaivePathTracer {
 
 impl Integrator for NaivePathTracer {
     fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
+        self.trace(scene, camera_ray, context, &mut ())
+    }
+}
+
+impl NaivePathTracer {
+    /// The radiance along `camera_ray` and the log of its path (`PathLog::total` is the
+    /// radiance, bit for bit).
+    pub fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> (Rgb, PathLog) {
+        let mut log = PathLog::default();
+        let radiance = self.trace(scene, camera_ray, context, &mut log);
+        (radiance, log)
+    }
+
+    fn trace(
+        &self,
+        scene: &Scene,
+        camera_ray: &Ray,
+        context: &mut SampleContext,
+        recorder: &mut impl PathRecorder,
+    ) -> Rgb {
         let mut radiance = Rgb::ZERO;
         let mut throughput = Rgb::ONE;
         let mut eta_scale = 1.0f32;
@@ -32,19 +53,45 @@ impl Integrator for NaivePathTracer {
             } else {
                 context.rays.reflection += 1;
             }
-            let Some(vertex) = trace_seeing_light(scene, &ray, throughput, &mut radiance) else { break };
+            // Light is found only where the path meets it: the environment, or an emitter.
+            let Some(vertex) = Vertex::trace(scene, &ray) else {
+                let background = scene.environment().radiance(ray.direction);
+                let added = throughput * background;
+                radiance += added;
+                recorder.escape(background, 1.0, added);
+                recorder.end(PathEnd::Escaped);
+                break;
+            };
+            recorder.vertex(depth, &vertex.hit, throughput);
+            let emitted = vertex.emitted();
+            let added = throughput * emitted;
+            radiance += added;
+            if emitted != Rgb::ZERO {
+                recorder.emission(emitted, 1.0, added);
+            }
             if depth >= self.max_depth {
+                recorder.end(PathEnd::Depth);
                 break;
             }
             let bsdf = vertex.bsdf();
             let u_lobe = context.sampler.next_f32();
             let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
-            let Some(sample) = bsdf.sample(vertex.wo, u_lobe, u) else { break };
+            let Some(sample) = bsdf.sample(vertex.wo, u_lobe, u) else {
+                recorder.end(PathEnd::Absorbed);
+                break;
+            };
             throughput *= sample.weight;
+            recorder.scatter(&sample, throughput);
             eta_scale *= sample.eta_squared;
             depth += 1;
-            if depth >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context) {
-                break;
+            if depth >= self.rr_depth {
+                let survival = (throughput.max_element() * eta_scale).min(0.95);
+                let survived = russian_roulette(&mut throughput, eta_scale, context);
+                recorder.roulette(survival, survived);
+                if !survived {
+                    recorder.end(PathEnd::Roulette);
+                    break;
+                }
             }
             ray = vertex.hit.spawn_ray(sample.wi);
         }
