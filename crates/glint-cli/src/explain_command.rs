@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 use glint_cli::error::CliError;
 use glint_core::integrators::passes::{pixel_sample, Pass};
-use glint_core::integrators::path_record::{PathEnd, PathEvent};
+use glint_core::integrators::path_record::{PathEnd, PathEvent, PathLog};
 use glint_core::integrators::recorder::{RayRecord, RayTree};
 use glint_core::integrators::whitted::{DEPTH_CEILING, TREE_RAY_LIMIT};
 use glint_core::integrators::{IntegratorSettings, NaivePathTracer, PathTracer, PhotonMapper, SampleContext, Whitted};
@@ -49,6 +49,10 @@ pub struct ExplainArgs {
     /// The seed of the sample streams (default: the scene's), as for `render`.
     #[arg(long)]
     seed: Option<u64>,
+    /// With `--integrator path` or `path-naive`: print the path as JSON (for other tools)
+    /// instead of text: the camera ray, each event with its numbers, and the pixel's value.
+    #[arg(long)]
+    json: bool,
     /// Also shoot the scene's photon maps (photon mapping's first pass, with the scene's
     /// settings and seed) and list the K photons of each map nearest to the pixel's first hit,
     /// with the radiance estimates made from them.
@@ -94,7 +98,12 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
             sampler: loaded.render.sampler,
             samples: 1,
         };
-        print!("{}", explain_path(&scene, &settings, &pass, x, y, args.integrator == "path-naive"));
+        let naive = args.integrator == "path-naive";
+        if args.json {
+            println!("{}", path_json(&scene, &settings, &pass, x, y, naive));
+        } else {
+            print!("{}", explain_path(&scene, &settings, &pass, x, y, naive));
+        }
         return Ok(());
     }
     let (tree, colour, cut) = explain_pixel(&scene, &settings, x, y);
@@ -114,16 +123,7 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
 /// `pass.index` (as `render --spp 1` takes it), event by event; the last line is the pixel's
 /// value, the sum of the lines that add.
 pub fn explain_path(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u32, y: u32, naive: bool) -> String {
-    let (ray, mut context) = pixel_sample(scene, pass, x, y);
-    let (radiance, log) = if naive {
-        NaivePathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth }.explain(
-            scene,
-            &ray,
-            &mut context,
-        )
-    } else {
-        PathTracer::new(settings).explain(scene, &ray, &mut context)
-    };
+    let (_, radiance, log) = trace_path(scene, settings, pass, x, y, naive);
     let mut out = String::new();
     let depth = if settings.max_depth == u32::MAX { "unbounded".to_string() } else { settings.max_depth.to_string() };
     let _ = writeln!(
@@ -194,6 +194,77 @@ pub fn explain_path(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x
     }
     let _ = writeln!(out, "pixel value = the sum of what each line adds = {}", full(radiance));
     out
+}
+
+/// The camera ray of pixel (x, y)'s sample `pass.index`, the radiance along it, and the log of
+/// its path, by the path tracer or (`naive`) the naive one.
+fn trace_path(
+    scene: &Scene,
+    settings: &IntegratorSettings,
+    pass: &Pass,
+    x: u32,
+    y: u32,
+    naive: bool,
+) -> (glint_core::geometry::Ray, Rgb, PathLog) {
+    let (ray, mut context) = pixel_sample(scene, pass, x, y);
+    let (radiance, log) = if naive {
+        NaivePathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth }.explain(
+            scene,
+            &ray,
+            &mut context,
+        )
+    } else {
+        PathTracer::new(settings).explain(scene, &ray, &mut context)
+    };
+    (ray, radiance, log)
+}
+
+/// `explain_path` as JSON: `{"pixel", "integrator", "seed", "camera_ray": {"origin",
+/// "direction"}, "events": [{"event": "vertex" | "emission" | "light_sample" | "scatter" |
+/// "roulette" | "escape" | "end", …}], "value"}`, colours and vectors as [x, y, z].
+pub fn path_json(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u32, y: u32, naive: bool) -> String {
+    use serde_json::json;
+    let (ray, radiance, log) = trace_path(scene, settings, pass, x, y, naive);
+    let a = |v: Vec3| json!([v.x, v.y, v.z]);
+    let events: Vec<serde_json::Value> = log
+        .events
+        .iter()
+        .map(|event| match event {
+            PathEvent::Vertex { depth, point, object, material, throughput } => json!({
+                "event": "vertex", "depth": depth, "point": a(*point),
+                "object": scene.objects()[*object as usize].name,
+                "material": scene.material_names().get(*material as usize),
+                "throughput": a(*throughput),
+            }),
+            PathEvent::Emission { emitted, mis_weight, added } => json!({
+                "event": "emission", "emitted": a(*emitted), "mis_weight": mis_weight, "added": a(*added),
+            }),
+            PathEvent::Light(l) => json!({
+                "event": "light_sample", "direction": a(l.direction), "pdf": l.pdf, "mis_weight": l.mis_weight,
+                "occluded": l.occluded, "added": a(l.added),
+            }),
+            PathEvent::Scatter { direction, weight, pdf, delta, throughput } => json!({
+                "event": "scatter", "direction": a(*direction), "weight": a(*weight), "pdf": pdf, "delta": delta,
+                "throughput": a(*throughput),
+            }),
+            PathEvent::Roulette { survival, survived } => {
+                json!({ "event": "roulette", "survival": survival, "survived": survived })
+            }
+            PathEvent::Escape { radiance, mis_weight, added } => json!({
+                "event": "escape", "radiance": a(*radiance), "mis_weight": mis_weight, "added": a(*added),
+            }),
+            PathEvent::End(why) => json!({ "event": "end", "why": format!("{why:?}").to_lowercase() }),
+        })
+        .collect();
+    let document = json!({
+        "pixel": [x, y],
+        "integrator": if naive { "path-naive" } else { "path" },
+        "seed": pass.seed,
+        "camera_ray": { "origin": a(ray.origin), "direction": a(ray.direction) },
+        "events": events,
+        "value": a(radiance),
+    });
+    serde_json::to_string_pretty(&document).unwrap_or_default()
 }
 
 /// A colour printed so that it reads back to the same bits.

@@ -291,6 +291,19 @@ fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
         }
     }
     assert!(vertices > 10, "the paths bounce: {vertices} vertices in ten paths");
+    // The same path as JSON: its value and its events' additions agree with the text's.
+    let (scene, pixel) = (scene.to_str().unwrap(), "32,10");
+    let text = glint(&["explain", scene, "--width", "48", "--pixel", pixel, "--integrator", "path"]);
+    let json = glint(&["explain", scene, "--width", "48", "--pixel", pixel, "--integrator", "path", "--json"]);
+    assert!(json.status.success(), "{}", stderr(&json));
+    let document: serde_json::Value = serde_json::from_slice(&json.stdout).expect("JSON");
+    let value: Vec<f32> = document["value"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap() as f32).collect();
+    let text = String::from_utf8_lossy(&text.stdout).to_string();
+    assert_eq!(value, triple(text.lines().last().unwrap().rsplit('=').next().unwrap()).to_vec());
+    let events = document["events"].as_array().unwrap();
+    let vertices = events.iter().filter(|e| e["event"] == "vertex").count();
+    assert_eq!(vertices, text.lines().filter(|l| l.starts_with("vertex ")).count());
+    assert!(events.last().is_some_and(|e| e["event"] == "end"));
     std::fs::remove_dir_all(dir).unwrap();
 }
 
