@@ -53,6 +53,11 @@ pub struct ExplainArgs {
     /// instead of text: the camera ray, each event with its numbers, and the pixel's value.
     #[arg(long)]
     json: bool,
+    /// With `--integrator path` or `path-naive`: also write the path as a PLY line set (its
+    /// segments from the camera through each vertex, and each light sample's shadow ray) to
+    /// look at beside the scene in a 3D viewer.
+    #[arg(long, value_name = "FILE")]
+    ply: Option<PathBuf>,
     /// Also shoot the scene's photon maps (photon mapping's first pass, with the scene's
     /// settings and seed) and list the K photons of each map nearest to the pixel's first hit,
     /// with the radiance estimates made from them.
@@ -89,6 +94,11 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
         settings.min_contribution = c;
     }
     settings.transparent_shadows |= args.transparent_shadows;
+    if args.integrator == "whitted" && (args.json || args.ply.is_some()) {
+        return Err(CliError::Setting(
+            "--json and --ply write a path tracer's path: give --integrator path or path-naive".into(),
+        ));
+    }
     if args.integrator != "whitted" {
         let pass = Pass {
             seed: args.seed.unwrap_or(loaded.render.seed),
@@ -99,6 +109,10 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
             samples: 1,
         };
         let naive = args.integrator == "path-naive";
+        if let Some(file) = &args.ply {
+            let bytes = path_ply(&scene, &settings, &pass, x, y, naive);
+            glint_cli::output::write_file_atomically(file, bytes.as_bytes(), "PLY line set")?;
+        }
         if args.json {
             println!("{}", path_json(&scene, &settings, &pass, x, y, naive));
         } else {
@@ -265,6 +279,49 @@ pub fn path_json(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u
         "value": a(radiance),
     });
     serde_json::to_string_pretty(&document).unwrap_or_default()
+}
+
+/// The path as an ASCII PLY line set: vertices, then edges from the camera through each path
+/// vertex (to a point 1 scene radius past the last one where the path leaves the scene), and
+/// from each vertex to its light sample's point (a unit-length stub toward a light at infinity).
+pub fn path_ply(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u32, y: u32, naive: bool) -> String {
+    let (ray, _, log) = trace_path(scene, settings, pass, x, y, naive);
+    let mut points = vec![ray.origin];
+    let mut edges = Vec::new();
+    let (mut previous, mut last_direction) = (0usize, ray.direction.normalize());
+    let bounds = scene.geometry().bounds();
+    let reach = if bounds.is_empty() { 1.0 } else { bounds.extent().length().clamp(1.0, 1e6) };
+    for event in &log.events {
+        match event {
+            PathEvent::Vertex { point, .. } => {
+                points.push(*point);
+                edges.push((previous, points.len() - 1));
+                previous = points.len() - 1;
+            }
+            PathEvent::Light(l) => {
+                points.push(l.point.unwrap_or(points[previous] + l.direction));
+                edges.push((previous, points.len() - 1));
+            }
+            PathEvent::Scatter { direction, .. } => last_direction = *direction,
+            PathEvent::Escape { .. } => {
+                points.push(points[previous] + last_direction * reach);
+                edges.push((previous, points.len() - 1));
+            }
+            _ => {}
+        }
+    }
+    let mut out = format!(
+        "ply\nformat ascii 1.0\ncomment glint explain: pixel {x},{y}\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nelement edge {}\nproperty int vertex1\nproperty int vertex2\nend_header\n",
+        points.len(),
+        edges.len()
+    );
+    for p in &points {
+        let _ = writeln!(out, "{} {} {}", p.x, p.y, p.z);
+    }
+    for (a, b) in &edges {
+        let _ = writeln!(out, "{a} {b}");
+    }
+    out
 }
 
 /// A colour printed so that it reads back to the same bits.

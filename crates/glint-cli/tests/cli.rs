@@ -304,6 +304,37 @@ fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
     let vertices = events.iter().filter(|e| e["event"] == "vertex").count();
     assert_eq!(vertices, text.lines().filter(|l| l.starts_with("vertex ")).count());
     assert!(events.last().is_some_and(|e| e["event"] == "end"));
+    // As a PLY line set: the camera, each vertex, each light sample's point and the escape,
+    // joined in order.
+    let ply = dir.join("path.ply");
+    let o = glint(&[
+        "explain",
+        scene,
+        "--width",
+        "48",
+        "--pixel",
+        pixel,
+        "--integrator",
+        "path",
+        "--ply",
+        ply.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let ply = std::fs::read_to_string(&ply).unwrap();
+    let count = |element: &str| -> usize {
+        let line = ply.lines().find(|l| l.starts_with(&format!("element {element} "))).unwrap();
+        line.rsplit(' ').next().unwrap().parse().unwrap()
+    };
+    let drawn =
+        events.iter().filter(|e| ["vertex", "light_sample", "escape"].contains(&e["event"].as_str().unwrap())).count();
+    assert_eq!((count("vertex"), count("edge")), (drawn + 1, drawn));
+    let body: Vec<&str> = ply.lines().skip_while(|l| *l != "end_header").skip(1).collect();
+    let camera: Vec<f64> = body[0].split(' ').map(|v| v.parse().unwrap()).collect();
+    let origin: Vec<f64> =
+        document["camera_ray"]["origin"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(camera, origin);
+    let e = assert_clean_failure(&glint(&["explain", scene, "--pixel", pixel, "--json"]));
+    assert!(e.contains("--integrator path"), "{e}");
     std::fs::remove_dir_all(dir).unwrap();
 }
 

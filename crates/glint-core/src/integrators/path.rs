@@ -18,6 +18,7 @@ use super::path_record::{LightSampleRecord, PathEnd, PathLog, PathRecorder};
 use super::vertex::Vertex;
 use super::{Integrator, IntegratorSettings, SampleContext};
 use crate::geometry::Ray;
+use crate::lights::LightEnd;
 use crate::materials::Bsdf;
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceHit};
@@ -338,8 +339,13 @@ fn next_event(
         return none;
     }
     context.rays.shadow += 1;
+    let point = match light.end {
+        LightEnd::Surface { point, .. } | LightEnd::Point(point) => Some(point),
+        LightEnd::Infinite => None,
+    };
     let record = |mis_weight: f32, occluded: bool| LightSampleRecord {
         direction: light.direction,
+        point,
         pdf: light.pdf,
         mis_weight,
         occluded,

@@ -13,6 +13,8 @@ use crate::Rgb;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightSampleRecord {
     pub direction: Vec3,
+    /// The point sampled on the light (`None` for a light at infinity).
+    pub point: Option<Vec3>,
     /// The sample's solid-angle density, the light's choice included.
     pub pdf: f32,
     /// The power heuristic's weight against BSDF sampling (1 for a delta light).
