@@ -5,15 +5,18 @@ use std::path::PathBuf;
 
 use clap::Args;
 use glint_cli::error::CliError;
+use glint_core::geometry::Ray;
 use glint_core::integrators::passes::{pixel_sample, Pass};
 use glint_core::integrators::path_record::{PathEnd, PathEvent, PathLog};
 use glint_core::integrators::recorder::{RayRecord, RayTree};
 use glint_core::integrators::whitted::{DEPTH_CEILING, TREE_RAY_LIMIT};
-use glint_core::integrators::{IntegratorSettings, NaivePathTracer, PathTracer, PhotonMapper, SampleContext, Whitted};
+use glint_core::integrators::{
+    IntegratorKind, IntegratorSettings, NaivePathTracer, PathTracer, PhotonMapper, SampleContext, Whitted,
+};
 use glint_core::photons::NearestPhotons;
 use glint_core::sampling::Rng;
 use glint_core::scene::Scene;
-use glint_core::{Rgb, Vec3};
+use glint_core::{Named, Rgb, Vec3};
 
 #[derive(Args)]
 pub struct ExplainArgs {
@@ -41,10 +44,11 @@ pub struct ExplainArgs {
     min_contribution: Option<f32>,
     #[arg(long)]
     transparent_shadows: bool,
-    /// Which integrator's path to show: `whitted` (the default: the ray tree), `path` or
-    /// `path-naive` (the path of the pixel's first sample: each vertex, its emission, light
-    /// sample, BSDF sample and roulette, and what each adds to the pixel).
-    #[arg(long, default_value = "whitted", value_parser = ["whitted", "path", "path-naive"])]
+    /// Which integrator's path to show: `whitted` (the default: the ray tree), `path`,
+    /// `path-naive` or `photon` (the path of the pixel's first sample: each vertex, its
+    /// emission, light sample or photon-map estimate, BSDF sample and roulette, and what each
+    /// adds to the pixel).
+    #[arg(long, default_value = "whitted", value_parser = ["whitted", "path", "path-naive", "photon"])]
     integrator: String,
     /// The seed of the sample streams (default: the scene's), as for `render`.
     #[arg(long)]
@@ -108,15 +112,16 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
             sampler: loaded.render.sampler,
             samples: 1,
         };
-        let naive = args.integrator == "path-naive";
+        let kind = IntegratorKind::from_name(&args.integrator).expect("clap admits only integrators");
+        let traced = trace_path(&scene, &settings, &pass, x, y, kind)?;
         if let Some(file) = &args.ply {
-            let bytes = path_ply(&scene, &settings, &pass, x, y, naive);
+            let bytes = path_ply(&scene, &traced, x, y);
             glint_cli::output::write_file_atomically(file, bytes.as_bytes(), "PLY line set")?;
         }
         if args.json {
-            println!("{}", path_json(&scene, &settings, &pass, x, y, naive));
+            println!("{}", path_json(&scene, &traced, &pass, x, y, kind));
         } else {
-            print!("{}", explain_path(&scene, &settings, &pass, x, y, naive));
+            print!("{}", explain_path(&scene, &settings, &pass, &traced, x, y, kind));
         }
         return Ok(());
     }
@@ -133,17 +138,29 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The path tracer's (or, `naive`, the naive path tracer's) path of pixel (x, y)'s sample
-/// `pass.index` (as `render --spp 1` takes it), event by event; the last line is the pixel's
-/// value, the sum of the lines that add.
-pub fn explain_path(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u32, y: u32, naive: bool) -> String {
-    let (_, radiance, log) = trace_path(scene, settings, pass, x, y, naive);
+/// The path of pixel (x, y)'s sample `pass.index` (as `render --spp 1` takes it) by the
+/// integrator `kind`, event by event; the last line is the pixel's value, the sum of the
+/// lines that add.
+pub fn explain_path(
+    scene: &Scene,
+    settings: &IntegratorSettings,
+    pass: &Pass,
+    (_, radiance, log): &(Ray, Rgb, PathLog),
+    x: u32,
+    y: u32,
+    kind: IntegratorKind,
+) -> String {
+    let radiance = *radiance;
     let mut out = String::new();
     let depth = if settings.max_depth == u32::MAX { "unbounded".to_string() } else { settings.max_depth.to_string() };
     let _ = writeln!(
         out,
         "pixel {x},{y}: the {} path through the pixel centre (seed {}, max depth {depth}, roulette from bounce {})",
-        if naive { "naive path tracer's (light found only by hitting it)" } else { "path tracer's" },
+        match kind {
+            IntegratorKind::PathNaive => "naive path tracer's (light found only by hitting it)",
+            IntegratorKind::Photon => "photon mapper's (through delta bounces, estimated at each diffuse surface)",
+            _ => "path tracer's",
+        },
         pass.seed,
         settings.rr_depth
     );
@@ -175,6 +192,14 @@ pub fn explain_path(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x
                 l.mis_weight,
                 full(l.added)
             ),
+            PathEvent::Gather(g) => writeln!(
+                out,
+                "  photon mapping here: direct light (light sampling) {}, caustics (caustic map) {}, indirect light {} → adds {}",
+                v(g.direct),
+                v(g.caustic),
+                g.indirect.map_or("(not gathered at the last bounce)".to_string(), |i| format!("(final gathering) {}", v(i))),
+                full(g.added)
+            ),
             PathEvent::Scatter { direction, weight, pdf, delta, throughput } => writeln!(
                 out,
                 "  BSDF sample ({} lobe) toward {}, pdf {pdf:.6}, weight f·cos/pdf {} → throughput {}",
@@ -200,6 +225,9 @@ pub fn explain_path(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x
                 match why {
                     PathEnd::Escaped => "it left the scene",
                     PathEnd::Depth => "max depth reached",
+                    PathEnd::Absorbed if kind == IntegratorKind::Photon => {
+                        "no mirror or refraction to follow (photon mapping estimates the rest where it is)"
+                    }
                     PathEnd::Absorbed => "the BSDF gave no direction",
                     PathEnd::Roulette => "Russian roulette",
                 }
@@ -211,34 +239,44 @@ pub fn explain_path(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x
 }
 
 /// The camera ray of pixel (x, y)'s sample `pass.index`, the radiance along it, and the log of
-/// its path, by the path tracer or (`naive`) the naive one.
+/// its path, by the path tracer, the naive one, or photon mapping (its maps shot first with
+/// the pass's seed, as a render shoots them).
 fn trace_path(
     scene: &Scene,
     settings: &IntegratorSettings,
     pass: &Pass,
     x: u32,
     y: u32,
-    naive: bool,
-) -> (glint_core::geometry::Ray, Rgb, PathLog) {
+    kind: IntegratorKind,
+) -> Result<(Ray, Rgb, PathLog), CliError> {
     let (ray, mut context) = pixel_sample(scene, pass, x, y);
-    let (radiance, log) = if naive {
-        NaivePathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth }.explain(
-            scene,
-            &ray,
-            &mut context,
-        )
-    } else {
-        PathTracer::new(settings).explain(scene, &ray, &mut context)
+    let (radiance, log) = match kind {
+        IntegratorKind::PathNaive => NaivePathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth }
+            .explain(scene, &ray, &mut context),
+        IntegratorKind::Photon => {
+            PhotonMapper::new(scene, settings.max_depth, settings.rr_depth, settings.photon, pass.seed)?.explain(
+                scene,
+                &ray,
+                &mut context,
+            )
+        }
+        _ => PathTracer::new(settings).explain(scene, &ray, &mut context),
     };
-    (ray, radiance, log)
+    Ok((ray, radiance, log))
 }
 
 /// `explain_path` as JSON: `{"pixel", "integrator", "seed", "camera_ray": {"origin",
 /// "direction"}, "events": [{"event": "vertex" | "emission" | "light_sample" | "scatter" |
 /// "roulette" | "escape" | "end", …}], "value"}`, colours and vectors as [x, y, z].
-pub fn path_json(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u32, y: u32, naive: bool) -> String {
+pub fn path_json(
+    scene: &Scene,
+    (ray, radiance, log): &(Ray, Rgb, PathLog),
+    pass: &Pass,
+    x: u32,
+    y: u32,
+    kind: IntegratorKind,
+) -> String {
     use serde_json::json;
-    let (ray, radiance, log) = trace_path(scene, settings, pass, x, y, naive);
     let a = |v: Vec3| json!([v.x, v.y, v.z]);
     let events: Vec<serde_json::Value> = log
         .events
@@ -257,6 +295,10 @@ pub fn path_json(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u
                 "event": "light_sample", "direction": a(l.direction), "pdf": l.pdf, "mis_weight": l.mis_weight,
                 "occluded": l.occluded, "added": a(l.added),
             }),
+            PathEvent::Gather(g) => json!({
+                "event": "photon_estimate", "direct": a(g.direct), "caustic": a(g.caustic),
+                "indirect": g.indirect.map(a), "added": a(g.added),
+            }),
             PathEvent::Scatter { direction, weight, pdf, delta, throughput } => json!({
                 "event": "scatter", "direction": a(*direction), "weight": a(*weight), "pdf": pdf, "delta": delta,
                 "throughput": a(*throughput),
@@ -272,11 +314,11 @@ pub fn path_json(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u
         .collect();
     let document = json!({
         "pixel": [x, y],
-        "integrator": if naive { "path-naive" } else { "path" },
+        "integrator": kind.name(),
         "seed": pass.seed,
         "camera_ray": { "origin": a(ray.origin), "direction": a(ray.direction) },
         "events": events,
-        "value": a(radiance),
+        "value": a(*radiance),
     });
     serde_json::to_string_pretty(&document).unwrap_or_default()
 }
@@ -284,8 +326,7 @@ pub fn path_json(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u
 /// The path as an ASCII PLY line set: vertices, then edges from the camera through each path
 /// vertex (to a point 1 scene radius past the last one where the path leaves the scene), and
 /// from each vertex to its light sample's point (a unit-length stub toward a light at infinity).
-pub fn path_ply(scene: &Scene, settings: &IntegratorSettings, pass: &Pass, x: u32, y: u32, naive: bool) -> String {
-    let (ray, _, log) = trace_path(scene, settings, pass, x, y, naive);
+pub fn path_ply(scene: &Scene, (ray, _, log): &(Ray, Rgb, PathLog), x: u32, y: u32) -> String {
     let mut points = vec![ray.origin];
     let mut edges = Vec::new();
     let (mut previous, mut last_direction) = (0usize, ray.direction.normalize());

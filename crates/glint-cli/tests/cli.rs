@@ -247,8 +247,8 @@ fn explain_prints_the_rendered_pixel_colour() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// `glint explain --integrator path` (and `path-naive`) follows the path the renderer follows
-/// through a pixel's centre at 1 spp: what its lines add sums to its last line, the rendered pixel's value,
+/// `glint explain --integrator path` (and `path-naive`, `photon`) follows the path the renderer
+/// follows through a pixel's centre at 1 spp: what its lines add sums to its last line, the rendered pixel's value,
 /// bit for bit; somewhere the path bounces more than once and meets roulette or a light.
 #[test]
 fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
@@ -260,8 +260,12 @@ fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
         [v[0], v[1], v[2]]
     };
     let mut vertices = 0;
-    let pixels_and_kinds =
-        [(24, 30), (10, 20), (40, 40), (24, 2), (30, 44)].into_iter().flat_map(|p| [(p, "path"), (p, "path-naive")]);
+    // Photon mapping shoots its maps for each command: two pixels of it.
+    let photon = [((24, 30), "photon"), ((12, 40), "photon")];
+    let pixels_and_kinds = [(24, 30), (10, 20), (40, 40), (24, 2), (30, 44)]
+        .into_iter()
+        .flat_map(|p| [(p, "path"), (p, "path-naive")])
+        .chain(photon);
     for ((x, y), kind) in pixels_and_kinds {
         let out = dir.join(format!("{kind}.pfm"));
         let (scene, out) = (scene.to_str().unwrap(), out.to_str().unwrap());

@@ -25,6 +25,17 @@ pub struct LightSampleRecord {
     pub added: Rgb,
 }
 
+/// Photon mapping's estimate at a diffuse vertex: direct light by light sampling, caustics from
+/// the caustic map, indirect light by final gathering (none at the last bounce), and what
+/// their sum adds to the pixel (the path's throughput included).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GatherRecord {
+    pub direct: Rgb,
+    pub caustic: Rgb,
+    pub indirect: Option<Rgb>,
+    pub added: Rgb,
+}
+
 /// Where a path ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PathEnd {
@@ -44,6 +55,7 @@ pub trait PathRecorder {
     /// Emission found at the vertex, its MIS weight against light sampling, and what it adds.
     fn emission(&mut self, _emitted: Rgb, _mis_weight: f32, _added: Rgb) {}
     fn light_sample(&mut self, _record: LightSampleRecord) {}
+    fn gather(&mut self, _record: GatherRecord) {}
     /// The BSDF's sample (its direction, weight, pdf, lobe kind) and the throughput after it.
     fn scatter(&mut self, _sample: &BsdfSample, _throughput: Rgb) {}
     /// Russian roulette's survival probability and verdict.
@@ -62,6 +74,7 @@ pub enum PathEvent {
     Vertex { depth: u32, point: Vec3, object: u32, material: u32, throughput: Rgb },
     Emission { emitted: Rgb, mis_weight: f32, added: Rgb },
     Light(LightSampleRecord),
+    Gather(GatherRecord),
     Scatter { direction: Vec3, weight: Rgb, pdf: f32, delta: bool, throughput: Rgb },
     Roulette { survival: f32, survived: bool },
     Escape { radiance: Rgb, mis_weight: f32, added: Rgb },
@@ -80,6 +93,7 @@ impl PathLog {
         self.events.iter().fold(Rgb::ZERO, |sum, event| match event {
             PathEvent::Emission { added, .. } | PathEvent::Escape { added, .. } => sum + *added,
             PathEvent::Light(record) => sum + record.added,
+            PathEvent::Gather(record) => sum + record.added,
             _ => sum,
         })
     }
@@ -95,6 +109,9 @@ impl PathRecorder for PathLog {
     }
     fn light_sample(&mut self, record: LightSampleRecord) {
         self.events.push(PathEvent::Light(record));
+    }
+    fn gather(&mut self, record: GatherRecord) {
+        self.events.push(PathEvent::Gather(record));
     }
     fn scatter(&mut self, sample: &BsdfSample, throughput: Rgb) {
         let (direction, weight, pdf, delta) = (sample.wi, sample.weight, sample.pdf, sample.delta);

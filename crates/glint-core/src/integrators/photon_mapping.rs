@@ -34,7 +34,8 @@ use rayon::prelude::*;
 
 use super::particle::{trace_particle, ParticleVertex};
 use super::path::{russian_roulette, sample_lights, Weighting};
-use super::vertex::{trace_seeing_light, Vertex};
+use super::path_record::{GatherRecord, PathEnd, PathLog, PathRecorder};
+use super::vertex::Vertex;
 use super::{Integrator, RayCounts, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
@@ -362,6 +363,28 @@ fn precompute_irradiance(global: &PhotonMap, nearest: usize, max_radius: f32) ->
 
 impl Integrator for PhotonMapper {
     fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
+        self.trace(scene, camera_ray, context, &mut ())
+    }
+}
+
+impl PhotonMapper {
+    /// The radiance along `camera_ray` and the log of its path (`PathLog::total` is the
+    /// radiance, bit for bit).
+    pub fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> (Rgb, PathLog) {
+        let mut log = PathLog::default();
+        let radiance = self.trace(scene, camera_ray, context, &mut log);
+        (radiance, log)
+    }
+
+    /// The camera path through delta bounces to the diffuse surfaces it meets, each estimated
+    /// from light sampling and the photon maps.
+    fn trace(
+        &self,
+        scene: &Scene,
+        camera_ray: &Ray,
+        context: &mut SampleContext,
+        recorder: &mut impl PathRecorder,
+    ) -> Rgb {
         let mut radiance = Rgb::ZERO;
         let mut throughput = Rgb::ONE;
         let mut ray = *camera_ray;
@@ -372,29 +395,60 @@ impl Integrator for PhotonMapper {
             } else {
                 context.rays.refraction += 1;
             }
-            let Some(vertex) = trace_seeing_light(scene, &ray, throughput, &mut radiance) else { break };
+            let Some(vertex) = Vertex::trace(scene, &ray) else {
+                let background = scene.environment().radiance(ray.direction);
+                let added = throughput * background;
+                radiance += added;
+                recorder.escape(background, 1.0, added);
+                recorder.end(PathEnd::Escaped);
+                break;
+            };
+            recorder.vertex(depth, &vertex.hit, throughput);
+            let emitted = vertex.emitted();
+            let added = throughput * emitted;
+            radiance += added;
+            if emitted != Rgb::ZERO {
+                recorder.emission(emitted, 1.0, added);
+            }
             if depth >= self.max_depth {
+                recorder.end(PathEnd::Depth);
                 break;
             }
             let bsdf = vertex.bsdf();
             let (hit, wo) = (&vertex.hit, vertex.wo);
             if bsdf.has_diffuse() {
-                let mut local = sample_lights(scene, hit, &bsdf, wo, Weighting::LightOnly, context);
-                local += self.estimate(&self.caustic, hit, &bsdf, wo);
-                if depth + 1 < self.max_depth {
-                    local += self.gather(scene, hit, &bsdf, wo, context);
+                let direct = sample_lights(scene, hit, &bsdf, wo, Weighting::LightOnly, context);
+                let caustic = self.estimate(&self.caustic, hit, &bsdf, wo);
+                let mut local = direct;
+                local += caustic;
+                let indirect = (depth + 1 < self.max_depth).then(|| self.gather(scene, hit, &bsdf, wo, context));
+                if let Some(indirect) = indirect {
+                    local += indirect;
                 }
-                radiance += throughput * local;
+                let added = throughput * local;
+                radiance += added;
+                recorder.gather(GatherRecord { direct, caustic, indirect, added });
             }
             let u_lobe = context.sampler.next_f32();
             let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
-            let Some(sample) = bsdf.sample_delta(wo, u_lobe, u) else { break };
-            throughput *= sample.weight;
-            depth += 1;
-            if depth >= self.rr_depth && !russian_roulette(&mut throughput, 1.0, context) {
+            let Some(sample) = bsdf.sample_delta(wo, u_lobe, u) else {
+                recorder.end(PathEnd::Absorbed);
                 break;
+            };
+            throughput *= sample.weight;
+            recorder.scatter(&sample, throughput);
+            depth += 1;
+            if depth >= self.rr_depth {
+                let survival = throughput.max_element().min(0.95);
+                let survived = russian_roulette(&mut throughput, 1.0, context);
+                recorder.roulette(survival, survived);
+                if !survived {
+                    recorder.end(PathEnd::Roulette);
+                    break;
+                }
             }
             if throughput == Rgb::ZERO {
+                recorder.end(PathEnd::Absorbed);
                 break;
             }
             ray = hit.spawn_ray(sample.wi);
