@@ -7,7 +7,7 @@ use clap::Args;
 use glint_cli::error::CliError;
 use glint_core::geometry::Ray;
 use glint_core::integrators::passes::{pixel_sample, Pass};
-use glint_core::integrators::path_record::{PathEnd, PathEvent, PathLog};
+use glint_core::integrators::path_record::{PathEnd, PathEvent, PathLog, TracesPaths};
 use glint_core::integrators::recorder::{RayRecord, RayTree};
 use glint_core::integrators::whitted::{DEPTH_CEILING, TREE_RAY_LIMIT};
 use glint_core::integrators::{

@@ -14,7 +14,7 @@
 use glam::{Vec2, Vec3};
 use wide::{f32x8, CmpEq};
 
-use super::path_record::{LightSampleRecord, PathEnd, PathLog, PathRecorder};
+use super::path_record::{LightSampleRecord, PathEnd, PathRecorder, TracesPaths};
 use super::vertex::Vertex;
 use super::{Integrator, IntegratorSettings, SampleContext};
 use crate::geometry::Ray;
@@ -130,15 +130,7 @@ impl Integrator for PathTracer {
     }
 }
 
-impl PathTracer {
-    /// The radiance along `camera_ray` and the log of its path: each vertex, what it adds
-    /// (`PathLog::total` is the radiance, bit for bit).
-    pub fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> (Rgb, PathLog) {
-        let mut log = PathLog::default();
-        let radiance = self.trace(scene, camera_ray, context, &mut log);
-        (radiance, log)
-    }
-
+impl TracesPaths for PathTracer {
     fn trace(
         &self,
         scene: &Scene,

@@ -8,8 +8,8 @@
 use glam::Vec2;
 
 use super::path::russian_roulette;
-use super::path_record::{PathEnd, PathLog, PathRecorder};
-use super::vertex::Vertex;
+use super::path_record::{PathEnd, PathRecorder, TracesPaths};
+use super::vertex::trace_seeing_light;
 use super::{Integrator, SampleContext};
 use crate::geometry::Ray;
 use crate::scene::Scene;
@@ -26,15 +26,7 @@ impl Integrator for NaivePathTracer {
     }
 }
 
-impl NaivePathTracer {
-    /// The radiance along `camera_ray` and the log of its path (`PathLog::total` is the
-    /// radiance, bit for bit).
-    pub fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> (Rgb, PathLog) {
-        let mut log = PathLog::default();
-        let radiance = self.trace(scene, camera_ray, context, &mut log);
-        (radiance, log)
-    }
-
+impl TracesPaths for NaivePathTracer {
     fn trace(
         &self,
         scene: &Scene,
@@ -54,21 +46,9 @@ impl NaivePathTracer {
                 context.rays.reflection += 1;
             }
             // Light is found only where the path meets it: the environment, or an emitter.
-            let Some(vertex) = Vertex::trace(scene, &ray) else {
-                let background = scene.environment().radiance(ray.direction);
-                let added = throughput * background;
-                radiance += added;
-                recorder.escape(background, 1.0, added);
-                recorder.end(PathEnd::Escaped);
+            let Some(vertex) = trace_seeing_light(scene, &ray, depth, throughput, &mut radiance, recorder) else {
                 break;
             };
-            recorder.vertex(depth, &vertex.hit, throughput);
-            let emitted = vertex.emitted();
-            let added = throughput * emitted;
-            radiance += added;
-            if emitted != Rgb::ZERO {
-                recorder.emission(emitted, 1.0, added);
-            }
             if depth >= self.max_depth {
                 recorder.end(PathEnd::Depth);
                 break;

@@ -5,9 +5,31 @@
 
 use glam::Vec3;
 
+use super::SampleContext;
+use crate::geometry::Ray;
 use crate::materials::BsdfSample;
-use crate::scene::SurfaceHit;
+use crate::scene::{Scene, SurfaceHit};
 use crate::Rgb;
+
+/// An integrator that follows one path per camera sample, telling a recorder what happens:
+/// it renders with `()` and explains with a `PathLog`.
+pub trait TracesPaths {
+    fn trace(
+        &self,
+        scene: &Scene,
+        camera_ray: &Ray,
+        context: &mut SampleContext,
+        recorder: &mut impl PathRecorder,
+    ) -> Rgb;
+
+    /// The radiance along `camera_ray` and the log of its path (`PathLog::total` is the
+    /// radiance, bit for bit).
+    fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> (Rgb, PathLog) {
+        let mut log = PathLog::default();
+        let radiance = self.trace(scene, camera_ray, context, &mut log);
+        (radiance, log)
+    }
+}
 
 /// Next-event estimation at a vertex: the light sample.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -34,8 +34,8 @@ use rayon::prelude::*;
 
 use super::particle::{trace_particle, ParticleVertex};
 use super::path::{russian_roulette, sample_lights, Weighting};
-use super::path_record::{GatherRecord, PathEnd, PathLog, PathRecorder};
-use super::vertex::Vertex;
+use super::path_record::{GatherRecord, PathEnd, PathRecorder, TracesPaths};
+use super::vertex::{trace_seeing_light, Vertex};
 use super::{Integrator, RayCounts, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
@@ -367,15 +367,7 @@ impl Integrator for PhotonMapper {
     }
 }
 
-impl PhotonMapper {
-    /// The radiance along `camera_ray` and the log of its path (`PathLog::total` is the
-    /// radiance, bit for bit).
-    pub fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> (Rgb, PathLog) {
-        let mut log = PathLog::default();
-        let radiance = self.trace(scene, camera_ray, context, &mut log);
-        (radiance, log)
-    }
-
+impl TracesPaths for PhotonMapper {
     /// The camera path through delta bounces to the diffuse surfaces it meets, each estimated
     /// from light sampling and the photon maps.
     fn trace(
@@ -395,21 +387,9 @@ impl PhotonMapper {
             } else {
                 context.rays.refraction += 1;
             }
-            let Some(vertex) = Vertex::trace(scene, &ray) else {
-                let background = scene.environment().radiance(ray.direction);
-                let added = throughput * background;
-                radiance += added;
-                recorder.escape(background, 1.0, added);
-                recorder.end(PathEnd::Escaped);
+            let Some(vertex) = trace_seeing_light(scene, &ray, depth, throughput, &mut radiance, recorder) else {
                 break;
             };
-            recorder.vertex(depth, &vertex.hit, throughput);
-            let emitted = vertex.emitted();
-            let added = throughput * emitted;
-            radiance += added;
-            if emitted != Rgb::ZERO {
-                recorder.emission(emitted, 1.0, added);
-            }
             if depth >= self.max_depth {
                 recorder.end(PathEnd::Depth);
                 break;

@@ -116,7 +116,7 @@ impl Sppm {
         let mut visible = None;
         for depth in 0..=self.max_depth {
             context.rays.camera += 1;
-            let Some(vertex) = trace_seeing_light(scene, &ray, throughput, &mut direct) else { break };
+            let Some(vertex) = trace_seeing_light(scene, &ray, depth, throughput, &mut direct, &mut ()) else { break };
             let (hit, wo) = (&vertex.hit, vertex.wo);
             distance += hit.t * ray.direction.length();
             if depth == self.max_depth {

@@ -5,6 +5,7 @@
 
 use glam::Vec3;
 
+use super::path_record::{PathEnd, PathRecorder};
 use crate::accel::Geometry;
 use crate::geometry::Ray;
 use crate::materials::{Bsdf, Material};
@@ -59,18 +60,31 @@ impl<'s> Vertex<'s> {
 
 /// The next vertex of a camera path that weighs found light by the throughput alone (no
 /// multiple importance sampling): the environment's radiance if `ray` leaves the scene (and
-/// `None`), otherwise the surface's emission, each times `throughput`, added to `radiance`.
+/// `None`), otherwise the surface's emission, each times `throughput`, added to `radiance`;
+/// `recorder` is told (the vertex at `depth`, its emission, or the escape).
 pub(super) fn trace_seeing_light<'s>(
     scene: &'s Scene,
     ray: &Ray,
+    depth: u32,
     throughput: Rgb,
     radiance: &mut Rgb,
+    recorder: &mut impl PathRecorder,
 ) -> Option<Vertex<'s>> {
     let Some(vertex) = Vertex::trace(scene, ray) else {
-        *radiance += throughput * scene.environment().radiance(ray.direction);
+        let background = scene.environment().radiance(ray.direction);
+        let added = throughput * background;
+        *radiance += added;
+        recorder.escape(background, 1.0, added);
+        recorder.end(PathEnd::Escaped);
         return None;
     };
-    *radiance += throughput * vertex.emitted();
+    recorder.vertex(depth, &vertex.hit, throughput);
+    let emitted = vertex.emitted();
+    let added = throughput * emitted;
+    *radiance += added;
+    if emitted != Rgb::ZERO {
+        recorder.emission(emitted, 1.0, added);
+    }
     Some(vertex)
 }
 
