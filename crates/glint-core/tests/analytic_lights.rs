@@ -164,22 +164,8 @@ fn a_floor_under_a_textured_quad_light_matches_lamberts_formula_over_each_half()
 
         // Light tracing, over a wide view of the floor beside the light (out of view).
         s.set_camera(Camera::new(Vec3::new(1.2, 2.5, -2.0), Vec3::new(1.2, 0.0, 0.6), Vec3::Y, 20.0, 16, 16).unwrap());
-        let expected: f64 = (0..16 * 16)
-            .map(|i| {
-                let ray = s.camera().generate_ray((i % 16) as f32 + 0.5, (i / 16) as f32 + 0.5);
-                let hit = s.intersect(&ray).expect("every pixel sees the floor");
-                assert_eq!(hit.object, 0, "the light is out of view");
-                albedo as f64 / std::f64::consts::PI * irradiance_at(hit.geometry.point)
-            })
-            .sum::<f64>()
-            / 256.0;
-        let settings = IntegratorSettings { max_depth: 1, ..Default::default() };
-        let mut renderer = IntegratorKind::Light.renderer(&settings, &s, 1).expect("a physical light");
-        let image =
-            render_with(&s, renderer.as_mut(), &RenderSettings { spp: 4096, seed: 4, ..Default::default() }, &|| {})
-                .film
-                .to_rgb();
-        let mean = image.iter().map(|p| p.x as f64).sum::<f64>() / image.len() as f64;
+        let expected = floor_mean(&s, |at| albedo as f64 / std::f64::consts::PI * irradiance_at(at));
+        let mean = light_tracing_mean(&s, 4096);
         assert!((mean / expected - 1.0).abs() < 0.005, "textured {name} light, light tracing: {mean} vs {expected}");
     }
 }
@@ -231,23 +217,10 @@ fn a_floor_under_an_instanced_quad_light_matches_lamberts_formula() {
     check_image_mean(&s, IntegratorKind::PathNaive, 1024, expected, None, "instanced quad light, path-naive");
     // Light tracing over the floor beside it.
     s.set_camera(Camera::new(Vec3::new(1.8, 2.5, -2.0), Vec3::new(1.8, 0.0, 0.6), Vec3::Y, 20.0, 16, 16).unwrap());
-    let expected: f64 = (0..16 * 16)
-        .map(|i| {
-            let ray = s.camera().generate_ray((i % 16) as f32 + 0.5, (i / 16) as f32 + 0.5);
-            let hit = s.intersect(&ray).expect("the floor");
-            assert_eq!(hit.object, 0, "the light is out of view");
-            let at = hit.geometry.point;
-            albedo as f64 / std::f64::consts::PI * lambert_irradiance(radiance as f64, &corners.map(|c| c - at))
-        })
-        .sum::<f64>()
-        / 256.0;
-    let settings = IntegratorSettings { max_depth: 1, ..Default::default() };
-    let mut renderer = IntegratorKind::Light.renderer(&settings, &s, 1).expect("a physical light");
-    let image =
-        render_with(&s, renderer.as_mut(), &RenderSettings { spp: 16384, seed: 4, ..Default::default() }, &|| {})
-            .film
-            .to_rgb();
-    let mean = image.iter().map(|p| p.x as f64).sum::<f64>() / image.len() as f64;
+    let expected = floor_mean(&s, |at| {
+        albedo as f64 / std::f64::consts::PI * lambert_irradiance(radiance as f64, &corners.map(|c| c - at))
+    });
+    let mean = light_tracing_mean(&s, 16384);
     assert!((mean / expected - 1.0).abs() < 0.005, "instanced light, light tracing: {mean} vs {expected}");
 }
 
@@ -362,6 +335,30 @@ fn particle_integrators_light_the_floor_beside_sphere_and_polygon_lights_as_expe
             assert!((mean / expected_mean - 1.0).abs() < tolerance, "{name}, {kind:?}: {mean} vs {expected_mean}");
         }
     }
+}
+
+/// The mean over the camera's pixels of `radiance_at` the floor point through each pixel's
+/// centre (the floor is object 0 and every pixel sees it: the light is out of view).
+fn floor_mean(s: &Scene, radiance_at: impl Fn(Vec3) -> f64) -> f64 {
+    let (w, h) = (s.camera().width, s.camera().height);
+    let total: f64 = (0..w * h)
+        .map(|i| {
+            let ray = s.camera().generate_ray((i % w) as f32 + 0.5, (i / w) as f32 + 0.5);
+            let hit = s.intersect(&ray).expect("every pixel sees the floor");
+            assert_eq!(hit.object, 0, "the light is out of view");
+            radiance_at(hit.geometry.point)
+        })
+        .sum();
+    total / (w * h) as f64
+}
+
+/// The image mean of light tracing's direct light (seed 4) at `spp` passes.
+fn light_tracing_mean(s: &Scene, spp: u32) -> f64 {
+    let settings = IntegratorSettings { max_depth: 1, ..Default::default() };
+    let mut renderer = IntegratorKind::Light.renderer(&settings, s, 1).expect("a physical light");
+    let image =
+        render_with(s, renderer.as_mut(), &RenderSettings { spp, seed: 4, ..Default::default() }, &|| {}).film.to_rgb();
+    image.iter().map(|p| p.x as f64).sum::<f64>() / image.len() as f64
 }
 
 /// Lambert (1760): the irradiance at the origin on the floor (normal +y) from a polygon of

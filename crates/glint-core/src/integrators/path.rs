@@ -248,14 +248,8 @@ impl PathTracer {
             delta: sample.delta,
         });
         path.depth += 1;
-        if path.depth >= self.rr_depth {
-            let survival = (path.throughput.max_element() * path.eta_scale).min(0.95);
-            let survived = russian_roulette(&mut path.throughput, path.eta_scale, context);
-            recorder.roulette(survival, survived);
-            if !survived {
-                recorder.end(PathEnd::Roulette);
-                return None;
-            }
+        if path.depth >= self.rr_depth && !russian_roulette(&mut path.throughput, path.eta_scale, context, recorder) {
+            return None;
         }
         if path.throughput == Rgb::ZERO {
             recorder.end(PathEnd::Absorbed);
@@ -267,10 +261,20 @@ impl PathTracer {
 
 /// Russian roulette (Mitsuba's rule): the path survives with probability
 /// min(max throughput · η², 0.95), and a survivor's throughput is divided by that probability,
-/// which keeps the estimate unbiased. Returns whether the path goes on.
-pub(super) fn russian_roulette(throughput: &mut Rgb, eta_scale: f32, context: &mut SampleContext) -> bool {
+/// which keeps the estimate unbiased. Returns whether the path goes on; `recorder` is told
+/// the survival probability and the verdict (and that the path ends there).
+pub(super) fn russian_roulette(
+    throughput: &mut Rgb,
+    eta_scale: f32,
+    context: &mut SampleContext,
+    recorder: &mut impl PathRecorder,
+) -> bool {
     let survival = (throughput.max_element() * eta_scale).min(0.95);
-    if survival <= 0.0 || BounceDraws::roulette(&mut context.sampler) >= survival {
+    // Written as the test for ending, so a NaN survival draws and goes on as it always did.
+    let survived = !(survival <= 0.0 || BounceDraws::roulette(&mut context.sampler) >= survival);
+    recorder.roulette(survival, survived);
+    if !survived {
+        recorder.end(PathEnd::Roulette);
         return false;
     }
     *throughput /= survival;

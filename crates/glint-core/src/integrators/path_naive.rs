@@ -64,14 +64,8 @@ impl TracesPaths for NaivePathTracer {
             recorder.scatter(&sample, throughput);
             eta_scale *= sample.eta_squared;
             depth += 1;
-            if depth >= self.rr_depth {
-                let survival = (throughput.max_element() * eta_scale).min(0.95);
-                let survived = russian_roulette(&mut throughput, eta_scale, context);
-                recorder.roulette(survival, survived);
-                if !survived {
-                    recorder.end(PathEnd::Roulette);
-                    break;
-                }
+            if depth >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context, recorder) {
+                break;
             }
             ray = vertex.hit.spawn_ray(sample.wi);
         }

@@ -418,14 +418,8 @@ impl TracesPaths for PhotonMapper {
             throughput *= sample.weight;
             recorder.scatter(&sample, throughput);
             depth += 1;
-            if depth >= self.rr_depth {
-                let survival = throughput.max_element().min(0.95);
-                let survived = russian_roulette(&mut throughput, 1.0, context);
-                recorder.roulette(survival, survived);
-                if !survived {
-                    recorder.end(PathEnd::Roulette);
-                    break;
-                }
+            if depth >= self.rr_depth && !russian_roulette(&mut throughput, 1.0, context, recorder) {
+                break;
             }
             if throughput == Rgb::ZERO {
                 recorder.end(PathEnd::Absorbed);

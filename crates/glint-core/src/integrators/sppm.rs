@@ -141,7 +141,7 @@ impl Sppm {
             let Some(sample) = bsdf.sample_delta(wo, u_lobe, u) else { break };
             throughput *= sample.weight / (1.0 - p);
             eta_scale *= sample.eta_squared;
-            if depth + 1 >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context) {
+            if depth + 1 >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context, &mut ()) {
                 break;
             }
             if throughput == Rgb::ZERO {

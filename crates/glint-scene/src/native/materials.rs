@@ -101,14 +101,20 @@ impl Builder<'_> {
             Some(c) => resolve_colour(c, textures).map_err(|m| at(key, m)),
             None => Ok(Texture::Constant(Rgb::splat(default))),
         };
-        let fraction = |key: &str, f: &Option<FractionDesc>| match f {
-            None => Ok(Texture::Constant(Rgb::splat(0.5))),
-            Some(FractionDesc::Number(x)) if (0.0..=1.0).contains(x) => Ok(Texture::Constant(Rgb::splat(*x))),
-            Some(FractionDesc::Number(x)) => Err(at(key, format!("`{key}` must be between 0 and 1, got {x}"))),
+        // A number in `range` (`default` if absent), or a texture read as given.
+        let ranged = |key: &str, f: &Option<FractionDesc>, default: f32, range: std::ops::RangeInclusive<f32>| match f {
+            None => Ok(Texture::Constant(Rgb::splat(default))),
+            Some(FractionDesc::Number(x)) if range.contains(x) => Ok(Texture::Constant(Rgb::splat(*x))),
+            Some(FractionDesc::Number(x)) => {
+                Err(at(key, format!("`{key}` must be between {} and {}, got {x}", range.start(), range.end())))
+            }
             Some(FractionDesc::Texture(t)) => {
                 resolve_colour(&ColorDesc::Texture(t.clone()), textures).map_err(|m| at(key, m))
             }
         };
+        // A weight in [0, 1], `default` if absent.
+        let weight = |key: &str, f: &Option<FractionDesc>, default: f32| ranged(key, f, default, 0.0..=1.0);
+        let fraction = |key: &str, f: &Option<FractionDesc>| weight(key, f, 0.5);
         let distribution = |d: &Option<String>| match d.as_deref() {
             None => Ok(Distribution::Ggx),
             Some(name) => Distribution::from_name(name).ok_or_else(|| {
@@ -302,10 +308,6 @@ impl Builder<'_> {
                 clearcoat,
                 clearcoat_gloss,
             } => {
-                let weight = |key: &str, f: &Option<FractionDesc>, default: f32| match f {
-                    None => Ok(Texture::Constant(Rgb::splat(default))),
-                    Some(_) => fraction(key, f),
-                };
                 // Mitsuba's adjustments: an index of 1 (or a specular of 0) cannot transmit.
                 let transmits = spec_trans.is_some();
                 let eta = match (specular, eta) {
@@ -357,23 +359,6 @@ impl Builder<'_> {
                 specular_transmittance_sampling_rate,
                 diffuse_transmittance_sampling_rate,
             } => {
-                let weight = |key: &str, f: &Option<FractionDesc>, default: f32| match f {
-                    None => Ok(Texture::Constant(Rgb::splat(default))),
-                    Some(_) => fraction(key, f),
-                };
-                // A number in `range`, or a texture read as given.
-                let ranged =
-                    |key: &str, f: &Option<FractionDesc>, default: f32, range: std::ops::RangeInclusive<f32>| match f {
-                        None => Ok(Texture::Constant(Rgb::splat(default))),
-                        Some(FractionDesc::Number(x)) if range.contains(x) => Ok(Texture::Constant(Rgb::splat(*x))),
-                        Some(FractionDesc::Number(x)) => Err(at(
-                            key,
-                            format!("`{key}` must be between {} and {}, got {x}", range.start(), range.end()),
-                        )),
-                        Some(FractionDesc::Texture(t)) => {
-                            resolve_colour(&ColorDesc::Texture(t.clone()), textures).map_err(|m| at(key, m))
-                        }
-                    };
                 let rate = |key: &str, r: &Option<f32>| match r {
                     None => Ok(1.0),
                     Some(r) if *r >= 0.0 && r.is_finite() => Ok(*r),
