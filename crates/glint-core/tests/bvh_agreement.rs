@@ -6,7 +6,9 @@ mod common;
 use common::{object, scene, scene_with_methods, TestRng};
 use glint_core::geometry::Ray;
 use glint_core::scene::Scene;
-use glint_core::shapes::{AaBox, IntersectMethods, Mesh, Plane, Polygon, Shape, Sphere, Triangle, TriangleMethod};
+use glint_core::shapes::{
+    AaBox, Csg, CsgOperation, CsgTree, IntersectMethods, Mesh, Plane, Polygon, Shape, Sphere, Triangle, TriangleMethod,
+};
 use glint_core::Vec3;
 
 fn random_scene(rng: &mut TestRng, n: usize) -> Scene {
@@ -17,7 +19,7 @@ fn random_objects(rng: &mut TestRng, n: usize) -> Vec<glint_core::scene::Object>
     let mut objects = Vec::new();
     for _ in 0..n {
         let c = rng.vec3(-5.0, 5.0);
-        let shape = match rng.below(6) {
+        let shape = match rng.below(7) {
             0 => Shape::Sphere(Sphere::new(c, rng.range(0.05, 1.0))),
             1 => Shape::Triangle(Triangle::new(c, c + rng.vec3(-1.0, 1.0), c + rng.vec3(-1.0, 1.0))),
             2 => Shape::AaBox(AaBox::new(c, c + rng.vec3(0.05, 1.5))),
@@ -32,6 +34,29 @@ fn random_objects(rng: &mut TestRng, n: usize) -> Vec<glint_core::scene::Object>
                 Shape::Polygon(Polygon::new(verts).unwrap())
             }
             4 => Shape::Triangle(Triangle::new(c, c + Vec3::X, c + 2.0 * Vec3::X)), // zero area
+            5 => {
+                // A die: a cube less a ball at a random corner, with a lens (two balls' overlap)
+                // joined to it.
+                let solid = |shape| CsgTree::solid(shape);
+                let r = rng.range(0.1, 0.8);
+                let corner = c + r * rng.vec3(-1.0, 1.0);
+                let die = CsgTree::Combine(
+                    CsgOperation::Difference,
+                    vec![
+                        solid(Shape::AaBox(AaBox::new(c - Vec3::splat(r), c + Vec3::splat(r)))),
+                        solid(Shape::Sphere(Sphere::new(corner, r * rng.range(0.3, 1.2)))),
+                    ],
+                );
+                let offset = rng.vec3(-1.0, 1.0) * r;
+                let lens = CsgTree::Combine(
+                    CsgOperation::Intersection,
+                    vec![
+                        solid(Shape::Sphere(Sphere::new(c + offset, r))),
+                        solid(Shape::Sphere(Sphere::new(c + 1.5 * offset, r))),
+                    ],
+                );
+                Shape::Csg(Box::new(Csg::new(CsgTree::Combine(CsgOperation::Union, vec![die, lens])).unwrap()))
+            }
             _ => {
                 // A small mesh with a duplicated (coincident) triangle.
                 let positions = vec![c, c + Vec3::X, c + Vec3::Y, c + Vec3::Z];

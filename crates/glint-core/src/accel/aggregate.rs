@@ -41,6 +41,16 @@ impl Object {
         }
     }
 
+    /// The material where a hit's inner primitive is `inner`: a CSG solid's own, if it has
+    /// one, else the object's.
+    #[inline]
+    pub fn material_at(&self, inner: u32) -> u32 {
+        match &self.shape {
+            Shape::Csg(csg) => csg.solid_material(inner).unwrap_or(self.material),
+            _ => self.material,
+        }
+    }
+
     /// (∂p/∂u, ∂p/∂v) in world space at a point of primitive `prim` (`Shape::tangents`).
     pub(crate) fn tangents(&self, prim: u32, surface: &SurfaceGeometry) -> (Vec3, Vec3) {
         match &self.transform {
@@ -94,7 +104,11 @@ impl Object {
                     Shape::AaBox(b) => b.surface_within(local_ray.at(hit.t), t.round_trip_margin(local_ray.at(hit.t))),
                     shape => shape.surface(prim, &local_ray, hit),
                 };
-                let (point, error) = transform_point_with_error(&t.to_world, local.point, local.error);
+                // The error bound covers the next ray's trip back into the shape's space too:
+                // an origin offset past the world bound alone could round back onto a
+                // transformed sphere's outside and hit it again (an ellipsoid did, 6e-7 away).
+                let local_error = local.error + t.round_trip_margin(local.point);
+                let (point, error) = transform_point_with_error(&t.to_world, local.point, local_error);
                 SurfaceGeometry {
                     point,
                     geometric_normal: t.normal(local.geometric_normal),
@@ -557,6 +571,37 @@ impl Geometry {
         }
     }
 
+    /// Every triangle in world space the ray meets within `(t_min, t_max)`, in no order: the
+    /// hit (`inner` the primitive's index among the scene's, `object_first` counting) and
+    /// whether the ray leaves along the winding's normal. The any-hit traversal, never told
+    /// to stop.
+    pub fn crossings(&self, ray: &Ray, found: &mut dyn FnMut(PrimHit, bool)) {
+        let prepared = WatertightRay8::for_ray(ray);
+        let mut report = |block: &Triangle8, lane: usize, id: u32, hit: PrimHit| {
+            let [a, b, c] = block.triangle(lane);
+            found(PrimHit { inner: id, ..hit }, (b - a).cross(c - a).dot(ray.direction) > 0.0);
+        };
+        self.bvh.any::<false>(ray, |b, ray| {
+            let block = &self.blocks[b as usize];
+            if self.methods.triangle == TriangleMethod::Watertight && block.has_triangles() {
+                let hits = prepared.intersect(block, ray.t_min, ray.t_max);
+                let mut mask = hits.mask;
+                while mask != 0 {
+                    let lane = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let (u, v) = (hits.u.as_array_ref()[lane], hits.v.as_array_ref()[lane]);
+                    report(block, lane, block.ids[lane], PrimHit { t: hits.t[lane], u, v, inner: 0 });
+                }
+            }
+            for (lane, id) in block.lanes().filter(|&(_, id)| id & GENERIC == 0) {
+                if let Some(hit) = self.intersect_lane(block, lane, id, ray) {
+                    report(block, lane, id, hit);
+                }
+            }
+            false
+        });
+    }
+
     /// `occluded` in a tree of more than one node (out of line, and so is its leaf test: see
     /// `Bvh8::any`).
     #[inline(never)]
@@ -595,6 +640,17 @@ impl InstancedGeometry for Geometry {
         match object.transform {
             None => object.shape.surface_at(prim, point, hit),
             Some(_) => None,
+        }
+    }
+
+    fn crossings(&self, ray: &Ray, found: &mut dyn FnMut(PrimHit, bool)) {
+        Geometry::crossings(self, ray, found);
+    }
+
+    fn enclosed_volume(&self) -> Option<f64> {
+        match self.objects() {
+            [Object { shape: Shape::Mesh(mesh), transform: None, .. }] => mesh.enclosed_volume(),
+            _ => None,
         }
     }
 }

@@ -174,6 +174,13 @@ impl Geometry {
             (None, _) => geometry.point,
         };
         // An instance is one primitive of the scene's; its hit's own is the one inside it.
-        SurfaceHit { t: hit.t, geometry, object: o, prim: p + hit.inner, material: object.material, object_point }
+        SurfaceHit {
+            t: hit.t,
+            geometry,
+            object: o,
+            prim: p + hit.inner,
+            material: object.material_at(hit.inner),
+            object_point,
+        }
     }
 }

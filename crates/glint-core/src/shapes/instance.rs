@@ -32,6 +32,13 @@ pub trait InstancedGeometry: Send + Sync {
     /// The surface at `point` (the geometry's space) of primitive `prim` of `object`, a
     /// triangle's point by `hit`'s barycentric coordinates (`Shape::surface_at`).
     fn surface_at(&self, object: u32, prim: u32, point: Vec3, hit: &PrimHit) -> Option<SurfaceGeometry>;
+    /// Every triangle the ray meets within `(t_min, t_max)`, in no order: the hit (`inner` the
+    /// triangle's index) and whether the ray leaves along its winding's normal (d·n > 0).
+    /// Other primitives are skipped (CSG asks only closed meshes).
+    fn crossings(&self, ray: &Ray, found: &mut dyn FnMut(PrimHit, bool));
+    /// The volume the geometry encloses if it is one closed, consistently wound mesh
+    /// (`Mesh::enclosed_volume`), negative if its winding faces in.
+    fn enclosed_volume(&self) -> Option<f64>;
 }
 
 #[derive(Clone)]

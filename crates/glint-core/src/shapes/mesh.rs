@@ -78,6 +78,50 @@ impl Mesh {
     }
 
     /// Indices of triangles with zero area; they can never be hit.
+    /// The volume the mesh encloses if it is a closed, consistently wound surface (every edge,
+    /// its ends found by position so split seams count as joined, met once in each direction
+    /// by the triangles that share it): positive if the winding faces out, negative if in.
+    /// `None` if it has a border, an edge with more than two triangles, or triangles wound
+    /// against their neighbours: a surface that bounds no solid (CSG refuses it).
+    pub fn enclosed_volume(&self) -> Option<f64> {
+        use std::collections::HashMap;
+        if self.indices.is_empty() {
+            return None;
+        }
+        let mut ids: HashMap<[u32; 3], u32> = HashMap::with_capacity(self.positions.len());
+        let welded: Vec<u32> = self
+            .positions
+            .iter()
+            .map(|p| {
+                let next = ids.len() as u32;
+                *ids.entry(p.to_array().map(f32::to_bits)).or_insert(next)
+            })
+            .collect();
+        // Each directed edge once: its reverse must then be there exactly once too.
+        let mut edges: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * self.indices.len());
+        for tri in &self.indices {
+            let [a, b, c] = tri.map(|i| welded[i as usize]);
+            if a == b || b == c || c == a {
+                continue; // collapsed to an edge or a point: no area, no boundary
+            }
+            for edge in [(a, b), (b, c), (c, a)] {
+                *edges.entry(edge).or_default() += 1;
+            }
+        }
+        let paired = edges.iter().all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1));
+        if !paired {
+            return None;
+        }
+        // The divergence theorem: the sum of the signed tetrahedra from the origin.
+        let volume = (0..self.triangle_count())
+            .map(|i| {
+                let [a, b, c] = self.triangle_vertices(i).map(|p| p.as_dvec3());
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum();
+        Some(volume)
+    }
+
     pub fn degenerate_triangles(&self) -> impl Iterator<Item = usize> + '_ {
         (0..self.triangle_count()).filter(|&i| {
             let [a, b, c] = self.triangle_vertices(i);

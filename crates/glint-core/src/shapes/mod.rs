@@ -12,6 +12,7 @@
 //! that when they need a side (see `SurfaceHit::facing`).
 
 mod aabox;
+mod csg;
 mod instance;
 mod mesh;
 mod plane;
@@ -20,6 +21,7 @@ mod sphere;
 mod triangle;
 
 pub use aabox::{AaBox, BoxMethod};
+pub use csg::{Csg, CsgError, CsgOperation, CsgSolid, CsgTree};
 pub use instance::{Instance, InstancedGeometry};
 pub use mesh::{Mesh, MeshAttribute};
 pub use plane::Plane;
@@ -87,6 +89,9 @@ pub enum Shape {
     /// A shared, separately built geometry (a mesh and its BVH) placed by the object's
     /// transform: the two-level BVH that lets one mesh appear many times.
     Instance(Instance),
+    /// Closed solids combined by union, intersection and difference (boxed: a shape stays
+    /// small).
+    Csg(Box<Csg>),
 }
 
 impl Shape {
@@ -108,6 +113,7 @@ impl Shape {
             Shape::AaBox(b) => Some(b.bounds()),
             Shape::Mesh(m) => Some(m.triangle_bounds(prim as usize)),
             Shape::Instance(i) => Some(i.bounds()),
+            Shape::Csg(c) => Some(c.bounds()),
         }
     }
 
@@ -121,6 +127,7 @@ impl Shape {
             Shape::AaBox(b) => b.intersect(ray, methods.aabox).map(PrimHit::at),
             Shape::Mesh(m) => m.intersect(prim as usize, ray, methods.triangle),
             Shape::Instance(i) => i.intersect(ray),
+            Shape::Csg(c) => c.intersect(ray, methods),
         }
     }
 
@@ -137,6 +144,8 @@ impl Shape {
             Shape::AaBox(b) => b.tangents(normal),
             Shape::Mesh(m) => m.tangents(prim as usize),
             Shape::Instance(_) => (Vec3::ZERO, Vec3::ZERO),
+            // `prim` is the solid (a hit's `inner`).
+            Shape::Csg(c) => c.tangents(prim, point, normal),
         }
     }
 
@@ -152,13 +161,14 @@ impl Shape {
             Shape::AaBox(b) => b.surface(ray.at(hit.t)),
             Shape::Mesh(m) => m.surface(prim as usize, hit),
             Shape::Instance(i) => i.surface(ray, hit),
+            Shape::Csg(c) => c.surface(ray, hit),
         }
     }
 
     /// The surface at `point` (in the shape's space) of primitive `prim`, a triangle's point
     /// read from `hit`'s barycentric coordinates instead: what a hit there finds, for a point
-    /// no ray found (one sampled on a light). `None` for an instance, whose surface needs the
-    /// ray.
+    /// no ray found (one sampled on a light). `None` for an instance and a CSG object, whose
+    /// surfaces need the ray.
     #[inline]
     pub fn surface_at(&self, prim: u32, point: Vec3, hit: &PrimHit) -> Option<SurfaceGeometry> {
         Some(match self {
@@ -168,7 +178,7 @@ impl Shape {
             Shape::Polygon(p) => p.surface(point),
             Shape::AaBox(b) => b.surface(point),
             Shape::Mesh(m) => m.surface(prim as usize, hit),
-            Shape::Instance(_) => return None,
+            Shape::Instance(_) | Shape::Csg(_) => return None,
         })
     }
 
@@ -182,6 +192,7 @@ impl Shape {
             Shape::AaBox(_) => "box",
             Shape::Mesh(_) => "mesh",
             Shape::Instance(_) => "instance",
+            Shape::Csg(_) => "csg",
         }
     }
 }

@@ -67,17 +67,36 @@ impl Sphere {
 
     /// (d·d)t² + 2(d·(O−C))t + |O−C|² − r² = 0.
     pub fn intersect_algebraic(&self, ray: &Ray) -> Option<f32> {
+        let (t0, t1) = self.roots_algebraic(ray)?;
+        first_in_range(ray, t0, t1)
+    }
+
+    /// Where the ray's line meets the sphere, in ascending order, by `method` (`None` if it
+    /// misses, or by the geometric method if the sphere lies wholly behind the origin): the
+    /// interval of the line inside the ball, which CSG combines.
+    pub fn roots(&self, ray: &Ray, method: SphereMethod) -> Option<(f32, f32)> {
+        match method {
+            SphereMethod::Algebraic => self.roots_algebraic(ray),
+            SphereMethod::Geometric => self.roots_geometric(ray),
+        }
+    }
+
+    fn roots_algebraic(&self, ray: &Ray) -> Option<(f32, f32)> {
         let oc = ray.origin - self.center;
         let a = ray.direction.length_squared();
         let half_b = ray.direction.dot(oc);
         let c = oc.length_squared() - self.radius * self.radius;
-        let (t0, t1) = solve_quadratic(a, half_b, c)?;
-        first_in_range(ray, t0, t1)
+        solve_quadratic(a, half_b, c)
     }
 
     /// The geometric construction, with distances along the unit direction, converted back to
     /// the ray's parameter at the end.
     pub fn intersect_geometric(&self, ray: &Ray) -> Option<f32> {
+        let (t0, t1) = self.roots_geometric(ray)?;
+        first_in_range(ray, t0, t1)
+    }
+
+    fn roots_geometric(&self, ray: &Ray) -> Option<(f32, f32)> {
         let length = ray.direction.length();
         let unit = ray.direction / length;
         let l = self.center - ray.origin;
@@ -93,7 +112,7 @@ impl Sphere {
             return None; // the ray passes the sphere by
         }
         let t_hc = (r2 - d2).sqrt();
-        first_in_range(ray, (t_ca - t_hc) / length, (t_ca + t_hc) / length)
+        Some(((t_ca - t_hc) / length, (t_ca + t_hc) / length))
     }
 
     /// The point is projected back onto the sphere, which removes most of the error of

@@ -265,7 +265,7 @@ impl<'a> Wavefront<'a> {
                 let objects = self.scene.geometry().objects();
                 hits.retain(|&i| {
                     let (path, context) = (&mut paths[i as usize], &mut contexts[i as usize]);
-                    if !beyond_lambert[objects[path.hit.object as usize].material as usize] {
+                    if !beyond_lambert[objects[path.hit.object as usize].material_at(path.hit.at.inner) as usize] {
                         return true;
                     }
                     if self.scalar_bounce(path, context) {
