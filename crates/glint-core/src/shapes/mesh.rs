@@ -94,7 +94,8 @@ impl Mesh {
             .iter()
             .map(|p| {
                 let next = ids.len() as u32;
-                *ids.entry(p.to_array().map(f32::to_bits)).or_insert(next)
+                // + 0.0 turns −0 into +0: a seam written as "-0.000000" on one side is joined.
+                *ids.entry(p.to_array().map(|x| (x + 0.0).to_bits())).or_insert(next)
             })
             .collect();
         // Each directed edge once: its reverse must then be there exactly once too.

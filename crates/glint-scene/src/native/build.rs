@@ -17,7 +17,10 @@ use glint_core::lights::{LightSelection, TriangleSampling};
 use glint_core::materials::Material;
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::{Geometry, Object, SceneBuilder};
-use glint_core::shapes::{AaBox, Instance, IntersectMethods, Mesh, Plane, Polygon, Shape, Sphere, Triangle};
+use glint_core::shapes::{
+    AaBox, Csg, CsgOperation, CsgSolid, CsgTree, Instance, IntersectMethods, Mesh, Plane, Polygon, Shape, Sphere,
+    Triangle,
+};
 use glint_core::textures::{
     AttributeTexture, Checker, ImageTexture, Marble, SolidChecker, TexelFilter, Texture, Wood, Wrap,
 };
@@ -440,6 +443,118 @@ impl MeshLibrary<'_> {
     }
 }
 
+/// The index of the material named `name`, or what names there are.
+fn material_index(materials: &[(String, Material)], name: &str) -> Result<u32, String> {
+    let index = materials.iter().position(|(n, _)| n == name).ok_or_else(|| {
+        let hint = did_you_mean(name, materials.iter().map(|(n, _)| n.as_str()));
+        let known = if materials.is_empty() {
+            "no materials are defined".to_string()
+        } else {
+            format!("defined materials: {}", quoted(&materials.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>()))
+        };
+        format!("unknown material `{name}` ({known}){hint}")
+    })?;
+    Ok(index as u32)
+}
+
+/// What a CSG operand's checks need besides the operand: the scene's materials and named
+/// meshes, where files come from, and the shape's label for messages.
+struct OperandContext<'a, 'b, 'c> {
+    cx: &'a Context<'a>,
+    materials: &'a [(String, Material)],
+    library: &'a mut MeshLibrary<'b>,
+    source: &'a Source<'c>,
+    warnings: &'a mut Vec<String>,
+    label: &'a str,
+}
+
+/// A CSG node's operation over its operands, each checked and placed by its own transform
+/// composed after the node's (`outer`); `material` is the node's, for operands without one.
+fn csg_tree(
+    oc: &mut OperandContext,
+    span: &Option<Range<usize>>,
+    operation: &str,
+    operands: &[OperandDesc],
+    outer: Option<Transform>,
+    material: Option<u32>,
+    path: &str,
+) -> Result<CsgTree, SceneError> {
+    let (cx, label) = (oc.cx, oc.label);
+    let at = |key: &str, m: String| cx.error(span, Some(key), format!("{label}: {path}{m}"));
+    let operation = CsgOperation::from_name(operation).ok_or_else(|| {
+        let names: Vec<&str> = CsgOperation::ALL.iter().map(|o| o.name()).collect();
+        let hint = did_you_mean(operation, names.iter().copied());
+        at("operation", format!("unknown CSG operation `{operation}`, expected one of {}{hint}", quoted(&names)))
+    })?;
+    if operands.len() < 2 {
+        let message = format!("a {} needs at least two operands, got {}", operation.name(), operands.len());
+        return Err(at("operands", message));
+    }
+    let mut trees = Vec::with_capacity(operands.len());
+    for (k, entry) in operands.iter().enumerate() {
+        trees.push(csg_operand(oc, span, entry, outer, material, &format!("{path}operands[{k}]: "))?);
+    }
+    Ok(CsgTree::Combine(operation, trees))
+}
+
+fn csg_operand(
+    oc: &mut OperandContext,
+    span: &Option<Range<usize>>,
+    operand: &OperandDesc,
+    outer: Option<Transform>,
+    inherited: Option<u32>,
+    path: &str,
+) -> Result<CsgTree, SceneError> {
+    let cx = oc.cx;
+    let label = oc.label;
+    let at = |key: &str, m: String| cx.error(span, Some(key), format!("{label}: {path}{m}"));
+    let (material, transform_ops) = match operand {
+        OperandDesc::Sphere { material, transform, .. }
+        | OperandDesc::Box { material, transform, .. }
+        | OperandDesc::Instance { material, transform, .. }
+        | OperandDesc::Csg { material, transform, .. } => (material, transform),
+    };
+    let material = match material {
+        Some(name) => Some(material_index(oc.materials, name).map_err(|m| at("material", m))?),
+        None => inherited,
+    };
+    let own = build_transform(transform_ops).map_err(|m| at("transform", m))?;
+    let transform = match (outer, own) {
+        (Some(o), Some(t)) => Some(o.after(&t)),
+        (o, t) => o.or(t),
+    };
+    let shape = match operand {
+        OperandDesc::Sphere { center, radius, .. } => {
+            let center = finite(*center).map_err(|m| at("center", m))?;
+            positive(*radius).map_err(|m| at("radius", format!("`radius` {m}")))?;
+            Shape::Sphere(Sphere::new(center, *radius))
+        }
+        OperandDesc::Box { min, max, .. } => {
+            let (lo, hi) = (finite(*min).map_err(|m| at("min", m))?, finite(*max).map_err(|m| at("max", m))?);
+            if !lo.cmplt(hi).all() {
+                return Err(at("max", format!("`max` must exceed `min` on every axis, got min = {lo}, max = {hi}")));
+            }
+            Shape::AaBox(AaBox::new(lo, hi))
+        }
+        OperandDesc::Instance { mesh, .. } => {
+            let geometry = oc.library.get(cx, mesh, oc.source, oc.warnings, |m| at("mesh", m))?;
+            if geometry.objects().len() != 1
+                || !matches!(&geometry.objects()[0].shape, Shape::Mesh(m) if m.enclosed_volume().is_some_and(|v| v != 0.0))
+            {
+                return Err(at(
+                    "mesh",
+                    format!("mesh `{mesh}` is not closed: a CSG operand must bound a solid (every edge shared by exactly two triangles wound the same way)"),
+                ));
+            }
+            Shape::Instance(Instance { geometry })
+        }
+        OperandDesc::Csg { operation, operands, .. } => {
+            return csg_tree(oc, span, operation, operands, transform, material, path);
+        }
+    };
+    Ok(CsgTree::Solid(Box::new(CsgSolid { shape, transform, material })))
+}
+
 fn build_object(
     cx: &Context,
     index: usize,
@@ -457,15 +572,7 @@ fn build_object(
     };
     let at = |key: &str, m: String| cx.error(&entry.span, Some(key), format!("{label}: {m}"));
 
-    let material = materials.iter().position(|(n, _)| n == material_name).ok_or_else(|| {
-        let hint = did_you_mean(material_name, materials.iter().map(|(n, _)| n.as_str()));
-        let known = if materials.is_empty() {
-            "no materials are defined".to_string()
-        } else {
-            format!("defined materials: {}", quoted(&materials.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>()))
-        };
-        at("material", format!("unknown material `{material_name}` ({known}){hint}"))
-    })? as u32;
+    let material = material_index(materials, material_name).map_err(|m| at("material", m))?;
 
     let transform = build_transform(transform_ops).map_err(|m| at("transform", m))?;
 
@@ -580,6 +687,11 @@ fn build_object(
         ShapeDesc::Instance { mesh, .. } => {
             let geometry = library.get(cx, mesh, source, warnings, |m| at("mesh", m))?;
             Shape::Instance(Instance { geometry })
+        }
+        ShapeDesc::Csg { operation, operands, .. } => {
+            let mut oc = OperandContext { cx, materials, library, source, warnings, label: &label };
+            let tree = csg_tree(&mut oc, &entry.span, operation, operands, None, None, "")?;
+            Shape::Csg(Box::new(Csg::new(tree).map_err(|e| at("operands", e.to_string()))?))
         }
         ShapeDesc::Mesh { file, shape_index, smooth, flip_v, compute_normals, .. } => {
             let bytes = source.read(file).map_err(|m| at("file", format!("mesh file: {m}")))?;

@@ -628,6 +628,53 @@ pub enum ShapeDesc {
         transform: Vec<TransformOp>,
         name: Option<String>,
     },
+    /// Constructive solid geometry: `operation` (`union`, `intersection`, or `difference`: the
+    /// first operand less the others) over two or more closed `operands`.
+    Csg {
+        operation: String,
+        operands: Vec<OperandDesc>,
+        material: String,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        name: Option<String>,
+    },
+}
+
+/// A CSG operand (not `Located`: serde buffers a tagged enum's fields, and a span cannot be
+/// read back from the buffer; errors name the operand's path instead): a closed solid (planes, polygons, triangles and open meshes bound none), its
+/// material its own or, if not given, the enclosing node's.
+#[derive(Deserialize, Debug, Clone)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum OperandDesc {
+    Sphere {
+        #[serde(default)]
+        center: Vector,
+        radius: f32,
+        material: Option<String>,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+    },
+    Box {
+        min: Vector,
+        max: Vector,
+        material: Option<String>,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+    },
+    /// A closed mesh of `[meshes]`, through its own BVH.
+    Instance {
+        mesh: String,
+        material: Option<String>,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+    },
+    Csg {
+        operation: String,
+        operands: Vec<OperandDesc>,
+        material: Option<String>,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+    },
 }
 
 fn yes() -> bool {
@@ -644,7 +691,8 @@ impl ShapeDesc {
             | ShapeDesc::Box { material, transform, name, .. }
             | ShapeDesc::Mesh { material, transform, name, .. }
             | ShapeDesc::Quad { material, transform, name, .. }
-            | ShapeDesc::Instance { material, transform, name, .. } => (material, transform, name.as_deref()),
+            | ShapeDesc::Instance { material, transform, name, .. }
+            | ShapeDesc::Csg { material, transform, name, .. } => (material, transform, name.as_deref()),
         }
     }
 
@@ -658,7 +706,8 @@ impl ShapeDesc {
             | ShapeDesc::Box { transform, name, .. }
             | ShapeDesc::Mesh { transform, name, .. }
             | ShapeDesc::Quad { transform, name, .. }
-            | ShapeDesc::Instance { transform, name, .. } => (transform, name),
+            | ShapeDesc::Instance { transform, name, .. }
+            | ShapeDesc::Csg { transform, name, .. } => (transform, name),
         }
     }
 
@@ -672,6 +721,7 @@ impl ShapeDesc {
             ShapeDesc::Mesh { .. } => "mesh",
             ShapeDesc::Quad { .. } => "quad",
             ShapeDesc::Instance { .. } => "instance",
+            ShapeDesc::Csg { .. } => "csg",
         }
     }
 }
