@@ -7,11 +7,12 @@ use clap::Args;
 use glint_cli::error::CliError;
 use glint_core::geometry::Ray;
 use glint_core::integrators::passes::{pixel_sample, Pass};
-use glint_core::integrators::path_record::{PathEnd, PathEvent, PathLog, TracesPaths};
+use glint_core::integrators::path_record::{ParticleEvent, PathEnd, PathEvent, PathLog, TracesPaths};
 use glint_core::integrators::recorder::{RayRecord, RayTree};
 use glint_core::integrators::whitted::{DEPTH_CEILING, TREE_RAY_LIMIT};
 use glint_core::integrators::{
-    IntegratorKind, IntegratorSettings, NaivePathTracer, PathTracer, PhotonMapper, SampleContext, Whitted,
+    IntegratorKind, IntegratorSettings, LightTracer, NaivePathTracer, ParticleExplanation, PathTracer, PhotonMapper,
+    SampleContext, Sppm, SppmExplanation, Whitted,
 };
 use glint_core::photons::NearestPhotons;
 use glint_core::sampling::Rng;
@@ -47,8 +48,10 @@ pub struct ExplainArgs {
     /// Which integrator's path to show: `whitted` (the default: the ray tree), `path`,
     /// `path-naive` or `photon` (the path of the pixel's first sample: each vertex, its
     /// emission, light sample or photon-map estimate, BSDF sample and roulette, and what each
-    /// adds to the pixel).
-    #[arg(long, default_value = "whitted", value_parser = ["whitted", "path", "path-naive", "photon"])]
+    /// adds to the pixel), `light` (the particles of the first pass that land in the pixel,
+    /// their paths and splats) or `sppm` (the first pass's camera path to its visible point,
+    /// and the photons gathered there).
+    #[arg(long, default_value = "whitted", value_parser = ["whitted", "path", "path-naive", "photon", "light", "sppm"])]
     integrator: String,
     /// The seed of the sample streams (default: the scene's), as for `render`.
     #[arg(long)]
@@ -100,8 +103,52 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
     settings.transparent_shadows |= args.transparent_shadows;
     if args.integrator == "whitted" && (args.json || args.ply.is_some()) {
         return Err(CliError::Setting(
-            "--json and --ply write a path tracer's path: give --integrator path or path-naive".into(),
+            "--json and --ply write a Monte Carlo integrator's paths: give --integrator path, path-naive, photon, light or sppm".into(),
         ));
+    }
+    if args.integrator == "light" || args.integrator == "sppm" {
+        let seed = args.seed.unwrap_or(loaded.render.seed);
+        let pass = Pass {
+            seed,
+            index: 0,
+            centre: true,
+            filter: loaded.render.filter,
+            sampler: loaded.render.sampler,
+            samples: 1,
+        };
+        let (text, json, ply) = if args.integrator == "light" {
+            let explanation = LightTracer::new(&scene, settings.max_depth)?.explain_pixel(&scene, seed, (x, y));
+            (
+                explain_particles(&scene, &explanation, seed, x, y),
+                particles_json(&scene, &explanation, seed, x, y),
+                particles_ply(&scene, &explanation, x, y),
+            )
+        } else {
+            let sppm = Sppm::new(
+                &scene,
+                settings.max_depth,
+                settings.rr_depth,
+                settings.sppm_radius,
+                settings.photons_per_pass,
+            )?;
+            let explanation = sppm.explain_pixel(&scene, &pass, (x, y));
+            let (ray, _) = pixel_sample(&scene, &pass, x, y);
+            let traced = (ray, explanation.value, explanation.path.clone());
+            (
+                explain_sppm(&scene, &settings, &explanation, seed, x, y),
+                sppm_json(&scene, &traced, &explanation, &pass, x, y),
+                path_ply(&scene, &traced, x, y),
+            )
+        };
+        if let Some(file) = &args.ply {
+            glint_cli::output::write_file_atomically(file, ply.as_bytes(), "PLY line set")?;
+        }
+        if args.json {
+            println!("{json}");
+        } else {
+            print!("{text}");
+        }
+        return Ok(());
     }
     if args.integrator != "whitted" {
         let pass = Pass {
@@ -164,6 +211,13 @@ pub fn explain_path(
         pass.seed,
         settings.rr_depth
     );
+    write_events(&mut out, scene, log, kind);
+    let _ = writeln!(out, "pixel value = the sum of what each line adds = {}", full(radiance));
+    out
+}
+
+/// A camera path's events, a line each (`explain_path`).
+fn write_events(out: &mut String, scene: &Scene, log: &PathLog, kind: IntegratorKind) {
     let names = scene.material_names();
     for event in &log.events {
         let _ = match event {
@@ -228,14 +282,213 @@ pub fn explain_path(
                     PathEnd::Absorbed if kind == IntegratorKind::Photon => {
                         "no mirror or refraction to follow (photon mapping estimates the rest where it is)"
                     }
+                    PathEnd::Absorbed if kind == IntegratorKind::Sppm => {
+                        "the camera path stops here (its visible point, if photons can be gathered here)"
+                    }
                     PathEnd::Absorbed => "the BSDF gave no direction",
                     PathEnd::Roulette => "Russian roulette",
                 }
             ),
         };
     }
-    let _ = writeln!(out, "pixel value = the sum of what each line adds = {}", full(radiance));
+}
+
+/// Light tracing's first pass as it reaches pixel (x, y): each particle that lands there,
+/// its path, its splats; the pixel's value is the sum of the splats into it.
+pub fn explain_particles(scene: &Scene, e: &ParticleExplanation, seed: u64, x: u32, y: u32) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "pixel {x},{y}: light tracing's first pass (seed {seed}): {} particles traced (one per pixel), {} of them land in this pixel",
+        e.traced,
+        e.particles.len()
+    );
+    let names = scene.material_names();
+    for (index, log) in &e.particles {
+        for event in &log.events {
+            let _ = match event {
+                ParticleEvent::Start { origin, flux } => {
+                    writeln!(out, "particle {index}: leaves a light at {}, carrying flux {}", v(*origin), v(*flux))
+                }
+                ParticleEvent::Surface { bounces, point, object, material, flux } => writeln!(
+                    out,
+                    "  surface after {bounces} {}: `{}` (material `{}`) at {}, flux {}",
+                    if *bounces == 1 { "bounce" } else { "bounces" },
+                    scene.objects()[*object as usize].name,
+                    names.get(*material as usize).map_or("?", String::as_str),
+                    v(*point),
+                    v(*flux)
+                ),
+                ParticleEvent::Splat { bounces, x: sx, y: sy, value } => {
+                    let from = if bounces.is_some() { "this surface" } else { "the light itself" };
+                    let (w, h) = (scene.camera().width, scene.camera().height);
+                    if (*sx).min(w - 1) == x && (*sy).min(h - 1) == y {
+                        writeln!(out, "  {from} seen by the camera: splat {} into this pixel", full(*value))
+                    } else {
+                        writeln!(out, "  {from} seen by the camera: splat {} into pixel {sx},{sy}", v(*value))
+                    }
+                }
+                ParticleEvent::Roulette { survival, survived } => writeln!(
+                    out,
+                    "  Russian roulette: survives with probability {survival:.6}: {}",
+                    if *survived { "survived (flux divided by it)" } else { "ended" }
+                ),
+                ParticleEvent::End(why) => writeln!(
+                    out,
+                    "  ends: {}",
+                    match why {
+                        PathEnd::Escaped => "it left the scene",
+                        PathEnd::Depth => "max depth reached",
+                        PathEnd::Absorbed => "the BSDF gave no direction",
+                        PathEnd::Roulette => "Russian roulette",
+                    }
+                ),
+            };
+        }
+    }
+    if let Some(sky) = e.environment {
+        let _ = writeln!(out, "the environment, seen by the pixel's own camera ray: splat {}", full(sky));
+    }
+    let _ = writeln!(out, "pixel value = the sum of the splats into this pixel = {}", full(e.value));
     out
+}
+
+/// `explain_particles` as JSON: `{"pixel", "integrator": "light", "seed", "particles":
+/// [{"index", "events": [...]}], "environment", "value"}`.
+pub fn particles_json(scene: &Scene, e: &ParticleExplanation, seed: u64, x: u32, y: u32) -> String {
+    use serde_json::json;
+    let a = |v: Vec3| json!([v.x, v.y, v.z]);
+    let particles: Vec<serde_json::Value> = e
+        .particles
+        .iter()
+        .map(|(index, log)| {
+            let events: Vec<serde_json::Value> = log
+                .events
+                .iter()
+                .map(|event| match event {
+                    ParticleEvent::Start { origin, flux } => {
+                        json!({ "event": "start", "origin": a(*origin), "flux": a(*flux) })
+                    }
+                    ParticleEvent::Surface { bounces, point, object, material, flux } => json!({
+                        "event": "surface", "bounces": bounces, "point": a(*point),
+                        "object": scene.objects()[*object as usize].name,
+                        "material": scene.material_names().get(*material as usize), "flux": a(*flux),
+                    }),
+                    ParticleEvent::Splat { bounces, x, y, value } => {
+                        json!({ "event": "splat", "from_bounces": bounces, "pixel": [x, y], "value": a(*value) })
+                    }
+                    ParticleEvent::Roulette { survival, survived } => {
+                        json!({ "event": "roulette", "survival": survival, "survived": survived })
+                    }
+                    ParticleEvent::End(why) => json!({ "event": "end", "why": format!("{why:?}").to_lowercase() }),
+                })
+                .collect();
+            json!({ "index": index, "events": events })
+        })
+        .collect();
+    let document = json!({
+        "pixel": [x, y], "integrator": "light", "seed": seed, "particles_traced": e.traced,
+        "particles": particles, "environment": e.environment.map(a), "value": a(e.value),
+    });
+    serde_json::to_string_pretty(&document).unwrap_or_default()
+}
+
+/// The particles' paths as a PLY line set: from each particle's start through its surfaces,
+/// and from each surface that splats into the pixel to the camera.
+pub fn particles_ply(scene: &Scene, e: &ParticleExplanation, x: u32, y: u32) -> String {
+    let camera = scene.camera().generate_ray(x as f32 + 0.5, y as f32 + 0.5).origin;
+    let mut points = Vec::new();
+    let mut edges = Vec::new();
+    for (_, log) in &e.particles {
+        let mut previous = None;
+        for event in &log.events {
+            match event {
+                ParticleEvent::Start { origin: p, .. } | ParticleEvent::Surface { point: p, .. } => {
+                    points.push(*p);
+                    if let Some(q) = previous {
+                        edges.push((q, points.len() - 1));
+                    }
+                    previous = Some(points.len() - 1);
+                }
+                ParticleEvent::Splat { x: sx, y: sy, .. } if (*sx, *sy) == (x, y) => {
+                    if let Some(q) = previous {
+                        points.push(camera);
+                        edges.push((q, points.len() - 1));
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    line_set(&points, &edges, &format!("glint explain --integrator light: pixel {x},{y}"))
+}
+
+/// SPPM's first pass at pixel (x, y): the camera path's events, then the gather at its visible
+/// point and the pixel's value.
+pub fn explain_sppm(
+    scene: &Scene,
+    settings: &IntegratorSettings,
+    e: &SppmExplanation,
+    seed: u64,
+    x: u32,
+    y: u32,
+) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "pixel {x},{y}: SPPM's first pass (seed {seed}): the camera path through the pixel centre to its visible point, roulette from bounce {}",
+        settings.rr_depth
+    );
+    write_events(&mut out, scene, &e.path, IntegratorKind::Sppm);
+    let _ = writeln!(out, "direct light on the way (emission and light samples) = {}", full(e.direct));
+    match &e.gather {
+        None => {
+            let _ = writeln!(out, "no visible point: the photons add nothing");
+        }
+        Some(g) => {
+            let _ = writeln!(
+                out,
+                "visible point {}: the pass's photons ({} stored of {} emitted) within radius {:.6}: {} found, Σ f·Φ = {}, camera weight {}",
+                v(g.point),
+                e.photons_stored,
+                e.photons_emitted,
+                g.radius,
+                g.found,
+                v(g.flux),
+                v(g.weight)
+            );
+            let indirect = e.value - e.direct;
+            let _ = writeln!(
+                out,
+                "  update: radius → {:.6}, τ = α · weight · Σ f·Φ = {} (α = 2/3); indirect estimate τ / (emitted · π r²) ≈ {}",
+                g.new_radius,
+                v(g.tau),
+                v(indirect)
+            );
+        }
+    }
+    let _ = writeln!(out, "pixel value = direct + τ / (emitted · π r²) = {}", full(e.value));
+    out
+}
+
+/// `explain_sppm` as JSON: the camera path's events as `path_json` writes them, the gather,
+/// and the value.
+fn sppm_json(scene: &Scene, traced: &(Ray, Rgb, PathLog), e: &SppmExplanation, pass: &Pass, x: u32, y: u32) -> String {
+    use serde_json::json;
+    let a = |v: Vec3| json!([v.x, v.y, v.z]);
+    let mut document: serde_json::Value =
+        serde_json::from_str(&path_json(scene, traced, pass, x, y, IntegratorKind::Sppm)).unwrap_or_default();
+    document["direct"] = a(e.direct);
+    document["photons_stored"] = json!(e.photons_stored);
+    document["photons_emitted"] = json!(e.photons_emitted);
+    document["gather"] = match &e.gather {
+        None => serde_json::Value::Null,
+        Some(g) => json!({
+            "point": a(g.point), "radius": g.radius, "found": g.found, "flux": a(g.flux), "weight": a(g.weight),
+            "new_radius": g.new_radius, "tau": a(g.tau),
+        }),
+    };
+    serde_json::to_string_pretty(&document).unwrap_or_default()
 }
 
 /// The camera ray of pixel (x, y)'s sample `pass.index`, the radiance along it, and the log of
@@ -351,15 +604,20 @@ pub fn path_ply(scene: &Scene, (ray, _, log): &(Ray, Rgb, PathLog), x: u32, y: u
             _ => {}
         }
     }
+    line_set(&points, &edges, &format!("glint explain: pixel {x},{y}"))
+}
+
+/// Points and the edges between them as an ASCII PLY line set.
+fn line_set(points: &[Vec3], edges: &[(usize, usize)], comment: &str) -> String {
     let mut out = format!(
-        "ply\nformat ascii 1.0\ncomment glint explain: pixel {x},{y}\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nelement edge {}\nproperty int vertex1\nproperty int vertex2\nend_header\n",
+        "ply\nformat ascii 1.0\ncomment {comment}\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nelement edge {}\nproperty int vertex1\nproperty int vertex2\nend_header\n",
         points.len(),
         edges.len()
     );
-    for p in &points {
+    for p in points {
         let _ = writeln!(out, "{} {} {}", p.x, p.y, p.z);
     }
-    for (a, b) in &edges {
+    for (a, b) in edges {
         let _ = writeln!(out, "{a} {b}");
     }
     out

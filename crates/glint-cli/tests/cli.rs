@@ -342,6 +342,99 @@ fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// `glint explain` for every Monte Carlo integrator on a second scene (glass on a floor), and
+/// for light tracing and SPPM on the Cornell box too: the last line is the pixel `render --spp
+/// 1` computes, bit for bit, and the lines that add sum to it: light tracing's splats into the
+/// pixel; SPPM's light samples to its direct light, which the gather's estimate completes.
+#[test]
+fn explain_of_every_integrator_adds_up_on_two_scenes() {
+    let dir = temp_dir("explain-all");
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let triple = |text: &str| -> [f32; 3] {
+        let inner = text.trim().trim_start_matches('(').trim_end_matches(')');
+        let v: Vec<f32> = inner.split(", ").map(|n| n.parse().unwrap()).collect();
+        [v[0], v[1], v[2]]
+    };
+    let sum_after = |text: &str, marker: &str| {
+        let mut sum = [0.0f32; 3];
+        for line in text.lines().filter(|l| l.contains(marker)) {
+            let added = triple(line.rsplit(marker).next().unwrap());
+            (0..3).for_each(|c| sum[c] += added[c]);
+        }
+        sum
+    };
+    let runs = [
+        ("caustic-glass.toml", "path", [(24, 30), (20, 12)]),
+        ("caustic-glass.toml", "path-naive", [(24, 30), (20, 12)]),
+        ("caustic-glass.toml", "photon", [(24, 30), (24, 33)]),
+        ("caustic-glass.toml", "light", [(24, 30), (22, 36)]),
+        ("caustic-glass.toml", "sppm", [(24, 30), (22, 36)]),
+        ("cornell-box.toml", "light", [(24, 30), (30, 44)]),
+        ("cornell-box.toml", "sppm", [(24, 30), (10, 20)]),
+    ];
+    let (mut particles, mut gathered) = (0, 0);
+    for (file, kind, pixels) in runs {
+        let scene = scenes.join(file);
+        let out = dir.join(format!("{kind}.pfm"));
+        let (scene, out) = (scene.to_str().unwrap(), out.to_str().unwrap());
+        let o = glint(&["render", scene, "--spp", "1", "--width", "48", "--integrator", kind, "-q", "-o", out]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let (w, _, image) = read_pfm(Path::new(out)).unwrap();
+        // Light tracing: also the brightest pixel, where particles surely land.
+        let brightest = (0..image.len()).max_by(|&a, &b| image[a].x.total_cmp(&image[b].x)).unwrap() as u32;
+        let pixels = if kind == "light" { vec![pixels[0], (brightest % w, brightest / w)] } else { pixels.to_vec() };
+        for (x, y) in pixels {
+            let pixel = format!("{x},{y}");
+            let o = glint(&["explain", scene, "--width", "48", "--pixel", &pixel, "--integrator", kind]);
+            assert!(o.status.success(), "{}", stderr(&o));
+            let text = String::from_utf8_lossy(&o.stdout).to_string();
+            let total = triple(text.lines().last().unwrap().rsplit('=').next().unwrap());
+            let rendered = image[(y * w + x) as usize].to_array();
+            let what = format!("{file}, {kind}, pixel {x},{y}");
+            assert_eq!(total.map(f32::to_bits), rendered.map(f32::to_bits), "{what}: {text}");
+            let close = |a: [f32; 3], b: [f32; 3]| (0..3).all(|c| (a[c] - b[c]).abs() <= 1e-6 * b[c].max(1.0));
+            match kind {
+                "light" => {
+                    let mut sum = sum_after(&text, "camera ray: splat");
+                    for line in text.lines().filter(|l| l.ends_with("into this pixel")) {
+                        let splat = line.rsplit("splat ").next().unwrap().trim_end_matches(" into this pixel");
+                        let splat = triple(splat);
+                        (0..3).for_each(|c| sum[c] += splat[c]);
+                    }
+                    assert!(close(sum, total), "{what}: the splats add to {sum:?}: {text}");
+                    particles += text.lines().filter(|l| l.starts_with("particle ")).count();
+                }
+                "sppm" => {
+                    let direct = triple(
+                        text.lines().find(|l| l.starts_with("direct light")).unwrap().rsplit('=').next().unwrap(),
+                    );
+                    assert!(close(sum_after(&text, "→ adds"), direct), "{what}: {text}");
+                    gathered += text.lines().filter(|l| l.starts_with("visible point")).count();
+                }
+                _ => assert!(close(sum_after(&text, "→ adds"), total), "{what}: {text}"),
+            }
+        }
+    }
+    assert!(particles >= 3 && gathered >= 4, "{particles} particles, {gathered} gathers shown");
+    // As JSON and as a PLY line set.
+    let scene = scenes.join("cornell-box.toml");
+    let scene = scene.to_str().unwrap();
+    for kind in ["light", "sppm"] {
+        let args = ["explain", scene, "--width", "48", "--pixel", "24,30", "--integrator", kind];
+        let text = String::from_utf8_lossy(&glint(&args).stdout).to_string();
+        let ply = dir.join(format!("{kind}.ply"));
+        let json = glint(&[&args[..], &["--json", "--ply", ply.to_str().unwrap()]].concat());
+        assert!(json.status.success(), "{}", stderr(&json));
+        let document: serde_json::Value = serde_json::from_slice(&json.stdout).expect("JSON");
+        let value: Vec<f32> =
+            document["value"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap() as f32).collect();
+        assert_eq!(value, triple(text.lines().last().unwrap().rsplit('=').next().unwrap()).to_vec(), "{kind}");
+        let ply = std::fs::read_to_string(&ply).unwrap();
+        assert!(ply.starts_with("ply\n") && ply.contains("element edge "), "{kind}: {ply}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 /// `glint explain --photons K` lists the photons around a pixel's hit point: in the caustic
 /// under the glass ball the caustic map is dense and its estimate bright; on the far wall
 /// there is no caustic at all.

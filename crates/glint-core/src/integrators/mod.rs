@@ -19,12 +19,12 @@ mod wavefront;
 pub mod whitted;
 
 pub use bvh_heat::{heat_colour, BvhHeat};
-pub use light::LightTracer;
+pub use light::{LightTracer, ParticleExplanation};
 pub use path::{power_heuristic, PathTracer};
 pub use path_naive::NaivePathTracer;
 pub use photon_mapping::{PhotonMapper, PhotonSettings};
 pub use raycast::Raycast;
-pub use sppm::Sppm;
+pub use sppm::{Sppm, SppmExplanation, SppmGather};
 pub use wavefront::WavefrontPathTracer;
 pub use whitted::Whitted;
 

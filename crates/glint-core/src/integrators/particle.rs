@@ -9,6 +9,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::path_record::{ParticleRecorder, PathEnd};
 use super::vertex::Vertex;
 use super::RayCounts;
 use crate::geometry::Ray;
@@ -46,14 +47,16 @@ pub(super) fn shading_correction(hit: &SurfaceHit, wo: Vec3, wi: Vec3) -> f32 {
 
 /// Traces `particle` for at most `max_depth` scattering events in all (the last vertex seen
 /// has `bounces = max_depth − 1`, so a connection from it makes a path of `max_depth`
-/// scattering events), calling `visit` at every surface with a non-delta part.
-pub(super) fn trace_particle(
+/// scattering events), calling `visit` at every surface with a non-delta part and telling
+/// `recorder` what happens (`()` for nothing).
+pub(super) fn trace_particle<R: ParticleRecorder>(
     scene: &Scene,
     particle: &Particle,
     max_depth: u32,
     rng: &mut Rng,
     rays: &mut RayCounts,
-    mut visit: impl FnMut(&ParticleVertex, &mut Rng, &mut RayCounts),
+    recorder: &mut R,
+    mut visit: impl FnMut(&ParticleVertex, &mut Rng, &mut RayCounts, &mut R),
 ) {
     let mut ray: Ray = particle.ray;
     let mut weight = particle.weight;
@@ -61,23 +64,34 @@ pub(super) fn trace_particle(
     let mut specular_chain = true;
     while bounces < max_depth {
         rays.light += 1;
-        let Some(vertex) = Vertex::trace(scene, &ray) else { return };
+        let Some(vertex) = Vertex::trace(scene, &ray) else {
+            recorder.end(PathEnd::Escaped);
+            return;
+        };
         let bsdf = vertex.bsdf();
         let Vertex { hit, wo, .. } = vertex;
+        recorder.surface(&hit, weight, bounces);
         if bsdf.has_diffuse() {
             let vertex = ParticleVertex { hit, bsdf: &bsdf, wo, weight, bounces, specular_chain };
-            visit(&vertex, rng, rays);
+            visit(&vertex, rng, rays, recorder);
         }
         if bounces + 1 >= max_depth {
+            recorder.end(PathEnd::Depth);
             return;
         }
         let u_lobe = rng.next_f32();
         let u = Vec2::new(rng.next_f32(), rng.next_f32());
-        let Some(sample) = bsdf.sample(wo, u_lobe, u) else { return };
+        let Some(sample) = bsdf.sample(wo, u_lobe, u) else {
+            recorder.end(PathEnd::Absorbed);
+            return;
+        };
         let scale = sample.weight * shading_correction(&hit, wo, sample.wi);
         // Survive with the largest channel's scale (capped, so a lossless mirror box ends).
         let survival = scale.max_element().min(0.95);
-        if survival <= 0.0 || rng.next_f32() >= survival {
+        let survived = !(survival <= 0.0 || rng.next_f32() >= survival);
+        recorder.roulette(survival, survived);
+        if !survived {
+            recorder.end(PathEnd::Roulette);
             return;
         }
         weight *= scale / survival;

@@ -109,7 +109,7 @@ pub struct Pass {
 }
 
 /// The image tiles, as (x0, y0, x1, y1): the unit of parallel work of every pass.
-fn tiles(width: u32, height: u32) -> Vec<(u32, u32, u32, u32)> {
+pub(super) fn tiles(width: u32, height: u32) -> Vec<(u32, u32, u32, u32)> {
     let (tiles_x, tiles_y) = (width.div_ceil(TILE_SIZE), height.div_ceil(TILE_SIZE));
     (0..tiles_x * tiles_y)
         .map(|tile| {

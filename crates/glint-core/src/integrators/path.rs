@@ -307,6 +307,27 @@ pub(super) fn sample_lights(
     next_event(scene, hit, bsdf, wo, weighting, context).contribution
 }
 
+/// `sample_lights` times the path's `throughput`, its light sample told to `recorder`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(super) fn sample_lights_recorded(
+    scene: &Scene,
+    hit: &SurfaceHit,
+    bsdf: &Bsdf,
+    wo: Vec3,
+    weighting: Weighting,
+    context: &mut SampleContext,
+    throughput: Rgb,
+    recorder: &mut impl PathRecorder,
+) -> Rgb {
+    let event = next_event(scene, hit, bsdf, wo, weighting, context);
+    let added = throughput * event.contribution;
+    if let Some(sample) = event.sample {
+        recorder.light_sample(LightSampleRecord { added, ..sample });
+    }
+    added
+}
+
 /// What next-event estimation adds (before the path's throughput), and its light sample where
 /// one carried light toward the surface (its `added` left for the caller).
 struct NextEvent {

@@ -149,3 +149,55 @@ impl PathRecorder for PathLog {
         self.events.push(PathEvent::End(why));
     }
 }
+
+/// What a particle from a light does (light tracing), as `PathRecorder` is for camera paths.
+pub trait ParticleRecorder {
+    /// It leaves a light at `origin` carrying `flux`.
+    fn start(&mut self, _origin: Vec3, _flux: Rgb) {}
+    /// It reaches a surface after `bounces` scattering events, carrying `flux` there.
+    fn surface(&mut self, _hit: &SurfaceHit, _flux: Rgb, _bounces: u32) {}
+    /// A connection to the camera lands `value` in pixel (x, y); `bounces` is the surface it
+    /// leaves from (`None`: the light itself, seen by the camera).
+    fn splat(&mut self, _bounces: Option<u32>, _x: u32, _y: u32, _value: Rgb) {}
+    /// Russian roulette's survival probability and verdict.
+    fn roulette(&mut self, _survival: f32, _survived: bool) {}
+    fn end(&mut self, _why: PathEnd) {}
+}
+
+/// Records nothing.
+impl ParticleRecorder for () {}
+
+/// One event of a particle's path, as `ParticleLog` keeps it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ParticleEvent {
+    Start { origin: Vec3, flux: Rgb },
+    Surface { bounces: u32, point: Vec3, object: u32, material: u32, flux: Rgb },
+    Splat { bounces: Option<u32>, x: u32, y: u32, value: Rgb },
+    Roulette { survival: f32, survived: bool },
+    End(PathEnd),
+}
+
+/// Every event of one particle's path.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ParticleLog {
+    pub events: Vec<ParticleEvent>,
+}
+
+impl ParticleRecorder for ParticleLog {
+    fn start(&mut self, origin: Vec3, flux: Rgb) {
+        self.events.push(ParticleEvent::Start { origin, flux });
+    }
+    fn surface(&mut self, hit: &SurfaceHit, flux: Rgb, bounces: u32) {
+        let (point, object, material) = (hit.geometry.point, hit.object, hit.material);
+        self.events.push(ParticleEvent::Surface { bounces, point, object, material, flux });
+    }
+    fn splat(&mut self, bounces: Option<u32>, x: u32, y: u32, value: Rgb) {
+        self.events.push(ParticleEvent::Splat { bounces, x, y, value });
+    }
+    fn roulette(&mut self, survival: f32, survived: bool) {
+        self.events.push(ParticleEvent::Roulette { survival, survived });
+    }
+    fn end(&mut self, why: PathEnd) {
+        self.events.push(ParticleEvent::End(why));
+    }
+}

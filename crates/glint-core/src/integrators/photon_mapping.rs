@@ -120,12 +120,20 @@ impl PhotonShooter<'_> {
                     let Some(particle) = self.scene.lights().sample_le(u_select, u_point, u_direction) else {
                         continue;
                     };
-                    trace_particle(self.scene, &particle, self.max_depth, &mut rng, &mut rays, |v, _, _| {
-                        if keep(v) {
-                            let n = v.hit.geometric_normal_toward(v.wo);
-                            photons.push(Photon::new(v.hit.geometry.point, v.wo, n, v.weight));
-                        }
-                    });
+                    trace_particle(
+                        self.scene,
+                        &particle,
+                        self.max_depth,
+                        &mut rng,
+                        &mut rays,
+                        &mut (),
+                        |v, _, _, _| {
+                            if keep(v) {
+                                let n = v.hit.geometric_normal_toward(v.wo);
+                                photons.push(Photon::new(v.hit.geometry.point, v.wo, n, v.weight));
+                            }
+                        },
+                    );
                 }
                 (photons, rays)
             })

@@ -26,8 +26,9 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::passes::{camera_samples, par_tiles, Pass, PassRenderer};
-use super::path::{russian_roulette, sample_lights, Weighting};
+use super::passes::{camera_samples, par_tiles, pixel_sample, Pass, PassRenderer};
+use super::path::{russian_roulette, sample_lights_recorded, Weighting};
+use super::path_record::{PathEnd, PathLog, PathRecorder};
 use super::photon_mapping::{PhotonShooter, BATCH};
 use super::vertex::trace_seeing_light;
 use super::{RayCounts, SampleContext};
@@ -108,6 +109,7 @@ impl Sppm {
         scene: &'s Scene,
         mut ray: Ray,
         context: &mut SampleContext,
+        recorder: &mut impl PathRecorder,
     ) -> (Rgb, Option<VisiblePoint<'s>>) {
         let mut direct = Rgb::ZERO;
         let mut throughput = Rgb::ONE;
@@ -116,15 +118,17 @@ impl Sppm {
         let mut visible = None;
         for depth in 0..=self.max_depth {
             context.rays.camera += 1;
-            let Some(vertex) = trace_seeing_light(scene, &ray, depth, throughput, &mut direct, &mut ()) else { break };
+            let Some(vertex) = trace_seeing_light(scene, &ray, depth, throughput, &mut direct, recorder) else { break };
             let (hit, wo) = (&vertex.hit, vertex.wo);
             distance += hit.t * ray.direction.length();
             if depth == self.max_depth {
+                recorder.end(PathEnd::Depth);
                 break;
             }
             let bsdf = vertex.bsdf();
             if bsdf.has_diffuse() {
-                direct += throughput * sample_lights(scene, hit, &bsdf, wo, Weighting::LightOnly, context);
+                direct +=
+                    sample_lights_recorded(scene, hit, &bsdf, wo, Weighting::LightOnly, context, throughput, recorder);
             }
             let p = bsdf.non_delta_probability();
             if context.sampler.next_f32() < p {
@@ -134,23 +138,149 @@ impl Sppm {
                     let normal = hit.geometric_normal_toward(wo);
                     visible = Some(VisiblePoint { point, normal, wo, bsdf, weight: throughput / p, distance });
                 }
+                recorder.end(PathEnd::Absorbed);
                 break;
             }
             let u_lobe = context.sampler.next_f32();
             let u = Vec2::new(context.sampler.next_f32(), context.sampler.next_f32());
-            let Some(sample) = bsdf.sample_delta(wo, u_lobe, u) else { break };
+            let Some(sample) = bsdf.sample_delta(wo, u_lobe, u) else {
+                recorder.end(PathEnd::Absorbed);
+                break;
+            };
             throughput *= sample.weight / (1.0 - p);
+            recorder.scatter(&sample, throughput);
             eta_scale *= sample.eta_squared;
-            if depth + 1 >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context, &mut ()) {
+            if depth + 1 >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context, recorder) {
                 break;
             }
             if throughput == Rgb::ZERO {
+                recorder.end(PathEnd::Absorbed);
                 break;
             }
             ray = hit.spawn_ray(sample.wi);
         }
         (if direct.is_finite() { direct } else { Rgb::ZERO }, visible)
     }
+}
+
+impl Sppm {
+    /// A pass's photons: those after at least one bounce (direct light is the camera path's),
+    /// in a map.
+    fn shoot(&self, scene: &Scene, pass: &Pass) -> (PhotonMap, RayCounts) {
+        let wanted = if self.photons_per_pass > 0 { self.photons_per_pass as u64 } else { self.pixels.len() as u64 };
+        let batches = wanted.div_ceil(BATCH);
+        let first = pass.index as u64 * batches;
+        let shooter = PhotonShooter { scene, max_depth: self.max_depth, seed: pass.seed, stop: None };
+        let (photons, emitted, rays) = shooter.shoot(PHOTON_STREAM, first..first + batches, &|v| v.bounces > 0);
+        (PhotonMap::build(photons, emitted), rays)
+    }
+
+    /// Pixel (x, y) after a render's first pass (`pass`, with index 0), step by step: its camera
+    /// path through delta bounces to its visible point (the direct light found on the way),
+    /// the pass's photons gathered there, and the pixel's value, computed as the render
+    /// computes it (bit for bit what `render --spp 1` gives). `self` must not have rendered.
+    pub fn explain_pixel(&self, scene: &Scene, pass: &Pass, (x, y): (u32, u32)) -> SppmExplanation {
+        let (ray, mut context) = pixel_sample(scene, pass, x, y);
+        let mut path = PathLog::default();
+        let (direct, visible) = self.camera_path(scene, ray, &mut context, &mut path);
+        let (map, _) = self.shoot(scene, pass);
+        let mut state = PixelState::default();
+        let gathered = visible.map(|vp| {
+            let (found, flux, radius) = gather(scene, &map, &vp, &mut state, self.initial_radius);
+            SppmGather {
+                point: vp.point,
+                weight: vp.weight,
+                radius,
+                found,
+                flux,
+                new_radius: state.radius,
+                tau: state.tau,
+            }
+        });
+        state.direct += direct;
+        let value = estimate(&state, 1, map.emitted());
+        let (photons_stored, photons_emitted) = (map.len(), map.emitted());
+        SppmExplanation { path, direct, gather: gathered, photons_stored, photons_emitted, value }
+    }
+}
+
+/// A visible point's gather from a pass's `map` within its pixel's radius (the first one set
+/// here), and the pixel's progressive update: the photons found, Σ f·Φ, and the radius
+/// searched.
+fn gather(
+    scene: &Scene,
+    map: &PhotonMap,
+    vp: &VisiblePoint,
+    state: &mut PixelState,
+    initial_radius: f32,
+) -> (u32, Rgb, f32) {
+    if state.radius == 0.0 {
+        state.radius =
+            if initial_radius > 0.0 { initial_radius } else { 3.0 * scene.camera().pixel_footprint(vp.distance) };
+    }
+    let radius = state.radius;
+    let mut flux = Rgb::ZERO;
+    let mut found = 0u32;
+    map.for_each_within(vp.point, radius, |photon, _| {
+        if !photon.can_reach(vp.point, vp.normal) {
+            return;
+        }
+        let f = vp.bsdf.eval_without_cosine(vp.wo, photon.incoming());
+        if f != Rgb::ZERO {
+            flux += f * photon.power;
+            found += 1;
+        }
+    });
+    if found > 0 {
+        let m = found as f32;
+        let n_new = state.photons + ALPHA * m;
+        let ratio = n_new / (state.photons + m);
+        state.tau = (state.tau + vp.weight * flux) * ratio;
+        state.radius *= ratio.sqrt();
+        state.photons = n_new;
+    }
+    (found, flux, radius)
+}
+
+/// A pixel's value after `passes` passes that emitted `emitted` photons: direct / passes +
+/// τ / (emitted · π r²).
+fn estimate(state: &PixelState, passes: u32, emitted: u64) -> Rgb {
+    let (passes, emitted) = (passes as f32, emitted as f32);
+    let mut value = state.direct / passes;
+    if state.radius > 0.0 {
+        value += state.tau / (emitted * std::f32::consts::PI * state.radius * state.radius);
+    }
+    value
+}
+
+/// SPPM's account of one pixel after one pass (`Sppm::explain_pixel`).
+#[derive(Clone, Debug)]
+pub struct SppmExplanation {
+    /// The camera path to the visible point.
+    pub path: PathLog,
+    /// Emission and light-sampled direct light found on it.
+    pub direct: Rgb,
+    /// The gather at the visible point, if the path found one.
+    pub gather: Option<SppmGather>,
+    pub photons_stored: usize,
+    pub photons_emitted: u64,
+    /// direct + τ / (emitted · π r²), the pixel's value.
+    pub value: Rgb,
+}
+
+/// The photons gathered at a visible point in the first pass.
+#[derive(Clone, Copy, Debug)]
+pub struct SppmGather {
+    pub point: Vec3,
+    /// The camera path's throughput to the point, over the probability of stopping there.
+    pub weight: Rgb,
+    /// The search radius, and the photons found within it with Σ f·Φ.
+    pub radius: f32,
+    pub found: u32,
+    pub flux: Rgb,
+    /// After the update: the radius shrunk by √α (if photons were found) and τ = α·weight·Σ f·Φ.
+    pub new_radius: f32,
+    pub tau: Rgb,
 }
 
 impl PassRenderer for Sppm {
@@ -163,7 +293,7 @@ impl PassRenderer for Sppm {
                 let pixels = (y0..y1).flat_map(|y| (x0..x1).map(move |x| y * width + x));
                 let mut out = Vec::with_capacity(camera_rays.len());
                 for ((ray, context), pixel) in camera_rays.into_iter().zip(&mut contexts).zip(pixels) {
-                    let (direct, visible) = self.camera_path(scene, ray, context);
+                    let (direct, visible) = self.camera_path(scene, ray, context, &mut ());
                     rays.add(&context.rays);
                     out.push((pixel, direct, visible));
                 }
@@ -181,60 +311,22 @@ impl PassRenderer for Sppm {
             }
         }
 
-        // Photons after at least one bounce, into this pass's map.
-        let wanted = if self.photons_per_pass > 0 { self.photons_per_pass as u64 } else { self.pixels.len() as u64 };
-        let batches = wanted.div_ceil(BATCH);
-        let first = pass.index as u64 * batches;
-        let shooter = PhotonShooter { scene, max_depth: self.max_depth, seed: pass.seed, stop: None };
-        let (photons, emitted, photon_rays) = shooter.shoot(PHOTON_STREAM, first..first + batches, &|v| v.bounces > 0);
+        let (map, photon_rays) = self.shoot(scene, pass);
         rays.add(&photon_rays);
-        let map = PhotonMap::build(photons, emitted);
-        self.emitted += emitted;
+        self.emitted += map.emitted();
         self.passes += 1;
 
         let initial_radius = self.initial_radius;
         self.pixels.par_iter_mut().zip(visible.par_iter()).for_each(|(state, vp)| {
-            let Some(vp) = vp else { return };
-            if state.radius == 0.0 {
-                state.radius = if initial_radius > 0.0 {
-                    initial_radius
-                } else {
-                    3.0 * scene.camera().pixel_footprint(vp.distance)
-                };
+            if let Some(vp) = vp {
+                gather(scene, &map, vp, state, initial_radius);
             }
-            let mut flux = Rgb::ZERO;
-            let mut found = 0u32;
-            map.for_each_within(vp.point, state.radius, |photon, _| {
-                if !photon.can_reach(vp.point, vp.normal) {
-                    return;
-                }
-                let f = vp.bsdf.eval_without_cosine(vp.wo, photon.incoming());
-                if f != Rgb::ZERO {
-                    flux += f * photon.power;
-                    found += 1;
-                }
-            });
-            if found == 0 {
-                return;
-            }
-            let m = found as f32;
-            let n_new = state.photons + ALPHA * m;
-            let ratio = n_new / (state.photons + m);
-            state.tau = (state.tau + vp.weight * flux) * ratio;
-            state.radius *= ratio.sqrt();
-            state.photons = n_new;
         });
 
         // The film holds the current estimate, one sample of weight 1 per pixel.
         *film = Film::new(width, height);
-        let passes = self.passes as f32;
-        let emitted = self.emitted as f32;
         for (i, state) in self.pixels.iter().enumerate() {
-            let mut value = state.direct / passes;
-            if state.radius > 0.0 {
-                value += state.tau / (emitted * std::f32::consts::PI * state.radius * state.radius);
-            }
-            film.add_samples(i as u32 % width, i as u32 / width, value, 1.0);
+            film.add_samples(i as u32 % width, i as u32 / width, estimate(state, self.passes, self.emitted), 1.0);
         }
         rays
     }
