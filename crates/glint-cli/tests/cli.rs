@@ -214,36 +214,60 @@ fn missing_scene_file_is_reported() {
 #[test]
 fn explain_prints_the_rendered_pixel_colour() {
     let dir = temp_dir("explain");
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/whitted-1980.toml");
-    let out = dir.join("w.pfm");
-    let o =
-        glint(&["render", scene.to_str().unwrap(), "--spp", "1", "--width", "160", "-q", "-o", out.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let (w, _, pixels) = read_pfm(&out).unwrap();
-    // Sky, checkerboard, the glass sphere and the mirror sphere.
-    for (x, y) in [(10, 5), (80, 110), (62, 62), (100, 55)] {
-        let o = glint(&["explain", scene.to_str().unwrap(), "--width", "160", "--pixel", &format!("{x},{y}")]);
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    // Sky, checkerboard, the glass sphere and the mirror sphere; on the CSG scene the hollow
+    // glass block, the die and the lens.
+    for (file, pixels) in [
+        ("whitted-1980.toml", [(10, 5), (80, 110), (62, 62), (100, 55)]),
+        ("csg.toml", [(40, 48), (78, 50), (125, 48), (80, 90)]),
+    ] {
+        let scene = scenes.join(file);
+        let out = dir.join("w.pfm");
+        let o = glint(&[
+            "render",
+            scene.to_str().unwrap(),
+            "--spp",
+            "1",
+            "--width",
+            "160",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
         assert!(o.status.success(), "{}", stderr(&o));
-        let text = String::from_utf8_lossy(&o.stdout).to_string();
-        assert!(text.contains("camera ray (depth 0"), "{text}");
-        let last = text.lines().last().unwrap();
-        let numbers: Vec<f32> = last
-            .trim_start_matches("pixel colour = (")
-            .trim_end_matches(')')
-            .split(", ")
-            .map(|n| n.parse().unwrap())
-            .collect();
-        let rendered = pixels[(y * w + x) as usize].to_array();
-        for c in 0..3 {
-            assert!(
-                (numbers[c] - rendered[c]).abs() < 1e-6,
-                "pixel {x},{y}: explain {numbers:?} vs render {rendered:?}"
-            );
+        let (w, _, pixels_rendered) = read_pfm(&out).unwrap();
+        for (x, y) in pixels {
+            let o = glint(&["explain", scene.to_str().unwrap(), "--width", "160", "--pixel", &format!("{x},{y}")]);
+            assert!(o.status.success(), "{}", stderr(&o));
+            let text = String::from_utf8_lossy(&o.stdout).to_string();
+            assert!(text.contains("camera ray (depth 0"), "{text}");
+            let last = text.lines().last().unwrap();
+            let numbers: Vec<f32> = last
+                .trim_start_matches("pixel colour = (")
+                .trim_end_matches(')')
+                .split(", ")
+                .map(|n| n.parse().unwrap())
+                .collect();
+            let rendered = pixels_rendered[(y * w + x) as usize].to_array();
+            for c in 0..3 {
+                assert!(
+                    (numbers[c] - rendered[c]).abs() < 1e-6,
+                    "{file}, pixel {x},{y}: explain {numbers:?} vs render {rendered:?}"
+                );
+            }
         }
+        // The glass pieces' pixels show refraction rays in their trees.
+        let o = glint(&[
+            "explain",
+            scene.to_str().unwrap(),
+            "--width",
+            "160",
+            "--pixel",
+            &format!("{},{}", pixels[2].0, pixels[2].1),
+        ]);
+        let text = String::from_utf8_lossy(&o.stdout).to_string();
+        assert!(text.contains("refraction ray"), "{file}: {text}");
     }
-    // The glass sphere's pixel shows refraction rays in its tree.
-    let o = glint(&["explain", scene.to_str().unwrap(), "--width", "160", "--pixel", "62,62"]);
-    assert!(String::from_utf8_lossy(&o.stdout).contains("refraction ray"));
     std::fs::remove_dir_all(dir).unwrap();
 }
 
