@@ -10,6 +10,7 @@ use thiserror::Error;
 
 use crate::checkpoint::CheckpointError;
 use crate::output::OutputError;
+use crate::partial::MergeError;
 
 #[derive(Debug, Error)]
 pub enum CliError {
@@ -39,6 +40,9 @@ pub enum CliError {
     /// Stopped (by --time or a signal) before any pass finished.
     #[error("the render was stopped before its first pass: nothing to write")]
     NothingRendered,
+    /// Partial renders that cannot be merged.
+    #[error(transparent)]
+    Merge(#[from] MergeError),
     /// A benchmark's input file (mesh, rays, hits) that cannot be read or is malformed.
     #[error("{0}")]
     Input(String),

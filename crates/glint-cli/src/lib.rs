@@ -1,6 +1,7 @@
 //! The pieces of the `glint` command that tests and other tools (the fuzzer) reuse: image
-//! output, checkpoints and the command's errors.
+//! output, checkpoints, partial renders and their merge, and the command's errors.
 
 pub mod checkpoint;
 pub mod error;
 pub mod output;
+pub mod partial;

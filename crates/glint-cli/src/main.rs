@@ -12,6 +12,7 @@ macro_rules! say {
 
 mod bench_rays_command;
 mod explain_command;
+mod merge_command;
 mod render_command;
 
 use std::process::ExitCode;
@@ -35,6 +36,10 @@ enum Command {
     /// Print the ray tree of one pixel (Whitted's recursion): every ray, what it hit, each
     /// light's contribution and shadow test, the weights passed down, and the final colour.
     Explain(explain_command::ExplainArgs),
+    /// Combine partial renders (`render --samples A..B`, EXR) into the image one render of all
+    /// their samples gives, bit for bit; parts of different renders or with shared samples
+    /// are refused.
+    Merge(merge_command::MergeArgs),
     /// Benchmark the BVH on a mesh and a ray file (the Embree anchor's format): build time,
     /// closest-hit and any-hit Mrays/s, agreement with reference hits.
     BenchRays(bench_rays_command::BenchRaysArgs),
@@ -61,6 +66,7 @@ fn main() -> ExitCode {
             render_command::Outcome::Interrupted => ExitCode::from(render_command::EXIT_INTERRUPTED),
         }),
         Command::Explain(args) => explain_command::run(args).map(|()| ExitCode::SUCCESS),
+        Command::Merge(args) => merge_command::run(args).map(|()| ExitCode::SUCCESS),
         Command::BenchRays(args) => bench_rays_command::run(args).map(|()| ExitCode::SUCCESS),
     };
     match result {

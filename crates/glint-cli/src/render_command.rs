@@ -11,6 +11,7 @@ use clap::Args;
 use glint_cli::checkpoint;
 use glint_cli::error::CliError;
 use glint_cli::output::{check_writable, check_writable_file, write_image, ImageFormat, OutputError};
+use glint_cli::partial;
 use glint_core::film::Film;
 use glint_core::filter::Filter;
 use glint_core::integrators::{heat_colour, IntegratorKind, IntegratorSettings};
@@ -43,6 +44,12 @@ pub struct RenderArgs {
     /// Samples per pixel (1 = through the pixel centre; more = jittered, box-filtered).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     spp: Option<u32>,
+    /// Render samples A to B − 1 of every pixel alone, as one part of a render split across
+    /// runs or machines: written as an EXR that records the range and keeps exact sums, to be
+    /// combined by `glint merge` into the image one render of all the parts' samples gives,
+    /// bit for bit (that of `--samples 0..N`). Camera integrators only.
+    #[arg(long, value_name = "A..B", value_parser = glint_cli::partial::parse_range)]
+    samples: Option<(u32, u32)>,
     /// Image width in pixels (the height follows the scene's aspect ratio unless given).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
     width: Option<u32>,
@@ -211,8 +218,12 @@ pub fn run(args: RenderArgs) -> Result<Outcome, CliError> {
     };
     let progress = progress_bar(&args, &plan, &scene, resume.as_ref().map(|(_, spp_done)| *spp_done));
     let result = {
-        let progressive =
-            Progressive { settings: plan.settings, time_limit: plan.time_limit, second_moment: plan.moment };
+        let progressive = Progressive {
+            settings: plan.settings,
+            time_limit: plan.time_limit,
+            second_moment: plan.moment,
+            sample_range: args.samples,
+        };
         let mut saver = CheckpointSaver::new(&args, &plan);
         let result = pool.install(|| {
             render_progressive(
@@ -282,7 +293,27 @@ fn output_path(args: &RenderArgs) -> PathBuf {
 /// Before any work: a render must never be lost to an unwritable output or checkpoint, or to
 /// a flag refused after it.
 fn check_before_work(args: &RenderArgs, output: &Path) -> Result<(), CliError> {
-    check_writable(output)?;
+    let format = check_writable(output)?;
+    if args.samples.is_some() {
+        let conflicts = [
+            ("--spp", args.spp.is_some()),
+            ("--time", args.time.is_some()),
+            ("--checkpoint", args.checkpoint.is_some()),
+            ("--resume", args.resume.is_some()),
+            ("--moment", args.moment),
+        ];
+        if let Some((flag, _)) = conflicts.iter().find(|(_, given)| *given) {
+            return Err(CliError::Setting(format!(
+                "--samples renders exactly the samples it names: it cannot be combined with {flag}"
+            )));
+        }
+        if format != ImageFormat::Exr {
+            return Err(CliError::Setting(format!(
+                "--samples writes a part to merge, as an EXR whose header records its samples and whose channels keep exact sums: `{}` is not .exr",
+                output.display()
+            )));
+        }
+    }
     if let Some(path) = &args.checkpoint {
         check_writable_file(path, "checkpoint")?;
     }
@@ -312,6 +343,12 @@ fn load(args: &RenderArgs) -> Result<(Scene, Plan), CliError> {
     }
     apply_overrides(args, &mut scene);
     let kind = args.integrator.unwrap_or(options.integrator);
+    if args.samples.is_some() && !kind.samples_pixels() {
+        return Err(CliError::Setting(format!(
+            "--samples: `{}` does not take samples of its own per pixel (its passes share particles or photon statistics across pixels), so its passes cannot be rendered apart and merged; use a camera integrator",
+            kind.name()
+        )));
+    }
     let integrator = args.integrator_settings(&options.integrator_settings)?;
     let mut settings = RenderSettings {
         spp: args.spp.unwrap_or(options.spp),
@@ -330,7 +367,9 @@ fn load(args: &RenderArgs) -> Result<(Scene, Plan), CliError> {
     // The scene's files by content (not by path: the same scene named another way resumes),
     // read one at a time, and only when a checkpoint is written or read.
     let scene_contents = match &args.scene {
-        Some(_) if args.checkpoint.is_some() || args.resume.is_some() => inputs_fingerprint(&inputs),
+        Some(_) if args.checkpoint.is_some() || args.resume.is_some() || args.samples.is_some() => {
+            inputs_fingerprint(&inputs)
+        }
         Some(_) => Vec::new(),
         None => b"<built-in default scene>".to_vec(),
     };
@@ -344,8 +383,8 @@ fn load(args: &RenderArgs) -> Result<(Scene, Plan), CliError> {
         height: scene.camera().height,
         filter: settings.filter,
         sampler: settings.sampler,
-        // A stratified render's strata depend on its sample count.
-        strata_spp: (settings.sampler == SamplerKind::Stratified).then_some(settings.spp),
+        // A stratified render's strata depend on its sample count (a sample range's are open).
+        strata_spp: (settings.sampler == SamplerKind::Stratified && args.samples.is_none()).then_some(settings.spp),
         triangle_sampling: scene.lights().triangle_sampling(),
     };
     let fingerprint = checkpoint::fingerprint_of(&identity);
@@ -530,6 +569,20 @@ fn write_outputs(
         ("glint:integrator", plan.kind.name().to_string()),
         ("glint:version", env!("CARGO_PKG_VERSION").to_string()),
     ];
+    if let Some((first, _)) = args.samples {
+        // What was rendered: a render stopped early holds the passes it finished.
+        let range = (first, first + result.spp_done);
+        let mut attributes = metadata.to_vec();
+        attributes.extend([
+            (partial::SAMPLES_KEY, partial::format_ranges(&[range])),
+            ("glint:sampler", plan.settings.sampler.name().to_string()),
+            ("glint:filter", plan.settings.filter.name().to_string()),
+            ("glint:identity", format!("{:016x}", plan.fingerprint)),
+            ("glint:scene", args.scene.as_ref().map_or("<built-in>".into(), |p| p.display().to_string())),
+        ]);
+        partial::write(output, &result.film, &attributes)?;
+        return Ok(());
+    }
     let moments = result.film.second_moments();
     let layers: Vec<(&str, &[Rgb])> = moments.iter().map(|m| ("m2", m.as_slice())).collect();
     if !layers.is_empty() && ImageFormat::from_path(output)? != ImageFormat::Exr {

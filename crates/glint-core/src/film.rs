@@ -4,6 +4,54 @@
 
 use crate::Rgb;
 
+/// A pixel's sums kept exactly, for renders split by sample range and merged: each value added
+/// (a sample's radiance times its weight, per channel, and the weight) is rounded once, to a
+/// multiple of 2⁻⁶⁴, and summed as an integer, so the sums do not depend on how the samples
+/// were grouped: ranges rendered apart and added give the sums of one render of them all, bit
+/// for bit. (f32 sums round after every addition, so their grouping shows in the last bits.)
+/// Values below 2⁻⁶⁴ ≈ 5·10⁻²⁰ count as 0; a sum saturates at ±2⁶³ ≈ 9·10¹⁸.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ExactPixel {
+    pub sum: [i128; 3],
+    pub weight: i128,
+}
+
+impl ExactPixel {
+    /// The fixed point's unit, 2⁶⁴.
+    const ONE: f64 = 18_446_744_073_709_551_616.0;
+
+    /// `value` in units of 2⁻⁶⁴, rounded toward zero (exact: f32 → f64 and the power of two
+    /// are exact, the one rounding is the conversion); NaN is 0.
+    fn fixed(value: f32) -> i128 {
+        (value as f64 * Self::ONE) as i128
+    }
+
+    #[inline]
+    fn add(&mut self, weighted: Rgb, weight: f32) {
+        for (sum, v) in self.sum.iter_mut().zip(weighted.to_array()) {
+            *sum = sum.saturating_add(Self::fixed(v));
+        }
+        self.weight = self.weight.saturating_add(Self::fixed(weight));
+    }
+
+    /// Another part's sums added.
+    pub fn merge(&mut self, other: &ExactPixel) {
+        for (sum, v) in self.sum.iter_mut().zip(other.sum) {
+            *sum = sum.saturating_add(v);
+        }
+        self.weight = self.weight.saturating_add(other.weight);
+    }
+
+    /// The weighted mean (zero without weight), each sum and the weight rounded to f64 once.
+    pub fn value(&self) -> Rgb {
+        if self.weight <= 0 {
+            return Rgb::ZERO;
+        }
+        let w = self.weight as f64;
+        Rgb::new((self.sum[0] as f64 / w) as f32, (self.sum[1] as f64 / w) as f32, (self.sum[2] as f64 / w) as f32)
+    }
+}
+
 /// Rows `y0..y0 + rows` of a film (`Film::bands_mut`).
 pub struct FilmBand<'a> {
     width: u32,
@@ -12,6 +60,7 @@ pub struct FilmBand<'a> {
     sum: &'a mut [Rgb],
     weight: &'a mut [f32],
     squares: Option<&'a mut [Rgb]>,
+    exact: Option<&'a mut [ExactPixel]>,
 }
 
 impl FilmBand<'_> {
@@ -21,6 +70,9 @@ impl FilmBand<'_> {
         let i = ((y - self.y0) * self.width + x) as usize;
         self.sum[i] += radiance_sum;
         self.weight[i] += count;
+        if let Some(exact) = &mut self.exact {
+            exact[i].add(radiance_sum, count);
+        }
     }
 
     /// `Film::add_sample` for pixel (x, y) of the film, which must lie in this band.
@@ -33,6 +85,9 @@ impl FilmBand<'_> {
         if let Some(squares) = &mut self.squares {
             squares[i] += radiance * radiance * weight;
         }
+        if let Some(exact) = &mut self.exact {
+            exact[i].add(radiance * weight, weight);
+        }
     }
 }
 
@@ -44,12 +99,15 @@ pub struct Film {
     weight: Vec<f32>,
     /// Σ w·L² per pixel, where the render keeps the second moment (Mitsuba's `moment`).
     squares: Option<Vec<Rgb>>,
+    /// The sums kept exactly, where the render is one part of a split (`with_exact_sums`):
+    /// then the image is read from them.
+    exact: Option<Vec<ExactPixel>>,
 }
 
 impl Film {
     pub fn new(width: u32, height: u32) -> Self {
         let n = (width * height) as usize;
-        Self { width, height, sum: vec![Rgb::ZERO; n], weight: vec![0.0; n], squares: None }
+        Self { width, height, sum: vec![Rgb::ZERO; n], weight: vec![0.0; n], squares: None, exact: None }
     }
 
     /// The same film keeping each pixel's second moment too (from now on: make it empty).
@@ -68,6 +126,9 @@ impl Film {
         if let Some(squares) = &mut self.squares {
             squares[i] += radiance * radiance * weight;
         }
+        if let Some(exact) = &mut self.exact {
+            exact[i].add(radiance * weight, weight);
+        }
     }
 
     /// Each pixel's second moment, the weighted mean of L² (row-major from the top-left), if
@@ -83,6 +144,34 @@ impl Film {
         let i = (y * self.width + x) as usize;
         self.sum[i] += radiance_sum;
         self.weight[i] += count;
+        if let Some(exact) = &mut self.exact {
+            exact[i].add(radiance_sum, count);
+        }
+    }
+
+    /// The film, also keeping its sums exactly (`ExactPixel`): for a render that is one part
+    /// of a split by sample range, to be merged with the others.
+    pub fn with_exact_sums(mut self) -> Self {
+        self.exact = Some(vec![ExactPixel::default(); self.sum.len()]);
+        self
+    }
+
+    /// The exact sums, row-major from the top-left, if the film keeps them.
+    pub fn exact_sums(&self) -> Option<&[ExactPixel]> {
+        self.exact.as_deref()
+    }
+
+    /// A film of exact sums (parts merged): its image is read from them. `None` if their
+    /// number does not match the resolution.
+    pub fn from_exact_sums(width: u32, height: u32, exact: Vec<ExactPixel>) -> Option<Self> {
+        let n = (width as usize) * (height as usize);
+        if exact.len() != n {
+            return None;
+        }
+        // The f32 accumulators hold the means, each with weight 1 (0 where nothing landed).
+        let sum = exact.iter().map(ExactPixel::value).collect();
+        let weight = exact.iter().map(|p| if p.weight > 0 { 1.0 } else { 0.0 }).collect();
+        Some(Self { width, height, sum, weight, squares: None, exact: Some(exact) })
     }
 
     /// The film as bands of `rows` rows (the last may have fewer), each writable on its own:
@@ -90,20 +179,26 @@ impl Film {
     pub fn bands_mut(&mut self, rows: u32) -> Vec<FilmBand<'_>> {
         // `max(1)`: an empty film has no bands (and chunks of none would panic).
         let (width, len) = (self.width, (self.width * rows).max(1) as usize);
+        let bands = self.sum.len().div_ceil(len);
         let mut squares: Vec<Option<&mut [Rgb]>> = match &mut self.squares {
             Some(s) => s.chunks_mut(len).map(Some).collect(),
             None => Vec::new(),
         };
-        squares.resize_with(self.sum.len().div_ceil(len), || None);
+        squares.resize_with(bands, || None);
+        let mut exact: Vec<Option<&mut [ExactPixel]>> = match &mut self.exact {
+            Some(e) => e.chunks_mut(len).map(Some).collect(),
+            None => Vec::new(),
+        };
+        exact.resize_with(bands, || None);
         self.sum
             .chunks_mut(len)
             .zip(self.weight.chunks_mut(len))
-            .zip(squares)
+            .zip(squares.into_iter().zip(exact))
             .enumerate()
-            .map(|(b, ((sum, weight), squares))| {
+            .map(|(b, ((sum, weight), (squares, exact)))| {
                 // The last band may be shorter.
                 let band_rows = (sum.len() / width as usize) as u32;
-                FilmBand { width, y0: b as u32 * rows, rows: band_rows, sum, weight, squares }
+                FilmBand { width, y0: b as u32 * rows, rows: band_rows, sum, weight, squares, exact }
             })
             .collect()
     }
@@ -127,12 +222,16 @@ impl Film {
     /// A film from saved accumulators; `None` if their sizes do not match the resolution.
     pub fn from_accumulators(width: u32, height: u32, sum: Vec<Rgb>, weight: Vec<f32>) -> Option<Self> {
         let n = (width * height) as usize;
-        (sum.len() == n && weight.len() == n).then_some(Self { width, height, sum, weight, squares: None })
+        (sum.len() == n && weight.len() == n).then_some(Self { width, height, sum, weight, squares: None, exact: None })
     }
 
-    /// The pixel's estimate (black if it has no samples yet).
+    /// The pixel's estimate (black if it has no samples yet); from the exact sums where the
+    /// film keeps them.
     pub fn pixel(&self, x: u32, y: u32) -> Rgb {
         let i = (y * self.width + x) as usize;
+        if let Some(exact) = &self.exact {
+            return exact[i].value();
+        }
         if self.weight[i] > 0.0 {
             self.sum[i] / self.weight[i]
         } else {
@@ -149,6 +248,32 @@ impl Film {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Exact sums do not depend on grouping: 10⁸ + 1 − 10⁸ is 1 in any order or split (in f32
+    /// it is 0 added left to right), and a split film's parts merged equal the whole film.
+    #[test]
+    fn exact_sums_are_the_same_however_the_samples_are_grouped() {
+        let samples = [1e8f32, 1.0, -1e8, 0.3, 2.5e-7, 7.0];
+        let mut whole = Film::new(1, 1).with_exact_sums();
+        for &v in &samples {
+            whole.add_sample(0, 0, Rgb::splat(v), 1.0);
+        }
+        let f32_sum = samples.iter().fold(0.0f32, |s, v| s + v);
+        assert_ne!(f32_sum, 1.0 + 0.3 + 2.5e-7 + 7.0);
+        for split in 0..=samples.len() {
+            let (mut a, mut b) = (Film::new(1, 1).with_exact_sums(), Film::new(1, 1).with_exact_sums());
+            samples[..split].iter().rev().for_each(|&v| a.add_sample(0, 0, Rgb::splat(v), 1.0));
+            samples[split..].iter().for_each(|&v| b.add_sample(0, 0, Rgb::splat(v), 1.0));
+            let mut merged = a.exact_sums().unwrap()[0];
+            merged.merge(&b.exact_sums().unwrap()[0]);
+            assert_eq!(merged, whole.exact_sums().unwrap()[0], "split at {split}");
+        }
+        // (1 + 0.3 + 2.5e-7 + 7) / 6, each value rounded to 2⁻⁶⁴ once.
+        let expected = ((1.0f64 + 0.3f32 as f64 + 2.5e-7f32 as f64 + 7.0) / 6.0) as f32;
+        assert_eq!(whole.pixel(0, 0), Rgb::splat(expected));
+        let rebuilt = Film::from_exact_sums(1, 1, whole.exact_sums().unwrap().to_vec()).unwrap();
+        assert_eq!(rebuilt.pixel(0, 0), whole.pixel(0, 0));
+    }
 
     /// Samples added through the bands land where `add_samples` puts them, the last band
     /// shorter than the others.

@@ -49,6 +49,11 @@ pub struct Progressive {
     /// Keep each pixel's second moment in the film (`Film::second_moments`): camera
     /// integrators only, whose samples each land in the film.
     pub second_moment: bool,
+    /// Render samples `a..b` of every pixel alone (`settings.spp` is then ignored), as one part
+    /// of a render split by sample range: the film keeps exact sums (`ExactPixel`), and the
+    /// samples are those of the open-ended sequence (jittered, no stratum count), so parts
+    /// merged give one render of their union bit for bit.
+    pub sample_range: Option<(u32, u32)>,
 }
 
 #[derive(Clone, Debug)]
@@ -87,7 +92,7 @@ pub fn render_with(
     settings: &RenderSettings,
     on_tile: &(dyn Fn() + Sync),
 ) -> RenderOutput {
-    let progressive = Progressive { settings: *settings, time_limit: None, second_moment: false };
+    let progressive = Progressive { settings: *settings, time_limit: None, second_moment: false, sample_range: None };
     render_progressive(scene, renderer, &progressive, None, &AtomicBool::new(false), on_tile, &mut |_, _, _| {})
 }
 
@@ -105,11 +110,24 @@ pub fn render_progressive(
     on_pass: &mut dyn FnMut(&Film, u32, &dyn PassRenderer),
 ) -> RenderOutput {
     let start = Instant::now();
-    let settings = progressive.settings;
+    let mut settings = progressive.settings;
     let (width, height) = (scene.camera().width, scene.camera().height);
+    let (first, open_ended) = match progressive.sample_range {
+        Some((a, b)) => {
+            settings.spp = b;
+            (a, true)
+        }
+        None => (0, progressive.time_limit.is_some()),
+    };
     let (mut film, mut spp_done) = resume.unwrap_or_else(|| {
-        let film = Film::new(width, height);
-        (if progressive.second_moment { film.with_second_moment() } else { film }, 0)
+        let mut film = Film::new(width, height);
+        if progressive.second_moment {
+            film = film.with_second_moment();
+        }
+        if progressive.sample_range.is_some() {
+            film = film.with_exact_sums();
+        }
+        (film, first)
     });
     let mut rays = RayCounts::default();
     let mut samples = 0u64;
@@ -125,7 +143,7 @@ pub fn render_progressive(
             stopped_early = Some(StopReason::TimeLimit);
             break;
         }
-        let centre = settings.spp == 1 && progressive.time_limit.is_none();
+        let centre = settings.spp == 1 && !open_ended;
         let passes: Vec<Pass> = (spp_done..settings.spp)
             .take(group as usize)
             .map(|index| Pass {
@@ -134,8 +152,9 @@ pub fn render_progressive(
                 centre,
                 filter: settings.filter,
                 sampler: settings.sampler,
-                // Stratification needs the count up front; a time limit leaves it open.
-                samples: if progressive.time_limit.is_some() { u32::MAX } else { settings.spp },
+                // Stratification needs the count up front; a time limit or a sample range
+                // leaves it open.
+                samples: if open_ended { u32::MAX } else { settings.spp },
             })
             .collect();
         let group_start = Instant::now();
@@ -149,6 +168,8 @@ pub fn render_progressive(
         let left = progressive.time_limit.map(|limit| limit.saturating_sub(start.elapsed()).as_secs_f64());
         group = next_group(per_pass, left);
     }
+    // A sample range's film holds its own samples only.
+    let spp_done = spp_done - first;
     RenderOutput { film, rays, samples, spp_done, elapsed: start.elapsed(), stopped_early }
 }
 

@@ -46,6 +46,7 @@ fn render(s: &Scene, kind: IntegratorKind, spp: u32, seed: u64) -> (Vec<Rgb>, Ve
         settings: RenderSettings { spp, seed, sampler: SamplerKind::Independent, ..Default::default() },
         time_limit: None,
         second_moment: true,
+        sample_range: None,
     };
     let output = render_progressive(
         s,
