@@ -2,6 +2,7 @@
 //! output, checkpoints, partial renders and their merge, and the command's errors.
 
 pub mod checkpoint;
+pub mod compare;
 pub mod error;
 pub mod output;
 pub mod partial;

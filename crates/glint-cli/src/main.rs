@@ -11,6 +11,7 @@ macro_rules! say {
 }
 
 mod bench_rays_command;
+mod compare_command;
 mod explain_command;
 mod merge_command;
 mod render_command;
@@ -40,6 +41,10 @@ enum Command {
     /// their samples gives, bit for bit; parts of different renders or with shared samples
     /// are refused.
     Merge(merge_command::MergeArgs),
+    /// Compare an image with a reference: MSE, relMSE, MAE and the ratio of means per
+    /// channel, ꟻLIP (and its error map), and with the reference's variance the per-pixel
+    /// Z-test the project's tests use; as text or JSON.
+    Compare(compare_command::CompareArgs),
     /// Benchmark the BVH on a mesh and a ray file (the Embree anchor's format): build time,
     /// closest-hit and any-hit Mrays/s, agreement with reference hits.
     BenchRays(bench_rays_command::BenchRaysArgs),
@@ -66,6 +71,7 @@ fn main() -> ExitCode {
             render_command::Outcome::Interrupted => ExitCode::from(render_command::EXIT_INTERRUPTED),
         }),
         Command::Explain(args) => explain_command::run(args).map(|()| ExitCode::SUCCESS),
+        Command::Compare(args) => compare_command::run(args).map(|()| ExitCode::SUCCESS),
         Command::Merge(args) => merge_command::run(args).map(|()| ExitCode::SUCCESS),
         Command::BenchRays(args) => bench_rays_command::run(args).map(|()| ExitCode::SUCCESS),
     };

@@ -10,8 +10,9 @@ use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
 use glint_cli::checkpoint;
 use glint_cli::error::CliError;
+use glint_cli::output::write_file_atomically;
 use glint_cli::output::{check_writable, check_writable_file, write_image, ImageFormat, OutputError};
-use glint_cli::partial;
+use glint_cli::{compare, partial};
 use glint_core::film::Film;
 use glint_core::filter::Filter;
 use glint_core::integrators::{heat_colour, IntegratorKind, IntegratorSettings};
@@ -122,6 +123,11 @@ pub struct RenderArgs {
     /// Render passes until this many seconds are spent (then --spp is only an upper bound).
     #[arg(long)]
     time: Option<f64>,
+    /// Compare the image with this reference (the same size) after every group of passes, and
+    /// write the error against render time: OUTPUT.error.csv (seconds, spp, MSE, relMSE, MAE)
+    /// and its log-log plot OUTPUT.error.svg. The comparisons' own time is not counted.
+    #[arg(long, value_name = "REF")]
+    reference: Option<PathBuf>,
     /// Save the float accumulator and sample count here, every --checkpoint-interval seconds
     /// and when the render ends (also on Ctrl-C or --time).
     #[arg(long)]
@@ -216,6 +222,10 @@ pub fn run(args: RenderArgs) -> Result<Outcome, CliError> {
         }
         None => None,
     };
+    let mut error_log = match &args.reference {
+        Some(path) => Some(ErrorLog::new(path, &scene)?),
+        None => None,
+    };
     let progress = progress_bar(&args, &plan, &scene, resume.as_ref().map(|(_, spp_done)| *spp_done));
     let result = {
         let progressive = Progressive {
@@ -233,7 +243,12 @@ pub fn run(args: RenderArgs) -> Result<Outcome, CliError> {
                 resume,
                 &stop,
                 &|| progress.inc(1),
-                &mut |film, spp_done, renderer| saver.on_pass(film, spp_done, renderer),
+                &mut |film, spp_done, renderer| {
+                    if let Some(log) = &mut error_log {
+                        log.on_pass(film, spp_done);
+                    }
+                    saver.on_pass(film, spp_done, renderer)
+                },
             )
         });
         progress.finish_and_clear();
@@ -253,6 +268,9 @@ pub fn run(args: RenderArgs) -> Result<Outcome, CliError> {
         return Err(CliError::NothingRendered);
     }
     write_outputs(&args, &plan, &scene, &output, &result, renderer.as_ref())?;
+    if let Some(log) = &error_log {
+        log.write(&output, &plan)?;
+    }
     if args.stats {
         print_stats(&scene, &result);
     }
@@ -509,6 +527,62 @@ fn progress_bar(args: &RenderArgs, plan: &Plan, scene: &Scene, spp_done: Option<
 
 /// Writes `--checkpoint` every `--checkpoint-interval` seconds between passes; the first
 /// failure is kept, to be reported, and the render goes on.
+/// `--reference`: the image's error against the reference after each group of passes.
+struct ErrorLog {
+    reference: compare::Image,
+    start: Instant,
+    /// Time spent comparing, left out of the render's time.
+    comparing: Duration,
+    rows: Vec<compare::ErrorSample>,
+}
+
+impl ErrorLog {
+    fn new(path: &Path, scene: &Scene) -> Result<Self, CliError> {
+        let reference = compare::read_image(path).map_err(|e| CliError::Setting(format!("--reference: {e}")))?;
+        let (w, h) = (scene.camera().width, scene.camera().height);
+        if (reference.width, reference.height) != (w, h) {
+            return Err(CliError::Setting(format!(
+                "--reference: `{}` is {}x{}, the render {w}x{h}",
+                path.display(),
+                reference.width,
+                reference.height
+            )));
+        }
+        Ok(Self { reference, start: Instant::now(), comparing: Duration::ZERO, rows: Vec::new() })
+    }
+
+    fn on_pass(&mut self, film: &Film, spp: u32) {
+        let began = Instant::now();
+        let seconds = (self.start.elapsed().saturating_sub(self.comparing)).as_secs_f64();
+        let image = compare::Image {
+            width: film.width,
+            height: film.height,
+            pixels: film.to_rgb(),
+            attributes: Default::default(),
+        };
+        if let Ok(m) = compare::metrics(&image, &self.reference) {
+            let mean = compare::Metrics::mean;
+            let row =
+                compare::ErrorSample { seconds, spp, mse: mean(m.mse), rel_mse: mean(m.rel_mse), mae: mean(m.mae) };
+            self.rows.push(row);
+        }
+        self.comparing += began.elapsed();
+    }
+
+    /// OUTPUT.error.csv and OUTPUT.error.svg.
+    fn write(&self, output: &Path, plan: &Plan) -> Result<(), CliError> {
+        let beside = |extension: &str| {
+            let mut name = output.file_name().unwrap_or_default().to_os_string();
+            name.push(extension);
+            output.with_file_name(name)
+        };
+        write_file_atomically(&beside(".error.csv"), compare::error_csv(&self.rows).as_bytes(), "output")?;
+        let title = format!("{}: relMSE against render time", plan.kind.name());
+        write_file_atomically(&beside(".error.svg"), compare::error_plot_svg(&self.rows, &title).as_bytes(), "output")?;
+        Ok(())
+    }
+}
+
 struct CheckpointSaver<'a> {
     path: Option<&'a Path>,
     interval: f64,

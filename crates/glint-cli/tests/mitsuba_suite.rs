@@ -3,7 +3,7 @@
 //! `glint` binary as Mitsuba's test calls it (`-D spp=2,000,000 / pixels`, `-D integrator=`
 //! the file name's suffix, seed 0), both images and the reference's per-sample variance in
 //! XYZ, a per-pixel-channel Z-test at Šidák-corrected α = 1 %, and a pass when at least
-//! 99.75 % of the channels pass.
+//! 99.75 % of the channels pass (`glint_cli::compare::z_test`, which `glint compare` runs).
 //!
 //! Every scene is rendered and scored, and the pass count printed (`cargo test --release
 //! --test mitsuba_suite -- --nocapture`). The test fails if a scene in `PASSING` no longer
@@ -14,7 +14,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use glint_core::sampling::chi2::gamma_q;
+use glint_cli::compare::{read_image, z_test, Image, ZTest};
 
 /// The scenes glint passes today (docs/mitsuba.md records the count and what is missing).
 const PASSING: &[&str] = &[
@@ -89,56 +89,8 @@ fn references(scene: &Path) -> (PathBuf, PathBuf) {
     (refs.join(format!("{base}_ref_rgb.exr")), refs.join(format!("{base}_ref_rgb_var.exr")))
 }
 
-struct Image {
-    width: usize,
-    height: usize,
-    /// Row 0 = top, RGB.
-    pixels: Vec<[f32; 3]>,
-}
-
 fn read_exr(path: &Path) -> Image {
-    let image = exr::prelude::read_first_rgba_layer_from_file(
-        path,
-        |resolution, _| Image {
-            width: resolution.width(),
-            height: resolution.height(),
-            pixels: vec![[0.0; 3]; resolution.width() * resolution.height()],
-        },
-        |image, position, (r, g, b, _a): (f32, f32, f32, f32)| {
-            image.pixels[position.y() * image.width + position.x()] = [r, g, b];
-        },
-    )
-    .unwrap_or_else(|e| panic!("{} reads: {e}", path.display()));
-    image.layer_data.channel_data.pixels
-}
-
-/// Linear sRGB (D65) to CIE XYZ.
-fn to_xyz([r, g, b]: [f32; 3]) -> [f64; 3] {
-    let (r, g, b) = (r as f64, g as f64, b as f64);
-    [
-        0.412453 * r + 0.357580 * g + 0.180423 * b,
-        0.212671 * r + 0.715160 * g + 0.072169 * b,
-        0.019334 * r + 0.119193 * g + 0.950227 * b,
-    ]
-}
-
-/// Mitsuba's verdict: the fraction of pixel channels whose Z-test passes, and whether that
-/// is at least 99.75 %.
-fn judge(image: &Image, reference: &Image, variance: &Image, spp: u64) -> (f64, bool) {
-    let pixel_count = reference.pixels.len();
-    let alpha = 1.0 - 0.99f64.powf(1.0 / pixel_count as f64);
-    let mut passed = 0usize;
-    for i in 0..pixel_count {
-        let (ours, theirs, var) = (to_xyz(image.pixels[i]), to_xyz(reference.pixels[i]), to_xyz(variance.pixels[i]));
-        for c in 0..3 {
-            let z = (ours[c] - theirs[c]).abs() * (spp as f64 / var[c].max(1e-4)).sqrt();
-            // p = 2 (1 − Φ(z)) = Q(½, z²/2).
-            let p = if z.is_finite() { gamma_q(0.5, z * z / 2.0) } else { 0.0 };
-            passed += usize::from(p > alpha);
-        }
-    }
-    let fraction = passed as f64 / (3 * pixel_count) as f64;
-    (fraction, fraction >= 0.9975)
+    read_image(path).unwrap_or_else(|e| panic!("{e}"))
 }
 
 enum Outcome {
@@ -150,7 +102,7 @@ enum Outcome {
 fn run(scene: &Path, out: &Path) -> Outcome {
     let (reference_path, variance_path) = references(scene);
     let reference = read_exr(&reference_path);
-    let spp = (SAMPLES_PER_IMAGE / (reference.width * reference.height) as u64).max(1);
+    let spp = (SAMPLES_PER_IMAGE / (reference.width as u64 * reference.height as u64)).max(1);
     let stem = name(scene);
     let integrator = &stem[stem.rfind('_').unwrap() + 1..];
     let common = suite_dir().join("common");
@@ -174,9 +126,9 @@ fn run(scene: &Path, out: &Path) -> Outcome {
     }
     let image = read_exr(out);
     assert_eq!((image.width, image.height), (reference.width, reference.height), "{stem}: resolution");
-    match judge(&image, &reference, &read_exr(&variance_path), spp) {
-        (fraction, true) => Outcome::Passed(fraction),
-        (fraction, false) => Outcome::Failed(fraction),
+    match z_test(&image, &reference, &read_exr(&variance_path), spp).unwrap_or_else(|e| panic!("{stem}: {e}")) {
+        ZTest { fraction, passed: true, .. } => Outcome::Passed(fraction),
+        ZTest { fraction, .. } => Outcome::Failed(fraction),
     }
 }
 
@@ -227,21 +179,4 @@ fn the_mitsuba_suite() {
         all - surface
     );
     assert!(problems.is_empty(), "{}", problems.join("\n"));
-}
-
-#[test]
-fn the_verdict_counts_channels_against_the_corrected_significance() {
-    let flat = |v: f32, n: usize| Image { width: n, height: 1, pixels: vec![[v; 3]; n] };
-    let (reference, variance) = (flat(1.0, 400), flat(1.0, 400));
-    // 400 pixels: α = 2.5e-5, z* ≈ 4.21. At spp 100 a difference of 0.3 is z = 3: passes.
-    assert!(judge(&flat(1.3, 400), &reference, &variance, 100).1);
-    // A difference of 0.5 is z = 5 everywhere: fails.
-    let (fraction, pass) = judge(&flat(1.5, 400), &reference, &variance, 100);
-    assert!(!pass && fraction < 0.01, "{fraction}");
-    // One pixel of 400 off (3 of 1200 channels, 0.25 %) is just allowed; two are not.
-    let mut image = flat(1.0, 400);
-    image.pixels[7] = [9.0; 3];
-    assert!(judge(&image, &reference, &variance, 100).1);
-    image.pixels[8] = [9.0; 3];
-    assert!(!judge(&image, &reference, &variance, 100).1);
 }

@@ -1,0 +1,337 @@
+//! Comparing an image with a reference (`glint compare`, and the render's error-vs-time log):
+//! the usual error metrics per channel, ꟻLIP, and the per-pixel Z-test the project's own tests
+//! judge renders by (Mitsuba's).
+//!
+//! - MSE, mean of (x − r)²; relMSE, mean of (x − r)² / (r² + 10⁻²) (pbrt's and most papers'
+//!   form, the 10⁻² keeping black pixels from dominating); MAE, mean of |x − r|; and the ratio
+//!   of the means, mean x / mean r, which tells a bias from noise.
+//! - ꟻLIP (Andersson et al. 2020) as NVIDIA's implementation computes it (the `nv-flip`
+//!   crate): LDR-ꟻLIP of the two images encoded as 8-bit sRGB at an exposure (default 0),
+//!   at 67 pixels per degree (a 0.7 m viewing distance from a 0.7 m wide 4K screen); its mean
+//!   and the error map in the magma colours. HDR-ꟻLIP (a range of exposures) is not computed.
+//! - The Z-test: with the reference's per-sample variance σ² and the image's sample count n,
+//!   each pixel channel in CIE XYZ passes when |x − r| √(n / σ²) has a two-sided p-value above
+//!   α = 1 − 0.99^(1/pixels) (Šidák's correction for 1 % overall); the image passes when at
+//!   least 99.75 % of channels pass. This is Mitsuba 3's own test of its variants.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use glint_core::sampling::chi2::gamma_q;
+use glint_core::Rgb;
+
+use crate::output::read_pfm;
+
+/// A linear RGB image, row 0 at the top, with its header's text attributes (EXR).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Rgb>,
+    pub attributes: BTreeMap<String, String>,
+}
+
+/// Reads an image: OpenEXR (its R, G, B channels), PFM, Radiance HDR (linear as stored), PNG
+/// or JPEG (decoded from sRGB to linear).
+pub fn read_image(path: &Path) -> Result<Image, String> {
+    let name = path.display();
+    let lower = path.to_string_lossy().to_ascii_lowercase();
+    if lower.ends_with(".exr") {
+        return read_exr(path).map_err(|e| format!("`{name}`: {e}"));
+    }
+    if lower.ends_with(".pfm") {
+        let (width, height, pixels) = read_pfm(path).map_err(|e| e.to_string())?;
+        return Ok(Image { width, height, pixels, attributes: BTreeMap::new() });
+    }
+    let bytes = std::fs::read(path).map_err(|e| format!("`{name}`: {e}"))?;
+    let (width, height, pixels) =
+        glint_scene::decode_image(&lower, &bytes, false).map_err(|e| format!("`{name}`: {e}"))?;
+    Ok(Image { width, height, pixels, attributes: BTreeMap::new() })
+}
+
+fn read_exr(path: &Path) -> Result<Image, String> {
+    use exr::prelude::*;
+    let image = read_first_rgba_layer_from_file(
+        path,
+        |resolution, _| (resolution.width(), vec![Rgb::ZERO; resolution.width() * resolution.height()]),
+        |(width, pixels), position, (r, g, b, _a): (f32, f32, f32, f32)| {
+            pixels[position.y() * *width + position.x()] = Rgb::new(r, g, b);
+        },
+    )
+    .map_err(|e| format!("cannot read it as an RGB OpenEXR image: {e}"))?;
+    let layer = &image.layer_data;
+    let mut attributes = BTreeMap::new();
+    for (key, value) in image.attributes.other.iter().chain(&layer.attributes.other) {
+        if let AttributeValue::Text(text) = value {
+            attributes.insert(key.to_string(), text.to_string());
+        }
+    }
+    let (width, height) = (layer.size.width() as u32, layer.size.height() as u32);
+    Ok(self::Image { width, height, pixels: layer.channel_data.pixels.1.clone(), attributes })
+}
+
+/// Per-channel error metrics (R, G, B) and their means over the channels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Metrics {
+    pub mse: [f64; 3],
+    pub rel_mse: [f64; 3],
+    pub mae: [f64; 3],
+    /// mean x / mean r, per channel (NaN where the reference's mean is 0).
+    pub mean_ratio: [f64; 3],
+}
+
+impl Metrics {
+    pub fn mean(values: [f64; 3]) -> f64 {
+        values.iter().sum::<f64>() / 3.0
+    }
+}
+
+/// The images' sizes, checked equal.
+fn same_size(image: &Image, reference: &Image) -> Result<(), String> {
+    if (image.width, image.height) != (reference.width, reference.height) {
+        return Err(format!(
+            "the images differ in size: {}x{} and the reference's {}x{}",
+            image.width, image.height, reference.width, reference.height
+        ));
+    }
+    Ok(())
+}
+
+pub fn metrics(image: &Image, reference: &Image) -> Result<Metrics, String> {
+    same_size(image, reference)?;
+    let n = image.pixels.len().max(1) as f64;
+    let (mut mse, mut rel_mse, mut mae, mut sum_x, mut sum_r) =
+        ([0.0f64; 3], [0.0f64; 3], [0.0f64; 3], [0.0; 3], [0.0; 3]);
+    for (x, r) in image.pixels.iter().zip(&reference.pixels) {
+        let (x, r) = (x.to_array(), r.to_array());
+        for c in 0..3 {
+            let (x, r) = (x[c] as f64, r[c] as f64);
+            let d = x - r;
+            mse[c] += d * d;
+            rel_mse[c] += d * d / (r * r + 1e-2);
+            mae[c] += d.abs();
+            sum_x[c] += x;
+            sum_r[c] += r;
+        }
+    }
+    Ok(Metrics {
+        mse: mse.map(|v| v / n),
+        rel_mse: rel_mse.map(|v| v / n),
+        mae: mae.map(|v| v / n),
+        mean_ratio: [0, 1, 2].map(|c| sum_x[c] / sum_r[c]),
+    })
+}
+
+/// The Z-test's outcome.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ZTest {
+    /// The fraction of pixel channels that pass.
+    pub fraction: f64,
+    /// At least 99.75 % pass.
+    pub passed: bool,
+    /// The per-channel significance level (Šidák-corrected).
+    pub alpha: f64,
+}
+
+/// Linear sRGB (D65) to CIE XYZ.
+fn to_xyz(c: Rgb) -> [f64; 3] {
+    let (r, g, b) = (c.x as f64, c.y as f64, c.z as f64);
+    [
+        0.412453 * r + 0.357580 * g + 0.180423 * b,
+        0.212671 * r + 0.715160 * g + 0.072169 * b,
+        0.019334 * r + 0.119193 * g + 0.950227 * b,
+    ]
+}
+
+/// Mitsuba's Z-test of `image` (`spp` samples per pixel) against `reference` with the
+/// per-sample `variance` (variances below 10⁻⁴ count as 10⁻⁴, as Mitsuba's do).
+pub fn z_test(image: &Image, reference: &Image, variance: &Image, spp: u64) -> Result<ZTest, String> {
+    same_size(image, reference)?;
+    same_size(variance, reference).map_err(|e| format!("variance: {e}"))?;
+    let pixel_count = reference.pixels.len().max(1);
+    let alpha = 1.0 - 0.99f64.powf(1.0 / pixel_count as f64);
+    let mut passed = 0usize;
+    for ((x, r), v) in image.pixels.iter().zip(&reference.pixels).zip(&variance.pixels) {
+        let (x, r, v) = (to_xyz(*x), to_xyz(*r), to_xyz(*v));
+        for c in 0..3 {
+            let z = (x[c] - r[c]).abs() * (spp as f64 / v[c].max(1e-4)).sqrt();
+            // p = 2 (1 − Φ(z)) = Q(½, z²/2).
+            let p = if z.is_finite() { gamma_q(0.5, z * z / 2.0) } else { 0.0 };
+            passed += usize::from(p > alpha);
+        }
+    }
+    let fraction = passed as f64 / (3 * pixel_count) as f64;
+    Ok(ZTest { fraction, passed: fraction >= 0.9975, alpha })
+}
+
+/// Pixels per degree of visual angle at which ꟻLIP compares (`nv_flip::DEFAULT_PIXELS_PER_DEGREE`).
+pub const FLIP_PIXELS_PER_DEGREE: f32 = nv_flip::DEFAULT_PIXELS_PER_DEGREE;
+
+/// LDR-ꟻLIP of the images as 8-bit sRGB at `exposure` stops: the mean error (0 to 1) and the
+/// error map in magma colours (8-bit RGB, row 0 at the top).
+pub fn flip(image: &Image, reference: &Image, exposure: f32) -> Result<(f64, Vec<u8>), String> {
+    same_size(image, reference)?;
+    let encode = |image: &Image| {
+        let scale = exposure.exp2();
+        let bytes: Vec<u8> =
+            image.pixels.iter().flat_map(|p| (*p * scale).to_array().map(crate::output::encode_srgb)).collect();
+        nv_flip::FlipImageRgb8::with_data(image.width, image.height, &bytes)
+    };
+    let error = nv_flip::flip(encode(reference), encode(image), FLIP_PIXELS_PER_DEGREE);
+    let mean = nv_flip::FlipPool::from_image(&error).mean() as f64;
+    let coloured = error.apply_color_lut(&nv_flip::magma_lut()).to_vec();
+    Ok((mean, coloured))
+}
+
+/// One row of a render's error log: seconds rendering so far, samples per pixel, and the
+/// image's MSE, relMSE and MAE (means over the channels) against the reference.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ErrorSample {
+    pub seconds: f64,
+    pub spp: u32,
+    pub mse: f64,
+    pub rel_mse: f64,
+    pub mae: f64,
+}
+
+/// The error log as CSV, a header line first.
+pub fn error_csv(rows: &[ErrorSample]) -> String {
+    let mut out = String::from("seconds,spp,mse,rel_mse,mae\n");
+    for r in rows {
+        out += &format!("{},{},{:e},{:e},{:e}\n", r.seconds, r.spp, r.mse, r.rel_mse, r.mae);
+    }
+    out
+}
+
+/// relMSE against time on log-log axes, as an SVG drawing (decades marked on both axes): the
+/// straight line of slope −1 that an unbiased estimator's error follows shows as such.
+pub fn error_plot_svg(rows: &[ErrorSample], title: &str) -> String {
+    let (width, height, margin) = (640.0, 420.0, 60.0);
+    let points: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.seconds > 0.0 && r.rel_mse > 0.0 && r.rel_mse.is_finite())
+        .map(|r| (r.seconds.log10(), r.rel_mse.log10()))
+        .collect();
+    let decades = |values: &mut dyn Iterator<Item = f64>| {
+        let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        if lo.is_finite() {
+            (lo.floor(), hi.ceil().max(lo.floor() + 1.0))
+        } else {
+            (0.0, 1.0)
+        }
+    };
+    let (x0, x1) = decades(&mut points.iter().map(|p| p.0));
+    let (y0, y1) = decades(&mut points.iter().map(|p| p.1));
+    let sx = |x: f64| margin + (x - x0) / (x1 - x0) * (width - 2.0 * margin);
+    let sy = |y: f64| height - margin - (y - y0) / (y1 - y0) * (height - 2.0 * margin);
+    let mut svg = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<text x=\"{}\" y=\"24\" text-anchor=\"middle\" font-size=\"14\">{}</text>\n",
+        width / 2.0,
+        escape(title)
+    );
+    for d in (x0 as i32)..=(x1 as i32) {
+        let x = sx(d as f64);
+        svg += &format!("<line x1=\"{x}\" y1=\"{}\" x2=\"{x}\" y2=\"{}\" stroke=\"#ddd\"/><text x=\"{x}\" y=\"{}\" text-anchor=\"middle\">1e{d} s</text>\n", margin, height - margin, height - margin + 18.0);
+    }
+    for d in (y0 as i32)..=(y1 as i32) {
+        let y = sy(d as f64);
+        svg += &format!("<line x1=\"{margin}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" stroke=\"#ddd\"/><text x=\"{}\" y=\"{}\" text-anchor=\"end\">1e{d}</text>\n", width - margin, margin - 6.0, y + 4.0);
+    }
+    svg += &format!(
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">render time</text><text x=\"16\" y=\"{}\" transform=\"rotate(-90 16 {})\" text-anchor=\"middle\">relMSE</text>\n",
+        width / 2.0,
+        height - 12.0,
+        height / 2.0,
+        height / 2.0
+    );
+    let line: Vec<String> = points.iter().map(|&(x, y)| format!("{:.2},{:.2}", sx(x), sy(y))).collect();
+    svg += &format!(
+        "<polyline fill=\"none\" stroke=\"#c03\" stroke-width=\"2\" points=\"{}\"/>\n</svg>\n",
+        line.join(" ")
+    );
+    svg
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flat(values: &[Rgb], width: u32) -> Image {
+        let height = values.len() as u32 / width;
+        Image { width, height, pixels: values.to_vec(), attributes: BTreeMap::new() }
+    }
+
+    /// Metrics worked by hand: pixels (1, 2, 0) and (3, 2, 0.1) against (1, 1, 0) and (1, 1, 0).
+    #[test]
+    fn metrics_by_hand() {
+        let image = flat(&[Rgb::new(1.0, 2.0, 0.0), Rgb::new(3.0, 2.0, 0.1)], 2);
+        let reference = flat(&[Rgb::new(1.0, 1.0, 0.0), Rgb::new(1.0, 1.0, 0.0)], 2);
+        let m = metrics(&image, &reference).unwrap();
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-6 * b.abs().max(1.0);
+        assert!(close(m.mse[0], 2.0) && close(m.mse[1], 1.0) && close(m.mse[2], 0.005), "{m:?}");
+        // relMSE: R (0 + 4 / 1.01) / 2; B (0 + 0.01 / 0.01) / 2.
+        assert!(close(m.rel_mse[0], 2.0 / 1.01) && close(m.rel_mse[2], 0.5), "{m:?}");
+        assert!(close(m.mae[0], 1.0) && close(m.mae[1], 1.0) && close(m.mae[2], 0.05), "{m:?}");
+        assert!(close(m.mean_ratio[0], 2.0) && close(m.mean_ratio[1], 2.0) && m.mean_ratio[2].is_infinite());
+        let smaller = flat(&[Rgb::ZERO], 1);
+        assert!(metrics(&smaller, &reference).unwrap_err().contains("differ in size"));
+    }
+
+    /// The Z-test against its corrected significance: 400 pixels, α = 2.5·10⁻⁵ (z* ≈ 4.21); at
+    /// 100 spp and σ² = 1, a difference of 0.3 (z = 3) passes, 0.5 (z = 5) fails; one pixel of
+    /// 400 off is 0.25 % of the channels and passes, two do not.
+    #[test]
+    fn z_test_counts_channels_against_the_corrected_significance() {
+        let uniform = |v: f32| flat(&vec![Rgb::splat(v); 400], 400);
+        let (reference, variance) = (uniform(1.0), uniform(1.0));
+        // Grey in XYZ: Y = 1 for (1, 1, 1); X and Z near 0.95 and 1.09, the same differences
+        // scaled alike.
+        assert!(z_test(&uniform(1.3), &reference, &variance, 100).unwrap().passed);
+        let failed = z_test(&uniform(1.5), &reference, &variance, 100).unwrap();
+        assert!(!failed.passed && failed.fraction < 0.01, "{failed:?}");
+        let mut image = uniform(1.0);
+        image.pixels[7] = Rgb::splat(9.0);
+        assert!(z_test(&image, &reference, &variance, 100).unwrap().passed);
+        image.pixels[8] = Rgb::splat(9.0);
+        assert!(!z_test(&image, &reference, &variance, 100).unwrap().passed);
+    }
+
+    /// The error log's CSV has a row per sample and the plot a point per sample.
+    #[test]
+    fn error_log_as_csv_and_plot() {
+        let rows: Vec<ErrorSample> = (1..=4)
+            .map(|k| ErrorSample {
+                seconds: k as f64,
+                spp: 4 * k,
+                mse: 0.1 / k as f64,
+                rel_mse: 1.0 / k as f64,
+                mae: 0.3,
+            })
+            .collect();
+        let csv = error_csv(&rows);
+        assert_eq!(csv.lines().count(), 5);
+        assert_eq!(csv.lines().nth(2).unwrap(), "2,8,5e-2,5e-1,3e-1");
+        let svg = error_plot_svg(&rows, "a <test>");
+        assert!(svg.contains("a &lt;test&gt;") && svg.ends_with("</svg>\n"));
+        let polyline = svg.lines().find(|l| l.starts_with("<polyline")).unwrap();
+        assert_eq!(polyline.matches(',').count(), 4);
+    }
+
+    /// ꟻLIP is 0 for identical images and grows with the difference.
+    #[test]
+    fn flip_is_zero_for_the_same_image_and_grows_with_the_difference() {
+        let pattern: Vec<Rgb> = (0..64 * 64).map(|i| Rgb::splat(((i % 64) / 8) as f32 / 8.0)).collect();
+        let reference = flat(&pattern, 64);
+        let (same, map) = flip(&reference, &reference, 0.0).unwrap();
+        assert_eq!(same, 0.0);
+        assert_eq!(map.len(), 64 * 64 * 3);
+        let shifted = |d: f32| flat(&pattern.iter().map(|p| *p + Rgb::splat(d)).collect::<Vec<_>>(), 64);
+        let (small, _) = flip(&shifted(0.02), &reference, 0.0).unwrap();
+        let (large, _) = flip(&shifted(0.3), &reference, 0.0).unwrap();
+        assert!(0.0 < small && small < large && large <= 1.0, "{small} {large}");
+    }
+}
