@@ -241,7 +241,7 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("glint-partial-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let mut film = Film::new(3, 2).with_exact_sums();
-        film.add_sample(0, 0, Rgb::new(1.5, -2.0, 3e9), 1.0);
+        film.add_sample(0, 0, Rgb::new(1.5, -2.0, 3e10), 1.0);
         film.add_sample(2, 1, Rgb::new(1e-12, 7.0, 0.25), 0.5);
         let path = dir.join("p.exr");
         write(&path, &film, &[(SAMPLES_KEY, "3..9".into())]).unwrap();
