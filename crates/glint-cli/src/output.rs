@@ -1,5 +1,6 @@
-//! Image writers, chosen by the output file's extension: OpenEXR (32-bit float), PFM (float,
-//! rows stored bottom to top as the format says) and PNG (8-bit sRGB, with exposure). Every
+//! Image writers, chosen by the output file's extension: OpenEXR (32-bit float), Radiance HDR
+//! (RGBE, negative values clamped to 0), PFM (float, rows stored bottom to top as the format
+//! says) and PNG (8-bit sRGB, with exposure). Every
 //! file glint writes goes through `write_file_atomically`: whole or not at all.
 
 use std::fs::File;
@@ -12,7 +13,7 @@ use thiserror::Error;
 /// Why a file could not be written, or an image read back.
 #[derive(Debug, Error)]
 pub enum OutputError {
-    #[error("cannot tell the image format of `{}`: the output must end in .png, .exr or .pfm", path.display())]
+    #[error("cannot tell the image format of `{}`: the output must end in .png, .exr, .hdr or .pfm", path.display())]
     UnknownFormat { path: PathBuf },
     /// `what`: "output", "checkpoint".
     #[error("cannot write the {what} `{}`: {reason}", path.display())]
@@ -26,6 +27,8 @@ pub enum OutputError {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ImageFormat {
     Exr,
+    /// Radiance RGBE.
+    Hdr,
     Pfm,
     Png,
 }
@@ -34,6 +37,7 @@ impl ImageFormat {
     pub fn from_path(path: &Path) -> Result<Self, OutputError> {
         match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
             Some("exr") => Ok(Self::Exr),
+            Some("hdr") => Ok(Self::Hdr),
             Some("pfm") => Ok(Self::Pfm),
             Some("png") => Ok(Self::Png),
             _ => Err(OutputError::UnknownFormat { path: path.to_path_buf() }),
@@ -122,10 +126,23 @@ pub fn write_file_atomically(path: &Path, bytes: &[u8], what: &'static str) -> R
     Ok(())
 }
 
+/// Channels of an EXR beside its image: (full channel name, one value per pixel).
+pub type Channels = Vec<(String, Vec<f32>)>;
+
+/// A layer of three channels NAME.A, NAME.B, NAME.C, `suffixes` naming them: ["R", "G", "B"]
+/// for colours, ["X", "Y", "Z"] for vectors.
+pub fn layer(name: &str, suffixes: [&str; 3], pixels: &[Rgb]) -> Channels {
+    suffixes
+        .into_iter()
+        .enumerate()
+        .map(|(c, channel)| (format!("{name}.{channel}"), pixels.iter().map(|p| p.to_array()[c]).collect()))
+        .collect()
+}
+
 /// Writes row-major pixels (row 0 = top). `exposure` (in stops) applies to PNG only;
 /// `metadata` (name, value) pairs go into the EXR header as string attributes; `layers`
-/// (name, pixels) go into an EXR as channels NAME.R, NAME.G, NAME.B beside the image (other
-/// formats hold the image alone).
+/// (channels: full name, values) go into an EXR beside the image (other formats hold the
+/// image alone).
 pub fn write_image(
     path: &Path,
     width: u32,
@@ -133,7 +150,7 @@ pub fn write_image(
     pixels: &[Rgb],
     exposure: f32,
     metadata: &[(&str, String)],
-    layers: &[(&str, &[Rgb])],
+    layers: &[(String, Vec<f32>)],
 ) -> Result<(), OutputError> {
     let bytes = encode_image(ImageFormat::from_path(path)?, width, height, pixels, exposure, metadata, layers)
         .map_err(|reason| OutputError::Unencodable { path: path.to_path_buf(), reason })?;
@@ -148,20 +165,18 @@ fn encode_image(
     pixels: &[Rgb],
     exposure: f32,
     metadata: &[(&str, String)],
-    layers: &[(&str, &[Rgb])],
+    layers: &[(String, Vec<f32>)],
 ) -> Result<Vec<u8>, String> {
     let mut bytes = Vec::new();
     match format {
         ImageFormat::Exr if !layers.is_empty() => {
             use exr::prelude::*;
             let mut list = SmallVec::<[AnyChannel<FlatSamples>; 4]>::new();
-            let planes = std::iter::once(("", pixels)).chain(layers.iter().copied());
-            for (layer, values) in planes {
-                for (c, name) in ["R", "G", "B"].into_iter().enumerate() {
-                    let name = if layer.is_empty() { name.to_string() } else { format!("{layer}.{name}") };
-                    let samples = values.iter().map(|p| p.to_array()[c]).collect();
-                    list.push(AnyChannel::new(name.as_str(), FlatSamples::F32(samples)));
-                }
+            for (c, name) in ["R", "G", "B"].into_iter().enumerate() {
+                list.push(AnyChannel::new(name, FlatSamples::F32(pixels.iter().map(|p| p.to_array()[c]).collect())));
+            }
+            for (name, values) in layers {
+                list.push(AnyChannel::new(name.as_str(), FlatSamples::F32(values.clone())));
             }
             let size = (width as usize, height as usize);
             let layer = Layer::new(size, LayerAttributes::default(), Encoding::FAST_LOSSLESS, AnyChannels::sort(list));
@@ -184,6 +199,13 @@ fn encode_image(
             image.write().to_buffered(std::io::Cursor::new(&mut bytes)).map_err(|e| e.to_string())?;
         }
         ImageFormat::Pfm => bytes = encode_pfm(width, height, pixels),
+        ImageFormat::Hdr => {
+            let rgb: Vec<f32> = pixels.iter().flat_map(|p| p.max(Rgb::ZERO).to_array()).collect();
+            let image = image::Rgb32FImage::from_raw(width, height, rgb).ok_or("image size mismatch".to_string())?;
+            image::DynamicImage::ImageRgb32F(image)
+                .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Hdr)
+                .map_err(|e| e.to_string())?;
+        }
         ImageFormat::Png => {
             let scale = exposure.exp2();
             let rgb: Vec<u8> = pixels.iter().flat_map(|p| (*p * scale).to_array().map(encode_srgb)).collect();

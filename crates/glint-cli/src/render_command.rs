@@ -11,10 +11,11 @@ use clap::Args;
 use glint_cli::checkpoint;
 use glint_cli::error::CliError;
 use glint_cli::output::write_file_atomically;
-use glint_cli::output::{check_writable, check_writable_file, write_image, ImageFormat, OutputError};
+use glint_cli::output::{check_writable, check_writable_file, layer, write_image, ImageFormat, OutputError};
 use glint_cli::{compare, partial};
 use glint_core::film::Film;
 use glint_core::filter::Filter;
+use glint_core::integrators::aov::{render_aovs, Aovs};
 use glint_core::integrators::{heat_colour, IntegratorKind, IntegratorSettings};
 use glint_core::lights::{LightSelection, TriangleSampling};
 use glint_core::render::{
@@ -114,6 +115,14 @@ pub struct RenderArgs {
     /// scene's `moment` (a Mitsuba `moment` integrator) turns it on too.
     #[arg(long)]
     moment: bool,
+    /// Also write arbitrary output variables as EXR layers beside the image: what the camera
+    /// sees first (albedo.R/G/B, the BSDF's albedo toward the camera; normal.X/Y/Z, the shading
+    /// normal in world space; depth.Z, the distance along the camera ray; each the mean of up
+    /// to 16 rays per pixel) and, for camera integrators, each pixel's variance
+    /// (variance.R/G/B: the variance of the pixel's mean, (E[L²] − E[L]²) / n from its samples'
+    /// second moment, exact for independent samples; low-discrepancy samplers do better).
+    #[arg(long)]
+    aovs: bool,
     /// No progress bar and no summary line.
     #[arg(short, long)]
     quiet: bool,
@@ -231,7 +240,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, CliError> {
         let progressive = Progressive {
             settings: plan.settings,
             time_limit: plan.time_limit,
-            second_moment: plan.moment,
+            second_moment: plan.moment || plan.variance,
             sample_range: args.samples,
         };
         let mut saver = CheckpointSaver::new(&args, &plan);
@@ -267,7 +276,9 @@ pub fn run(args: RenderArgs) -> Result<Outcome, CliError> {
         }
         return Err(CliError::NothingRendered);
     }
-    write_outputs(&args, &plan, &scene, &output, &result, renderer.as_ref())?;
+    // What the camera sees first, at up to 16 rays per pixel (not part of the render's time).
+    let aovs = args.aovs.then(|| pool.install(|| render_aovs(&scene, plan.settings.spp.min(16), plan.settings.seed)));
+    write_outputs(&args, &plan, &scene, &output, &result, renderer.as_ref(), aovs.as_ref())?;
     if let Some(log) = &error_log {
         log.write(&output, &plan)?;
     }
@@ -294,6 +305,8 @@ struct Plan {
     fingerprint: u64,
     /// Keep and write each pixel's second moment.
     moment: bool,
+    /// Keep each pixel's second moment to write its variance (`--aovs`).
+    variance: bool,
 }
 
 /// The output image's path: `--output`, else the scene's name as a PNG.
@@ -312,6 +325,12 @@ fn output_path(args: &RenderArgs) -> PathBuf {
 /// a flag refused after it.
 fn check_before_work(args: &RenderArgs, output: &Path) -> Result<(), CliError> {
     let format = check_writable(output)?;
+    if args.aovs && format != ImageFormat::Exr {
+        return Err(CliError::Setting(format!(
+            "--aovs writes layers beside the image, which only EXR holds: `{}` is not .exr",
+            output.display()
+        )));
+    }
     if args.samples.is_some() {
         let conflicts = [
             ("--spp", args.spp.is_some()),
@@ -324,6 +343,12 @@ fn check_before_work(args: &RenderArgs, output: &Path) -> Result<(), CliError> {
             return Err(CliError::Setting(format!(
                 "--samples renders exactly the samples it names: it cannot be combined with {flag}"
             )));
+        }
+        if args.aovs {
+            return Err(CliError::Setting(
+                "--samples writes a part to merge, whose sums alone merge exactly: leave --aovs to the merged render"
+                    .into(),
+            ));
         }
         if format != ImageFormat::Exr {
             return Err(CliError::Setting(format!(
@@ -407,7 +432,9 @@ fn load(args: &RenderArgs) -> Result<(Scene, Plan), CliError> {
     };
     let fingerprint = checkpoint::fingerprint_of(&identity);
     let moment = (args.moment || options.moment) && moment_possible(args, kind)?;
-    Ok((scene, Plan { kind, integrator, settings, time_limit, fingerprint, moment }))
+    // The variance layer needs the second moment, which only a fresh camera render keeps.
+    let variance = args.aovs && kind.samples_pixels() && args.resume.is_none();
+    Ok((scene, Plan { kind, integrator, settings, time_limit, fingerprint, moment, variance }))
 }
 
 /// Whether this render can keep the second moment it is asked for: a camera integrator's
@@ -616,6 +643,9 @@ impl<'a> CheckpointSaver<'a> {
     }
 }
 
+/// A colour layer's channels.
+const RGB: [&str; 3] = ["R", "G", "B"];
+
 /// The image, then the final checkpoint: a checkpoint that cannot be written must not cost
 /// the render.
 fn write_outputs(
@@ -625,6 +655,7 @@ fn write_outputs(
     output: &Path,
     result: &RenderOutput,
     renderer: &dyn PassRenderer,
+    aovs: Option<&Aovs>,
 ) -> Result<(), CliError> {
     let (width, height) = (scene.camera().width, scene.camera().height);
     let mut pixels = result.film.to_rgb();
@@ -637,11 +668,17 @@ fn write_outputs(
             "bvh-heat: colour = BVH nodes visited + primitives tested per camera ray, from 0 (dark blue) to {max:.0} (red); the bar along the bottom of the image is the scale, ticks at quarters"
         );
     }
-    let metadata = [
+    let camera = scene.camera();
+    let matrix = camera.camera_to_world().iter().flatten().map(|v| v.to_string()).collect::<Vec<_>>().join(" ");
+    let metadata = vec![
         ("glint:spp", result.spp_done.to_string()),
         ("glint:seed", plan.settings.seed.to_string()),
         ("glint:integrator", plan.kind.name().to_string()),
         ("glint:version", env!("CARGO_PKG_VERSION").to_string()),
+        ("glint:render_seconds", result.elapsed.as_secs_f64().to_string()),
+        // Row-major 4×4, camera space x right, y up, z forward.
+        ("glint:camera_to_world", matrix),
+        ("glint:fov", camera.fov_degrees.to_string()),
     ];
     if let Some((first, _)) = args.samples {
         // What was rendered: a render stopped early holds the passes it finished.
@@ -658,9 +695,24 @@ fn write_outputs(
         return Ok(());
     }
     let moments = result.film.second_moments();
-    let layers: Vec<(&str, &[Rgb])> = moments.iter().map(|m| ("m2", m.as_slice())).collect();
+    let mut layers = Vec::new();
+    if let (true, Some(m2)) = (plan.moment, &moments) {
+        layers.extend(layer("m2", RGB, m2));
+    }
     if !layers.is_empty() && ImageFormat::from_path(output)? != ImageFormat::Exr {
         say!("warning: the second moment is written only into EXR images; `{}` has the image alone", output.display());
+    }
+    if let Some(aovs) = aovs {
+        layers.extend(layer("albedo", RGB, &aovs.albedo));
+        layers.extend(layer("normal", ["X", "Y", "Z"], &aovs.normal));
+        layers.push(("depth.Z".to_string(), aovs.depth.clone()));
+        if let (true, Some(m2)) = (plan.variance, &moments) {
+            // The variance of the pixel's mean: (E[L²] − E[L]²) / n.
+            let n = result.spp_done.max(1) as f32;
+            let variance: Vec<Rgb> =
+                m2.iter().zip(&pixels).map(|(m2, mean)| (*m2 - *mean * *mean).max(Rgb::ZERO) / n).collect();
+            layers.extend(layer("variance", RGB, &variance));
+        }
     }
     write_image(output, width, height, &pixels, exposure, &metadata, &layers)?;
     if let Some(path) = &args.checkpoint {

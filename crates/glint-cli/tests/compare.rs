@@ -97,3 +97,96 @@ fn a_render_logs_its_error_against_time() {
     assert!(assert_clean_failure(&wrong).contains("is 48x48, the render 40x40"));
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Reads every channel of an EXR by name, and its text attributes.
+fn exr_channels(path: &Path) -> (Vec<(String, Vec<f32>)>, std::collections::BTreeMap<String, String>) {
+    use exr::prelude::*;
+    let image = read_all_flat_layers_from_file(path).unwrap();
+    let layer = &image.layer_data[0];
+    let channels =
+        layer.channel_data.list.iter().map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect())).collect();
+    let mut attributes = std::collections::BTreeMap::new();
+    for (k, v) in image.attributes.other.iter().chain(&layer.attributes.other) {
+        if let AttributeValue::Text(t) = v {
+            attributes.insert(k.to_string(), t.to_string());
+        }
+    }
+    (channels, attributes)
+}
+
+/// `--aovs`: albedo, normal and depth of what the camera sees first, and each pixel's
+/// variance, which predicts the spread of the pixel between renders of other seeds; the
+/// header carries the camera and the render time. `.hdr` output reads back as written.
+#[test]
+fn aovs_and_metadata_beside_the_image() {
+    let dir = temp_dir("aovs");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
+    let scene = scene.to_str().unwrap();
+    let render = |seed: u32, extra: &[&str]| {
+        let out = dir.join(format!("r{seed}.exr"));
+        let seed = seed.to_string();
+        let args = [
+            // Independent samples: a low-discrepancy sampler's pixel error is below σ²/n.
+            &[
+                "render",
+                scene,
+                "--width",
+                "32",
+                "--spp",
+                "16",
+                "--sampler",
+                "independent",
+                "--seed",
+                &seed,
+                "-q",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            extra,
+        ]
+        .concat();
+        let o = glint(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        exr_channels(&out)
+    };
+    let (channels, attributes) = render(0, &["--aovs"]);
+    let get = |name: &str| &channels.iter().find(|(n, _)| n == name).unwrap_or_else(|| panic!("no {name}")).1;
+    for name in ["albedo.R", "normal.X", "normal.Z", "depth.Z", "variance.G"] {
+        assert_eq!(get(name).len(), 32 * 32, "{name}");
+    }
+    // The back wall behind the centre pixel: diffuse white, facing the camera (−z), about
+    // 1200 units away (its normal averaged over the pixel, which the tall box edges into).
+    let centre = 16 * 32 + 16;
+    assert!((get("albedo.R")[centre] - 0.885809).abs() < 0.03, "{}", get("albedo.R")[centre]);
+    assert!(
+        get("normal.Z")[centre] < -0.95 && get("depth.Z")[centre] > 700.0,
+        "{} {}",
+        get("normal.Z")[centre],
+        get("depth.Z")[centre]
+    );
+    let matrix: Vec<f32> = attributes["glint:camera_to_world"].split(' ').map(|v| v.parse().unwrap()).collect();
+    assert_eq!(matrix.len(), 16);
+    assert!(attributes["glint:render_seconds"].parse::<f64>().unwrap() > 0.0);
+    // The variance layer against the spread over eight other seeds, averaged over the image.
+    let images: Vec<Vec<f32>> =
+        (1..=8).map(|seed| render(seed, &[]).0.into_iter().find(|(n, _)| n == "G").unwrap().1).collect();
+    let n = 32 * 32;
+    let spread: f64 = (0..n)
+        .map(|i| {
+            let values: Vec<f64> = images.iter().map(|im| im[i] as f64).collect();
+            let mean = values.iter().sum::<f64>() / 8.0;
+            values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 7.0
+        })
+        .sum::<f64>()
+        / n as f64;
+    let predicted: f64 = get("variance.G").iter().map(|v| *v as f64).sum::<f64>() / n as f64;
+    assert!((predicted / spread - 1.0).abs() < 0.25, "variance layer {predicted} vs spread {spread}");
+    // HDR output.
+    let hdr = dir.join("x.hdr");
+    let o = glint(&["render", scene, "--width", "32", "--spp", "4", "-q", "-o", hdr.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let back = glint_cli::compare::read_image(&hdr).unwrap();
+    assert_eq!((back.width, back.height), (32, 32));
+    assert!(back.pixels.iter().any(|p| p.max_element() > 0.05));
+    std::fs::remove_dir_all(dir).unwrap();
+}

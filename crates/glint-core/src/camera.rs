@@ -67,6 +67,13 @@ impl Camera {
         Self { lens, ..self }
     }
 
+    /// The camera's frame as a row-major 4×4 camera-to-world matrix: its columns the right,
+    /// up and forward directions and the position (camera space: x right, y up, z forward).
+    pub fn camera_to_world(&self) -> [[f32; 4]; 4] {
+        let (r, u, f, p) = (self.right, self.up, self.forward, self.position);
+        [[r.x, u.x, f.x, p.x], [r.y, u.y, f.y, p.y], [r.z, u.z, f.z, p.z], [0.0, 0.0, 0.0, 1.0]]
+    }
+
     /// Whether `generate_ray_through_lens` needs its lens sample (a thin lens).
     pub fn samples_lens(&self) -> bool {
         matches!(self.lens, Lens::Thin { radius, .. } if radius > 0.0)

@@ -3,6 +3,7 @@
 //! through the scene's query interface (closest hit, any hit, and, for the wavefront, the
 //! surface and corners of a hit primitive).
 
+pub mod aov;
 mod bvh_heat;
 mod light;
 mod particle;
