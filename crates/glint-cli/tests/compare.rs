@@ -99,7 +99,7 @@ fn a_render_logs_its_error_against_time() {
 }
 
 /// Reads every channel of an EXR by name, and its text attributes.
-fn exr_channels(path: &Path) -> (Vec<(String, Vec<f32>)>, std::collections::BTreeMap<String, String>) {
+fn exr_channels(path: &Path) -> (glint_cli::output::Channels, std::collections::BTreeMap<String, String>) {
     use exr::prelude::*;
     let image = read_all_flat_layers_from_file(path).unwrap();
     let layer = &image.layer_data[0];
