@@ -123,11 +123,24 @@ pub fn write(path: &Path, film: &Film, attributes: &[(&str, String)]) -> Result<
 
 /// Reads a partial render back.
 pub fn read(path: &Path) -> Result<Partial, MergeError> {
+    let bytes =
+        std::fs::read(path).map_err(|e| MergeError::Unreadable { path: path.to_path_buf(), reason: e.to_string() })?;
+    decode(&bytes, path)
+}
+
+/// A partial render from its file's bytes (`path` names it in messages).
+pub fn decode(bytes: &[u8], path: &Path) -> Result<Partial, MergeError> {
     use exr::prelude::*;
     let unreadable = |reason: String| MergeError::Unreadable { path: path.to_path_buf(), reason };
     let not_partial = |reason: String| MergeError::NotPartial { path: path.to_path_buf(), reason };
-    let image =
-        read_all_flat_layers_from_file(path).map_err(|e| unreadable(format!("cannot read it as OpenEXR: {e}")))?;
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|e| unreadable(format!("cannot read it as OpenEXR: {e}")))?;
     let layer = image.layer_data.first().ok_or_else(|| not_partial("it has no image layer".into()))?;
     let (width, height) = (layer.size.width() as u32, layer.size.height() as u32);
     // Custom attributes come back with the layer (an EXR of one part keeps them in its one

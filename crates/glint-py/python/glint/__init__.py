@@ -1,0 +1,18 @@
+"""glint: a CPU ray tracer for learning, teaching and research, from Python.
+
+    import glint
+    scene = glint.load_file("scenes/cornell-box.toml")
+    image = scene.render(spp=64)              # numpy float32, shape (height, width, 3)
+
+Scenes load from files (``load_file``: the native TOML/JSON format or Mitsuba 3 XML, with
+Mitsuba ``<default>`` parameters as keyword arguments) or from a dict with the TOML format's
+schema (``load_dict``). ``Scene.render`` releases the GIL while it renders and honours Ctrl-C.
+``Scene.render(samples=(a, b))`` renders samples a to b - 1 of every pixel as a ``Partial``;
+``merge`` adds parts of one render into the image one render of their union gives, bit for
+bit; ``glint.distributed.render`` spreads the parts over Ray tasks. ``compare`` judges an
+image against a reference. docs/python.md has the details.
+"""
+
+from ._glint import GlintError, Partial, Scene, compare, load_dict, load_file, merge
+
+__all__ = ["GlintError", "Partial", "Scene", "compare", "load_dict", "load_file", "merge"]

@@ -1,0 +1,431 @@
+//! `glint._glint`: the Python module's native core (the package `glint` re-exports it; see
+//! crates/glint-py/python/glint and docs/python.md). Scenes load from files or from a dict of
+//! the native format's schema; renders come back as numpy arrays, rendered with the GIL
+//! released and stopped by Ctrl-C; a render of a sample range comes back as a `Partial`,
+//! which pickles (for Ray) and merges bit for bit; `compare` judges an image against a
+//! reference.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{mpsc, Arc};
+use std::time::Duration;
+
+use glint_cli::compare as judge;
+use glint_cli::partial::{self, Partial as PartialFile};
+use glint_core::film::Film;
+use glint_core::integrators::aov::render_aovs;
+use glint_core::integrators::IntegratorKind;
+use glint_core::render::{render_progressive, Progressive, RenderOutput, RenderSettings};
+use glint_core::scene::Scene as CoreScene;
+use glint_core::{Named, Rgb};
+use glint_scene::{LoadedScene, RenderOptions};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyException, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+
+create_exception!(_glint, GlintError, PyException, "A scene, render or file glint refuses; the message says why.");
+
+fn glint_error(e: impl std::fmt::Display) -> PyErr {
+    GlintError::new_err(e.to_string())
+}
+
+/// A loaded scene and the render settings it asks for.
+#[pyclass(module = "glint._glint", frozen)]
+struct Scene {
+    scene: Arc<CoreScene>,
+    options: RenderOptions,
+    /// What makes a render of this scene what it is (the sources' contents, the parameters):
+    /// parts of one render merge only with each other.
+    source_fingerprint: u64,
+}
+
+/// An image as a (height, width, 3) float32 array.
+fn image_array<'py>(py: Python<'py>, width: u32, height: u32, pixels: &[Rgb]) -> PyResult<Bound<'py, PyAny>> {
+    let flat: Vec<f32> = pixels.iter().flat_map(|p| p.to_array()).collect();
+    Ok(PyArray1::from_vec(py, flat).reshape([height as usize, width as usize, 3])?.into_any())
+}
+
+/// One value per pixel as a (height, width) float32 array.
+fn scalar_array<'py>(py: Python<'py>, width: u32, height: u32, values: Vec<f32>) -> PyResult<Bound<'py, PyAny>> {
+    Ok(PyArray1::from_vec(py, values).reshape([height as usize, width as usize])?.into_any())
+}
+
+impl Scene {
+    fn new(loaded: LoadedScene, sources: &[u8], params: &[(String, String)]) -> Self {
+        let fingerprint = glint_cli::checkpoint::fingerprint_of(&(sources, params));
+        Self { scene: Arc::new(loaded.scene), options: loaded.render, source_fingerprint: fingerprint }
+    }
+}
+
+#[pymethods]
+impl Scene {
+    #[getter]
+    fn width(&self) -> u32 {
+        self.scene.camera().width
+    }
+
+    #[getter]
+    fn height(&self) -> u32 {
+        self.scene.camera().height
+    }
+
+    /// The scene's own settings: spp, seed, integrator.
+    #[getter]
+    fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        d.set_item("spp", self.options.spp)?;
+        d.set_item("seed", self.options.seed)?;
+        d.set_item("integrator", self.options.integrator.name())?;
+        d.set_item("sampler", self.options.sampler.name())?;
+        d.set_item("filter", self.options.filter.name())?;
+        Ok(d)
+    }
+
+    /// Renders the camera's view. Without `samples`: the image as a (height, width, 3)
+    /// float32 array (with `aovs=True`, a dict of it and the AOVs). With `samples=(a, b)`:
+    /// samples a to b − 1 of every pixel, as a `Partial` to merge with the others. The GIL is
+    /// released while rendering; Ctrl-C stops the render and raises KeyboardInterrupt.
+    #[pyo3(signature = (spp=None, seed=None, samples=None, integrator=None, threads=None, aovs=false))]
+    #[allow(clippy::too_many_arguments)] // Python's keyword arguments, as Mitsuba's `render` has them
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        spp: Option<u32>,
+        seed: Option<u64>,
+        samples: Option<(u32, u32)>,
+        integrator: Option<&str>,
+        threads: Option<usize>,
+        aovs: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let kind = match integrator {
+            None => self.options.integrator,
+            Some(name) => IntegratorKind::from_name(name).ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "unknown integrator `{name}`, expected one of {}",
+                    IntegratorKind::names()
+                ))
+            })?,
+        };
+        if let Some((a, b)) = samples {
+            if a >= b {
+                return Err(PyValueError::new_err(format!("samples=({a}, {b}) is empty: it holds samples a to b − 1")));
+            }
+            if !kind.samples_pixels() {
+                return Err(PyValueError::new_err(format!(
+                    "samples: `{}` does not take samples of its own per pixel, so its passes cannot be rendered apart and merged",
+                    kind.name()
+                )));
+            }
+            if aovs {
+                return Err(PyValueError::new_err(
+                    "samples: a part holds its sums alone; ask the AOVs of a whole render",
+                ));
+            }
+        }
+        if spp == Some(0) {
+            return Err(PyValueError::new_err("spp must be at least 1"));
+        }
+        let settings = RenderSettings {
+            spp: spp.unwrap_or(self.options.spp),
+            seed: seed.unwrap_or(self.options.seed),
+            filter: self.options.filter,
+            sampler: self.options.sampler,
+        };
+        let progressive = Progressive { settings, time_limit: None, second_moment: false, sample_range: samples };
+        let output = run_interruptibly(py, self.scene.clone(), kind, self.options, progressive, threads)?;
+        let (width, height) = (self.width(), self.height());
+        if let Some((a, _)) = samples {
+            let identity = glint_cli::checkpoint::fingerprint_of(&(
+                self.source_fingerprint,
+                kind.name(),
+                self.options.integrator_settings,
+                width,
+                height,
+                settings.sampler.name(),
+                settings.filter.name(),
+            ));
+            let attributes = vec![
+                ("glint:integrator".to_string(), kind.name().to_string()),
+                ("glint:seed".to_string(), settings.seed.to_string()),
+                ("glint:sampler".to_string(), settings.sampler.name().to_string()),
+                ("glint:filter".to_string(), settings.filter.name().to_string()),
+                ("glint:identity".to_string(), format!("{identity:016x}")),
+                ("glint:spp".to_string(), output.spp_done.to_string()),
+            ];
+            let part = Partial { film: output.film, attributes, ranges: vec![(a, a + output.spp_done)] };
+            return Ok(Bound::new(py, part)?.into_any());
+        }
+        let image = image_array(py, width, height, &output.film.to_rgb())?;
+        if !aovs {
+            return Ok(image);
+        }
+        let scene = self.scene.clone();
+        let aov = py.allow_threads(|| {
+            pool(threads).map(|p| p.install(|| render_aovs(&scene, settings.spp.min(16), settings.seed)))
+        });
+        let aov = aov.map_err(glint_error)?;
+        let d = PyDict::new(py);
+        d.set_item("image", image)?;
+        d.set_item("albedo", image_array(py, width, height, &aov.albedo)?)?;
+        d.set_item("normal", image_array(py, width, height, &aov.normal)?)?;
+        d.set_item("depth", scalar_array(py, width, height, aov.depth)?)?;
+        Ok(d.into_any())
+    }
+}
+
+fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, rayon::ThreadPoolBuildError> {
+    rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build()
+}
+
+/// Renders on a thread of its own while this one, without the GIL, waits for it, taking the
+/// GIL back every 50 ms to let Python handle signals: Ctrl-C raises the stop flag (the render
+/// ends after the pass under way) and becomes KeyboardInterrupt.
+fn run_interruptibly(
+    py: Python<'_>,
+    scene: Arc<CoreScene>,
+    kind: IntegratorKind,
+    options: RenderOptions,
+    progressive: Progressive,
+    threads: Option<usize>,
+) -> PyResult<RenderOutput> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let (sender, receiver) = mpsc::channel();
+    // Behind a mutex: the waits below hand it to code without the GIL, which must be Sync.
+    let receiver = std::sync::Mutex::new(receiver);
+    let worker = {
+        let stop = stop.clone();
+        std::thread::spawn(move || {
+            let result = pool(threads).map_err(|e| e.to_string()).and_then(|pool| {
+                pool.install(|| {
+                    let seed = progressive.settings.seed;
+                    let mut renderer = kind
+                        .renderer_until(&options.integrator_settings, &scene, seed, &stop)
+                        .map_err(|e| e.to_string())?;
+                    Ok(render_progressive(
+                        &scene,
+                        renderer.as_mut(),
+                        &progressive,
+                        None,
+                        &stop,
+                        &|| {},
+                        &mut |_, _, _| {},
+                    ))
+                })
+            });
+            let _ = sender.send(result);
+        })
+    };
+    loop {
+        let received =
+            py.allow_threads(|| receiver.lock().expect("one waiter").recv_timeout(Duration::from_millis(50)));
+        match received {
+            Ok(result) => {
+                let _ = worker.join();
+                return result.map_err(glint_error);
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {
+                if let Err(interrupt) = py.check_signals() {
+                    stop.store(true, Ordering::Relaxed);
+                    py.allow_threads(|| {
+                        let _ = receiver.lock().expect("one waiter").recv();
+                    });
+                    let _ = worker.join();
+                    return Err(interrupt);
+                }
+            }
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                let _ = worker.join();
+                return Err(glint_error("the render thread ended without a result (a bug in glint)"));
+            }
+        }
+    }
+}
+
+/// One sample range of a render (or several merged): the film's exact sums, what render it is
+/// part of, and which samples it holds. Pickles as the partial EXR `glint merge` reads.
+#[pyclass(module = "glint._glint")]
+struct Partial {
+    film: Film,
+    attributes: Vec<(String, String)>,
+    ranges: Vec<(u32, u32)>,
+}
+
+impl Partial {
+    fn encode(&self) -> PyResult<Vec<u8>> {
+        let mut attributes: Vec<(&str, String)> =
+            self.attributes.iter().map(|(k, v)| (k.as_str(), v.clone())).collect();
+        let ranges = partial::format_ranges(&self.ranges);
+        attributes.retain(|(k, _)| *k != partial::SAMPLES_KEY);
+        attributes.push((partial::SAMPLES_KEY, ranges));
+        partial::encode(&self.film, &attributes).map_err(glint_error)
+    }
+
+    fn from_file(file: PartialFile) -> Self {
+        let film = Film::from_exact_sums(file.width, file.height, file.sums).expect("sizes read together");
+        let attributes = file.attributes.into_iter().filter(|(k, _)| k != partial::SAMPLES_KEY).collect();
+        Self { film, attributes, ranges: file.ranges }
+    }
+}
+
+#[pymethods]
+impl Partial {
+    /// The image of the samples held, (height, width, 3) float32.
+    #[getter]
+    fn image<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        image_array(py, self.film.width, self.film.height, &self.film.to_rgb())
+    }
+
+    /// The sample ranges held, as (a, b) pairs: samples a to b − 1.
+    #[getter]
+    fn samples(&self) -> Vec<(u32, u32)> {
+        self.ranges.clone()
+    }
+
+    /// Writes the part as a partial EXR (`glint merge` reads it).
+    fn save(&self, path: PathBuf) -> PyResult<()> {
+        let bytes = self.encode()?;
+        glint_cli::output::write_file_atomically(&path, &bytes, "output").map_err(glint_error)
+    }
+
+    fn __getstate__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        Ok(PyBytes::new(py, &self.encode()?))
+    }
+
+    fn __setstate__(&mut self, state: &[u8]) -> PyResult<()> {
+        *self = Partial::from_file(partial::decode(state, Path::new("<pickled part>")).map_err(glint_error)?);
+        Ok(())
+    }
+
+    /// An empty part for unpickling (`__setstate__` fills it).
+    #[new]
+    fn empty() -> Self {
+        Self { film: Film::new(0, 0), attributes: Vec::new(), ranges: Vec::new() }
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Partial({}x{}, samples {})", self.film.width, self.film.height, partial::format_ranges(&self.ranges))
+    }
+}
+
+/// Loads a scene file (.toml, .json, or a Mitsuba .xml); `params` set a Mitsuba scene's
+/// `<default>`s, as `-D name=value` does.
+#[pyfunction]
+#[pyo3(signature = (path, **params))]
+fn load_file(path: PathBuf, params: Option<&Bound<'_, PyDict>>) -> PyResult<Scene> {
+    let mut defines = Vec::new();
+    if let Some(params) = params {
+        for (k, v) in params.iter() {
+            defines.push((k.extract::<String>()?, v.str()?.to_string()));
+        }
+    }
+    let options = glint_scene::LoadOptions { defines: defines.clone(), search_path: Vec::new() };
+    let loaded = glint_scene::load_scene_with_options(&path, &options).map_err(glint_error)?;
+    let mut sources = Vec::new();
+    for input in &loaded.inputs {
+        sources.extend(std::fs::read(input).unwrap_or_default());
+    }
+    Ok(Scene::new(loaded, &sources, &defines))
+}
+
+/// Loads a scene from a dict with the native format's schema (the TOML file's tables as
+/// dicts, its arrays as lists); files it names are found from the working directory.
+#[pyfunction]
+fn load_dict(py: Python<'_>, description: &Bound<'_, PyDict>) -> PyResult<Scene> {
+    let json = py.import("json")?.call_method1("dumps", (description,))?.extract::<String>()?;
+    let cwd = std::env::current_dir().map_err(glint_error)?;
+    let source = glint_scene::Source::directory(cwd);
+    let loaded =
+        glint_scene::parse_scene(&json, glint_scene::native::Format::Json, "<dict>", &source).map_err(glint_error)?;
+    Ok(Scene::new(loaded, json.as_bytes(), &[]))
+}
+
+/// Parts of one render (from `render(samples=…)` or earlier merges) added into the part that
+/// holds all their samples: bit for bit the render of their union. Parts of other renders or
+/// sharing samples are refused.
+#[pyfunction]
+fn merge(parts: Vec<PyRef<'_, Partial>>) -> PyResult<Partial> {
+    let files = parts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let bytes = p.encode()?;
+            partial::decode(&bytes, Path::new(&format!("part {k}"))).map_err(glint_error)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let merged = partial::merge(files).map_err(glint_error)?;
+    let attributes = merged.attributes.into_iter().filter(|(k, _)| k != partial::SAMPLES_KEY).collect();
+    Ok(Partial { film: merged.film, attributes, ranges: merged.ranges })
+}
+
+/// An image argument: a path, or a (height, width, 3) array.
+fn image_argument(value: &Bound<'_, PyAny>, what: &str) -> PyResult<judge::Image> {
+    if let Ok(path) = value.extract::<PathBuf>() {
+        return judge::read_image(&path).map_err(glint_error);
+    }
+    let array: PyReadonlyArrayDyn<'_, f32> = value
+        .call_method1("astype", ("float32",))?
+        .extract()
+        .map_err(|_| PyValueError::new_err(format!("{what}: expected a path or a numpy array")))?;
+    let shape = array.shape().to_vec();
+    if shape.len() != 3 || shape[2] != 3 {
+        return Err(PyValueError::new_err(format!("{what}: expected shape (height, width, 3), got {shape:?}")));
+    }
+    let values = array
+        .as_slice()
+        .map(<[f32]>::to_vec)
+        .or_else(|_| Ok::<_, PyErr>(array.as_array().iter().copied().collect()))?;
+    let pixels = values.chunks_exact(3).map(|c| Rgb::new(c[0], c[1], c[2])).collect();
+    Ok(judge::Image { width: shape[1] as u32, height: shape[0] as u32, pixels, attributes: Default::default() })
+}
+
+/// Compares `image` with `reference` (paths or arrays): MSE, relMSE, MAE and the ratio of
+/// means per channel, LDR-ꟻLIP's mean, and with `variance` (the reference's per-sample
+/// variance) and `spp` the per-pixel Z-test, as `glint compare` computes them.
+#[pyfunction]
+#[pyo3(signature = (image, reference, variance=None, spp=None, exposure=0.0))]
+fn compare<'py>(
+    py: Python<'py>,
+    image: &Bound<'py, PyAny>,
+    reference: &Bound<'py, PyAny>,
+    variance: Option<&Bound<'py, PyAny>>,
+    spp: Option<u64>,
+    exposure: f32,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (image, reference) = (image_argument(image, "image")?, image_argument(reference, "reference")?);
+    let metrics = judge::metrics(&image, &reference).map_err(PyValueError::new_err)?;
+    let (flip, _) = judge::flip(&image, &reference, exposure).map_err(PyValueError::new_err)?;
+    let d = PyDict::new(py);
+    d.set_item("mse", metrics.mse.to_vec())?;
+    d.set_item("rel_mse", metrics.rel_mse.to_vec())?;
+    d.set_item("mae", metrics.mae.to_vec())?;
+    d.set_item("mean_ratio", metrics.mean_ratio.to_vec())?;
+    d.set_item("flip", flip)?;
+    match (variance, spp) {
+        (Some(variance), Some(spp)) => {
+            let variance = image_argument(variance, "variance")?;
+            let z = judge::z_test(&image, &reference, &variance, spp).map_err(PyValueError::new_err)?;
+            let t = PyDict::new(py);
+            t.set_item("fraction_passed", z.fraction)?;
+            t.set_item("passed", z.passed)?;
+            t.set_item("alpha", z.alpha)?;
+            d.set_item("z_test", t)?;
+        }
+        (None, None) => d.set_item("z_test", py.None())?,
+        _ => return Err(PyValueError::new_err("the Z-test needs both variance and spp")),
+    }
+    Ok(d)
+}
+
+#[pymodule]
+fn _glint(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Scene>()?;
+    m.add_class::<Partial>()?;
+    m.add_function(wrap_pyfunction!(load_file, m)?)?;
+    m.add_function(wrap_pyfunction!(load_dict, m)?)?;
+    m.add_function(wrap_pyfunction!(merge, m)?)?;
+    m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add("GlintError", m.py().get_type::<GlintError>())?;
+    Ok(())
+}
