@@ -271,6 +271,13 @@ fn explain_prints_the_rendered_pixel_colour() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// A colour as `explain` prints it, "(r, g, b)".
+fn triple(text: &str) -> [f32; 3] {
+    let inner = text.trim().trim_start_matches('(').trim_end_matches(')');
+    let v: Vec<f32> = inner.split(", ").map(|n| n.parse().unwrap()).collect();
+    [v[0], v[1], v[2]]
+}
+
 /// `glint explain --integrator path` (and `path-naive`, `photon`) follows the path the renderer
 /// follows through a pixel's centre at 1 spp: what its lines add sums to its last line, the rendered pixel's value,
 /// bit for bit; somewhere the path bounces more than once and meets roulette or a light.
@@ -278,11 +285,6 @@ fn explain_prints_the_rendered_pixel_colour() {
 fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
     let dir = temp_dir("explain-path");
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
-    let triple = |text: &str| -> [f32; 3] {
-        let inner = text.trim().trim_start_matches('(').trim_end_matches(')');
-        let v: Vec<f32> = inner.split(", ").map(|n| n.parse().unwrap()).collect();
-        [v[0], v[1], v[2]]
-    };
     let mut vertices = 0;
     // Photon mapping shoots its maps for each command: two pixels of it.
     let photon = [((24, 30), "photon"), ((12, 40), "photon")];
@@ -374,11 +376,6 @@ fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
 fn explain_of_every_integrator_adds_up_on_two_scenes() {
     let dir = temp_dir("explain-all");
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let triple = |text: &str| -> [f32; 3] {
-        let inner = text.trim().trim_start_matches('(').trim_end_matches(')');
-        let v: Vec<f32> = inner.split(", ").map(|n| n.parse().unwrap()).collect();
-        [v[0], v[1], v[2]]
-    };
     let sum_after = |text: &str, marker: &str| {
         let mut sum = [0.0f32; 3];
         for line in text.lines().filter(|l| l.contains(marker)) {

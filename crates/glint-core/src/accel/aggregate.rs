@@ -8,7 +8,7 @@ use super::{
     Bvh, Bvh8, BvhStats, NoCounter, TraversalCounter, TraversalCounts, Triangle8, WatertightRay8, EMPTY, GENERIC, LANES,
 };
 use crate::geometry::lanes::Vec3x8;
-use crate::geometry::{transform_point_with_error, Aabb, Ray, Transform};
+use crate::geometry::{Aabb, Ray, Transform};
 use crate::shapes::{
     intersect_cramer, moller_trumbore_edges, InstancedGeometry, IntersectMethods, PrimHit, Shape, SurfaceGeometry,
     TriangleMethod,
@@ -104,18 +104,7 @@ impl Object {
                     Shape::AaBox(b) => b.surface_within(local_ray.at(hit.t), t.round_trip_margin(local_ray.at(hit.t))),
                     shape => shape.surface(prim, &local_ray, hit),
                 };
-                // The error bound covers the next ray's trip back into the shape's space too:
-                // an origin offset past the world bound alone could round back onto a
-                // transformed sphere's outside and hit it again (an ellipsoid did, 6e-7 away).
-                let local_error = local.error + t.round_trip_margin(local.point);
-                let (point, error) = transform_point_with_error(&t.to_world, local.point, local_error);
-                SurfaceGeometry {
-                    point,
-                    geometric_normal: t.normal(local.geometric_normal),
-                    shading_normal: t.normal(local.shading_normal),
-                    uv: local.uv,
-                    error,
-                }
+                local.placed(t)
             }
         }
     }

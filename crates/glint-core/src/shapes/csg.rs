@@ -34,7 +34,7 @@ use glam::{Mat3, Vec3};
 use smallvec::SmallVec;
 
 use super::{IntersectMethods, PrimHit, Shape, SurfaceGeometry};
-use crate::geometry::{transform_point_with_error, Aabb, Ray, Transform};
+use crate::geometry::{Aabb, Ray, Transform};
 
 /// How a node combines its two operands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -382,18 +382,7 @@ impl Csg {
         };
         let mut surface = match &solid.transform {
             None => local,
-            Some(t) => {
-                // As `Object::surface`: the bound covers the next ray's trip back.
-                let local_error = local.error + t.round_trip_margin(local.point);
-                let (point, error) = transform_point_with_error(&t.to_world, local.point, local_error);
-                SurfaceGeometry {
-                    point,
-                    geometric_normal: t.normal(local.geometric_normal),
-                    shading_normal: t.normal(local.shading_normal),
-                    uv: local.uv,
-                    error,
-                }
-            }
+            Some(t) => local.placed(t),
         };
         if placed.flipped {
             surface.geometric_normal = -surface.geometric_normal;
