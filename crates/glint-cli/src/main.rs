@@ -29,7 +29,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene to an image (.png, .exr or .pfm).
+    /// Render a scene to an image (.png, .exr, .hdr or .pfm).
     #[command(
         after_help = "Exit status: 0 when the render ended (its samples done or its --time spent), 1 on an error (nothing is written, or what was written is named), 2 on a usage error, 3 when interrupted by Ctrl-C, SIGTERM or SIGHUP (the image and --checkpoint of the passes finished are written; if none had finished, nothing is, and the message says so), 130 on a second Ctrl-C (quit at once, nothing more written)."
     )]

@@ -197,7 +197,7 @@ fn unwritable_output_fails_before_rendering() {
     let err = assert_clean_failure(&glint(&["render", "-o", "/nonexistent-dir/x.png"]));
     assert!(err.contains("/nonexistent-dir/x.png"), "{err}");
     let err = assert_clean_failure(&glint(&["render", "-o", "out.jpeg"]));
-    assert!(err.contains(".png, .exr or .pfm"), "{err}");
+    assert!(err.contains(".png, .exr, .hdr or .pfm"), "{err}");
 }
 
 #[test]
