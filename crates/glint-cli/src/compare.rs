@@ -6,9 +6,10 @@
 //!   form, the 10⁻² keeping black pixels from dominating); MAE, mean of |x − r|; and the ratio
 //!   of the means, mean x / mean r, which tells a bias from noise.
 //! - ꟻLIP (Andersson et al. 2020) as NVIDIA's implementation computes it (the `nv-flip`
-//!   crate): LDR-ꟻLIP of the two images encoded as 8-bit sRGB at an exposure (default 0),
-//!   at 67 pixels per degree (a 0.7 m viewing distance from a 0.7 m wide 4K screen); its mean
-//!   and the error map in the magma colours. HDR-ꟻLIP (a range of exposures) is not computed.
+//!   crate), at 67 pixels per degree (a 0.7 m viewing distance from a 0.7 m wide 4K screen):
+//!   HDR-ꟻLIP (the largest LDR-ꟻLIP over the ACES-tone-mapped exposures the reference spans,
+//!   Andersson et al. 2021), or LDR-ꟻLIP at one exposure; its mean and the error map in the
+//!   magma colours. The images reach `nv-flip` as 8-bit sRGB.
 //! - The Z-test: with the reference's per-sample variance σ² and the image's sample count n,
 //!   each pixel channel in CIE XYZ passes when |x − r| √(n / σ²) has a two-sided p-value above
 //!   α = 1 − 0.99^(1/pixels) (Šidák's correction for 1 % overall); the image passes when at
@@ -167,20 +168,90 @@ pub fn z_test(image: &Image, reference: &Image, variance: &Image, spp: u64) -> R
 /// Pixels per degree of visual angle at which ꟻLIP compares (`nv_flip::DEFAULT_PIXELS_PER_DEGREE`).
 pub const FLIP_PIXELS_PER_DEGREE: f32 = nv_flip::DEFAULT_PIXELS_PER_DEGREE;
 
-/// LDR-ꟻLIP of the images as 8-bit sRGB at `exposure` stops: the mean error (0 to 1) and the
-/// error map in magma colours (8-bit RGB, row 0 at the top).
-pub fn flip(image: &Image, reference: &Image, exposure: f32) -> Result<(f64, Vec<u8>), String> {
+/// A ꟻLIP comparison: the mean error (0 to 1), the per-pixel error map in magma colours (8-bit
+/// RGB, row 0 at the top), and the exposures it looked at (in stops).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Flip {
+    pub mean: f64,
+    pub map: Vec<u8>,
+    pub exposures: Vec<f32>,
+}
+
+/// LDR-ꟻLIP of the images as 8-bit sRGB at `exposure` stops (clamped to [0, 1]).
+pub fn flip(image: &Image, reference: &Image, exposure: f32) -> Result<Flip, String> {
     same_size(image, reference)?;
-    let encode = |image: &Image| {
+    let scale = exposure.exp2();
+    let error = ldr_flip(image, reference, |c| c * scale);
+    Ok(finish(&error, vec![exposure]))
+}
+
+/// HDR-ꟻLIP (Andersson et al., "Visualizing errors in rendered high dynamic range images",
+/// 2021): LDR-ꟻLIP of the images tone-mapped by ACES (Narkowicz's fit, as the paper's tool
+/// uses it) at exposures from the one that brings the reference's brightest luminance to 0.85
+/// to the one that brings its median there, one stop apart (at least two), each pixel's error
+/// the largest over them. Computed on 8-bit sRGB images, as `nv-flip` takes them.
+pub fn hdr_flip(image: &Image, reference: &Image) -> Result<Flip, String> {
+    same_size(image, reference)?;
+    let (start, stop) = exposure_range(reference);
+    let count = ((stop - start).ceil() as usize).max(2);
+    let step = (stop - start) / (count - 1) as f32;
+    let exposures: Vec<f32> = (0..count).map(|i| start + i as f32 * step).collect();
+    let mut worst: Vec<f32> = Vec::new();
+    for &exposure in &exposures {
         let scale = exposure.exp2();
+        let error = ldr_flip(image, reference, |c| aces(c * scale)).to_vec();
+        if worst.is_empty() {
+            worst = error;
+        } else {
+            worst.iter_mut().zip(error).for_each(|(w, e)| *w = w.max(e));
+        }
+    }
+    let error = nv_flip::FlipImageFloat::with_data(reference.width, reference.height, &worst);
+    Ok(finish(&error, exposures))
+}
+
+/// ACES filmic tone mapping (Narkowicz 2016) with its 0.6 pre-exposure, clamped to [0, 1].
+fn aces(x: f32) -> f32 {
+    let x = 0.6 * x.max(0.0);
+    ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
+}
+
+/// HDR-ꟻLIP's exposures (stops): the value that `aces` maps to 0.85, over the reference's
+/// largest luminance (start) and over its median (stop).
+fn exposure_range(reference: &Image) -> (f32, f32) {
+    // aces(x) = 0.85, solved: the positive root of (a − 0.85c)x² + (b − 0.85d)x − 0.85e = 0 in
+    // x' = 0.6x.
+    let (a, b, c, d, e, t) = (2.51f64, 0.03, 2.43, 0.59, 0.14, 0.85);
+    let (qa, qb, qc) = (a - t * c, b - t * d, -t * e);
+    let x = ((-qb + (qb * qb - 4.0 * qa * qc).sqrt()) / (2.0 * qa)) / 0.6;
+    let mut luminance: Vec<f64> =
+        reference.pixels.iter().map(|p| 0.2126 * p.x as f64 + 0.7152 * p.y as f64 + 0.0722 * p.z as f64).collect();
+    luminance.sort_by(f64::total_cmp);
+    let (Some(&highest), median) = (luminance.last(), luminance.get(luminance.len() / 2).copied().unwrap_or(0.0))
+    else {
+        return (0.0, 0.0);
+    };
+    if highest <= 0.0 {
+        return (0.0, 0.0);
+    }
+    let start = (x / highest).log2();
+    let stop = if median > 0.0 { (x / median).log2() } else { start };
+    (start as f32, stop.max(start) as f32)
+}
+
+/// LDR-ꟻLIP of the images mapped channel by channel by `map` into [0, 1], then sRGB-encoded.
+fn ldr_flip(image: &Image, reference: &Image, map: impl Fn(f32) -> f32) -> nv_flip::FlipImageFloat {
+    let encode = |image: &Image| {
         let bytes: Vec<u8> =
-            image.pixels.iter().flat_map(|p| (*p * scale).to_array().map(crate::output::encode_srgb)).collect();
+            image.pixels.iter().flat_map(|p| p.to_array().map(|c| crate::output::encode_srgb(map(c)))).collect();
         nv_flip::FlipImageRgb8::with_data(image.width, image.height, &bytes)
     };
-    let error = nv_flip::flip(encode(reference), encode(image), FLIP_PIXELS_PER_DEGREE);
-    let mean = nv_flip::FlipPool::from_image(&error).mean() as f64;
-    let coloured = error.apply_color_lut(&nv_flip::magma_lut()).to_vec();
-    Ok((mean, coloured))
+    nv_flip::flip(encode(reference), encode(image), FLIP_PIXELS_PER_DEGREE)
+}
+
+fn finish(error: &nv_flip::FlipImageFloat, exposures: Vec<f32>) -> Flip {
+    let mean = nv_flip::FlipPool::from_image(error).mean() as f64;
+    Flip { mean, map: error.apply_color_lut(&nv_flip::magma_lut()).to_vec(), exposures }
 }
 
 /// One row of a render's error log: seconds rendering so far, samples per pixel, and the
@@ -321,17 +392,37 @@ mod tests {
         assert_eq!(polyline.matches(',').count(), 4);
     }
 
-    /// ꟻLIP is 0 for identical images and grows with the difference.
+    /// ꟻLIP, LDR and HDR, is 0 for identical images and grows with the difference.
     #[test]
     fn flip_is_zero_for_the_same_image_and_grows_with_the_difference() {
         let pattern: Vec<Rgb> = (0..64 * 64).map(|i| Rgb::splat(((i % 64) / 8) as f32 / 8.0)).collect();
         let reference = flat(&pattern, 64);
-        let (same, map) = flip(&reference, &reference, 0.0).unwrap();
-        assert_eq!(same, 0.0);
-        assert_eq!(map.len(), 64 * 64 * 3);
+        let same = flip(&reference, &reference, 0.0).unwrap();
+        assert_eq!(same.mean, 0.0);
+        assert_eq!(same.map.len(), 64 * 64 * 3);
+        assert_eq!(hdr_flip(&reference, &reference).unwrap().mean, 0.0);
         let shifted = |d: f32| flat(&pattern.iter().map(|p| *p + Rgb::splat(d)).collect::<Vec<_>>(), 64);
-        let (small, _) = flip(&shifted(0.02), &reference, 0.0).unwrap();
-        let (large, _) = flip(&shifted(0.3), &reference, 0.0).unwrap();
-        assert!(0.0 < small && small < large && large <= 1.0, "{small} {large}");
+        let (small, large) =
+            (flip(&shifted(0.02), &reference, 0.0).unwrap(), flip(&shifted(0.3), &reference, 0.0).unwrap());
+        assert!(0.0 < small.mean && small.mean < large.mean && large.mean <= 1.0, "{small:?} {large:?}");
+        let (small, large) =
+            (hdr_flip(&shifted(0.02), &reference).unwrap(), hdr_flip(&shifted(0.3), &reference).unwrap());
+        assert!(0.0 < small.mean && small.mean < large.mean && large.mean <= 1.0);
+    }
+
+    /// HDR-ꟻLIP's exposures by hand: ACES (with its 0.6 pre-exposure) reaches 0.85 at
+    /// x ≈ 2.119; a reference whose brightest luminance is 8 and median 1 starts at
+    /// log₂(2.119 / 8) ≈ −1.92 and stops at log₂ 2.119 ≈ 1.08: three stops, three exposures.
+    #[test]
+    fn hdr_flip_exposures_span_the_brightest_to_the_median() {
+        let x = (0..1000).map(|i| i as f32 * 0.01).find(|&x| aces(x) >= 0.85).unwrap();
+        assert!((x - 2.119).abs() < 0.01, "{x}");
+        let mut values = vec![Rgb::ONE; 9];
+        values[0] = Rgb::splat(8.0);
+        let reference = flat(&values, 3);
+        let (start, stop) = exposure_range(&reference);
+        assert!((start - (x / 8.0).log2()).abs() < 0.02 && (stop - x.log2()).abs() < 0.02, "{start} {stop}");
+        assert_eq!(hdr_flip(&reference, &reference).unwrap().exposures.len(), 3);
+        assert!((aces(1e6) - 1.0).abs() < 1e-6 && aces(0.0) == 0.0);
     }
 }

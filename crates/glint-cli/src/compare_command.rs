@@ -1,4 +1,4 @@
-//! `glint compare IMAGE REFERENCE`: error metrics, ꟻLIP and the Z-test of an image against a
+//! `glint compare IMAGE REFERENCE`: error metrics, ꟻLIP (HDR, or LDR at an exposure) and the Z-test of an image against a
 //! reference (`glint_cli::compare`), as text or JSON, and the ꟻLIP error map as an image.
 
 use std::path::PathBuf;
@@ -21,9 +21,10 @@ pub struct CompareArgs {
     /// The image's samples per pixel for the Z-test (default: its EXR header's `glint:spp`).
     #[arg(long)]
     spp: Option<u64>,
-    /// Exposure in stops at which ꟻLIP sees the images (as 8-bit sRGB).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    exposure: f32,
+    /// LDR-ꟻLIP at this exposure (stops; the images as 8-bit sRGB) instead of HDR-ꟻLIP, which
+    /// looks at the range of exposures the reference spans.
+    #[arg(long, allow_hyphen_values = true)]
+    exposure: Option<f32>,
     /// Write ꟻLIP's error map here, in the magma colours (.png).
     #[arg(long, value_name = "FILE")]
     error_image: Option<PathBuf>,
@@ -36,7 +37,12 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
     let read = |path: &PathBuf| compare::read_image(path).map_err(CliError::Input);
     let (image, reference) = (read(&args.image)?, read(&args.reference)?);
     let metrics = compare::metrics(&image, &reference).map_err(CliError::Input)?;
-    let (flip, map) = compare::flip(&image, &reference, args.exposure).map_err(CliError::Input)?;
+    let flip = match args.exposure {
+        Some(exposure) => compare::flip(&image, &reference, exposure),
+        None => compare::hdr_flip(&image, &reference),
+    }
+    .map_err(CliError::Input)?;
+    let kind = if args.exposure.is_some() { "ldr" } else { "hdr" };
     let z_test = match &args.variance {
         None => None,
         Some(path) => {
@@ -54,7 +60,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         }
     };
     if let Some(path) = &args.error_image {
-        let png = image::RgbImage::from_raw(image.width, image.height, map)
+        let png = image::RgbImage::from_raw(image.width, image.height, flip.map.clone())
             .ok_or_else(|| CliError::Input("the ꟻLIP map has the wrong size".into()))?;
         let mut bytes = Vec::new();
         png.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
@@ -71,7 +77,10 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
             "mse": metrics.mse, "rel_mse": metrics.rel_mse, "mae": metrics.mae, "mean_ratio": metrics.mean_ratio,
             "mse_mean": Metrics::mean(metrics.mse), "rel_mse_mean": Metrics::mean(metrics.rel_mse),
             "mae_mean": Metrics::mean(metrics.mae),
-            "flip": { "mean": flip, "exposure": args.exposure, "pixels_per_degree": compare::FLIP_PIXELS_PER_DEGREE },
+            "flip": {
+                "mean": flip.mean, "kind": kind, "exposures": flip.exposures,
+                "pixels_per_degree": compare::FLIP_PIXELS_PER_DEGREE,
+            },
             "z_test": z,
         });
         println!("{}", serde_json::to_string_pretty(&document).unwrap_or_default());
@@ -86,11 +95,12 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
     row("relMSE", metrics.rel_mse, Some(Metrics::mean(metrics.rel_mse)));
     row("MAE", metrics.mae, Some(Metrics::mean(metrics.mae)));
     row("mean ratio", metrics.mean_ratio, None);
-    println!(
-        "FLIP        {flip:.6} (LDR-ꟻLIP at exposure {}, {} pixels per degree)",
-        args.exposure,
-        compare::FLIP_PIXELS_PER_DEGREE
-    );
+    let (first, last) = (flip.exposures.first().copied().unwrap_or(0.0), flip.exposures.last().copied().unwrap_or(0.0));
+    let seen = match args.exposure {
+        Some(e) => format!("LDR-ꟻLIP at exposure {e}"),
+        None => format!("HDR-ꟻLIP, {} exposures from {first:.2} to {last:.2} stops", flip.exposures.len()),
+    };
+    println!("FLIP        {:.6} ({seen}, {} pixels per degree)", flip.mean, compare::FLIP_PIXELS_PER_DEGREE);
     if let Some((spp, z)) = z_test {
         println!(
             "Z-test      {:.4} % of pixel channels pass at α = {:.3e} ({spp} spp): {}",

@@ -384,24 +384,28 @@ fn image_argument(value: &Bound<'_, PyAny>, what: &str) -> PyResult<judge::Image
 /// means per channel, LDR-ꟻLIP's mean, and with `variance` (the reference's per-sample
 /// variance) and `spp` the per-pixel Z-test, as `glint compare` computes them.
 #[pyfunction]
-#[pyo3(signature = (image, reference, variance=None, spp=None, exposure=0.0))]
+#[pyo3(signature = (image, reference, variance=None, spp=None, exposure=None))]
 fn compare<'py>(
     py: Python<'py>,
     image: &Bound<'py, PyAny>,
     reference: &Bound<'py, PyAny>,
     variance: Option<&Bound<'py, PyAny>>,
     spp: Option<u64>,
-    exposure: f32,
+    exposure: Option<f32>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (image, reference) = (image_argument(image, "image")?, image_argument(reference, "reference")?);
     let metrics = judge::metrics(&image, &reference).map_err(PyValueError::new_err)?;
-    let (flip, _) = judge::flip(&image, &reference, exposure).map_err(PyValueError::new_err)?;
+    let flip = match exposure {
+        Some(exposure) => judge::flip(&image, &reference, exposure),
+        None => judge::hdr_flip(&image, &reference),
+    }
+    .map_err(PyValueError::new_err)?;
     let d = PyDict::new(py);
     d.set_item("mse", metrics.mse.to_vec())?;
     d.set_item("rel_mse", metrics.rel_mse.to_vec())?;
     d.set_item("mae", metrics.mae.to_vec())?;
     d.set_item("mean_ratio", metrics.mean_ratio.to_vec())?;
-    d.set_item("flip", flip)?;
+    d.set_item("flip", flip.mean)?;
     match (variance, spp) {
         (Some(variance), Some(spp)) => {
             let variance = image_argument(variance, "variance")?;
