@@ -154,3 +154,26 @@ def test_ray_renders_the_cornell_box_in_four_tasks_as_one_process_does():
     single = glint.load_file(CORNELL).render(samples=(0, 8), seed=2)
     assert merged.samples == [(0, 8)]
     assert np.array_equal(merged.image, single.image)
+
+
+def test_ray_joins_an_existing_cluster_by_its_address():
+    """A Ray head started apart (as a cluster's would be), joined by `address`, the driver a
+    separate process: the same image as one process renders."""
+    ray_cli = os.path.join(os.path.dirname(sys.executable), "ray")
+    port = 6000 + os.getpid() % 2000
+    # A local test cluster without Ray's token authentication (a real cluster's driver is
+    # given its token as Ray's documentation says).
+    env = dict(os.environ, RAY_USAGE_STATS_ENABLED="0", RAY_AUTH_MODE="disabled")
+    subprocess.run([ray_cli, "start", "--head", f"--port={port}", "--num-cpus=2", "--include-dashboard=false"],
+                   check=True, capture_output=True, env=env, timeout=120)
+    try:
+        script = f"""
+import glint.distributed, numpy as np
+merged = glint.distributed.render({CORNELL!r}, spp=4, tasks=2, seed=5, address="127.0.0.1:{port}")
+single = glint.load_file({CORNELL!r}).render(samples=(0, 4), seed=5)
+print("equal" if np.array_equal(merged.image, single.image) else "different", merged.samples)
+"""
+        out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=300)
+        assert "equal [(0, 4)]" in out.stdout, out.stdout + out.stderr
+    finally:
+        subprocess.run([ray_cli, "stop", "--force"], capture_output=True, env=env, timeout=120)
