@@ -148,13 +148,14 @@ impl TracesPaths for PathTracer {
             }
             let Some(hit) = scene.intersect(&ray) else {
                 // The environment is light-sampled too: weigh this BSDF sample against that.
-                let weight = match path.previous {
-                    Some(from) if !from.delta && scene.lights().has_environment() => {
-                        power_heuristic(from.pdf, scene.lights().pdf_environment(ray.direction))
-                    }
-                    _ => 1.0,
+                let seen = match path.previous {
+                    Some(from) if !from.delta => scene
+                        .lights()
+                        .environment_seen(ray.direction)
+                        .map(|(radiance, pdf)| (radiance, power_heuristic(from.pdf, pdf))),
+                    _ => None,
                 };
-                let background = scene.environment().radiance(ray.direction);
+                let (background, weight) = seen.unwrap_or_else(|| (scene.environment().radiance(ray.direction), 1.0));
                 let added = path.throughput * background * weight;
                 path.radiance += added;
                 recorder.escape(background, weight, added);

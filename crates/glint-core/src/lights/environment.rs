@@ -46,6 +46,16 @@ impl Environment {
         }
     }
 
+    /// `radiance` and `pdf` together, for a path that leaves the scene after a BSDF sample:
+    /// a map's direction is turned into its texel coordinates once (two arctangents) instead
+    /// of twice. The same values, bit for bit.
+    pub fn radiance_and_pdf(&self, direction: Vec3) -> (Rgb, f32) {
+        match &self.map {
+            Some(map) => map.radiance_and_pdf(direction),
+            None => (self.background, self.pdf(direction)),
+        }
+    }
+
     /// Whether light arrives from outside the scene (a map, or a background that is not black):
     /// then it is a light like the others, sampled and emitting particles.
     pub fn emits(&self) -> bool {
@@ -187,7 +197,16 @@ impl EnvironmentMap {
 
     /// The solid-angle density of `sample` producing `direction`.
     pub fn pdf(&self, direction: Vec3) -> f32 {
+        self.pdf_at(self.grid_uv(direction))
+    }
+
+    /// `radiance` and `pdf` from one conversion of the direction.
+    pub fn radiance_and_pdf(&self, direction: Vec3) -> (Rgb, f32) {
         let grid_uv = self.grid_uv(direction);
+        (self.lookup(grid_uv), self.pdf_at(grid_uv))
+    }
+
+    fn pdf_at(&self, grid_uv: Vec2) -> f32 {
         let sin = (std::f32::consts::PI * grid_uv.y).sin();
         if sin <= 0.0 {
             return 0.0;

@@ -9,6 +9,7 @@
 //! light E·π·R² over a disk that covers the scene's bounding sphere of radius R, the
 //! environment π·R²·∫L dω.
 
+use crate::Rgb;
 use glam::{Vec2, Vec3};
 
 use super::area::area_lights;
@@ -246,6 +247,20 @@ impl Lights {
         match &self.lights[i] {
             Light::Area(a) => a.pdf_li(from, receiver, point, normal, self.asked(i)),
             _ => 0.0,
+        }
+    }
+
+    /// What a path that leaves the scene along `direction` sees of the environment, and the
+    /// solid-angle density with which `sample_li` picks it there (`pdf_environment`), from one
+    /// lookup; `None` if the environment is not one of the lights.
+    #[inline]
+    pub fn environment_seen(&self, direction: Vec3) -> Option<(Rgb, f32)> {
+        match self.environment.map(|i| (i, &self.lights[i])) {
+            Some((i, Light::Environment(e))) => {
+                let (radiance, pdf) = e.radiance_and_pdf(direction);
+                Some((radiance, pdf * self.selection_probability(i)))
+            }
+            _ => None,
         }
     }
 

@@ -251,12 +251,16 @@ impl<'a> Wavefront<'a> {
                     // weighs it (a delta bounce's density is infinite).
                     let lights = self.scene.lights();
                     let direction = path.ray.direction;
-                    let weight = if path.depth > 0 && path.last_pdf != f32::INFINITY && lights.has_environment() {
-                        super::path::power_heuristic(path.last_pdf, lights.pdf_environment(direction))
+                    let seen = if path.depth > 0 && path.last_pdf != f32::INFINITY {
+                        lights
+                            .environment_seen(direction)
+                            .map(|(radiance, pdf)| (radiance, super::path::power_heuristic(path.last_pdf, pdf)))
                     } else {
-                        1.0
+                        None
                     };
-                    path.radiance += path.throughput * self.scene.environment().radiance(direction) * weight;
+                    let (radiance, weight) =
+                        seen.unwrap_or_else(|| (self.scene.environment().radiance(direction), 1.0));
+                    path.radiance += path.throughput * radiance * weight;
                 }
             }
             active.clear();
