@@ -52,14 +52,21 @@ pub fn read_image(path: &Path) -> Result<Image, String> {
 
 fn read_exr(path: &Path) -> Result<Image, String> {
     use exr::prelude::*;
-    let image = read_first_rgba_layer_from_file(
-        path,
-        |resolution, _| (resolution.width(), vec![Rgb::ZERO; resolution.width() * resolution.height()]),
-        |(width, pixels), position, (r, g, b, _a): (f32, f32, f32, f32)| {
-            pixels[position.y() * *width + position.x()] = Rgb::new(r, g, b);
-        },
-    )
-    .map_err(|e| format!("cannot read it as an RGB OpenEXR image: {e}"))?;
+    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    crate::output::check_exr_size(&bytes)?;
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |resolution, _| (resolution.width(), vec![Rgb::ZERO; resolution.width() * resolution.height()]),
+            |(width, pixels), position, (r, g, b, _a): (f32, f32, f32, f32)| {
+                pixels[position.y() * *width + position.x()] = Rgb::new(r, g, b);
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|e| format!("cannot read it as an RGB OpenEXR image: {e}"))?;
     let layer = &image.layer_data;
     let mut attributes = BTreeMap::new();
     for (key, value) in image.attributes.other.iter().chain(&layer.attributes.other) {

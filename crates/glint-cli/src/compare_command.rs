@@ -34,6 +34,8 @@ pub struct CompareArgs {
 }
 
 pub fn run(args: CompareArgs) -> Result<(), CliError> {
+    // What an image's header may declare (GLINT_MEMORY_LIMIT, as for `render`).
+    glint_scene::set_memory_limit(crate::render_command::memory_limit_bytes(None)?);
     let read = |path: &PathBuf| compare::read_image(path).map_err(CliError::Input);
     let (image, reference) = (read(&args.image)?, read(&args.reference)?);
     let metrics = compare::metrics(&image, &reference).map_err(CliError::Input)?;

@@ -23,6 +23,8 @@ pub struct MergeArgs {
 }
 
 pub fn run(args: MergeArgs) -> Result<(), CliError> {
+    // What a part's header may declare (GLINT_MEMORY_LIMIT, as for `render`).
+    glint_scene::set_memory_limit(crate::render_command::memory_limit_bytes(None)?);
     let format = check_writable(&args.output)?;
     let parts = args.parts.iter().map(|p| partial::read(p)).collect::<Result<Vec<_>, _>>()?;
     let count = parts.len();

@@ -232,6 +232,32 @@ fn encode_pfm(width: u32, height: u32, pixels: &[Rgb]) -> Vec<u8> {
     out
 }
 
+/// Refuses an EXR whose header declares more pixel data than the memory limit allows, before
+/// any of it is decoded: a few bytes of header can declare gigabytes (as glint-fuzz found for
+/// textures). Counts 16 bytes per channel sample, the widest a reader holds.
+pub fn check_exr_size(bytes: &[u8]) -> Result<(), String> {
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
+        .map_err(|e| format!("cannot read it as OpenEXR: {e}"))?;
+    let needed: u64 = meta
+        .headers
+        .iter()
+        .map(|h| {
+            let size = h.layer_size;
+            (size.width() as u64).saturating_mul(size.height() as u64).saturating_mul(h.channels.list.len() as u64 * 16)
+        })
+        .fold(0u64, u64::saturating_add);
+    let limit = glint_scene::memory_limit();
+    if needed > limit {
+        return Err(format!(
+            "its header declares {} of pixel data, more than the memory limit of {} ({})",
+            glint_scene::describe_bytes(needed),
+            glint_scene::describe_bytes(limit),
+            glint_scene::RAISE_MEMORY_LIMIT
+        ));
+    }
+    Ok(())
+}
+
 /// Reads a PFM written by `write_pfm` (or any little-endian RGB PFM) back, row 0 = top.
 pub fn read_pfm(path: &Path) -> Result<(u32, u32, Vec<Rgb>), OutputError> {
     let unreadable = |reason: &dyn std::fmt::Display| OutputError::Unreadable {

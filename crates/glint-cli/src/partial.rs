@@ -133,6 +133,7 @@ pub fn decode(bytes: &[u8], path: &Path) -> Result<Partial, MergeError> {
     use exr::prelude::*;
     let unreadable = |reason: String| MergeError::Unreadable { path: path.to_path_buf(), reason };
     let not_partial = |reason: String| MergeError::NotPartial { path: path.to_path_buf(), reason };
+    crate::output::check_exr_size(bytes).map_err(unreadable)?;
     let image = read()
         .no_deep_data()
         .largest_resolution_level()

@@ -791,7 +791,7 @@ const DEFAULT_MEMORY_LIMIT_GIB: f64 = 8.0;
 
 /// The memory limit in bytes: `--memory-limit`, else GLINT_MEMORY_LIMIT, else the default
 /// (all in GiB).
-fn memory_limit_bytes(flag: Option<f64>) -> Result<u64, CliError> {
+pub(crate) fn memory_limit_bytes(flag: Option<f64>) -> Result<u64, CliError> {
     let (value, from) = match (flag, std::env::var("GLINT_MEMORY_LIMIT")) {
         (Some(v), _) => (v, "--memory-limit"),
         (None, Ok(text)) => (

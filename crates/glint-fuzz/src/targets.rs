@@ -22,6 +22,8 @@ pub enum Target {
     Checkpoint,
     /// Image textures and environment maps (PNG, JPEG, EXR, HDR).
     Image,
+    /// Partial renders (`render --samples`), as `glint merge` reads them.
+    Partial,
 }
 
 /// A small mesh that the seed scenes' mesh references resolve to.
@@ -37,6 +39,7 @@ impl Target {
             Target::Ply => "ply",
             Target::Checkpoint => "checkpoint",
             Target::Image => "image",
+            Target::Partial => "partial",
         }
     }
 
@@ -104,7 +107,7 @@ impl Target {
                 "\n",
                 " ",
             ],
-            Target::Checkpoint | Target::Image => &[],
+            Target::Checkpoint | Target::Image | Target::Partial => &[],
         }
     }
 }
@@ -177,6 +180,9 @@ impl Runner {
                 checkpoint::parse(input, Path::new("fuzz.ckp"), expected).map(|_| ()).map_err(|e| e.to_string())
             }
             Target::Image => glint_scene::decode_image("fuzz", input, false).map(|_| ()),
+            Target::Partial => {
+                glint_cli::partial::decode(input, Path::new("fuzz.exr")).map(|_| ()).map_err(|e| e.to_string())
+            }
         }
     }
 }

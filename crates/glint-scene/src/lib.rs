@@ -16,7 +16,7 @@ mod source;
 
 pub use error::{Location, SceneError};
 pub use image::decode as decode_image;
-pub use limits::set_memory_limit;
+pub use limits::{describe as describe_bytes, memory_limit, set_memory_limit, RAISE as RAISE_MEMORY_LIMIT};
 pub use native::{
     load_scene, load_scene_with, load_scene_with_options, parse_scene, LoadOptions, LoadedScene, RenderOptions,
 };

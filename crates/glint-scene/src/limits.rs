@@ -11,15 +11,16 @@ pub fn set_memory_limit(bytes: u64) {
     MEMORY_LIMIT.store(bytes, Ordering::Relaxed);
 }
 
-pub(crate) fn memory_limit() -> u64 {
+/// The limit, in bytes.
+pub fn memory_limit() -> u64 {
     MEMORY_LIMIT.load(Ordering::Relaxed)
 }
 
 /// How the limit is raised, for messages.
-pub(crate) const RAISE: &str = "raise it with --memory-limit GIB or GLINT_MEMORY_LIMIT";
+pub const RAISE: &str = "raise it with --memory-limit GIB or GLINT_MEMORY_LIMIT";
 
 /// `bytes` in MiB or GiB, for messages.
-pub(crate) fn describe(bytes: u64) -> String {
+pub fn describe(bytes: u64) -> String {
     if bytes >= 1 << 30 {
         format!("{:.1} GiB", bytes as f64 / (1u64 << 30) as f64)
     } else {
