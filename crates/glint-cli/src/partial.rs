@@ -195,6 +195,8 @@ pub fn merge(parts: Vec<Partial>) -> Result<Merged, MergeError> {
     let first = parts.next().ok_or(MergeError::NoInputs)?;
     let mut sums = first.sums.clone();
     let mut held: Vec<((u32, u32), PathBuf)> = first.ranges.iter().map(|r| (*r, first.path.clone())).collect();
+    let render_seconds = |p: &Partial| p.attributes.get("glint:render_seconds").and_then(|s| s.parse::<f64>().ok());
+    let mut seconds = vec![render_seconds(&first)];
     for part in parts {
         let mismatch = |what: &str, a: String, b: String| MergeError::Mismatch {
             first: first.path.clone(),
@@ -221,14 +223,28 @@ pub fn merge(parts: Vec<Partial>) -> Result<Merged, MergeError> {
             }
         }
         held.extend(part.ranges.iter().map(|r| (*r, part.path.clone())));
+        seconds.push(render_seconds(&part));
         for (total, add) in sums.iter_mut().zip(&part.sums) {
             total.merge(add);
         }
     }
     let ranges = normalise(held.into_iter().map(|(r, _)| r).collect());
     let film = Film::from_exact_sums(first.width, first.height, sums).expect("the sizes were checked");
-    let mut attributes: Vec<(String, String)> =
-        first.attributes.into_iter().filter(|(k, _)| k.starts_with("glint:") && k != SAMPLES_KEY).collect();
+    // The identity and the camera as the parts have them; the sample count and the render
+    // time are the whole's (the parts' times summed, where each has one).
+    let spp: u32 = ranges.iter().map(|(a, b)| b - a).sum();
+    let seconds: Option<f64> = seconds.into_iter().sum();
+    let mut attributes: Vec<(String, String)> = first
+        .attributes
+        .into_iter()
+        .filter(|(k, _)| {
+            k.starts_with("glint:") && ![SAMPLES_KEY, "glint:spp", "glint:render_seconds"].contains(&k.as_str())
+        })
+        .collect();
+    attributes.push(("glint:spp".to_string(), spp.to_string()));
+    if let Some(seconds) = seconds {
+        attributes.push(("glint:render_seconds".to_string(), seconds.to_string()));
+    }
     attributes.push((SAMPLES_KEY.to_string(), format_ranges(&ranges)));
     Ok(Merged { film, attributes, ranges })
 }

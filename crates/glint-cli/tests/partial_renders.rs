@@ -67,6 +67,8 @@ fn merges_of_two_three_and_seven_parts_equal_one_render_bit_for_bit() {
     let o = glint(&["merge", ab.to_str().unwrap(), a.to_str().unwrap(), b.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("samples 0..9 (9 per pixel)"), "{}", stderr(&o));
+    let header = glint_cli::compare::read_image(&ab).unwrap().attributes;
+    assert_eq!((header["glint:spp"].as_str(), header["glint:samples"].as_str()), ("9", "0..9"));
     let whole = pixels(&dir, &[part(&dir, &scene, (0, 14), &[])]);
     assert_eq!(bits(&pixels(&dir, &[ab, c])), bits(&whole));
     std::fs::remove_dir_all(dir).unwrap();

@@ -206,11 +206,18 @@ impl Film {
     /// Adds radiance to a pixel's sum without adding weight (light tracing's splats; the
     /// pass adds its weight to every pixel with `add_weight_everywhere`).
     pub fn add_splat(&mut self, x: u32, y: u32, radiance: Rgb) {
-        self.sum[(y * self.width + x) as usize] += radiance;
+        let i = (y * self.width + x) as usize;
+        self.sum[i] += radiance;
+        if let Some(exact) = &mut self.exact {
+            exact[i].add(radiance, 0.0);
+        }
     }
 
     pub fn add_weight_everywhere(&mut self, weight: f32) {
         self.weight.iter_mut().for_each(|w| *w += weight);
+        if let Some(exact) = &mut self.exact {
+            exact.iter_mut().for_each(|p| p.add(Rgb::ZERO, weight));
+        }
     }
 
     /// The raw accumulators (for checkpoints): per-pixel radiance sums and weights (not the
@@ -273,6 +280,18 @@ mod tests {
         assert_eq!(whole.pixel(0, 0), Rgb::splat(expected));
         let rebuilt = Film::from_exact_sums(1, 1, whole.exact_sums().unwrap().to_vec()).unwrap();
         assert_eq!(rebuilt.pixel(0, 0), whole.pixel(0, 0));
+    }
+
+    /// Splats and weights added to every pixel (light tracing's way) land in the exact sums
+    /// too: the exact image is the f32 one's.
+    #[test]
+    fn splats_reach_the_exact_sums() {
+        let mut film = Film::new(2, 1).with_exact_sums();
+        film.add_splat(1, 0, Rgb::new(3.0, 1.5, 0.25));
+        film.add_weight_everywhere(2.0);
+        assert_eq!(film.pixel(1, 0), Rgb::new(1.5, 0.75, 0.125));
+        assert_eq!(film.pixel(0, 0), Rgb::ZERO);
+        assert_eq!(film.exact_sums().unwrap()[0].weight, 2 * (1i128 << 64));
     }
 
     /// Samples added through the bands land where `add_samples` puts them, the last band

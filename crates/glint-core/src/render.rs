@@ -109,6 +109,10 @@ pub fn render_progressive(
     on_tile: &(dyn Fn() + Sync),
     on_pass: &mut dyn FnMut(&Film, u32, &dyn PassRenderer),
 ) -> RenderOutput {
+    assert!(
+        resume.is_none() || progressive.sample_range.is_none(),
+        "a sample range renders into a fresh film of exact sums; a checkpoint's film has none"
+    );
     let start = Instant::now();
     let mut settings = progressive.settings;
     let (width, height) = (scene.camera().width, scene.camera().height);

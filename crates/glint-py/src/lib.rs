@@ -109,6 +109,11 @@ impl Scene {
             })?,
         };
         if let Some((a, b)) = samples {
+            if spp.is_some() {
+                return Err(PyValueError::new_err(
+                    "give spp or samples, not both: samples=(a, b) renders b − a samples",
+                ));
+            }
             if a >= b {
                 return Err(PyValueError::new_err(format!("samples=({a}, {b}) is empty: it holds samples a to b − 1")));
             }
@@ -227,11 +232,21 @@ fn run_interruptibly(
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {
                 if let Err(interrupt) = py.check_signals() {
+                    // The render ends after the pass under way; a second Ctrl-C while it does
+                    // stops waiting for it (the thread finishes on its own).
                     stop.store(true, Ordering::Relaxed);
-                    py.allow_threads(|| {
-                        let _ = receiver.lock().expect("one waiter").recv();
-                    });
-                    let _ = worker.join();
+                    loop {
+                        let done = py.allow_threads(|| {
+                            receiver.lock().expect("one waiter").recv_timeout(Duration::from_millis(50))
+                        });
+                        if !matches!(done, Err(mpsc::RecvTimeoutError::Timeout)) {
+                            let _ = worker.join();
+                            break;
+                        }
+                        if py.check_signals().is_err() {
+                            break;
+                        }
+                    }
                     return Err(interrupt);
                 }
             }
@@ -364,10 +379,9 @@ fn image_argument(value: &Bound<'_, PyAny>, what: &str) -> PyResult<judge::Image
     if let Ok(path) = value.extract::<PathBuf>() {
         return judge::read_image(&path).map_err(glint_error);
     }
-    let array: PyReadonlyArrayDyn<'_, f32> = value
-        .call_method1("astype", ("float32",))?
-        .extract()
-        .map_err(|_| PyValueError::new_err(format!("{what}: expected a path or a numpy array")))?;
+    let not_an_image = |_| PyValueError::new_err(format!("{what}: expected a path or a numpy array"));
+    let array: PyReadonlyArrayDyn<'_, f32> =
+        value.call_method1("astype", ("float32",)).map_err(not_an_image)?.extract().map_err(not_an_image)?;
     let shape = array.shape().to_vec();
     if shape.len() != 3 || shape[2] != 3 {
         return Err(PyValueError::new_err(format!("{what}: expected shape (height, width, 3), got {shape:?}")));

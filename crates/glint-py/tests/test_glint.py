@@ -81,6 +81,8 @@ def test_merges_of_two_three_and_seven_ranges_equal_one_render_bit_for_bit():
         glint.merge([a, scene.render(samples=(5, 9), seed=4)])
     with pytest.raises(ValueError, match="empty"):
         scene.render(samples=(4, 4))
+    with pytest.raises(ValueError, match="spp or samples"):
+        scene.render(spp=4, samples=(0, 4))
 
 
 def test_compare_metrics_on_hand_made_images():
@@ -96,6 +98,8 @@ def test_compare_metrics_on_hand_made_images():
     assert same["mse"] == [0, 0, 0] and same["flip"] == 0 and same["z_test"]["passed"]
     with pytest.raises(ValueError, match="shape"):
         glint.compare(np.zeros((2, 2)), reference)
+    with pytest.raises(ValueError, match="expected a path or a numpy array"):
+        glint.compare([[1, 2, 3]], reference)
 
 
 def test_the_gil_is_released_while_rendering():

@@ -411,29 +411,37 @@ impl Csg {
 /// A closed mesh's span: its crossings sorted, each entering or leaving by its normal's side,
 /// the origin's winding number the count of leavings less enterings (past the last crossing
 /// the ray is outside), and a crossing kept where the winding number passes zero.
+///
+/// Crossings at (almost) one distance are one event, counted by the sign of enterings less
+/// leavings: two of one sense are one crossing on the edge two triangles share, found in
+/// both; a mixed group is a ray grazing a silhouette edge or vertex, which neither enters nor
+/// leaves (or, if one sense outnumbers the other, does that once).
 fn mesh_span(geometry: &dyn super::InstancedGeometry, ray: &Ray, solid: u32, inward: bool) -> Span {
     let mut all: SmallVec<[(PrimHit, bool); 16]> = SmallVec::new();
     let mut forward = *ray;
     forward.t_max = f32::INFINITY;
     geometry.crossings(&forward, &mut |hit, along_normal| all.push((hit, along_normal != inward)));
     all.sort_unstable_by(|a, b| a.0.t.total_cmp(&b.0.t));
-    // Two crossings of one sense at (almost) one distance are one crossing on the edge two
-    // triangles share, found in both.
-    let mut kept: SmallVec<[(PrimHit, bool); 16]> = SmallVec::new();
-    for (hit, leaving) in all {
-        if let Some((last, last_leaving)) = kept.last() {
-            if *last_leaving == leaving && hit.t - last.t <= 1e-6 * hit.t.abs().max(last.t.abs()) {
-                continue;
-            }
+    // Each event: its first crossing and its effect on the winding number (+1 entering).
+    let mut events: SmallVec<[(PrimHit, i32); 16]> = SmallVec::new();
+    let mut k = 0;
+    while k < all.len() {
+        let first = all[k].0;
+        let mut balance = 0i32;
+        while k < all.len() && all[k].0.t - first.t <= 1e-6 * all[k].0.t.abs().max(first.t.abs()) {
+            balance += if all[k].1 { -1 } else { 1 };
+            k += 1;
         }
-        kept.push((hit, leaving));
+        if balance != 0 {
+            events.push((first, balance.signum()));
+        }
     }
-    let mut winding: i32 = kept.iter().map(|&(_, leaving)| if leaving { 1 } else { -1 }).sum();
+    let mut winding: i32 = -events.iter().map(|&(_, step)| step).sum::<i32>();
     winding = winding.max(0);
     let mut span = Span { inside: winding > 0, crossings: SmallVec::new() };
-    for (hit, leaving) in kept {
+    for (hit, step) in events {
         let was_inside = winding > 0;
-        winding += if leaving { -1 } else { 1 };
+        winding += step;
         if (winding > 0) != was_inside {
             span.crossings.push(PrimHit { inner: solid, ..hit });
         }
@@ -442,28 +450,36 @@ fn mesh_span(geometry: &dyn super::InstancedGeometry, ray: &Ray, solid: u32, inw
 }
 
 /// The merge of two operands' spans: each crossing in order of distance toggles its operand's
-/// inside-ness, and is kept where it toggles the result's.
+/// inside-ness, and is kept where it toggles the result's. The two operands' crossings at one
+/// distance (faces flush with each other: boxes side by side, a notch cut level with a face)
+/// toggle together, and make one crossing or none: two boxes joined face to face have no wall
+/// between them.
 fn combine(operation: CsgOperation, a: Span, b: Span) -> Span {
     let (mut in_a, mut in_b) = (a.inside, b.inside);
     let mut inside = operation.contains(in_a, in_b);
     let mut out = Span { inside, crossings: SmallVec::new() };
     let (mut i, mut j) = (0, 0);
     while i < a.crossings.len() || j < b.crossings.len() {
-        let take_a = j == b.crossings.len() || (i < a.crossings.len() && a.crossings[i].t <= b.crossings[j].t);
-        let crossing = if take_a {
-            in_a = !in_a;
-            i += 1;
-            a.crossings[i - 1]
-        } else {
-            in_b = !in_b;
-            j += 1;
-            b.crossings[j - 1]
+        let next_a = a.crossings.get(i).map(|c| c.t);
+        let next_b = b.crossings.get(j).map(|c| c.t);
+        let (from_a, from_b) = match (next_a, next_b) {
+            (Some(ta), Some(tb)) if ta == tb => (true, true),
+            (Some(ta), Some(tb)) => (ta < tb, tb < ta),
+            (Some(_), None) => (true, false),
+            _ => (false, true),
         };
+        let was_b = in_b;
+        in_a ^= from_a;
+        in_b ^= from_b;
         let now = operation.contains(in_a, in_b);
         if now != inside {
-            out.crossings.push(crossing);
+            // The crossing whose own toggle changes the result (a's, where either would).
+            let a_alone = from_a && operation.contains(in_a, was_b) != inside;
+            out.crossings.push(if a_alone || !from_b { a.crossings[i] } else { b.crossings[j] });
             inside = now;
         }
+        i += usize::from(from_a);
+        j += usize::from(from_b);
     }
     out
 }
@@ -619,6 +635,27 @@ mod tests {
                 (7.0, Vec3::X)
             ]
         );
+    }
+
+    /// Faces flush with each other: a notch cut level with the cube's top leaves no lid over
+    /// it, and two boxes joined face to face have no wall between them, seen from outside or
+    /// from inside either.
+    #[test]
+    fn flush_faces_make_one_surface_or_none() {
+        let boxed = |min: [f32; 3], max: [f32; 3]| CsgTree::solid(Shape::AaBox(AaBox::new(min.into(), max.into())));
+        let notched = csg(CsgOperation::Difference, vec![cube(1.0), boxed([-0.5, -0.5, 0.5], [0.5, 0.5, 1.0])]);
+        let (t, normal, solid) = first_hit(&notched, Vec3::new(0.0, 0.0, 3.0), -Vec3::Z).unwrap();
+        assert!(close(t, 2.5) && solid == 1 && normal.abs_diff_eq(Vec3::Z, 1e-6), "{t} {normal} {solid}");
+        let pair = csg(
+            CsgOperation::Union,
+            vec![boxed([-1.0, -1.0, -1.0], [0.0, 1.0, 1.0]), boxed([0.0, -1.0, -1.0], [1.0, 1.0, 1.0])],
+        );
+        let methods = IntersectMethods::default();
+        for (origin, expected) in [(Vec3::new(-3.0, 0.1, 0.2), vec![2.0, 4.0]), (Vec3::new(-0.5, 0.1, 0.2), vec![1.5])]
+        {
+            let (_, crossings) = pair.crossings(&Ray::new(origin, Vec3::X), &methods);
+            assert_eq!(crossings.iter().map(|c| c.t).collect::<Vec<_>>(), expected, "from {origin}");
+        }
     }
 
     /// Operands beyond two: a union of many, and the first minus all the others, each as a
@@ -782,15 +819,21 @@ mod tests {
             }
             assert!(hits > 2000, "{hits} crossings compared");
         }
-        // A ray through an edge the mesh's triangles share, and through a face's diagonal.
+        // Rays through a face's diagonal, which its two triangles share (two hits of one sense:
+        // one crossing each way), through the cube's corner and along a diagonal through two
+        // opposite edges; and a ray grazing the cube's edge from outside (an entering and a
+        // leaving face meet there): a touch, no crossing.
         let by_mesh = csg(CsgOperation::Union, vec![cube_mesh(1.0, true), cube_far()]);
-        for (origin, direction) in [
-            (Vec3::new(-3.0, 1.0, 0.0), Vec3::new(1.0, -1.0, 0.0).normalize()),
-            (Vec3::new(0.0, 0.0, -5.0), Vec3::Z),
-            (Vec3::new(0.3, 0.3, -5.0), Vec3::Z),
+        for (origin, direction, expected) in [
+            (Vec3::new(0.0, 0.0, -5.0), Vec3::Z, 2),
+            (Vec3::new(0.3, 0.3, -5.0), Vec3::Z, 2),
+            // (on to the far box, which the diagonal meets too)
+            (Vec3::new(-3.0, -3.0, -3.0), Vec3::ONE.normalize(), 4),
+            (Vec3::new(-3.0, -3.0, 0.3), Vec3::new(1.0, 1.0, 0.0).normalize(), 2),
+            (Vec3::new(-3.0, 1.0, 0.0), Vec3::new(1.0, -1.0, 0.0).normalize(), 0),
         ] {
-            let (_, crossings) = by_mesh.crossings(&Ray::new(origin, direction), &methods);
-            assert_eq!(crossings.len(), 2, "{origin} {direction}: {crossings:?}");
+            let (inside, crossings) = by_mesh.crossings(&Ray::new(origin, direction), &methods);
+            assert_eq!((inside, crossings.len()), (false, expected), "{origin} {direction}: {crossings:?}");
         }
     }
 
