@@ -34,8 +34,9 @@ enum Command {
         after_help = "Exit status: 0 when the render ended (its samples done or its --time spent), 1 on an error (nothing is written, or what was written is named), 2 on a usage error, 3 when interrupted by Ctrl-C, SIGTERM or SIGHUP (the image and --checkpoint of the passes finished are written; if none had finished, nothing is, and the message says so), 130 on a second Ctrl-C (quit at once, nothing more written)."
     )]
     Render(render_command::RenderArgs),
-    /// Print the ray tree of one pixel (Whitted's recursion): every ray, what it hit, each
-    /// light's contribution and shadow test, the weights passed down, and the final colour.
+    /// Explain one pixel: Whitted's ray tree (every ray, what it hit, each light's share and
+    /// shadow test), or with --integrator the path tracers' and photon mapping's path, light
+    /// tracing's particles or SPPM's gather; the lines add up to what `render --spp 1` gives.
     Explain(explain_command::ExplainArgs),
     /// Combine partial renders (`render --samples A..B`, EXR) into the image one render of all
     /// their samples gives, bit for bit; parts of different renders or with shared samples
