@@ -68,12 +68,7 @@ fn read_exr(path: &Path) -> Result<Image, String> {
         .from_buffered(std::io::Cursor::new(bytes))
         .map_err(|e| format!("cannot read it as an RGB OpenEXR image: {e}"))?;
     let layer = &image.layer_data;
-    let mut attributes = BTreeMap::new();
-    for (key, value) in image.attributes.other.iter().chain(&layer.attributes.other) {
-        if let AttributeValue::Text(text) = value {
-            attributes.insert(key.to_string(), text.to_string());
-        }
-    }
+    let attributes = crate::output::exr_text_attributes(&image.attributes.other, &layer.attributes.other);
     let (width, height) = (layer.size.width() as u32, layer.size.height() as u32);
     Ok(self::Image { width, height, pixels: layer.channel_data.pixels.1.clone(), attributes })
 }

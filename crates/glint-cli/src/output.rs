@@ -232,6 +232,22 @@ fn encode_pfm(width: u32, height: u32, pixels: &[Rgb]) -> Vec<u8> {
     out
 }
 
+/// An EXR's text attributes: the image's, then its layer's (an EXR of one layer keeps custom
+/// attributes in its one header, which the reader hands back with the layer).
+pub fn exr_text_attributes(
+    image: &std::collections::HashMap<exr::meta::attribute::Text, exr::meta::attribute::AttributeValue>,
+    layer: &std::collections::HashMap<exr::meta::attribute::Text, exr::meta::attribute::AttributeValue>,
+) -> std::collections::BTreeMap<String, String> {
+    image
+        .iter()
+        .chain(layer)
+        .filter_map(|(name, value)| match value {
+            exr::meta::attribute::AttributeValue::Text(text) => Some((name.to_string(), text.to_string())),
+            _ => None,
+        })
+        .collect()
+}
+
 /// Refuses an EXR whose header declares more pixel data than the memory limit allows, before
 /// any of it is decoded: a few bytes of header can declare gigabytes (as glint-fuzz found for
 /// textures). Counts 16 bytes per channel sample, the widest a reader holds.

@@ -144,14 +144,7 @@ pub fn decode(bytes: &[u8], path: &Path) -> Result<Partial, MergeError> {
         .map_err(|e| unreadable(format!("cannot read it as OpenEXR: {e}")))?;
     let layer = image.layer_data.first().ok_or_else(|| not_partial("it has no image layer".into()))?;
     let (width, height) = (layer.size.width() as u32, layer.size.height() as u32);
-    // Custom attributes come back with the layer (an EXR of one part keeps them in its one
-    // header); those written as the image's are looked for too.
-    let mut attributes = BTreeMap::new();
-    for (name, value) in image.attributes.other.iter().chain(&layer.attributes.other) {
-        if let AttributeValue::Text(text) = value {
-            attributes.insert(name.to_string(), text.to_string());
-        }
-    }
+    let attributes = crate::output::exr_text_attributes(&image.attributes.other, &layer.attributes.other);
     let samples =
         attributes.get(SAMPLES_KEY).ok_or_else(|| not_partial(format!("its header has no `{SAMPLES_KEY}`")))?;
     let ranges = samples

@@ -105,12 +105,7 @@ fn exr_channels(path: &Path) -> (glint_cli::output::Channels, std::collections::
     let layer = &image.layer_data[0];
     let channels =
         layer.channel_data.list.iter().map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect())).collect();
-    let mut attributes = std::collections::BTreeMap::new();
-    for (k, v) in image.attributes.other.iter().chain(&layer.attributes.other) {
-        if let AttributeValue::Text(t) = v {
-            attributes.insert(k.to_string(), t.to_string());
-        }
-    }
+    let attributes = glint_cli::output::exr_text_attributes(&image.attributes.other, &layer.attributes.other);
     (channels, attributes)
 }
 

@@ -52,6 +52,31 @@ impl ExactPixel {
     }
 }
 
+/// Adds to pixel `i` of a film's (or band's) accumulators: `weighted` (radiance × weight) and
+/// `weight` to the sums, exactly too where kept, and `weight`·L² to the second moment where
+/// kept and the sample's radiance `radiance` is given. The one place a sample lands.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn accumulate(
+    sum: &mut [Rgb],
+    weights: &mut [f32],
+    squares: Option<&mut [Rgb]>,
+    exact: Option<&mut [ExactPixel]>,
+    i: usize,
+    weighted: Rgb,
+    weight: f32,
+    radiance: Option<Rgb>,
+) {
+    sum[i] += weighted;
+    weights[i] += weight;
+    if let (Some(squares), Some(radiance)) = (squares, radiance) {
+        squares[i] += radiance * radiance * weight;
+    }
+    if let Some(exact) = exact {
+        exact[i].add(weighted, weight);
+    }
+}
+
 /// Rows `y0..y0 + rows` of a film (`Film::bands_mut`).
 pub struct FilmBand<'a> {
     width: u32,
@@ -68,11 +93,7 @@ impl FilmBand<'_> {
     pub fn add_samples(&mut self, x: u32, y: u32, radiance_sum: Rgb, count: f32) {
         debug_assert!(x < self.width && (self.y0..self.y0 + self.rows).contains(&y), "({x}, {y}) outside the band");
         let i = ((y - self.y0) * self.width + x) as usize;
-        self.sum[i] += radiance_sum;
-        self.weight[i] += count;
-        if let Some(exact) = &mut self.exact {
-            exact[i].add(radiance_sum, count);
-        }
+        accumulate(self.sum, self.weight, None, self.exact.as_deref_mut(), i, radiance_sum, count, None);
     }
 
     /// `Film::add_sample` for pixel (x, y) of the film, which must lie in this band.
@@ -80,14 +101,17 @@ impl FilmBand<'_> {
     pub fn add_sample(&mut self, x: u32, y: u32, radiance: Rgb, weight: f32) {
         debug_assert!(x < self.width && (self.y0..self.y0 + self.rows).contains(&y), "({x}, {y}) outside the band");
         let i = ((y - self.y0) * self.width + x) as usize;
-        self.sum[i] += radiance * weight;
-        self.weight[i] += weight;
-        if let Some(squares) = &mut self.squares {
-            squares[i] += radiance * radiance * weight;
-        }
-        if let Some(exact) = &mut self.exact {
-            exact[i].add(radiance * weight, weight);
-        }
+        let squares = self.squares.as_deref_mut();
+        accumulate(
+            self.sum,
+            self.weight,
+            squares,
+            self.exact.as_deref_mut(),
+            i,
+            radiance * weight,
+            weight,
+            Some(radiance),
+        );
     }
 }
 
@@ -121,14 +145,8 @@ impl Film {
     #[inline]
     pub fn add_sample(&mut self, x: u32, y: u32, radiance: Rgb, weight: f32) {
         let i = (y * self.width + x) as usize;
-        self.sum[i] += radiance * weight;
-        self.weight[i] += weight;
-        if let Some(squares) = &mut self.squares {
-            squares[i] += radiance * radiance * weight;
-        }
-        if let Some(exact) = &mut self.exact {
-            exact[i].add(radiance * weight, weight);
-        }
+        let (squares, exact) = (self.squares.as_deref_mut(), self.exact.as_deref_mut());
+        accumulate(&mut self.sum, &mut self.weight, squares, exact, i, radiance * weight, weight, Some(radiance));
     }
 
     /// Each pixel's second moment, the weighted mean of L² (row-major from the top-left), if
@@ -142,11 +160,7 @@ impl Film {
     /// Adds `count` samples whose radiances sum to `radiance_sum` (box filter: weight 1 each).
     pub fn add_samples(&mut self, x: u32, y: u32, radiance_sum: Rgb, count: f32) {
         let i = (y * self.width + x) as usize;
-        self.sum[i] += radiance_sum;
-        self.weight[i] += count;
-        if let Some(exact) = &mut self.exact {
-            exact[i].add(radiance_sum, count);
-        }
+        accumulate(&mut self.sum, &mut self.weight, None, self.exact.as_deref_mut(), i, radiance_sum, count, None);
     }
 
     /// The film, also keeping its sums exactly (`ExactPixel`): for a render that is one part

@@ -290,7 +290,7 @@ impl Csg {
     }
 
     /// Every crossing of the result's boundary after the ray's origin, and whether the origin
-    /// is inside (for tests and `explain`).
+    /// is inside (what a ray meets all along it, as the tests check it).
     pub fn crossings(&self, ray: &Ray, methods: &IntersectMethods) -> (bool, Vec<PrimHit>) {
         let span = self.span(self.root(), ray, methods);
         (span.inside, span.crossings.into_vec())

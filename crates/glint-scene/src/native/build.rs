@@ -443,6 +443,30 @@ impl MeshLibrary<'_> {
     }
 }
 
+/// A sphere of the scene file (a shape or a CSG operand), checked: the key at fault and why.
+fn sphere_shape(center: Vector, radius: f32) -> Result<Shape, (&'static str, String)> {
+    let center = finite(center).map_err(|m| ("center", m))?;
+    positive(radius).map_err(|m| ("radius", format!("`radius` {m}")))?;
+    if radius > MAX_COORDINATE {
+        return Err((
+            "radius",
+            format!(
+                "`radius` must be at most {MAX_COORDINATE:e} (its square must fit in 32-bit floats), got {radius:e}"
+            ),
+        ));
+    }
+    Ok(Shape::Sphere(Sphere::new(center, radius)))
+}
+
+/// An axis-aligned box of the scene file (a shape or a CSG operand), checked.
+fn box_shape(min: Vector, max: Vector) -> Result<Shape, (&'static str, String)> {
+    let (lo, hi) = (finite(min).map_err(|m| ("min", m))?, finite(max).map_err(|m| ("max", m))?);
+    if !lo.cmplt(hi).all() {
+        return Err(("max", format!("`max` must exceed `min` on every axis, got min = {lo}, max = {hi}")));
+    }
+    Ok(Shape::AaBox(AaBox::new(lo, hi)))
+}
+
 /// The index of the material named `name`, or what names there are.
 fn material_index(materials: &[(String, Material)], name: &str) -> Result<u32, String> {
     let index = materials.iter().position(|(n, _)| n == name).ok_or_else(|| {
@@ -524,18 +548,8 @@ fn csg_operand(
         (o, t) => o.or(t),
     };
     let shape = match operand {
-        OperandDesc::Sphere { center, radius, .. } => {
-            let center = finite(*center).map_err(|m| at("center", m))?;
-            positive(*radius).map_err(|m| at("radius", format!("`radius` {m}")))?;
-            Shape::Sphere(Sphere::new(center, *radius))
-        }
-        OperandDesc::Box { min, max, .. } => {
-            let (lo, hi) = (finite(*min).map_err(|m| at("min", m))?, finite(*max).map_err(|m| at("max", m))?);
-            if !lo.cmplt(hi).all() {
-                return Err(at("max", format!("`max` must exceed `min` on every axis, got min = {lo}, max = {hi}")));
-            }
-            Shape::AaBox(AaBox::new(lo, hi))
-        }
+        OperandDesc::Sphere { center, radius, .. } => sphere_shape(*center, *radius).map_err(|(k, m)| at(k, m))?,
+        OperandDesc::Box { min, max, .. } => box_shape(*min, *max).map_err(|(k, m)| at(k, m))?,
         OperandDesc::Instance { mesh, .. } => {
             let geometry = oc.library.get(cx, mesh, oc.source, oc.warnings, |m| at("mesh", m))?;
             if geometry.objects().len() != 1
@@ -577,14 +591,7 @@ fn build_object(
     let transform = build_transform(transform_ops).map_err(|m| at("transform", m))?;
 
     let shape = match desc {
-        ShapeDesc::Sphere { center, radius, .. } => {
-            let center = finite(*center).map_err(|m| at("center", m))?;
-            positive(*radius).map_err(|m| at("radius", format!("`radius` {m}")))?;
-            if *radius > MAX_COORDINATE {
-                return Err(at("radius", format!("`radius` must be at most {MAX_COORDINATE:e} (its square must fit in 32-bit floats), got {radius:e}")));
-            }
-            Shape::Sphere(Sphere::new(center, *radius))
-        }
+        ShapeDesc::Sphere { center, radius, .. } => sphere_shape(*center, *radius).map_err(|(k, m)| at(k, m))?,
         ShapeDesc::Plane { normal, offset, point, .. } => {
             let n = finite(*normal).map_err(|m| at("normal", m))?;
             if n.length_squared() == 0.0 {
@@ -660,13 +667,7 @@ fn build_object(
             }
             Shape::Polygon(polygon)
         }
-        ShapeDesc::Box { min, max, .. } => {
-            let (lo, hi) = (finite(*min).map_err(|m| at("min", m))?, finite(*max).map_err(|m| at("max", m))?);
-            if !lo.cmplt(hi).all() {
-                return Err(at("max", format!("`max` must exceed `min` on every axis, got min = {lo}, max = {hi}")));
-            }
-            Shape::AaBox(AaBox::new(lo, hi))
-        }
+        ShapeDesc::Box { min, max, .. } => box_shape(*min, *max).map_err(|(k, m)| at(k, m))?,
         ShapeDesc::Quad { vertices, .. } => {
             let mut positions = Vec::with_capacity(4);
             for v in vertices {
