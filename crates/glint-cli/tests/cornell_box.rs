@@ -234,3 +234,17 @@ fn mitsuba_xml_cornell_box_matches_the_mitsuba_reference() {
     let path = render_scene_with_variance(&xml, IntegratorKind::Path, 5, SPP);
     check_against("path (cbox.xml) vs Mitsuba", &path, &reference, 4, true);
 }
+
+/// The same ground truth through the pbrt-v4 reader: scenes/cbox.pbrt, the same box written
+/// in pbrt's format (left-handed, mirrored back by `Scale -1 1 1`).
+#[test]
+fn pbrt_cornell_box_matches_the_mitsuba_reference() {
+    let Some(reference) = reference() else { return };
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cbox.pbrt");
+    let loaded = glint_scene::load_scene(&file).expect("cbox.pbrt loads");
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    assert_eq!(loaded.render.integrator, IntegratorKind::Path);
+    assert_eq!(loaded.render.integrator_settings.max_depth, 101, "pbrt's maxdepth 100 is 101 segments");
+    let path = render_scene_with_variance(&file, IntegratorKind::Path, 6, SPP);
+    check_against("path (cbox.pbrt) vs Mitsuba", &path, &reference, 4, true);
+}

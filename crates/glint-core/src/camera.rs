@@ -62,6 +62,12 @@ impl Camera {
         })
     }
 
+    /// The same camera with its image mirrored left to right: right becomes up × forward, as
+    /// in left-handed formats (pbrt's).
+    pub fn mirrored(self) -> Self {
+        Self { right: -self.right, ..self }
+    }
+
     /// The same camera with another lens.
     pub fn with_lens(self, lens: Lens) -> Self {
         Self { lens, ..self }
@@ -280,6 +286,15 @@ mod tests {
         assert!((top - Vec3::new(0.0, 1.0, 1.0).normalize()).length() < 1e-6);
         let right = cam.generate_ray(200.0, 50.0).direction;
         assert!((right - Vec3::new(-2.0, 0.0, 1.0).normalize()).length() < 1e-6);
+        // Mirrored (a left-handed camera, pbrt's): the right edge looks toward +x, the top
+        // edge as before.
+        let mirrored = cam.clone().mirrored();
+        assert!((mirrored.generate_ray(200.0, 50.0).direction - Vec3::new(2.0, 0.0, 1.0).normalize()).length() < 1e-6);
+        assert_eq!(mirrored.generate_ray(100.0, 0.0).direction, top);
+        // Its projection still inverts its rays.
+        let p = mirrored.project(Vec3::new(1.5, 0.25, 1.0)).expect("in view");
+        let back = mirrored.generate_ray(p.film_x, p.film_y).direction;
+        assert!((back - Vec3::new(1.5, 0.25, 1.0).normalize()).length() < 1e-5, "{back}");
     }
 
     #[test]

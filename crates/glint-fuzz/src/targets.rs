@@ -16,6 +16,8 @@ pub enum Target {
     Json,
     /// Mitsuba 3 XML (with its includes, meshes and textures beside it).
     Xml,
+    /// pbrt-v4 scenes (a PLY mesh they name compiled in).
+    Pbrt,
     Obj,
     Ply,
     /// Checkpoints, as `--resume` reads them.
@@ -26,6 +28,9 @@ pub enum Target {
     Partial,
 }
 
+/// A quad that the pbrt seed scenes' `plymesh` resolves to.
+const QUAD_PLY: &[u8] = b"ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
+
 /// A small mesh that the seed scenes' mesh references resolve to.
 const TRIANGLE_OBJ: &[u8] = b"v -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
 
@@ -35,6 +40,7 @@ impl Target {
             Target::Toml => "toml",
             Target::Json => "json",
             Target::Xml => "xml",
+            Target::Pbrt => "pbrt",
             Target::Obj => "obj",
             Target::Ply => "ply",
             Target::Checkpoint => "checkpoint",
@@ -79,6 +85,26 @@ impl Target {
                 "<![CDATA[",
                 "&amp;",
                 "<ref id=\"",
+            ],
+            Target::Pbrt => &[
+                "[",
+                "]",
+                "\"",
+                "#",
+                "\n",
+                "AttributeBegin\n",
+                "AttributeEnd\n",
+                "ObjectBegin \"a\"\n",
+                "ObjectEnd\n",
+                "ObjectInstance \"a\"\n",
+                "Shape \"loopsubdiv\" \"integer levels\" 9 ",
+                "\"point3 P\" [ ",
+                "\"integer indices\" [ ",
+                "1e38 ",
+                "-1 ",
+                "nan ",
+                "ReverseOrientation\n",
+                "Scale 0 0 0\n",
             ],
             Target::Obj => &[
                 "v ",
@@ -172,6 +198,13 @@ impl Runner {
                 let path = self.scratch.join("scene.xml");
                 std::fs::write(&path, input).map_err(|e| e.to_string())?;
                 glint_scene::load_scene(&path).map(|_| ()).map_err(|e| e.to_string())
+            }
+            Target::Pbrt => {
+                let text = std::str::from_utf8(input).map_err(|e| e.to_string())?;
+                let files = [("quad.ply", QUAD_PLY)];
+                glint_scene::pbrt::parse_pbrt(text, Path::new("fuzz.pbrt"), Source::embedded(&files))
+                    .map(|_| ())
+                    .map_err(|e| e.to_string())
             }
             Target::Obj => glint_scene::mesh::read_mesh("fuzz.obj", input).map(|_| ()),
             Target::Ply => glint_scene::mesh::read_mesh("fuzz.ply", input).map(|_| ()),

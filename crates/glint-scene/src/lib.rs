@@ -1,6 +1,6 @@
 //! Scene readers for glint. The native format (TOML, or the same schema as JSON) is
-//! documented in `docs/scene-format.md`, Mitsuba 3's XML in `docs/mitsuba.md`; meshes come
-//! from OBJ and PLY files.
+//! documented in `docs/scene-format.md`, Mitsuba 3's XML in `docs/mitsuba.md`, pbrt-v4's
+//! files in `docs/pbrt.md`; meshes come from OBJ and PLY files.
 //!
 //! Every error names the file, the line and column where that can be known, and what was
 //! expected; nothing a user writes can make a reader panic.
@@ -12,6 +12,7 @@ mod located;
 pub mod mesh;
 pub mod mitsuba;
 pub mod native;
+pub mod pbrt;
 mod source;
 
 pub use error::{Location, SceneError};

@@ -7,6 +7,9 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Debug)]
 pub struct Source<'a> {
     origin: Origin<'a>,
+    /// Files a reader made in memory (a glTF's embedded images, a pbrt map resampled), found
+    /// by name before the origin's.
+    made: Vec<(String, Vec<u8>)>,
     read: RefCell<Vec<PathBuf>>,
 }
 
@@ -22,7 +25,7 @@ enum Origin<'a> {
 impl<'a> Source<'a> {
     /// Files compiled into the binary, by the path the scene writes.
     pub fn embedded(files: &'a [(&'a str, &'a [u8])]) -> Self {
-        Self { origin: Origin::Embedded(files), read: RefCell::default() }
+        Self { origin: Origin::Embedded(files), made: Vec::new(), read: RefCell::default() }
     }
 
     /// Paths relative to `directory`.
@@ -33,15 +36,23 @@ impl<'a> Source<'a> {
     /// Paths relative to the first directory of `directories` that holds them (a path found
     /// in none is reported against the first).
     pub fn search_path(directories: Vec<PathBuf>) -> Self {
-        Self { origin: Origin::Directories(directories), read: RefCell::default() }
+        Self { origin: Origin::Directories(directories), made: Vec::new(), read: RefCell::default() }
     }
 
     pub fn directory_of(scene_path: &Path) -> Source<'static> {
         Source::directory(scene_path.parent().map(Path::to_path_buf).unwrap_or_default())
     }
 
+    /// The same source with files made in memory, found by name before any other.
+    pub fn with_made_files(self, made: Vec<(String, Vec<u8>)>) -> Self {
+        Self { made, ..self }
+    }
+
     /// The bytes of `path` as written in the scene, or a message saying why not.
     pub fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+        if let Some((_, bytes)) = self.made.iter().find(|(name, _)| name == path) {
+            return Ok(bytes.clone());
+        }
         match &self.origin {
             Origin::Directories(directories) => {
                 let full = resolve(directories, Path::new(path));

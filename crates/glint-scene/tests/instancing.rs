@@ -100,3 +100,34 @@ fn a_thousand_dragons_share_one_bvh_and_render() {
     let covered = pixels.iter().filter(|p| **p != background).count();
     assert!(covered > pixels.len() / 4, "only {covered} pixels show dragons");
 }
+
+/// A mesh written in the scene (`data`), as a shape and as an instanced mesh; a mesh with
+/// both a file and data, or neither, is refused.
+#[test]
+fn meshes_given_as_data_are_shapes_and_instances() {
+    let data = r#"data = { positions = [[0, 0, 0], [1, 0, 0], [0, 1, 0]], indices = [[0, 1, 2]], uvs = [[0, 0], [1, 0], [0, 1]] }"#;
+    let text = format!(
+        "{HEADER}\n[meshes.tri]\n{data}\n\n[[shapes]]\ntype = \"mesh\"\nmaterial = \"gold\"\n{data}\n\n[[shapes]]\ntype = \"instance\"\nmesh = \"tri\"\nmaterial = \"gold\"\ntransform = [{{ translate = [0, 0, 2] }}]\n"
+    );
+    let loaded = load(&text, Path::new("."));
+    let scene = &loaded.scene;
+    for z in [0.0, 2.0] {
+        let ray = glint_core::geometry::Ray::new(glint_core::Vec3::new(0.25, 0.25, z - 1.0), glint_core::Vec3::Z);
+        let hit = scene.intersect(&ray).expect("the triangle");
+        assert!((hit.t - 1.0).abs() < 1e-5 && (hit.geometry.uv - glam::Vec2::new(0.25, 0.25)).length() < 1e-5);
+    }
+    let refused = |mesh: &str| {
+        let text = format!("{HEADER}\n[[shapes]]\ntype = \"mesh\"\nmaterial = \"gold\"\n{mesh}\n");
+        match parse_scene(&text, Format::Toml, "m.toml", &Source::directory(".".into())) {
+            Ok(_) => panic!("{mesh}: expected an error"),
+            Err(e) => e.to_string(),
+        }
+    };
+    assert!(refused(&format!("file = \"x.obj\"\n{data}")).contains("not both"));
+    assert!(refused("").contains("needs a `file`"));
+    let short =
+        r#"data = { positions = [[0, 0, 0], [1, 0, 0], [0, 1, 0]], indices = [[0, 1, 2]], normals = [[0, 0, 1]] }"#;
+    assert!(refused(short).contains("1 normals for 3 positions"));
+    let bad = r#"data = { positions = [[0, 0, 0], [1, 0, 0], [0, 1, 0]], indices = [[0, 1, 3]] }"#;
+    assert!(refused(bad).contains("refers to a vertex that does not exist"));
+}

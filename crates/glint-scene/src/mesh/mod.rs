@@ -58,6 +58,37 @@ pub fn read_mesh_part(name: &str, bytes: &[u8], shape_index: u32) -> Result<Mesh
     Ok(mesh)
 }
 
+/// A mesh written in the scene itself, checked as a file's would be (and its normals and uvs
+/// one per position).
+pub fn from_data(data: &crate::native::schema::MeshData) -> Result<Mesh, String> {
+    let n = data.positions.len();
+    let per_vertex = |what: &str, len: usize| {
+        if len == n {
+            Ok(())
+        } else {
+            Err(format!("{len} {what} for {n} positions: give one per position"))
+        }
+    };
+    if let Some(normals) = &data.normals {
+        per_vertex("normals", normals.len())?;
+    }
+    if let Some(uvs) = &data.uvs {
+        per_vertex("uvs", uvs.len())?;
+    }
+    let mesh = Mesh {
+        positions: data.positions.iter().map(|&p| p.into()).collect(),
+        normals: data.normals.as_ref().map(|ns| ns.iter().map(|&v| glam::Vec3::from(v).normalize_or_zero()).collect()),
+        uvs: data.uvs.as_ref().map(|uvs| uvs.iter().map(|&uv| uv.into()).collect()),
+        indices: data.indices.clone(),
+        ..Mesh::default()
+    };
+    validate(&mesh)?;
+    if let Some(i) = mesh.normals.iter().flatten().position(|n| *n == glam::Vec3::ZERO) {
+        return Err(format!("normal {i} is zero or not a finite vector"));
+    }
+    Ok(mesh)
+}
+
 /// Reads a mesh file from disk.
 pub fn load_mesh(path: &Path) -> Result<Mesh, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;

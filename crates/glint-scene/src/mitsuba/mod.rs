@@ -2,8 +2,8 @@
 //! built by the same builder as TOML scenes. docs/mitsuba.md lists what is supported and how
 //! each element maps onto glint.
 
-mod cie_tables;
-mod spectrum;
+pub(crate) mod cie_tables;
+pub(crate) mod spectrum;
 mod translate;
 mod xml;
 

@@ -86,7 +86,7 @@ fn interpolate(samples: &[(f64, f64)], lambda: f64) -> Option<f64> {
 }
 
 /// A 5 nm table at `lambda` (linear between entries, zero outside 360–830 nm).
-fn tabulated(table: &[f64; SAMPLES], lambda: f64) -> f64 {
+pub(crate) fn tabulated(table: &[f64; SAMPLES], lambda: f64) -> f64 {
     if !(FIRST_NM..=LAST_NM).contains(&lambda) {
         return 0.0;
     }

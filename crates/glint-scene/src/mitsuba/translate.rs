@@ -52,6 +52,7 @@ impl<'a> Translator<'a> {
             aperture_radius: None,
             focus_distance: None,
             orthographic_height: None,
+            mirror: false,
         };
         let scene = SceneFile {
             camera: Located { value: camera, span: None },
@@ -238,15 +239,10 @@ impl<'a> Translator<'a> {
         let position = matrix.transform_point3(Vec3::ZERO);
         let forward = matrix.transform_vector3(Vec3::Z);
         let up = matrix.transform_vector3(Vec3::Y);
-        // Mitsuba's image right is the camera's −x; glint's is forward × up. A mirroring
-        // to_world would flip the image, which a glint camera cannot do.
+        // Mitsuba's image right is the camera's −x; glint's is forward × up, unless mirrored
+        // (a to_world with a negative scale).
         let left = matrix.transform_vector3(Vec3::X);
-        if (-left).dot(forward.cross(up)) <= 0.0 {
-            return Err(self.error(
-                &sensor.position,
-                "the sensor's to_world mirrors the image (a negative scale?); glint's camera cannot",
-            ));
-        }
+        let mirror = (-left).dot(forward.cross(up)) < 0.0;
         let look_at = position + forward.normalize_or_zero();
         self.scene.camera = Located {
             value: CameraDesc {
@@ -258,6 +254,7 @@ impl<'a> Translator<'a> {
                 aperture_radius,
                 focus_distance,
                 orthographic_height,
+                mirror,
             },
             span: sensor.position.span.clone(),
         };
@@ -468,7 +465,8 @@ impl<'a> Translator<'a> {
                 let flip_v = flip_v && kind != "serialized";
                 // Mitsuba makes smooth normals for a file without them.
                 ShapeDesc::Mesh {
-                    file,
+                    file: Some(file),
+                    data: None,
                     shape_index,
                     smooth: !face_normals,
                     flip_v,
@@ -542,12 +540,22 @@ impl<'a> Translator<'a> {
         }
         let mut members: Vec<Located<ShapeDesc>> = self.scene.shapes.drain(first..).collect();
         for (i, member) in members.iter_mut().enumerate() {
-            if let ShapeDesc::Mesh { file, shape_index, smooth, flip_v, compute_normals, material, transform, name } =
-                &member.value
+            if let ShapeDesc::Mesh {
+                file,
+                data,
+                shape_index,
+                smooth,
+                flip_v,
+                compute_normals,
+                material,
+                transform,
+                name,
+            } = &member.value
             {
                 let mesh = format!("{id}#{i}");
                 let desc = MeshDesc {
                     file: file.clone(),
+                    data: data.clone(),
                     shape_index: *shape_index,
                     smooth: *smooth,
                     flip_v: *flip_v,
@@ -1258,7 +1266,16 @@ impl<'a> Translator<'a> {
                 // Mitsuba's bitmaps put v = 0 on the first (top) row; glint's images put it on
                 // the bottom one.
                 let flip_v = Affine2::from_cols_array(&[1.0, 0.0, 0.0, -1.0, 0.0, 1.0]);
-                TextureDesc::Image { file, wrap, filter, scale: None, uv_transform: Some(rows(flip_v * to_uv)), raw }
+                TextureDesc::Image {
+                    file,
+                    wrap,
+                    filter,
+                    scale: None,
+                    uv_transform: Some(rows(flip_v * to_uv)),
+                    raw,
+                    channel: None,
+                    tint: None,
+                }
             }
             "checkerboard" => {
                 let even = p.rgb(self, "color0")?.unwrap_or([0.4; 3]);

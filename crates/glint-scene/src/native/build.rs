@@ -191,7 +191,8 @@ fn build_camera(cx: &Context, camera: &Located<CameraDesc>) -> Result<Camera, Sc
         }
         _ => return Err(at("aperture_radius", "a thin lens needs both `aperture_radius` and `focus_distance`".into())),
     };
-    Ok(camera.with_lens(lens))
+    let camera = camera.with_lens(lens);
+    Ok(if c.mirror { camera.mirrored() } else { camera })
 }
 
 fn build_render(cx: &Context, r: &RenderDesc) -> Result<RenderOptions, SceneError> {
@@ -378,6 +379,32 @@ fn shade(mesh: &mut Mesh, smooth: bool, compute: bool) {
     }
 }
 
+/// A mesh from its file or from the scene's own `data`, checked, and how to name it in
+/// messages.
+fn mesh_of(
+    file: Option<&str>,
+    data: Option<&MeshData>,
+    shape_index: u32,
+    source: &Source,
+) -> Result<(Mesh, String), (&'static str, String)> {
+    match (file, data) {
+        (Some(file), None) => {
+            let bytes = source.read(file).map_err(|m| ("file", format!("mesh file: {m}")))?;
+            let mesh = crate::mesh::read_mesh_part(file, &bytes, shape_index)
+                .map_err(|m| ("file", format!("mesh file `{file}`: {m}")))?;
+            Ok((mesh, format!("`{file}`")))
+        }
+        (None, Some(data)) => {
+            if shape_index != 0 {
+                return Err(("shape_index", "`shape_index` picks a mesh of a file; `data` is one mesh".into()));
+            }
+            Ok((crate::mesh::from_data(data).map_err(|m| ("data", m))?, "its data".into()))
+        }
+        (Some(_), Some(_)) => Err(("data", "give a mesh's `file` or its `data`, not both".into())),
+        (None, None) => Err(("file", "a mesh needs a `file` (or its triangles in `data`)".into())),
+    }
+}
+
 /// A spot's half-angle when none is given, in degrees.
 const DEFAULT_CONE: f32 = 30.0;
 
@@ -421,20 +448,16 @@ impl MeshLibrary<'_> {
             return Err(unknown(format!("unknown mesh `{name}` (instances name a mesh defined in [meshes]){hint}")));
         };
         let desc = &entry.value;
-        let at_file = |m: String| cx.error(&entry.span, Some("file"), format!("mesh `{name}`: {m}"));
-        let bytes = source.read(&desc.file).map_err(at_file)?;
-        let mut mesh = crate::mesh::read_mesh_part(&desc.file, &bytes, desc.shape_index)
-            .map_err(|m| at_file(format!("`{}`: {m}", desc.file)))?;
+        let (mut mesh, origin) = mesh_of(desc.file.as_deref(), desc.data.as_ref(), desc.shape_index, source)
+            .map_err(|(key, m)| cx.error(&entry.span, Some(key), format!("mesh `{name}`: {m}")))?;
         shade(&mut mesh, desc.smooth, desc.compute_normals);
         if let (true, Some(uvs)) = (desc.flip_v, &mut mesh.uvs) {
             uvs.iter_mut().for_each(|uv| uv.y = 1.0 - uv.y);
         }
         let degenerate = mesh.degenerate_triangles().count();
         if degenerate > 0 {
-            warnings.push(format!(
-                "mesh `{name}`: `{}` has {degenerate} zero-area triangles; they can never be hit",
-                desc.file
-            ));
+            warnings
+                .push(format!("mesh `{name}`: {origin} has {degenerate} zero-area triangles; they can never be hit"));
         }
         let object = Object { name: name.to_string(), shape: Shape::Mesh(mesh), transform: None, material: 0 };
         let geometry = Arc::new(Geometry::new(vec![object], IntersectMethods::default()));
@@ -694,17 +717,16 @@ fn build_object(
             let tree = csg_tree(&mut oc, &entry.span, operation, operands, None, None, "")?;
             Shape::Csg(Box::new(Csg::new(tree).map_err(|e| at("operands", e.to_string()))?))
         }
-        ShapeDesc::Mesh { file, shape_index, smooth, flip_v, compute_normals, .. } => {
-            let bytes = source.read(file).map_err(|m| at("file", format!("mesh file: {m}")))?;
-            let mut mesh = crate::mesh::read_mesh_part(file, &bytes, *shape_index)
-                .map_err(|m| at("file", format!("mesh file `{file}`: {m}")))?;
+        ShapeDesc::Mesh { file, data, shape_index, smooth, flip_v, compute_normals, .. } => {
+            let (mut mesh, origin) =
+                mesh_of(file.as_deref(), data.as_ref(), *shape_index, source).map_err(|(k, m)| at(k, m))?;
             shade(&mut mesh, *smooth, *compute_normals);
             if let (true, Some(uvs)) = (*flip_v, &mut mesh.uvs) {
                 uvs.iter_mut().for_each(|uv| uv.y = 1.0 - uv.y);
             }
             let degenerate = mesh.degenerate_triangles().count();
             if degenerate > 0 {
-                warnings.push(format!("{label}: `{file}` has {degenerate} zero-area triangles; they can never be hit"));
+                warnings.push(format!("{label}: {origin} has {degenerate} zero-area triangles; they can never be hit"));
             }
             // Meshes are stored in world space: the BVH then sees their triangles directly.
             if let Some(t) = &transform {
@@ -813,10 +835,20 @@ fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'stat
             odd: rgb("odd", *odd)?,
             scale: number("scale", *scale, 1.0)?,
         }),
-        TextureDesc::Image { file, wrap, filter, scale, uv_transform, raw } => {
+        TextureDesc::Image { file, wrap, filter, scale, uv_transform, raw, channel, tint } => {
             let bytes = source.read(file).map_err(|m| ("file", format!("image file: {m}")))?;
-            let (width, height, pixels) =
+            let (width, height, mut pixels) =
                 crate::image::decode(file, &bytes, *raw).map_err(|m| ("file", format!("image `{file}`: {m}")))?;
+            if let Some(c) = *channel {
+                if c > 2 {
+                    return Err(("channel", format!("`channel` is 0 (red), 1 (green) or 2 (blue), got {c}")));
+                }
+                pixels.iter_mut().for_each(|p| *p = Vec3::splat(p[c as usize]));
+            }
+            if let Some(tint) = tint {
+                let tint = rgb("tint", *tint)?;
+                pixels.iter_mut().for_each(|p| *p *= tint);
+            }
             Texture::Image(Arc::new(ImageTexture {
                 width,
                 height,

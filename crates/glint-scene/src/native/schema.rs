@@ -39,7 +39,9 @@ pub struct SceneFile {
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub struct MeshDesc {
-    pub file: String,
+    /// A mesh file, or else `data`.
+    pub file: Option<String>,
+    pub data: Option<MeshData>,
     /// Which mesh of a file that holds several, as for a `mesh` shape.
     #[serde(default)]
     pub shape_index: u32,
@@ -51,6 +53,17 @@ pub struct MeshDesc {
     /// Smooth normals where the file has none, as for a `mesh` shape.
     #[serde(default)]
     pub compute_normals: bool,
+}
+
+/// A triangle mesh written in the scene itself (pbrt's `trianglemesh`, glTF's primitives):
+/// `normals` and `uvs`, if given, one per position.
+#[derive(Deserialize, Debug, Clone, Default)]
+#[serde(deny_unknown_fields)]
+pub struct MeshData {
+    pub positions: Vec<Vector>,
+    pub indices: Vec<[u32; 3]>,
+    pub normals: Option<Vec<Vector>>,
+    pub uvs: Option<Vec<[f32; 2]>>,
 }
 
 #[derive(Deserialize, Debug)]
@@ -69,6 +82,10 @@ pub struct CameraDesc {
     pub focus_distance: Option<f32>,
     /// An orthographic camera: the view's height in scene units.
     pub orthographic_height: Option<f32>,
+    /// The image mirrored left to right (its right is up × forward instead of forward × up):
+    /// cameras of left-handed formats (pbrt's) and mirroring transforms.
+    #[serde(default)]
+    pub mirror: bool,
 }
 
 fn default_up() -> Vector {
@@ -447,6 +464,11 @@ pub enum TextureDesc {
         /// The stored values as they are (normal maps, data), not decoded from sRGB.
         #[serde(default)]
         raw: bool,
+        /// One channel (0 red, 1 green, 2 blue) as grey: packed data, as glTF's
+        /// metallic-roughness maps.
+        channel: Option<u8>,
+        /// A factor for every texel (glTF's colour factors, pbrt's `scale`).
+        tint: Option<Vector>,
     },
     Marble {
         base: Vector,
@@ -594,8 +616,10 @@ pub enum ShapeDesc {
         transform: Vec<TransformOp>,
         name: Option<String>,
     },
+    /// A mesh file, or the mesh itself in `data`.
     Mesh {
-        file: String,
+        file: Option<String>,
+        data: Option<MeshData>,
         /// Which mesh of a file that holds several (a Mitsuba `.serialized` file).
         #[serde(default)]
         shape_index: u32,

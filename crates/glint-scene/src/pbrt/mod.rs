@@ -1,0 +1,45 @@
+//! pbrt-v4 scene files (`.pbrt`): tokenized and parsed here (a hand-written reader: pbrt's
+//! grammar is a dozen lines, and ours keeps every token's file and offset for messages and
+//! reads `Include`d files through the scene's `Source`), interpreted as pbrt's graphics state
+//! machine, mapped onto glint's native scene description, and built by the same builder as
+//! TOML scenes. docs/pbrt.md lists what maps to what.
+
+mod envmap;
+mod params;
+mod parse;
+mod shapes;
+mod spectra;
+mod tokens;
+mod translate;
+
+use std::path::{Path, PathBuf};
+
+use crate::error::SceneError;
+use crate::native::LoadedScene;
+use crate::source::Source;
+
+/// Reads a pbrt-v4 scene; `search_path` is searched after the scene's directory for the
+/// files it names.
+pub fn load_pbrt(path: &Path, search_path: &[PathBuf]) -> Result<LoadedScene, SceneError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+    let mut directories = vec![path.parent().map(Path::to_path_buf).unwrap_or_default()];
+    directories.extend(search_path.iter().cloned());
+    let source = Source::search_path(directories);
+    let (file, made, mut warnings) = translate::translate(path, text, &source)?;
+    let source = source.with_made_files(made);
+    let mut loaded = crate::native::build_file(file, "", path, &source)?;
+    warnings.append(&mut loaded.warnings);
+    loaded.warnings = warnings;
+    Ok(loaded)
+}
+
+/// Reads pbrt-v4 scene text; `name` is used in messages, `source` resolves what it names.
+pub fn parse_pbrt(text: &str, name: &Path, source: Source<'_>) -> Result<LoadedScene, SceneError> {
+    let (file, made, mut warnings) = translate::translate(name, text.to_string(), &source)?;
+    let source = source.with_made_files(made);
+    let mut loaded = crate::native::build_file(file, "", name, &source)?;
+    warnings.append(&mut loaded.warnings);
+    loaded.warnings = warnings;
+    Ok(loaded)
+}

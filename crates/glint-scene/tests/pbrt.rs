@@ -1,0 +1,411 @@
+//! The pbrt-v4 reader on scene files written for it: every supported directive and its
+//! mapping onto glint, orientation, an analytic render, and the errors.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use glint_core::camera::Lens;
+use glint_core::filter::Filter;
+use glint_core::geometry::Ray;
+use glint_core::integrators::IntegratorKind;
+use glint_core::lights::Light;
+use glint_core::materials::Material;
+use glint_core::render::{render, RenderSettings};
+use glint_core::sampling::SamplerKind;
+use glint_core::shapes::Shape;
+use glint_core::{Rgb, Vec3};
+use glint_scene::load_scene;
+
+/// A fresh directory holding `files` (name, bytes); returns the path of the first.
+fn scene_dir(test: &str, files: &[(&str, &[u8])]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("glint-pbrt-{}-{test}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, bytes) in files {
+        std::fs::write(dir.join(name), bytes).unwrap();
+    }
+    dir.join(files[0].0)
+}
+
+const PLY: &str = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
+
+const EVERY_DIRECTIVE: &str = r#"# Every directive glint reads.
+Scale -1 1 1
+LookAt 0 2 -8  0 2 0  0 1 0
+Camera "perspective" "float fov" [ 30 ] "float lensradius" 0.1 "float focaldistance" 8
+Film "rgb" "integer xresolution" 32 "integer yresolution" 64 "string filename" "out.exr"
+Sampler "zsobol" "integer pixelsamples" 8 "integer seed" 3
+PixelFilter "triangle"
+Integrator "volpath" "integer maxdepth" [ 7 ]
+ColorSpace "srgb"
+WorldBegin
+LightSource "point" "rgb I" [ 1 2 3 ] "point3 from" [ 0 5 0 ]
+LightSource "spot" "blackbody I" 3000 "point3 from" [ 0 4 0 ] "point3 to" [ 0 0 0 ] "float coneangle" 40 "float conedeltaangle" 10
+LightSource "distant" "rgb L" [ 0.5 0.5 0.5 ] "point3 from" [ 0 1 0 ] "point3 to" [ 0 0 0 ]
+LightSource "infinite" "rgb L" [ 0.1 0.2 0.3 ]
+Texture "checks" "spectrum" "checkerboard" "rgb tex1" [ 1 0 0 ] "rgb tex2" [ 0 0 1 ] "float uscale" 4 "float vscale" 4
+Texture "half" "float" "constant" "float value" 0.5
+Texture "grid" "spectrum" "imagemap" "string filename" "grid.png" "string wrap" "clamp"
+Texture "dim-grid" "spectrum" "scale" "texture tex" "grid" "float scale" 0.25
+MakeNamedMaterial "gold" "string type" "conductor" "spectrum eta" "metal-Au-eta" "spectrum k" "metal-Au-k" "float roughness" 0.04
+MakeNamedMaterial "glass" "string type" "dielectric" "spectrum eta" "glass-BK7"
+MakeNamedMaterial "checked" "string type" "diffuse" "texture reflectance" "checks"
+MakeNamedMaterial "either" "string type" "mix" "string materials" [ "gold" "checked" ] "texture amount" "half"
+Include "include.pbrt"
+AttributeBegin
+  Translate 0 1 0
+  CoordinateSystem "lifted"
+  NamedMaterial "gold"
+  Shape "sphere" "float radius" 0.5
+AttributeEnd
+AttributeBegin
+  CoordSysTransform "lifted"
+  Translate 2 0 0
+  Rotate 90 1 0 0
+  Material "diffuse" "texture reflectance" "dim-grid"
+  Shape "disk" "float radius" 1
+  Shape "cylinder" "float radius" 0.25 "float zmin" 0 "float zmax" 1
+AttributeEnd
+AttributeBegin
+  NamedMaterial "glass"
+  ConcatTransform [ 1 0 0 0  0 1 0 0  0 0 1 0  -2 0 0 1 ]
+  Shape "plymesh" "string filename" "quad.ply"
+  Shape "sphere" "float radius" 1 "float zmax" 0.5
+AttributeEnd
+ObjectBegin "pair"
+  NamedMaterial "either"
+  Shape "trianglemesh" "integer indices" [ 0 1 2 ] "point3 P" [ 0 0 0  1 0 0  0 1 0 ]
+  Shape "bilinearmesh" "point3 P" [ 0 0 1  1 0 1  0 1 1  1 1 2 ] "integer indices" [ 0 1 2 3 ]
+ObjectEnd
+AttributeBegin
+  Translate 0 0 5
+  ObjectInstance "pair"
+  Translate 0 0 5
+  ObjectInstance "pair"
+AttributeEnd
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 4 4 4 ] "bool twosided" true
+  Transform [ 1 0 0 0  0 1 0 0  0 0 1 0  0 6 0 1 ]
+  Shape "loopsubdiv" "integer levels" 1 "integer indices" [ 0 1 2  0 2 3  0 3 1  1 3 2 ] "point3 P" [ 1 1 1  1 -1 -1  -1 1 -1  -1 -1 1 ]
+AttributeEnd
+"#;
+
+const INCLUDE: &str = "AttributeBegin\n  Translate 0 -1 0\n  Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -10 0 -10  10 0 -10  10 0 10  -10 0 10 ] \"point2 uv\" [ 0 0 1 0 1 1 0 1 ]\nAttributeEnd\n";
+
+fn grid_png() -> Vec<u8> {
+    let image =
+        image::RgbImage::from_fn(2, 2, |x, y| image::Rgb(if (x + y) % 2 == 0 { [255, 255, 255] } else { [0, 0, 0] }));
+    let mut bytes = Vec::new();
+    image.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png).unwrap();
+    bytes
+}
+
+#[test]
+fn every_directive_maps_onto_glint() {
+    let png = grid_png();
+    let path = scene_dir(
+        "every",
+        &[
+            ("every.pbrt", EVERY_DIRECTIVE.as_bytes()),
+            ("include.pbrt", INCLUDE.as_bytes()),
+            ("quad.ply", PLY.as_bytes()),
+            ("grid.png", &png),
+        ],
+    );
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = &loaded.scene;
+    let warnings = loaded.warnings.join("\n");
+    assert!(warnings.is_empty(), "{warnings}");
+    // Film, sampler, filter, integrator: pbrt's maxdepth 7 is 8 path segments.
+    assert_eq!((scene.camera().width, scene.camera().height), (32, 64));
+    assert_eq!((loaded.render.spp, loaded.render.seed), (8, 3));
+    assert_eq!(loaded.render.sampler, SamplerKind::Sobol);
+    assert_eq!(loaded.render.filter, Filter::Tent);
+    assert_eq!(loaded.render.integrator, IntegratorKind::Path);
+    assert_eq!(loaded.render.integrator_settings.max_depth, 8);
+    // On a portrait film pbrt's fov spans the width: 2·atan(tan 15° · 64/32) vertically.
+    let vertical = 2.0 * (15f32.to_radians().tan() * 2.0).atan().to_degrees();
+    assert!((scene.camera().fov_degrees - vertical).abs() < 1e-3, "{}", scene.camera().fov_degrees);
+    assert_eq!(scene.camera().position, Vec3::new(0.0, 2.0, -8.0));
+    assert!(
+        matches!(scene.camera().lens, Lens::Thin { radius, focus_distance } if radius == 0.1 && focus_distance == 8.0)
+    );
+    // `Scale -1 1 1` then LookAt: pbrt's image right is world +x… mirrored back to −x, as
+    // glint's own camera (forward × up = z × y = −x): a point at −x projects right of centre.
+    let ray = scene.camera().generate_ray(31.0, 32.0);
+    assert!(ray.direction.x < 0.0, "{:?}", ray.direction);
+
+    // Lights: point, spot (a blackbody: luminance 1, reddish), distant; the infinite light
+    // is the background; the loop-subdivided blob emits.
+    let kinds: Vec<&str> = scene.listed_lights().map(Light::kind).collect();
+    assert_eq!(kinds, ["point", "spot", "directional"]);
+    assert_eq!(scene.environment().background, Rgb::new(0.1, 0.2, 0.3));
+    assert!(scene.lights().area_count() > 0);
+    match &scene.listed_lights().collect::<Vec<_>>()[1] {
+        Light::Spot(spot) => {
+            assert!((spot.direction - -Vec3::Y).length() < 1e-6);
+            assert!((spot.cos_cone - 40f32.to_radians().cos()).abs() < 1e-6);
+            assert!((spot.cos_full - 30f32.to_radians().cos()).abs() < 1e-6);
+            let i: Rgb = spot.light.intensity;
+            assert!(i.x > i.y && i.y > i.z, "3000 K is red: {i}");
+            assert!((0.2126 * i.x + 0.7152 * i.y + 0.0722 * i.z - 1.0).abs() < 0.01, "{i}");
+        }
+        other => panic!("{other:?}"),
+    }
+    match &scene.listed_lights().collect::<Vec<_>>()[2] {
+        Light::Directional(sun) => assert!((sun.direction - -Vec3::Y).length() < 1e-6, "travels from `from` to `to`"),
+        other => panic!("{other:?}"),
+    }
+
+    // Geometry, by rays: the gold ball at (0, 1, 0) (radius ½), the floor from the include
+    // at y = −1, the quad of the PLY file moved to x = −2.
+    let hit = |origin: Vec3, direction: Vec3| scene.intersect(&Ray::new(origin, direction));
+    let ball = hit(Vec3::new(0.0, 1.0, -5.0), Vec3::Z).expect("the ball");
+    assert!((ball.t - 4.5).abs() < 1e-4, "{}", ball.t);
+    let floor = hit(Vec3::new(3.0, 5.0, -3.0), -Vec3::Y).expect("the floor");
+    assert!((floor.t - 6.0).abs() < 1e-4);
+    let quad = hit(Vec3::new(-1.1, 0.9, -1.0), Vec3::Z).expect("the ply quad");
+    assert!((quad.t - 1.0).abs() < 1e-4);
+    // The disk at (2, 1, 0) turned by 90° about x: it lies in the plane y = 1.
+    let disk = hit(Vec3::new(2.5, 3.0, 0.0), -Vec3::Y).expect("the disk");
+    assert!((disk.t - 2.0).abs() < 1e-4, "{}", disk.t);
+    // Two instances of the object's triangle, at z = 5 and z = 10.
+    for z in [5.0, 10.0] {
+        let t = hit(Vec3::new(0.2, 0.2, z - 1.0), Vec3::Z).expect("an instance").t;
+        assert!((t - 1.0).abs() < 1e-4, "{t}");
+    }
+
+    // Materials: gold (GGX, α = √0.04), glass (BK7's n_d), the textured diffuse, the mix.
+    let material = |name: &str| {
+        let i = scene
+            .material_names()
+            .iter()
+            .position(|n| n == name)
+            .unwrap_or_else(|| panic!("{name}: {:?}", scene.material_names()));
+        &scene.materials()[i]
+    };
+    let (eta, k) = glint_core::materials::named_metal("Au").unwrap();
+    match material("named:gold") {
+        Material::TwoSided(two) => match &two.front {
+            Material::RoughConductor(gold) => {
+                assert_eq!((gold.conductor.eta, gold.conductor.k), (eta, k));
+                assert_eq!(gold.alpha_u, 0.2.into());
+            }
+            other => panic!("{other:?}"),
+        },
+        Material::RoughConductor(gold) => {
+            assert_eq!((gold.conductor.eta, gold.conductor.k), (eta, k));
+            assert_eq!(gold.alpha_u, 0.2.into());
+        }
+        other => panic!("{other:?}"),
+    }
+    match material("named:glass") {
+        Material::Dielectric(glass) => assert!((glass.eta - 1.5168).abs() < 1e-6),
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(material("named:either"), Material::Blend(_)), "{:?}", material("named:either"));
+}
+
+/// A diffuse floor under pbrt's uniform infinite light reflects albedo × L (the upper
+/// hemisphere is all sky), whatever the camera sees of it.
+#[test]
+fn a_diffuse_floor_under_a_uniform_sky_reflects_albedo_times_sky() {
+    let text = r#"LookAt 0 1 0  0 0 0  0 0 1
+Camera "perspective" "float fov" 40
+Film "rgb" "integer xresolution" 16 "integer yresolution" 16
+Integrator "path" "integer maxdepth" 5
+WorldBegin
+LightSource "infinite" "rgb L" [ 2 1 0.5 ]
+Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.8 ]
+Shape "bilinearmesh" "point3 P" [ -100 0 -100  100 0 -100  -100 0 100  100 0 100 ]
+"#;
+    let path = scene_dir("furnace", &[("furnace.pbrt", text.as_bytes())]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).unwrap();
+    let settings = RenderSettings { spp: 64, seed: 1, filter: loaded.render.filter, sampler: loaded.render.sampler };
+    let image = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film.to_rgb();
+    let mean = image.iter().sum::<Rgb>() / image.len() as f32;
+    let expected = Rgb::new(1.0, 0.5, 0.4);
+    assert!(((mean - expected) / expected).abs().max_element() < 0.01, "{mean} vs {expected}");
+}
+
+/// A one-sided area light emits on the side its winding (or its normals) faces; pbrt's
+/// ReverseOrientation and a mirroring transform each turn it over.
+#[test]
+fn a_one_sided_light_emits_where_pbrt_says() {
+    let seen = |prelude: &str, extra: &str| {
+        let text = format!(
+            r#"LookAt 0 0 -5  0 0 0  0 1 0
+Camera "perspective" "float fov" 10
+Film "rgb" "integer xresolution" 4 "integer yresolution" 4
+Integrator "path" "integer maxdepth" 1
+WorldBegin
+AttributeBegin
+{prelude}
+AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
+Shape "trianglemesh" "integer indices" [ 0 1 2 0 2 3 ] "point3 P" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ] {extra}
+AttributeEnd
+"#
+        );
+        let name = format!("light{}", prelude.len() + 7 * extra.len());
+        let path = scene_dir(&name, &[("light.pbrt", text.as_bytes())]);
+        let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+        let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).unwrap();
+        let settings = RenderSettings { spp: 1, seed: 1, filter: Filter::Box, sampler: loaded.render.sampler };
+        let image = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film.to_rgb();
+        image.iter().sum::<Rgb>().x / image.len() as f32
+    };
+    // Wound counter-clockwise seen from −z... from the camera at z = −5 the winding runs
+    // clockwise: its normal (0, 0, 1) faces away, and the light is dark.
+    assert_eq!(seen("", ""), 0.0);
+    assert_eq!(seen("ReverseOrientation", ""), 1.0);
+    assert_eq!(seen("Scale 1 1 -1", ""), 1.0, "a mirroring transform turns the face toward the camera");
+    assert_eq!(seen("ReverseOrientation\nScale 1 1 -1", ""), 0.0);
+    // Normals decide when given, ReverseOrientation or not (pbrt face-forwards to them).
+    let toward = r#""normal N" [ 0 0 -1  0 0 -1  0 0 -1  0 0 -1 ]"#;
+    assert_eq!(seen("", toward), 1.0);
+    assert_eq!(seen("ReverseOrientation", toward), 1.0);
+}
+
+fn error_of(test: &str, text: &str) -> String {
+    let path = scene_dir(test, &[("scene.pbrt", text.as_bytes())]);
+    match load_scene(&path) {
+        Ok(_) => panic!("{test}: expected an error"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn errors_name_the_file_line_and_what_was_expected() {
+    let cases: &[(&str, &str, &str)] = &[
+        (
+            "directive",
+            "WorldBegin\nShpe \"sphere\"\n",
+            "scene.pbrt:2:1: unknown directive `Shpe`; did you mean `Shape`?",
+        ),
+        (
+            "type",
+            "WorldBegin\nShape \"sphere\" \"integer radius\" 2\n",
+            "scene.pbrt:2:16: `radius` of Shape \"sphere\" is given as `integer`; expected `float`",
+        ),
+        ("number", "WorldBegin\nTranslate 1 x 2\n", "scene.pbrt:2:13: `Translate` expects a number here, found `x`"),
+        ("string", "WorldBegin\nShape \"sphere\n", "scene.pbrt:2:7: a quoted string is not closed on its line"),
+        (
+            "bracket",
+            "WorldBegin\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0\n",
+            "scene.pbrt:2:22: the values of `P` are not closed by `]`",
+        ),
+        (
+            "material",
+            "WorldBegin\nNamedMaterial \"glod\"\nMakeNamedMaterial \"gold\" \"string type\" \"conductor\"\n",
+            "scene.pbrt:2:1: no material named `glod`",
+        ),
+        ("shape", "WorldBegin\nShape \"curve\" \"point3 P\" [ 0 0 0 ]\n", "shape `curve` is not supported"),
+        (
+            "medium",
+            "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n",
+            "scene.pbrt:1:1: participating media are not supported yet",
+        ),
+        (
+            "unclosed",
+            "WorldBegin\nAttributeBegin\nShape \"sphere\"\n",
+            "scene.pbrt:2:1: this AttributeBegin is never closed",
+        ),
+        ("end", "WorldBegin\nAttributeEnd\n", "scene.pbrt:2:1: `AttributeEnd` without a matching begin"),
+        (
+            "index",
+            "WorldBegin\nShape \"trianglemesh\" \"integer indices\" [ 0 1 3 ] \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ]\n",
+            "index 3 refers to no vertex (there are 3)",
+        ),
+        ("include", "Include \"missing.pbrt\"\n", "scene.pbrt:1:1: cannot read `missing.pbrt`"),
+        (
+            "albedo",
+            "WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 2 0 0 ]\nShape \"sphere\"\n",
+            "reflectance's rgb must lie in [0, 1]",
+        ),
+        (
+            "metal",
+            "WorldBegin\nMaterial \"conductor\" \"spectrum eta\" \"metal-TiO2-eta\" \"spectrum k\" \"metal-TiO2-k\"\n",
+            "no measured data for the metal `TiO2`",
+        ),
+    ];
+    let wrong: Vec<String> = cases
+        .iter()
+        .map(|(test, text, expected)| (test, error_of(test, text), expected))
+        .filter(|(_, e, expected)| !e.contains(*expected))
+        .map(|(test, e, expected)| format!("{test}: expected `{expected}` in\n{e}"))
+        .collect();
+    assert!(wrong.is_empty(), "{}", wrong.join("\n\n"));
+}
+
+#[test]
+fn parameters_glint_does_not_read_are_named_in_a_warning() {
+    let text = "WorldBegin\nLightSource \"point\" \"float radius\" 3\n";
+    let path = scene_dir("unused", &[("scene.pbrt", text.as_bytes())]);
+    let loaded = load_scene(&path).unwrap();
+    let warnings = loaded.warnings.join("\n");
+    assert!(
+        warnings.contains("scene.pbrt:2:21: parameter `radius` of LightSource \"point\" is not read"),
+        "{warnings}"
+    );
+}
+
+/// An equal-area octahedral map bright toward its +z, turned by pbrt's usual
+/// `Rotate -90 1 0 0`: glint's environment is bright overhead (+y) and dark below.
+#[test]
+fn an_octahedral_environment_map_is_resampled_with_its_transform() {
+    let n = 16u32;
+    let image = image::Rgb32FImage::from_fn(n, n, |x, y| {
+        // The centre of the square is +z; its corners −z.
+        let (u, v) = ((x as f32 + 0.5) / n as f32 * 2.0 - 1.0, (y as f32 + 0.5) / n as f32 * 2.0 - 1.0);
+        let bright = if u.abs() + v.abs() < 0.5 { 4.0 } else { 0.0 };
+        image::Rgb([bright, bright, bright])
+    });
+    let mut exr = Vec::new();
+    image::DynamicImage::ImageRgb32F(image)
+        .write_to(&mut std::io::Cursor::new(&mut exr), image::ImageFormat::OpenExr)
+        .unwrap();
+    let text = "WorldBegin\nAttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"sky.exr\" \"float scale\" 2\nAttributeEnd\n";
+    let path = scene_dir("octahedral", &[("scene.pbrt", text.as_bytes()), ("sky.exr", &exr)]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let map = loaded.scene.environment().map.as_ref().expect("a map");
+    assert_eq!(map.radiance(Vec3::Y), Rgb::splat(8.0));
+    assert_eq!(map.radiance(-Vec3::Y), Rgb::ZERO);
+    assert_eq!(map.radiance(Vec3::X), Rgb::ZERO);
+    assert!(loaded.inputs.iter().any(|p| p.ends_with("sky.exr")), "{:?}", loaded.inputs);
+}
+
+#[test]
+fn quadrics_and_patches_are_meshes_of_their_shape() {
+    let text = "WorldBegin\nShape \"disk\" \"float radius\" 2 \"float innerradius\" 1\nShape \"sphere\" \"float radius\" 1 \"float phimax\" 180\n";
+    let path = scene_dir("quadrics", &[("scene.pbrt", text.as_bytes())]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let objects = loaded.scene.objects();
+    assert_eq!(objects.len(), 2);
+    for object in objects {
+        assert!(matches!(object.shape, Shape::Mesh(_)), "{}", object.name);
+    }
+    // Below y = 0 (where the half ball is not): the annulus's hole lets a ray through, its
+    // ring stops one at z = 0.
+    let scene = &loaded.scene;
+    let hit = |x: f32, y: f32| scene.intersect(&Ray::new(Vec3::new(x, y, 5.0), -Vec3::Z)).map(|h| h.t);
+    assert_eq!(hit(0.5, -0.3), None);
+    assert!((hit(1.5, -0.3).unwrap() - 5.0).abs() < 1e-4);
+    // Above, the half ball (φ from 0 to 180°): z = √(1 − 0.34) on its surface, within the
+    // 64-gon's sag.
+    let t = hit(0.5, 0.3).unwrap();
+    assert!((t - (5.0 - 0.66f32.sqrt())).abs() < 2e-3, "{t}");
+}
+
+#[test]
+fn mutated_scenes_never_panic() {
+    let original = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cbox.pbrt")).unwrap();
+    let dir = std::env::temp_dir().join(format!("glint-pbrt-mutants-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (i, bytes) in common::mutants(&original, b"[]\"# 0.-e\nxAS", 300, 11).into_iter().enumerate() {
+        let path = dir.join(format!("m{i}.pbrt"));
+        std::fs::write(&path, &bytes).unwrap();
+        let result = std::panic::catch_unwind(|| load_scene(&path).map(|_| ()));
+        assert!(result.is_ok(), "mutant {i} panicked:\n{}", String::from_utf8_lossy(&bytes));
+    }
+}
