@@ -1,11 +1,12 @@
 //! Scene readers for glint. The native format (TOML, or the same schema as JSON) is
 //! documented in `docs/scene-format.md`, Mitsuba 3's XML in `docs/mitsuba.md`, pbrt-v4's
-//! files in `docs/pbrt.md`; meshes come from OBJ and PLY files.
+//! files in `docs/pbrt.md`, glTF 2.0 in `docs/gltf.md`; meshes come from OBJ and PLY files.
 //!
 //! Every error names the file, the line and column where that can be known, and what was
 //! expected; nothing a user writes can make a reader panic.
 
 mod error;
+pub mod gltf;
 mod image;
 mod limits;
 mod located;

@@ -261,10 +261,12 @@ AttributeEnd
     assert_eq!(seen("ReverseOrientation", ""), 1.0);
     assert_eq!(seen("Scale 1 1 -1", ""), 1.0, "a mirroring transform turns the face toward the camera");
     assert_eq!(seen("ReverseOrientation\nScale 1 1 -1", ""), 0.0);
-    // Normals decide when given, ReverseOrientation or not (pbrt face-forwards to them).
+    // Given normals decide the side (pbrt faces the surface to them); ReverseOrientation
+    // negates them first.
     let toward = r#""normal N" [ 0 0 -1  0 0 -1  0 0 -1  0 0 -1 ]"#;
     assert_eq!(seen("", toward), 1.0);
-    assert_eq!(seen("ReverseOrientation", toward), 1.0);
+    assert_eq!(seen("ReverseOrientation", toward), 0.0);
+    assert_eq!(seen("Scale 1 1 -1", toward), 0.0, "mirrored, the normals face away");
 }
 
 fn error_of(test: &str, text: &str) -> String {
@@ -312,6 +314,9 @@ fn errors_name_the_file_line_and_what_was_expected() {
             "scene.pbrt:2:1: this AttributeBegin is never closed",
         ),
         ("end", "WorldBegin\nAttributeEnd\n", "scene.pbrt:2:1: `AttributeEnd` without a matching begin"),
+        ("nesting", "WorldBegin\nTransformBegin\nAttributeEnd\n", "scene.pbrt:3:1: `AttributeEnd` closes what was not opened by AttributeBegin"),
+        ("twice", "WorldBegin\nMakeNamedMaterial \"a\" \"string type\" \"diffuse\"\nMakeNamedMaterial \"a\" \"string type\" \"diffuse\"\n", "scene.pbrt:3:1: the material `a` is defined twice"),
+        ("instance", "WorldBegin\nObjectBegin \"a\"\nObjectInstance \"a\"\n", "scene.pbrt:3:1: `ObjectInstance` inside an object's definition"),
         (
             "index",
             "WorldBegin\nShape \"trianglemesh\" \"integer indices\" [ 0 1 3 ] \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ]\n",
@@ -395,6 +400,39 @@ fn quadrics_and_patches_are_meshes_of_their_shape() {
     // 64-gon's sag.
     let t = hit(0.5, 0.3).unwrap();
     assert!((t - (5.0 - 0.66f32.sqrt())).abs() < 2e-3, "{t}");
+}
+
+/// pbrt's sphere has its pole on +z and u about +z from +x; glint's own sphere is turned to
+/// match, so textures land where pbrt puts them.
+#[test]
+fn a_full_sphere_has_pbrts_texture_coordinates() {
+    let text = "WorldBegin\nShape \"sphere\" \"float radius\" 2\n";
+    let path = scene_dir("sphere-uv", &[("scene.pbrt", text.as_bytes())]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let uv = |origin: Vec3| {
+        let hit = loaded.scene.intersect(&Ray::new(origin, -origin.normalize())).expect("the ball");
+        hit.geometry.uv
+    };
+    // +y (φ = 90°) on the equator: u = ¼, v = ½; the top (+z): v = 1; the bottom: v = 0.
+    let side = uv(Vec3::new(0.0, 5.0, 0.0));
+    assert!((side - glam::Vec2::new(0.25, 0.5)).length() < 1e-5, "{side}");
+    assert!((uv(Vec3::new(0.0, 0.01, 5.0)).y - 1.0).abs() < 1e-2);
+    assert!(uv(Vec3::new(0.0, 0.01, -5.0)).y.abs() < 1e-2);
+}
+
+/// Loop subdivision numbers its vertices in a fixed order: the same mesh every time.
+#[test]
+fn loop_subdivision_is_deterministic() {
+    let text = "WorldBegin\nShape \"loopsubdiv\" \"integer levels\" 3 \"integer indices\" [ 0 1 2  0 2 3  0 3 1  1 3 2 ] \"point3 P\" [ 1 1 1  1 -1 -1  -1 1 -1  -1 -1 1 ]\n";
+    let path = scene_dir("loop", &[("scene.pbrt", text.as_bytes())]);
+    let mesh = |_: usize| match &load_scene(&path).unwrap().scene.objects()[0].shape {
+        Shape::Mesh(m) => (m.positions.clone(), m.indices.clone()),
+        other => panic!("{other:?}"),
+    };
+    let first = mesh(0);
+    for i in 1..4 {
+        assert!(mesh(i) == first, "run {i} differs");
+    }
 }
 
 #[test]

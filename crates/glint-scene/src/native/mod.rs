@@ -51,8 +51,8 @@ pub struct LoadedScene {
     pub inputs: Vec<PathBuf>,
 }
 
-/// Reads a scene file: `.xml` is a Mitsuba 3 scene, `.pbrt` a pbrt-v4 scene, `.json` JSON,
-/// anything else TOML.
+/// Reads a scene file: `.xml` is a Mitsuba 3 scene, `.pbrt` a pbrt-v4 scene, `.gltf` and `.glb`
+/// glTF 2.0, `.json` JSON, anything else TOML.
 pub fn load_scene(path: &Path) -> Result<LoadedScene, SceneError> {
     load_scene_with(path, &[])
 }
@@ -79,6 +79,12 @@ pub fn load_scene_with_options(path: &Path, options: &LoadOptions) -> Result<Loa
     let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if extension.as_deref() == Some("xml") {
         return crate::mitsuba::load_mitsuba(path, defines, &options.search_path);
+    }
+    if matches!(extension.as_deref(), Some("gltf" | "glb")) {
+        if let Some((name, _)) = defines.first() {
+            return Err(SceneError::new(path, None, format!("-D {name}=…: parameters are for Mitsuba scenes (.xml)")));
+        }
+        return crate::gltf::load_gltf(path, &options.search_path);
     }
     if extension.as_deref() == Some("pbrt") {
         if let Some((name, _)) = defines.first() {

@@ -196,8 +196,12 @@ impl<'s> Parser<'s> {
         }
         let bytes = self.source.read(path).map_err(|m| self.error(at, m))?;
         let text = String::from_utf8(bytes).map_err(|_| self.error(at, format!("`{path}` is not UTF-8 text")))?;
-        // Nested includes are relative to the main scene's directory, as in pbrt.
-        let full = self.files[0].path.parent().map_or_else(|| PathBuf::from(path), |d| d.join(path));
+        // Where the source found it (nested includes are relative to the main scene's
+        // directory, as in pbrt); a built-in file by its name.
+        let full = match self.source.files_read().last() {
+            Some(found) if found.ends_with(path) => found.clone(),
+            _ => self.files[0].path.parent().map_or_else(|| PathBuf::from(path), |d| d.join(path)),
+        };
         self.push_file(full, text)
     }
 

@@ -6,7 +6,7 @@
 //! grid of up to 16 × 16 cells otherwise (fewer when there are many patches). Loop subdivision follows Loop's 1987 rules with the boundary
 //! rules of Hoppe et al., then moves every vertex to its limit position, as pbrt does.
 
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
@@ -118,9 +118,8 @@ pub fn bilinear_patch(corners: [Vec3; 4], uvs: [Vec2; 4], normals: Option<[Vec3;
             *uv = uv_at(uv[0], uv[1]).to_array();
         }
     }
-    if normals.is_none() {
-        data.normals = if flat { None } else { data.normals };
-    }
+    // A flat patch keeps its plane's normal at its corners: a mesh of flat and curved
+    // patches has a normal at every vertex, and ReverseOrientation turns them all.
     data
 }
 
@@ -159,7 +158,7 @@ pub fn loop_subdivide(positions: &[Vec3], triangles: &[[u32; 3]], levels: u32) -
         // Even vertices: the old ones, smoothed.
         let mut next: Vec<Vec3> = (0..positions.len()).map(|v| topology.smoothed(v, &positions)).collect();
         // Odd vertices: one per edge.
-        let mut edge_vertex = HashMap::with_capacity(topology.edges.len());
+        let mut edge_vertex = BTreeMap::new();
         for (&(a, b), opposite) in &topology.edges {
             let (pa, pb) = (positions[a as usize], positions[b as usize]);
             let p = match opposite.as_slice() {
@@ -191,14 +190,15 @@ pub fn loop_subdivide(positions: &[Vec3], triangles: &[[u32; 3]], levels: u32) -
 /// Each edge's opposite vertices and each vertex's neighbours (for a boundary vertex, its
 /// two boundary neighbours).
 struct Topology {
-    edges: HashMap<(u32, u32), Vec<u32>>,
+    /// Ordered, so that vertices are numbered and sums taken the same way every run.
+    edges: BTreeMap<(u32, u32), Vec<u32>>,
     neighbours: Vec<Vec<u32>>,
     boundary: Vec<Vec<u32>>,
 }
 
 impl Topology {
     fn of(vertices: usize, triangles: &[[u32; 3]]) -> Result<Self, String> {
-        let mut edges: HashMap<(u32, u32), Vec<u32>> = HashMap::with_capacity(triangles.len() * 3 / 2);
+        let mut edges: BTreeMap<(u32, u32), Vec<u32>> = BTreeMap::new();
         for &[a, b, c] in triangles {
             for (x, y, opposite) in [(a, b, c), (b, c, a), (c, a, b)] {
                 let entry = edges.entry((x.min(y), x.max(y))).or_default();

@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use glam::{Mat3, Mat4, Vec2, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use super::params::{Failure, Params, Textured};
 use super::parse::{At, Directive, Parser};
@@ -40,7 +40,9 @@ pub fn translate(path: &Path, text: String, source: &Source) -> Result<(SceneFil
     }
     if !t.stack.is_empty() {
         let (_, at) = t.stack.last().unwrap().clone();
-        return Err(t.parser.error(at, "this AttributeBegin is never closed by an AttributeEnd"));
+        let opened: String =
+            t.parser.files[at.file].text[at.offset..].chars().take_while(|c| c.is_alphanumeric()).collect();
+        return Err(t.parser.error(at, format!("this {opened} is never closed")));
     }
     let file = t.finish()?;
     Ok((file, t.made, t.warnings))
@@ -258,10 +260,15 @@ impl<'s> Translator<'s> {
             "WorldEnd" => {}
             "AttributeBegin" | "TransformBegin" => self.stack.push((self.state.clone(), d.at)),
             "AttributeEnd" | "TransformEnd" => {
-                let (state, _) = self
+                let (state, begun) = self
                     .stack
                     .pop()
                     .ok_or_else(|| self.parser.error(d.at, format!("`{}` without a matching begin", d.name)))?;
+                let opened = &self.parser.files[begun.file].text[begun.offset..];
+                let expected = if d.name == "AttributeEnd" { "AttributeBegin" } else { "TransformBegin" };
+                if !opened.starts_with(expected) {
+                    return Err(self.parser.error(d.at, format!("`{}` closes what was not opened by {expected}", d.name)));
+                }
                 if d.name == "TransformEnd" {
                     self.state.ctm = state.ctm;
                 } else {
@@ -304,6 +311,9 @@ impl<'s> Translator<'s> {
                     self.parser.error(d.at, "`MakeNamedMaterial` needs a `\"string type\"` (diffuse, conductor, …)")
                 })?;
                 let name = format!("named:{}", d.args[0]);
+                if self.named_materials.contains_key(&d.args[0]) {
+                    return Err(self.parser.error(d.at, format!("the material `{}` is defined twice", d.args[0])));
+                }
                 self.material(d, &kind, name.clone())?;
                 self.named_materials.insert(d.args[0].clone(), name);
             }
@@ -331,9 +341,15 @@ impl<'s> Translator<'s> {
                 };
                 let shapes = self.instanceable(&name, shapes);
                 self.objects.insert(name, shapes);
-                if let Some((state, _)) = self.stack.pop() {
-                    self.state = state;
+                match self.stack.pop() {
+                    Some((state, begun)) if self.parser.files[begun.file].text[begun.offset..].starts_with("ObjectBegin") => {
+                        self.state = state
+                    }
+                    _ => return Err(self.parser.error(d.at, "`ObjectEnd` while an AttributeBegin inside the object is still open")),
                 }
+            }
+            "ObjectInstance" if self.defining.is_some() => {
+                return Err(self.parser.error(d.at, "`ObjectInstance` inside an object's definition"));
             }
             "ObjectInstance" => {
                 let Some(shapes) = self.objects.get(&d.args[0]) else {
@@ -395,7 +411,11 @@ impl<'s> Translator<'s> {
                 return Err(self.parser.error(d.at, format!("the camera's `{refused}` is not supported")));
             }
         }
-        p.ignore(&["shutteropen", "shutterclose"]);
+        let shutter = p.float("shutterclose", 1.0).map_err(|x| self.fail(x))?
+            - p.float("shutteropen", 0.0).map_err(|x| self.fail(x))?;
+        if (shutter - 1.0).abs() > 1e-6 {
+            self.warn(d.at, "pbrt scales the image by the shutter's open time; glint records radiance as it is");
+        }
         self.coordinate_systems.insert("camera".into(), self.state.ctm.inverse());
         self.camera =
             Some(Camera { kind, camera_from_world: self.state.ctm, fov, lens_radius, focal_distance, at: d.at });
@@ -413,7 +433,10 @@ impl<'s> Translator<'s> {
             return Err(self.parser.error(d.at, format!("the film's resolution must be 1 to 32768 each, got {x}x{y}")));
         }
         self.resolution = [x as u32, y as u32];
-        p.ignore(&["filename", "savefp16", "diagonal", "sensor"]);
+        p.ignore(&["filename", "savefp16", "diagonal"]);
+        if p.string("sensor").map_err(|f| self.fail(f))?.is_some_and(|s| s != "cie1931") {
+            self.warn(d.at, "camera sensor spectra are not available: the film records CIE 1931 XYZ as sRGB (pbrt's default sensor)");
+        }
         let iso = p.float("iso", 100.0).map_err(|f| self.fail(f))?;
         let exposure = p.float("exposuretime", 1.0).map_err(|f| self.fail(f))?;
         let white = p.float("whitebalance", 0.0).map_err(|f| self.fail(f))?;
@@ -441,7 +464,7 @@ impl<'s> Translator<'s> {
                 let xs = p.int("xsamples", 4).map_err(|f| self.fail(f))?;
                 let ys = p.int("ysamples", 4).map_err(|f| self.fail(f))?;
                 p.ignore(&["jitter"]);
-                xs * ys
+                xs.checked_mul(ys).unwrap_or(0)
             }
             _ => p.int("pixelsamples", 16).map_err(|f| self.fail(f))?,
         };
@@ -505,7 +528,10 @@ impl<'s> Translator<'s> {
             Some("power") | Some("bvh") | None => self.scene.render.light_selection = "power".into(),
             Some(other) => return Err(self.parser.error(d.at, format!("light sampler `{other}` is not known"))),
         }
-        p.ignore(&["regularize", "samplelights", "samplebsdf", "photonsperiteration", "radius", "iterations", "seed"]);
+        if p.bool("regularize", false).map_err(|f| self.fail(f))? {
+            self.warn(d.at, "`regularize` is not available: paths are not regularized");
+        }
+        p.ignore(&["samplelights", "samplebsdf", "photonsperiteration", "radius", "iterations", "seed"]);
         Ok(())
     }
 
@@ -950,7 +976,9 @@ impl<'s> Translator<'s> {
                     _ => TexelFilterDesc::Bilinear,
                 };
                 let raw = match p.string("encoding").map_err(|f| self.fail(f))?.as_deref() {
-                    None => false, // 8-bit files decode from sRGB, float files are linear either way
+                    // pbrt-v4: PNG files are sRGB, others linear unless told (float files are
+                    // linear either way).
+                    None => !file.to_ascii_lowercase().ends_with(".png"),
                     Some("sRGB") => false,
                     Some("linear") => true,
                     Some(other) => {
@@ -995,7 +1023,12 @@ impl<'s> Translator<'s> {
                         scale: Some(Scale2Desc::Uniform(1.0)),
                         uv_transform: Some(uv_transform(self)?),
                     },
-                    3 => TextureDesc::SolidChecker { even, odd, scale: Some(1.0) },
+                    3 => {
+                        if self.state.ctm != Mat4::IDENTITY {
+                            self.warn(d.at, "a solid checkerboard's checks lie in the shape's own space, not the texture's transform");
+                        }
+                        TextureDesc::SolidChecker { even, odd, scale: Some(1.0) }
+                    }
                     other => {
                         return Err(self
                             .parser
@@ -1141,8 +1174,13 @@ impl<'s> Translator<'s> {
             }
             "infinite" => {
                 let scale = p.float("scale", 1.0).map_err(|f| self.fail(f))?;
-                if p.float("illuminance", -1.0).map_err(|f| self.fail(f))? > 0.0 {
-                    return Err(self.parser.error(self.param_at(&p, "illuminance"), "an infinite light's `illuminance` is not supported; give `scale`"));
+                for refused in ["illuminance", "power"] {
+                    if p.float(refused, -1.0).map_err(|f| self.fail(f))? > 0.0 {
+                        return Err(self.parser.error(self.param_at(&p, refused), format!("an infinite light's `{refused}` is not supported; give `scale`")));
+                    }
+                }
+                if self.scene.environment.map.is_some() || (p.list.iter().any(|x| x.name == "filename") && self.scene.environment.background != [0.0; 3]) {
+                    return Err(self.parser.error(d.at, "glint's environment is one map or one constant: this infinite light would replace another"));
                 }
                 match p.string("filename").map_err(|f| self.fail(f))? {
                     Some(file) => self.environment_map(d.at, &file, scale, Mat3::from_mat4(ctm))?,
@@ -1232,8 +1270,8 @@ impl<'s> Translator<'s> {
         let mut data = match kind {
             "sphere" => {
                 let radius = f(p.float("radius", 1.0))?;
-                let z_min = f(p.float("zmin", -radius))?.max(-radius);
-                let z_max = f(p.float("zmax", radius))?.min(radius);
+                let (z0, z1) = (f(p.float("zmin", -radius))?, f(p.float("zmax", radius))?);
+                let (z_min, z_max) = (z0.min(z1).max(-radius), z0.max(z1).min(radius));
                 let phi_max = f(p.float("phimax", 360.0))?.clamp(0.0, 360.0);
                 if !(radius > 0.0 && radius.is_finite()) {
                     return Err(self.parser.error(d.at, format!("a sphere's radius must be > 0, got {radius}")));
@@ -1243,7 +1281,10 @@ impl<'s> Translator<'s> {
                         self.warn(d.at, "ReverseOrientation on a sphere is ignored (glint's spheres face out)");
                     }
                     let material = self.shape_material();
-                    let desc = ShapeDesc::Sphere { center: [0.0; 3], radius, material, transform: vec![matrix_op(ctm)], name: None };
+                    // glint's sphere has its pole on +y (u about +y from +x); pbrt's on +z (u
+                    // about +z from +x): swapping y and z gives pbrt's uv, hence its textures.
+                    let swap = Mat4::from_cols(Vec4::X, Vec4::Z, Vec4::Y, Vec4::W);
+                    let desc = ShapeDesc::Sphere { center: [0.0; 3], radius, material, transform: vec![matrix_op(swap), matrix_op(ctm)], name: None };
                     return self.push_shape(d.at, desc);
                 }
                 shapes::partial_sphere(radius, z_min, z_max, phi_max.to_radians())
@@ -1270,6 +1311,9 @@ impl<'s> Translator<'s> {
                     return Err(self.parser.error(self.param_at(&p, "levels"), format!("`levels` must be 0 to 8, got {levels}")));
                 }
                 let mesh = self.triangle_mesh(&p)?;
+                if mesh.normals.is_some() || mesh.uvs.is_some() {
+                    self.warn(d.at, "a loopsubdiv's `N` and `uv` are not carried through subdivision (as in pbrt)");
+                }
                 // Each level quadruples the triangles; about 100 bytes each while subdividing.
                 let needed = (mesh.indices.len() as u64).saturating_mul(100 << (2 * levels));
                 if needed > crate::limits::memory_limit() {
@@ -1294,11 +1338,7 @@ impl<'s> Translator<'s> {
                     return Err(self.parser.error(self.param_at(&p, "displacement"), "displacement is not supported"));
                 }
                 p.ignore(&["edgelength"]);
-                if !reverse {
-                    let material = self.shape_material();
-                    let desc = ShapeDesc::Mesh { file: Some(file), data: None, shape_index: 0, smooth: true, flip_v: false, compute_normals: false, material, transform: vec![matrix_op(ctm)], name: None };
-                    return self.push_shape(d.at, desc);
-                }
+                // Read here rather than by the builder: pbrt faces a mesh to its normals.
                 let bytes = self.source.read(&file).map_err(|m| self.parser.error(d.at, m))?;
                 let mesh = crate::mesh::read_mesh(&file, &bytes).map_err(|m| self.parser.error(d.at, format!("`{file}`: {m}")))?;
                 MeshData {
@@ -1319,14 +1359,11 @@ impl<'s> Translator<'s> {
             self.warn(d.at, format!("the {kind} has no triangles and is left out"));
             return Ok(());
         }
-        // Quadrics and patches without normals of their own are pbrt's analytic shapes, which
-        // ReverseOrientation turns inside out; given normals decide the side otherwise.
-        let own_normals = match kind {
-            "sphere" | "cylinder" => false,
-            "bilinearmesh" => p.list.iter().any(|x| x.name == "N"),
-            _ => true,
-        };
-        if reverse && !own_normals {
+        // pbrt negates a shape's normals under ReverseOrientation, then faces the surface to
+        // them. Its Loop surfaces face the way their limit normals Cross(S, T) point, and it
+        // walks each one-ring clockwise about the winding: against the winding.
+        let reverse = reverse ^ (kind == "loopsubdiv");
+        if reverse {
             data.normals.iter_mut().flatten().for_each(|n| *n = (-Vec3::from(*n)).to_array());
         }
         orient(&mut data, reverse);
@@ -1470,6 +1507,16 @@ impl<'s> Translator<'s> {
         }
         let normals = p.triples("N").map_err(|f| self.fail(f))?;
         let uvs = p.pairs("uv").map_err(|f| self.fail(f))?;
+        for (what, len) in [("N", normals.as_ref().map(Vec::len)), ("uv", uvs.as_ref().map(Vec::len))] {
+            if let Some(len) = len {
+                if len != positions.len() {
+                    return Err(self.parser.error(
+                        self.param_at(p, what),
+                        format!("`{what}` has {len} entries for {} vertices", positions.len()),
+                    ));
+                }
+            }
+        }
         // Curved patches are cut finer the fewer there are: 16 × 16 cells each up to 8,192
         // patches, then fewer, about four million triangles in all.
         let patches = indices.len() / 4;

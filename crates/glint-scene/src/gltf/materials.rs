@@ -1,0 +1,319 @@
+//! glTF's metallic-roughness materials on glint's principled BSDF (the Disney model glTF's
+//! is drawn from): base colour, metallic and roughness (α = roughness², as glTF), with their
+//! textures (metallic from the blue channel, roughness from the green); transmission and
+//! index (KHR_materials_transmission, _ior) on the solid principled BSDF when the material
+//! has a volume, on the thin one when not (glTF's transmission is thin-walled without
+//! KHR_materials_volume); clearcoat; emission (with _emissive_strength) as an emitter around
+//! it; normal maps. Texture factors become the texture's tint; KHR_texture_transform and
+//! glTF's downward v become the texture's uv map.
+
+use glam::{Affine2, Mat2, Vec2};
+
+use crate::located::Located;
+use crate::native::schema::*;
+
+/// A glTF material as glint names it, and whether it emits.
+pub struct MaterialInfo {
+    pub name: String,
+    pub emits: bool,
+}
+
+/// The materials: index 0 is glTF's default material (white, metallic 1, roughness 1), index
+/// i + 1 the document's material i.
+pub fn translate(
+    document: &gltf::Document,
+    images: &[String],
+    scene: &mut SceneFile,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<MaterialInfo>, String> {
+    let mut out = Vec::new();
+    let default = MaterialDesc::Principled {
+        base_color: Some(ColorDesc::Rgb([1.0; 3])),
+        roughness: Some(FractionDesc::Number(1.0)),
+        anisotropic: None,
+        metallic: Some(FractionDesc::Number(1.0)),
+        spec_trans: None,
+        specular: None,
+        eta: Some(1.5),
+        spec_tint: None,
+        sheen: None,
+        sheen_tint: None,
+        flatness: None,
+        clearcoat: None,
+        clearcoat_gloss: None,
+    };
+    scene.materials.insert("glTF default".into(), Located { value: default, span: None });
+    out.push(MaterialInfo { name: "glTF default".into(), emits: false });
+    let mut textures = Textures { images, scene_textures: Vec::new() };
+    for m in document.materials() {
+        let index = m.index().unwrap_or(0);
+        let name = match m.name() {
+            Some(n) => format!("material {index} ({n})"),
+            None => format!("material {index}"),
+        };
+        let say = |warnings: &mut Vec<String>, what: &str| warnings.push(format!("{name}: {what}"));
+        let pbr = m.pbr_metallic_roughness();
+        let [r, g, b, _] = pbr.base_color_factor();
+        let base_color = match pbr.base_color_texture() {
+            Some(info) => ColorDesc::Texture(textures.get(&info, "base colour", false, None, [r, g, b], warnings)?),
+            None => ColorDesc::Rgb([r, g, b]),
+        };
+        let fraction = |textures: &mut Textures,
+                        info: Option<gltf::texture::Info>,
+                        what: &str,
+                        channel: u8,
+                        factor: f32,
+                        warnings: &mut Vec<String>|
+         -> Result<FractionDesc, String> {
+            Ok(match info {
+                Some(info) => {
+                    FractionDesc::Texture(textures.get(&info, what, true, Some(channel), [factor; 3], warnings)?)
+                }
+                None => FractionDesc::Number(factor.clamp(0.0, 1.0)),
+            })
+        };
+        let metallic =
+            fraction(&mut textures, pbr.metallic_roughness_texture(), "metallic", 2, pbr.metallic_factor(), warnings)?;
+        let roughness = fraction(
+            &mut textures,
+            pbr.metallic_roughness_texture(),
+            "roughness",
+            1,
+            pbr.roughness_factor(),
+            warnings,
+        )?;
+        let ior = m.ior().unwrap_or(1.5);
+        if !(ior.is_finite() && ior >= 1.0) {
+            return Err(format!("{name}: its index of refraction must be ≥ 1, got {ior}"));
+        }
+        let transmission = match m.transmission() {
+            Some(t) if t.transmission_factor() > 0.0 => Some(fraction(
+                &mut textures,
+                t.transmission_texture(),
+                "transmission",
+                0,
+                t.transmission_factor(),
+                warnings,
+            )?),
+            _ => None,
+        };
+        let volume = m.volume().filter(|v| v.thickness_factor() > 0.0);
+        if let Some(v) = &volume {
+            if v.attenuation_distance().is_finite() {
+                say(warnings, "the volume's attenuation is not rendered (glint has no participating media yet)");
+            }
+        }
+        let (clearcoat, clearcoat_gloss) = clearcoat(&m, &name, warnings);
+        let principled = match (&transmission, &volume) {
+            (Some(t), None) => {
+                if pbr.metallic_factor() > 0.0
+                    && pbr.metallic_roughness_texture().is_none()
+                    && pbr.metallic_factor() < 1.0
+                {
+                    say(warnings, "a thin transmitting material's metallic weight is left out");
+                }
+                MaterialDesc::PrincipledThin {
+                    base_color: Some(base_color),
+                    roughness: Some(roughness),
+                    anisotropic: None,
+                    spec_trans: Some(t.clone()),
+                    diff_trans: None,
+                    eta: Some(FractionDesc::Number(ior)),
+                    spec_tint: None,
+                    sheen: None,
+                    sheen_tint: None,
+                    flatness: None,
+                    diffuse_reflectance_sampling_rate: None,
+                    specular_reflectance_sampling_rate: None,
+                    specular_transmittance_sampling_rate: None,
+                    diffuse_transmittance_sampling_rate: None,
+                }
+            }
+            _ => MaterialDesc::Principled {
+                base_color: Some(base_color),
+                roughness: Some(roughness),
+                anisotropic: None,
+                metallic: Some(metallic),
+                spec_trans: transmission.clone(),
+                specular: None,
+                eta: Some(ior),
+                spec_tint: None,
+                sheen: None,
+                sheen_tint: None,
+                flatness: None,
+                clearcoat,
+                clearcoat_gloss,
+            },
+        };
+        let mut current = format!("{name}: surface");
+        scene.materials.insert(current.clone(), Located { value: principled, span: None });
+        if let Some(normal) = m.normal_texture() {
+            if normal.tex_coord() != 0 {
+                say(warnings, "its normal map reads TEXCOORD_0 (glint reads one set of texture coordinates)");
+            }
+            if (normal.scale() - 1.0).abs() > 1e-6 {
+                say(warnings, "its normal map's `scale` is not read");
+            }
+            let texture = textures.make(&normal.texture(), "normals", true, None, [1.0; 3], None)?;
+            let wrapped = format!("{name}: normal-mapped");
+            let desc = MaterialDesc::NormalMap { normals: ColorDesc::Texture(texture), material: current };
+            scene.materials.insert(wrapped.clone(), Located { value: desc, span: None });
+            current = wrapped;
+        }
+        if m.occlusion_texture().is_some() {
+            say(warnings, "its occlusion map is not read (a path tracer finds occlusion itself)");
+        }
+        if !matches!(m.alpha_mode(), gltf::material::AlphaMode::Opaque) {
+            say(warnings, "its alpha mode is not read: the surface is opaque");
+        }
+        let strength = m.emissive_strength().unwrap_or(1.0);
+        let [er, eg, eb] = m.emissive_factor().map(|c| c * strength);
+        let emits = er > 0.0 || eg > 0.0 || eb > 0.0;
+        if emits {
+            let radiance = match m.emissive_texture() {
+                Some(info) => {
+                    ColorDesc::Texture(textures.get(&info, "emission", false, None, [er, eg, eb], warnings)?)
+                }
+                None => ColorDesc::Rgb([er, eg, eb]),
+            };
+            let wrapped = format!("{name}: emitting");
+            let desc = MaterialDesc::Emitter { radiance, two_sided: m.double_sided(), material: current };
+            scene.materials.insert(wrapped.clone(), Located { value: desc, span: None });
+            current = wrapped;
+        }
+        out.push(MaterialInfo { name: current, emits });
+    }
+    for (name, desc) in textures.scene_textures {
+        scene.textures.insert(name, Located { value: desc, span: None });
+    }
+    Ok(out)
+}
+
+/// KHR_materials_clearcoat as the principled BSDF's clearcoat: its weight, and a gloss whose
+/// α (Disney's lerp from 0.1 to 0.001) is glTF's α = roughness².
+fn clearcoat(
+    m: &gltf::Material,
+    name: &str,
+    warnings: &mut Vec<String>,
+) -> (Option<FractionDesc>, Option<FractionDesc>) {
+    let Some(ext) = m.extension_value("KHR_materials_clearcoat") else { return (None, None) };
+    let number = |key: &str| ext.get(key).and_then(serde_json::Value::as_f64).unwrap_or(0.0) as f32;
+    let weight = number("clearcoatFactor").clamp(0.0, 1.0);
+    if weight == 0.0 {
+        return (None, None);
+    }
+    if ["clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"].iter().any(|k| ext.get(*k).is_some())
+    {
+        warnings.push(format!("{name}: clearcoat textures are not read; its factors are"));
+    }
+    let r = number("clearcoatRoughnessFactor").clamp(0.0, 1.0);
+    let gloss = ((0.1 - r * r) / (0.1 - 0.001)).clamp(0.0, 1.0);
+    (Some(FractionDesc::Number(weight)), Some(FractionDesc::Number(gloss)))
+}
+
+/// The glint textures made so far, one per glTF texture and use.
+struct Textures<'a> {
+    images: &'a [String],
+    scene_textures: Vec<(String, TextureDesc)>,
+}
+
+impl Textures<'_> {
+    /// A glint texture for a texture reference: its image, sampler, transform, the channel
+    /// it is read from and the factor it is scaled by.
+    fn get(
+        &mut self,
+        info: &gltf::texture::Info,
+        what: &str,
+        raw: bool,
+        channel: Option<u8>,
+        tint: [f32; 3],
+        warnings: &mut Vec<String>,
+    ) -> Result<String, String> {
+        if info.tex_coord() != 0 {
+            warnings.push(format!(
+                "texture {}: TEXCOORD_{} is read as TEXCOORD_0",
+                info.texture().index(),
+                info.tex_coord()
+            ));
+        }
+        let transform = info.texture_transform().map(|t| (t.offset(), t.rotation(), t.scale()));
+        self.make(&info.texture(), what, raw, channel, tint, transform)
+    }
+
+    fn make(
+        &mut self,
+        texture: &gltf::Texture,
+        what: &str,
+        raw: bool,
+        channel: Option<u8>,
+        tint: [f32; 3],
+        transform: Option<([f32; 2], f32, [f32; 2])>,
+    ) -> Result<String, String> {
+        let image = texture.source().index();
+        let file = self.images.get(image).ok_or_else(|| format!("texture {}: no image {image}", texture.index()))?;
+        let sampler = texture.sampler();
+        let wrap = match sampler.wrap_s() {
+            gltf::texture::WrappingMode::ClampToEdge => WrapDesc::Clamp,
+            gltf::texture::WrappingMode::MirroredRepeat => WrapDesc::Mirror,
+            gltf::texture::WrappingMode::Repeat => WrapDesc::Repeat,
+        };
+        let filter = match sampler.mag_filter() {
+            Some(gltf::texture::MagFilter::Nearest) => TexelFilterDesc::Nearest,
+            _ => TexelFilterDesc::Bilinear,
+        };
+        let name = format!("texture {} ({what}) #{}", texture.index(), self.scene_textures.len());
+        let desc = TextureDesc::Image {
+            file: file.clone(),
+            wrap,
+            filter,
+            scale: None,
+            uv_transform: Some(uv_map(transform)),
+            raw,
+            channel,
+            tint: (tint != [1.0; 3]).then_some(tint),
+        };
+        self.scene_textures.push((name.clone(), desc));
+        Ok(name)
+    }
+}
+
+/// The map from glint's uv (v up; the meshes' v was turned over at load) to the image's in
+/// glint's convention, through KHR_texture_transform's offset · rotation · scale, which
+/// works in glTF's uv (v down): F · M · F with F(u, v) = (u, 1 − v).
+fn uv_map(transform: Option<([f32; 2], f32, [f32; 2])>) -> [[f32; 3]; 2] {
+    let (offset, rotation, scale) = transform.unwrap_or(([0.0; 2], 0.0, [1.0; 2]));
+    let (s, c) = rotation.sin_cos();
+    let m = Affine2::from_translation(Vec2::from(offset))
+        * Affine2::from_mat2(Mat2::from_cols_array(&[c, -s, s, c]))
+        * Affine2::from_scale(Vec2::from(scale));
+    let flip = Affine2::from_cols(Vec2::X, -Vec2::Y, Vec2::Y);
+    let a = flip * m * flip;
+    [
+        [a.matrix2.x_axis.x, a.matrix2.y_axis.x, a.translation.x],
+        [a.matrix2.x_axis.y, a.matrix2.y_axis.y, a.translation.y],
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn apply(rows: [[f32; 3]; 2], uv: [f32; 2]) -> [f32; 2] {
+        [0, 1].map(|r| rows[r][0] * uv[0] + rows[r][1] * uv[1] + rows[r][2])
+    }
+
+    #[test]
+    fn the_uv_map_is_identity_without_a_transform_and_follows_gltf_with_one() {
+        assert_eq!(uv_map(None), [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+        // glTF: offset (0.5, 0), scale 2: its uv (0.1, 0.2) → (0.7, 0.4). In glint's terms
+        // the surface's (0.1, 0.8) must reach the image's (0.7, 0.6).
+        let rows = uv_map(Some(([0.5, 0.0], 0.0, [2.0, 2.0])));
+        let out = apply(rows, [0.1, 0.8]);
+        assert!((out[0] - 0.7).abs() < 1e-6 && (out[1] - 0.6).abs() < 1e-6, "{out:?}");
+        // A quarter turn: glTF's (u, v) → (cos·u + sin·v, −sin·u + cos·v) = (v, −u) at 90°,
+        // as three.js applies it: glTF (0.25, 0) → (0, −0.25), glint (0.25, 1) → (0, 1.25).
+        let rows = uv_map(Some(([0.0, 0.0], std::f32::consts::FRAC_PI_2, [1.0, 1.0])));
+        let out = apply(rows, [0.25, 1.0]);
+        assert!((out[0] - 0.0).abs() < 1e-6 && (out[1] - 1.25).abs() < 1e-6, "{out:?}");
+    }
+}

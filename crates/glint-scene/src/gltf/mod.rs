@@ -1,0 +1,154 @@
+//! glTF 2.0 scenes (`.gltf` with external or embedded buffers, `.glb`), read by the `gltf`
+//! crate, mapped onto glint's native scene description and built by the same builder as TOML
+//! scenes: the node hierarchy (meshes placed once or instanced), cameras, punctual lights,
+//! and metallic-roughness materials on glint's principled BSDF. docs/gltf.md lists what maps
+//! to what.
+
+mod materials;
+mod nodes;
+
+use std::path::{Path, PathBuf};
+
+use base64::Engine;
+
+use crate::error::SceneError;
+use crate::native::LoadedScene;
+use crate::source::Source;
+
+/// Extensions whose meaning glint reads; others in `extensionsUsed` are named in a warning.
+const READ_EXTENSIONS: [&str; 7] = [
+    "KHR_lights_punctual",
+    "KHR_materials_transmission",
+    "KHR_materials_ior",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_clearcoat",
+    "KHR_materials_volume",
+    "KHR_texture_transform",
+];
+
+/// Reads a glTF 2.0 scene; `search_path` is searched after its directory for the files it
+/// names.
+pub fn load_gltf(path: &Path, search_path: &[PathBuf]) -> Result<LoadedScene, SceneError> {
+    let bytes =
+        std::fs::read(path).map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+    let mut directories = vec![path.parent().map(Path::to_path_buf).unwrap_or_default()];
+    directories.extend(search_path.iter().cloned());
+    parse_gltf(&bytes, path, Source::search_path(directories))
+}
+
+/// Reads glTF bytes (JSON or binary); `name` is used in messages, `source` resolves the
+/// buffers and images it names.
+pub fn parse_gltf(bytes: &[u8], name: &Path, source: Source<'_>) -> Result<LoadedScene, SceneError> {
+    let error = |m: String| SceneError::new(name, None, m);
+    let gltf = ::gltf::Gltf::from_slice(bytes).map_err(|e| error(format!("not a valid glTF 2.0 file: {e}")))?;
+    let mut warnings = Vec::new();
+    for extension in gltf.extensions_used() {
+        if !READ_EXTENSIONS.contains(&extension) {
+            warnings.push(format!("{}: extension {extension} is not read; its effect is left out", name.display()));
+        }
+    }
+    let buffers = read_buffers(&gltf, &source).map_err(error)?;
+    let mut made = Vec::new();
+    let images = read_images(&gltf, &buffers, &source, &mut made).map_err(error)?;
+    let reader = nodes::Reader::new(&gltf.document, &buffers, &images, name);
+    let (file, mut more) = reader.translate().map_err(error)?;
+    warnings.append(&mut more);
+    let source = source.with_made_files(made);
+    let mut loaded = crate::native::build_file(file, "", name, &source)?;
+    warnings.append(&mut loaded.warnings);
+    loaded.warnings = warnings;
+    Ok(loaded)
+}
+
+/// Each buffer's bytes: the binary chunk of a .glb, a `data:` URI, or a file.
+fn read_buffers(gltf: &::gltf::Gltf, source: &Source) -> Result<Vec<Vec<u8>>, String> {
+    let mut buffers = Vec::new();
+    for buffer in gltf.buffers() {
+        let bytes = match buffer.source() {
+            ::gltf::buffer::Source::Bin => gltf.blob.clone().ok_or_else(|| {
+                format!("buffer {} refers to the binary chunk, which the file does not have", buffer.index())
+            })?,
+            ::gltf::buffer::Source::Uri(uri) => {
+                read_uri(uri, source).map_err(|m| format!("buffer {}: {m}", buffer.index()))?
+            }
+        };
+        if bytes.len() < buffer.length() {
+            return Err(format!(
+                "buffer {} declares {} bytes but holds {}",
+                buffer.index(),
+                buffer.length(),
+                bytes.len()
+            ));
+        }
+        buffers.push(bytes);
+    }
+    Ok(buffers)
+}
+
+/// A `data:` URI's bytes, or a file's (percent-decoded, relative to the scene).
+fn read_uri(uri: &str, source: &Source) -> Result<Vec<u8>, String> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let (header, data) = rest.split_once(',').ok_or("a data URI without a comma")?;
+        if !header.ends_with(";base64") {
+            return Err("a data URI that is not base64".into());
+        }
+        return base64::engine::general_purpose::STANDARD.decode(data).map_err(|e| format!("bad base64 data: {e}"));
+    }
+    source.read(&percent_decode(uri))
+}
+
+fn percent_decode(uri: &str) -> String {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = |b: u8| (b as char).to_digit(16);
+        match (bytes[i], bytes.get(i + 1).copied().and_then(hex), bytes.get(i + 2).copied().and_then(hex)) {
+            (b'%', Some(a), Some(b)) => {
+                out.push((a * 16 + b) as u8);
+                i += 3;
+            }
+            (b, _, _) => {
+                out.push(b);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// Each image as a file the native builder can read: a name in `made` (embedded or
+/// `data:` images, and files, read once here), with its format's extension.
+fn read_images(
+    gltf: &::gltf::Gltf,
+    buffers: &[Vec<u8>],
+    source: &Source,
+    made: &mut Vec<(String, Vec<u8>)>,
+) -> Result<Vec<String>, String> {
+    let mut names = Vec::new();
+    for image in gltf.images() {
+        let (bytes, mime) = match image.source() {
+            ::gltf::image::Source::View { view, mime_type } => {
+                let buffer = &buffers[view.buffer().index()];
+                let range = view.offset()..view.offset() + view.length();
+                let bytes = buffer
+                    .get(range)
+                    .ok_or_else(|| format!("image {}: its buffer view lies outside its buffer", image.index()))?;
+                (bytes.to_vec(), Some(mime_type))
+            }
+            ::gltf::image::Source::Uri { uri, mime_type } => {
+                (read_uri(uri, source).map_err(|m| format!("image {}: {m}", image.index()))?, mime_type)
+            }
+        };
+        let extension = match mime {
+            Some("image/jpeg") => "jpg",
+            Some("image/png") => "png",
+            _ if bytes.starts_with(&[0xff, 0xd8]) => "jpg",
+            _ => "png",
+        };
+        let name = format!("gltf-image-{}.{extension}", image.index());
+        made.push((name.clone(), bytes));
+        names.push(name);
+    }
+    Ok(names)
+}

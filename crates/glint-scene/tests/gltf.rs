@@ -1,0 +1,471 @@
+//! The glTF 2.0 reader on files made here: every material feature and its mapping onto the
+//! principled BSDF, the node hierarchy and instancing, cameras and lights, binary and
+//! external buffers, an analytic render, and the errors.
+
+mod common;
+
+use std::path::PathBuf;
+
+use base64::Engine;
+use glint_core::camera::Lens;
+use glint_core::geometry::Ray;
+use glint_core::lights::Light;
+use glint_core::materials::Material;
+use glint_core::render::{render, RenderSettings};
+use glint_core::shapes::Shape;
+use glint_core::textures::Texture;
+use glint_core::{Rgb, Vec3};
+use glint_scene::load_scene;
+use serde_json::{json, Value};
+
+/// A glTF document under construction: one buffer holding every accessor's data.
+#[derive(Default)]
+struct Builder {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Builder {
+    fn accessor(
+        &mut self,
+        bytes: &[u8],
+        count: usize,
+        kind: &str,
+        component: u32,
+        minmax: Option<(Vec<f32>, Vec<f32>)>,
+    ) -> usize {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        self.views.push(json!({ "buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len() }));
+        self.bin.extend_from_slice(bytes);
+        let mut accessor =
+            json!({ "bufferView": self.views.len() - 1, "componentType": component, "count": count, "type": kind });
+        if let Some((min, max)) = minmax {
+            accessor["min"] = json!(min);
+            accessor["max"] = json!(max);
+        }
+        self.accessors.push(accessor);
+        self.accessors.len() - 1
+    }
+
+    fn floats(&mut self, values: &[[f32; 3]]) -> usize {
+        let bytes: Vec<u8> = values.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+        let min = (0..3).map(|c| values.iter().map(|v| v[c]).fold(f32::INFINITY, f32::min)).collect();
+        let max = (0..3).map(|c| values.iter().map(|v| v[c]).fold(f32::NEG_INFINITY, f32::max)).collect();
+        self.accessor(&bytes, values.len(), "VEC3", 5126, Some((min, max)))
+    }
+
+    fn pairs(&mut self, values: &[[f32; 2]]) -> usize {
+        let bytes: Vec<u8> = values.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+        self.accessor(&bytes, values.len(), "VEC2", 5126, None)
+    }
+
+    fn indices(&mut self, values: &[u16]) -> usize {
+        let bytes: Vec<u8> = values.iter().flat_map(|x| x.to_le_bytes()).collect();
+        self.accessor(&bytes, values.len(), "SCALAR", 5123, None)
+    }
+
+    /// A unit quad in the xy plane facing +z, uv (0, 0) at its top-left as glTF's images.
+    fn quad(&mut self) -> Value {
+        let p = self.floats(&[[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
+        let n = self.floats(&[[0.0, 0.0, 1.0]; 4]);
+        let t = self.pairs(&[[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]);
+        let i = self.indices(&[0, 1, 2, 0, 2, 3]);
+        json!({ "attributes": { "POSITION": p, "NORMAL": n, "TEXCOORD_0": t }, "indices": i })
+    }
+
+    fn finish(self, mut document: Value, uri: Option<&str>) -> (Value, Vec<u8>) {
+        let mut buffer = json!({ "byteLength": self.bin.len() });
+        match uri {
+            Some("data") => {
+                buffer["uri"] = json!(format!(
+                    "data:application/octet-stream;base64,{}",
+                    base64::engine::general_purpose::STANDARD.encode(&self.bin)
+                ))
+            }
+            Some(file) => buffer["uri"] = json!(file),
+            None => {}
+        }
+        document["asset"] = json!({ "version": "2.0" });
+        document["buffers"] = json!([buffer]);
+        document["bufferViews"] = json!(self.views);
+        document["accessors"] = json!(self.accessors);
+        (document, self.bin)
+    }
+}
+
+fn png(width: u32, height: u32, pixel: impl Fn(u32, u32) -> [u8; 3]) -> Vec<u8> {
+    let image = image::RgbImage::from_fn(width, height, |x, y| image::Rgb(pixel(x, y)));
+    let mut bytes = Vec::new();
+    image.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png).unwrap();
+    bytes
+}
+
+fn dir(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("glint-gltf-{}-{test}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A .glb: the JSON chunk and the binary chunk.
+fn glb(document: &Value, bin: &[u8]) -> Vec<u8> {
+    let mut json = serde_json::to_vec(document).unwrap();
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let mut bin = bin.to_vec();
+    while !bin.len().is_multiple_of(4) {
+        bin.push(0);
+    }
+    let mut out = Vec::new();
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&((12 + 8 + json.len() + 8 + bin.len()) as u32).to_le_bytes());
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&bin);
+    out
+}
+
+/// Every material feature, each on its own quad, with a camera, three lights and an
+/// instanced mesh under a parent node.
+fn every_feature() -> (Value, Vec<u8>) {
+    let mut b = Builder::default();
+    let quad = b.quad();
+    let primitive = |material: usize| {
+        let mut p = quad.clone();
+        p["material"] = json!(material);
+        p
+    };
+    let materials = json!([
+        // 0: base colour factor × texture (sRGB) with a texture transform, metallic and
+        // roughness from their channels, a normal map, an occlusion map (not read), blended.
+        {
+            "name": "textured",
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [0.5, 1.0, 1.0, 1.0],
+                "baseColorTexture": { "index": 0, "extensions": { "KHR_texture_transform": { "offset": [0.5, 0.0], "scale": [2.0, 2.0] } } },
+                "metallicFactor": 0.5,
+                "roughnessFactor": 0.8,
+                "metallicRoughnessTexture": { "index": 1 }
+            },
+            "normalTexture": { "index": 2 },
+            "occlusionTexture": { "index": 1 },
+            "alphaMode": "BLEND"
+        },
+        // 1: glass with a volume (solid principled), index 1.4.
+        {
+            "name": "glass",
+            "pbrMetallicRoughness": { "metallicFactor": 0.0, "roughnessFactor": 0.1 },
+            "extensions": {
+                "KHR_materials_transmission": { "transmissionFactor": 1.0 },
+                "KHR_materials_ior": { "ior": 1.4 },
+                "KHR_materials_volume": { "thicknessFactor": 0.5 }
+            }
+        },
+        // 2: thin transmission (no volume): the thin principled BSDF.
+        {
+            "name": "film",
+            "pbrMetallicRoughness": { "metallicFactor": 0.0 },
+            "extensions": { "KHR_materials_transmission": { "transmissionFactor": 0.7 } }
+        },
+        // 3: clear-coated red paint.
+        {
+            "name": "paint",
+            "pbrMetallicRoughness": { "baseColorFactor": [0.8, 0.1, 0.1, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.5 },
+            "extensions": { "KHR_materials_clearcoat": { "clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.1 } }
+        },
+        // 4: an emitter, strength 4, double-sided.
+        {
+            "name": "lamp",
+            "emissiveFactor": [1.0, 0.5, 0.25],
+            "doubleSided": true,
+            "extensions": { "KHR_materials_emissive_strength": { "emissiveStrength": 4.0 } }
+        }
+    ]);
+    let meshes = json!([
+        { "primitives": [primitive(0)] },
+        { "primitives": [primitive(1)] },
+        { "primitives": [primitive(2)] },
+        { "primitives": [primitive(3)] },
+        { "primitives": [primitive(4)] },
+        { "primitives": [quad.clone()] }
+    ]);
+    let nodes = json!([
+        { "name": "camera", "camera": 0, "translation": [0.0, 0.0, 10.0] },
+        { "name": "textured", "mesh": 0, "translation": [-4.0, 0.0, 0.0] },
+        { "name": "glass", "mesh": 1, "translation": [-2.0, 0.0, 0.0] },
+        { "name": "film", "mesh": 2 },
+        { "name": "paint", "mesh": 3, "translation": [2.0, 0.0, 0.0] },
+        { "name": "lamp", "mesh": 4, "translation": [0.0, 4.0, 0.0], "rotation": [0.7071068, 0.0, 0.0, 0.7071068] },
+        // A parent moved down by 5 and turned 90° about y; its children share mesh 5.
+        { "name": "parent", "translation": [0.0, -5.0, 0.0], "rotation": [0.0, 0.7071068, 0.0, 0.7071068], "children": [7, 8] },
+        { "name": "left", "mesh": 5, "translation": [-3.0, 0.0, 0.0] },
+        { "name": "right", "mesh": 5, "translation": [3.0, 0.0, 0.0], "scale": [2.0, 2.0, 2.0] },
+        { "name": "sun", "extensions": { "KHR_lights_punctual": { "light": 0 } }, "rotation": [-0.7071068, 0.0, 0.0, 0.7071068] },
+        { "name": "bulb", "extensions": { "KHR_lights_punctual": { "light": 1 } }, "translation": [0.0, 3.0, 3.0] },
+        { "name": "spot", "extensions": { "KHR_lights_punctual": { "light": 2 } }, "translation": [0.0, 6.0, 0.0], "rotation": [-0.7071068, 0.0, 0.0, 0.7071068] }
+    ]);
+    let document = json!({
+        "extensionsUsed": ["KHR_texture_transform", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume", "KHR_materials_clearcoat", "KHR_materials_emissive_strength", "KHR_lights_punctual", "KHR_materials_sheen"],
+        "scene": 0,
+        "scenes": [{ "nodes": [0, 1, 2, 3, 4, 5, 6, 9, 10, 11] }],
+        "nodes": nodes,
+        "meshes": meshes,
+        "materials": materials,
+        "cameras": [{ "type": "perspective", "perspective": { "yfov": 0.5, "aspectRatio": 2.0, "znear": 0.1 } }],
+        "textures": [
+            { "source": 0, "sampler": 0 },
+            { "source": 1 },
+            { "source": 2 }
+        ],
+        "samplers": [{ "magFilter": 9728, "wrapS": 33071, "wrapT": 33071 }],
+        "images": [
+            { "uri": "colour.png" },
+            { "uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(png(2, 2, |x, _| [0, 255, if x == 0 { 0 } else { 255 }]))) },
+            { "uri": "normals.png" }
+        ],
+        "extensions": { "KHR_lights_punctual": { "lights": [
+            { "type": "directional", "color": [1.0, 1.0, 1.0], "intensity": 683.0 },
+            { "type": "point", "color": [1.0, 0.5, 0.5], "intensity": 1366.0 },
+            { "type": "spot", "intensity": 683.0, "spot": { "innerConeAngle": 0.3, "outerConeAngle": 0.5 } }
+        ] } }
+    });
+    b.finish(document, None)
+}
+
+fn write_every_feature(test: &str, binary: bool) -> PathBuf {
+    let dir = dir(test);
+    std::fs::write(dir.join("colour.png"), png(4, 2, |x, y| [(x * 60) as u8, (y * 200) as u8, 50])).unwrap();
+    std::fs::write(dir.join("normals.png"), png(1, 1, |_, _| [128, 128, 255])).unwrap();
+    let (mut document, bin) = every_feature();
+    if binary {
+        let path = dir.join("every.glb");
+        std::fs::write(&path, glb(&document, &bin)).unwrap();
+        path
+    } else {
+        // An external .bin beside the .gltf.
+        document["buffers"][0]["uri"] = json!("every%20feature.bin");
+        std::fs::write(dir.join("every feature.bin"), &bin).unwrap();
+        let path = dir.join("every.gltf");
+        std::fs::write(&path, serde_json::to_vec_pretty(&document).unwrap()).unwrap();
+        path
+    }
+}
+
+#[test]
+fn every_feature_maps_onto_glint() {
+    for binary in [false, true] {
+        let path = write_every_feature(if binary { "every-glb" } else { "every-gltf" }, binary);
+        let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+        let scene = &loaded.scene;
+        let warnings = loaded.warnings.join("\n");
+        for expected in ["KHR_materials_sheen is not read", "occlusion map is not read", "alpha mode is not read"] {
+            assert!(warnings.contains(expected), "{expected}: {warnings}");
+        }
+        // The camera: at z = 10 looking down −z, 0.5 rad vertically, 2:1.
+        let camera = scene.camera();
+        assert_eq!((camera.width, camera.height), (960, 480));
+        assert!((camera.fov_degrees - 0.5f32.to_degrees()).abs() < 1e-4);
+        assert_eq!(camera.position, Vec3::new(0.0, 0.0, 10.0));
+        assert!(matches!(camera.lens, Lens::Pinhole));
+        // Its image right is +x (glTF is right-handed, as glint).
+        assert!(camera.generate_ray(959.0, 240.0).direction.x > 0.0);
+
+        // Geometry by rays: the quads at x = −4, −2, 0, 2 (z = 0, facing +z).
+        let hit = |origin: Vec3, direction: Vec3| scene.intersect(&Ray::new(origin, direction));
+        for x in [-4.0, -2.0, 0.0, 2.0] {
+            let h = hit(Vec3::new(x + 0.5, 0.5, 5.0), -Vec3::Z).expect("a quad");
+            assert!((h.t - 5.0).abs() < 1e-4);
+        }
+        // glTF's uv (0, 0) at the top-left corner is glint's (0, 1).
+        let h = hit(Vec3::new(-4.0 - 0.999, 0.999, 5.0), -Vec3::Z).unwrap();
+        assert!((h.geometry.uv - glam::Vec2::new(0.0, 1.0)).length() < 1e-3, "{}", h.geometry.uv);
+        // The instanced quads: turned 90° about y and moved down by 5, so they face +x;
+        // `left` at world z = 3, `right` at z = −3 and twice as large.
+        let left = hit(Vec3::new(5.0, -5.0, 3.0), -Vec3::X).expect("left");
+        assert!((left.t - 5.0).abs() < 1e-4, "{}", left.t);
+        assert!(hit(Vec3::new(5.0, -6.5, -3.0), -Vec3::X).is_some(), "right is scaled by 2");
+        assert!(hit(Vec3::new(5.0, -6.5, 3.0), -Vec3::X).is_none(), "left is not");
+        let instances = scene.objects().iter().filter(|o| matches!(o.shape, Shape::Instance(_))).count();
+        assert_eq!(instances, 2, "mesh 5 is placed twice: instanced");
+        // The lamp emits (an area light), turned to face +y at y = 4.
+        assert!(scene.lights().area_count() > 0);
+
+        // Lights: 683 lm/W: the sun's 683 lux is 1 W/m², travelling down.
+        let lights: Vec<&Light> = scene.listed_lights().collect();
+        assert_eq!(lights.iter().map(|l| l.kind()).collect::<Vec<_>>(), ["directional", "point", "spot"]);
+        match lights[0] {
+            Light::Directional(sun) => {
+                assert!((sun.direction - -Vec3::Y).length() < 1e-5, "{}", sun.direction);
+                assert!((sun.intensity - Rgb::ONE).abs().max_element() < 1e-6);
+            }
+            other => panic!("{other:?}"),
+        }
+        match lights[1] {
+            Light::Point(bulb) => {
+                assert_eq!(bulb.position, Vec3::new(0.0, 3.0, 3.0));
+                assert!((bulb.intensity - Rgb::new(2.0, 1.0, 1.0)).abs().max_element() < 1e-5);
+            }
+            other => panic!("{other:?}"),
+        }
+        match lights[2] {
+            Light::Spot(spot) => {
+                assert!((spot.direction - -Vec3::Y).length() < 1e-5);
+                assert!((spot.cos_cone - 0.5f32.cos()).abs() < 1e-5 && (spot.cos_full - 0.3f32.cos()).abs() < 1e-5);
+            }
+            other => panic!("{other:?}"),
+        }
+
+        // Materials.
+        let material = |name: &str| {
+            let i = scene
+                .material_names()
+                .iter()
+                .position(|n| n == name)
+                .unwrap_or_else(|| panic!("{name}: {:?}", scene.material_names()));
+            &scene.materials()[i]
+        };
+        let Material::NormalMap(mapped) = material("material 0 (textured): normal-mapped") else {
+            panic!("a normal map")
+        };
+        let Material::Principled(textured) = &mapped.material else { panic!("{:?}", mapped.material) };
+        // Base colour: the sRGB texture × (0.5, 1, 1), clamped (sampler 0), nearest texels,
+        // through the transform: glint's (0.1, 0.8) is glTF's (0.1, 0.2), → (0.7, 0.4), the
+        // image's column 2 (of 4), row 0 (of 2).
+        let Texture::Image(image) = &textured.base_color else { panic!("{:?}", textured.base_color) };
+        assert_eq!(image.filter, glint_core::textures::TexelFilter::Nearest);
+        let seen = image.evaluate(glam::Vec2::new(0.1, 0.8));
+        let srgb = |c: f32| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+        let expected = Rgb::new(0.5 * srgb(120.0 / 255.0), 0.0, srgb(50.0 / 255.0));
+        assert!((seen - expected).abs().max_element() < 1e-5, "{seen} vs {expected}");
+        // Metallic from blue × 0.5 (the data image is raw: 0 or 1), roughness from green × 0.8.
+        let (Texture::Image(metal), Texture::Image(rough)) = (&textured.metallic, &textured.roughness) else {
+            panic!()
+        };
+        // (Texel centres: column 0 at u = ¼, column 1 at ¾.)
+        assert_eq!(metal.evaluate(glam::Vec2::new(0.25, 0.5)), Rgb::splat(0.0));
+        assert_eq!(metal.evaluate(glam::Vec2::new(0.75, 0.5)), Rgb::splat(0.5));
+        assert!((rough.evaluate(glam::Vec2::new(0.25, 0.5)) - Rgb::splat(0.8)).abs().max_element() < 1e-6);
+        match material("material 1 (glass): surface") {
+            Material::Principled(glass) => {
+                assert!((glass.eta - 1.4).abs() < 1e-6);
+                assert_eq!(glass.spec_trans, Texture::from(1.0));
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(matches!(material("material 2 (film): surface"), Material::PrincipledThin(_)));
+        match material("material 3 (paint): surface") {
+            Material::Principled(paint) => {
+                assert_eq!(paint.clearcoat, Texture::from(1.0));
+                // α = 0.1² = 0.01 = lerp(0.1, 0.001, gloss): gloss = 0.09 / 0.099.
+                let Texture::Constant(gloss) = paint.clearcoat_gloss else { panic!() };
+                assert!((gloss.x - 0.09 / 0.099).abs() < 1e-6);
+                assert_eq!(paint.base_color, Texture::Constant(Rgb::new(0.8, 0.1, 0.1)));
+            }
+            other => panic!("{other:?}"),
+        }
+        match material("material 4 (lamp): emitting") {
+            Material::Emitter(lamp) => {
+                assert_eq!(lamp.radiance, Texture::Constant(Rgb::new(4.0, 2.0, 1.0)));
+                assert!(lamp.two_sided);
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}
+
+/// A scene without camera or lights: a framing camera that sees all of it, under a white
+/// sky of radiance 1, so a white diffuse-like (rough, non-metal) quad seen head-on reflects
+/// about its albedo.
+#[test]
+fn a_scene_without_camera_or_lights_is_framed_and_lit_by_a_white_sky() {
+    let mut b = Builder::default();
+    let mut quad = b.quad();
+    quad["material"] = json!(0);
+    let document = json!({
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "mesh": 0, "scale": [3.0, 3.0, 3.0] }],
+        "meshes": [{ "primitives": [quad] }],
+        "materials": [{ "pbrMetallicRoughness": { "baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0 } }]
+    });
+    let (document, _) = b.finish(document, Some("data"));
+    let dir = dir("framed");
+    let path = dir.join("framed.gltf");
+    std::fs::write(&path, serde_json::to_vec(&document).unwrap()).unwrap();
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.warnings.join("\n").contains("uniform white sky of radiance 1"), "{:?}", loaded.warnings);
+    assert_eq!(loaded.scene.environment().background, Rgb::ONE);
+    let camera = loaded.scene.camera();
+    // The quad's corners are in view.
+    for corner in [Vec3::new(-3.0, -3.0, 0.0), Vec3::new(3.0, 3.0, 0.0)] {
+        assert!(camera.project(corner).is_some(), "{corner} out of view");
+    }
+    // The centre pixel sees the quad; a rough dielectric of albedo ½ under a uniform sky
+    // of 1 reflects between ½ and ½ + its specular share (about 0.04 to 0.1).
+    let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).unwrap();
+    let mut scene = loaded.scene;
+    scene.set_camera(scene.camera().with_resolution(8, 6));
+    let settings = RenderSettings { spp: 256, seed: 1, filter: loaded.render.filter, sampler: loaded.render.sampler };
+    let image = render(&scene, integrator.as_ref(), &settings, &|| {}).film.to_rgb();
+    let centre = image[3 * 8 + 4];
+    assert!(centre.x > 0.5 && centre.x < 0.62, "{centre}");
+}
+
+#[test]
+fn errors_name_the_file_and_what_is_wrong() {
+    let dir = dir("errors");
+    let write = |name: &str, bytes: &[u8]| {
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        match load_scene(&path) {
+            Ok(_) => panic!("{name}: expected an error"),
+            Err(e) => e.to_string(),
+        }
+    };
+    assert!(write("broken.gltf", b"{ not json").contains("broken.gltf: not a valid glTF 2.0 file"));
+    // A buffer shorter than it says.
+    let mut b = Builder::default();
+    let quad = b.quad();
+    let (mut document, bin) = b.finish(
+        json!({ "scenes": [{ "nodes": [0] }], "nodes": [{ "mesh": 0 }], "meshes": [{ "primitives": [quad] }] }),
+        Some("data"),
+    );
+    document["buffers"][0]["byteLength"] = json!(4096);
+    let e = write("short.gltf", &serde_json::to_vec(&document).unwrap());
+    assert!(e.contains("buffer 0 declares 4096 bytes but holds"), "{e}");
+    // An accessor past its view.
+    document["buffers"][0]["byteLength"] = json!(bin.len());
+    document["accessors"][0]["count"] = json!(400);
+    let e = write("past.gltf", &serde_json::to_vec(&document).unwrap());
+    assert!(e.contains("past.gltf") && e.contains("accessor"), "{e}");
+    // A missing external buffer.
+    let (missing, _) = Builder::default().finish(json!({ "scenes": [{ "nodes": [] }] }), Some("gone.bin"));
+    let e = write("missing.gltf", &serde_json::to_vec(&missing).unwrap());
+    assert!(e.contains("buffer 0") && e.contains("gone.bin"), "{e}");
+}
+
+#[test]
+fn mutated_files_never_panic() {
+    let (document, bin) = every_feature();
+    let original = glb(&document, &bin);
+    let text = serde_json::to_vec(&document).unwrap();
+    let dir = dir("mutants");
+    std::fs::write(dir.join("colour.png"), png(4, 2, |_, _| [1, 2, 3])).unwrap();
+    std::fs::write(dir.join("normals.png"), png(1, 1, |_, _| [128, 128, 255])).unwrap();
+    for (kind, original, specials) in
+        [("glb", &original, &b"\x00\xff{}[]\"0"[..]), ("gltf", &text, &b"{}[]\",:0-e9"[..])]
+    {
+        for (i, bytes) in common::mutants(original, specials, 300, 5).into_iter().enumerate() {
+            let path = dir.join(format!("m{i}.{kind}"));
+            std::fs::write(&path, &bytes).unwrap();
+            let result = std::panic::catch_unwind(|| load_scene(&path).map(|_| ()));
+            assert!(result.is_ok(), "{kind} mutant {i} panicked");
+        }
+    }
+}
