@@ -135,6 +135,7 @@ fn glb(document: &Value, bin: &[u8]) -> Vec<u8> {
 /// Every material feature, each on its own quad, with a camera, three lights and an
 /// instanced mesh under a parent node.
 fn every_feature() -> (Value, Vec<u8>) {
+    const H: f32 = std::f32::consts::FRAC_1_SQRT_2; // cos 45°, sin 45°: quaternions of quarter turns
     let mut b = Builder::default();
     let quad = b.quad();
     let primitive = |material: usize| {
@@ -202,14 +203,14 @@ fn every_feature() -> (Value, Vec<u8>) {
         { "name": "glass", "mesh": 1, "translation": [-2.0, 0.0, 0.0] },
         { "name": "film", "mesh": 2 },
         { "name": "paint", "mesh": 3, "translation": [2.0, 0.0, 0.0] },
-        { "name": "lamp", "mesh": 4, "translation": [0.0, 4.0, 0.0], "rotation": [0.7071068, 0.0, 0.0, 0.7071068] },
+        { "name": "lamp", "mesh": 4, "translation": [0.0, 4.0, 0.0], "rotation": [H, 0.0, 0.0, H] },
         // A parent moved down by 5 and turned 90° about y; its children share mesh 5.
-        { "name": "parent", "translation": [0.0, -5.0, 0.0], "rotation": [0.0, 0.7071068, 0.0, 0.7071068], "children": [7, 8] },
+        { "name": "parent", "translation": [0.0, -5.0, 0.0], "rotation": [0.0, H, 0.0, H], "children": [7, 8] },
         { "name": "left", "mesh": 5, "translation": [-3.0, 0.0, 0.0] },
         { "name": "right", "mesh": 5, "translation": [3.0, 0.0, 0.0], "scale": [2.0, 2.0, 2.0] },
-        { "name": "sun", "extensions": { "KHR_lights_punctual": { "light": 0 } }, "rotation": [-0.7071068, 0.0, 0.0, 0.7071068] },
+        { "name": "sun", "extensions": { "KHR_lights_punctual": { "light": 0 } }, "rotation": [-H, 0.0, 0.0, H] },
         { "name": "bulb", "extensions": { "KHR_lights_punctual": { "light": 1 } }, "translation": [0.0, 3.0, 3.0] },
-        { "name": "spot", "extensions": { "KHR_lights_punctual": { "light": 2 } }, "translation": [0.0, 6.0, 0.0], "rotation": [-0.7071068, 0.0, 0.0, 0.7071068] }
+        { "name": "spot", "extensions": { "KHR_lights_punctual": { "light": 2 } }, "translation": [0.0, 6.0, 0.0], "rotation": [-H, 0.0, 0.0, H] }
     ]);
     let document = json!({
         "extensionsUsed": ["KHR_texture_transform", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume", "KHR_materials_clearcoat", "KHR_materials_emissive_strength", "KHR_lights_punctual", "KHR_materials_sheen"],
