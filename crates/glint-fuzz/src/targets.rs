@@ -18,6 +18,8 @@ pub enum Target {
     Xml,
     /// pbrt-v4 scenes (a PLY mesh they name compiled in).
     Pbrt,
+    /// glTF 2.0, binary (.glb) or JSON with its buffers embedded.
+    Gltf,
     Obj,
     Ply,
     /// Checkpoints, as `--resume` reads them.
@@ -41,6 +43,7 @@ impl Target {
             Target::Json => "json",
             Target::Xml => "xml",
             Target::Pbrt => "pbrt",
+            Target::Gltf => "gltf",
             Target::Obj => "obj",
             Target::Ply => "ply",
             Target::Checkpoint => "checkpoint",
@@ -133,6 +136,21 @@ impl Target {
                 "\n",
                 " ",
             ],
+            Target::Gltf => &[
+                "{",
+                "}",
+                "[",
+                "]",
+                "\"",
+                ":",
+                ",",
+                "\"byteOffset\": 4294967295",
+                "\"count\": 1000000",
+                "\"children\": [0]",
+                "\"mode\": 5",
+                "-1",
+                "1e40",
+            ],
             Target::Checkpoint | Target::Image | Target::Partial => &[],
         }
     }
@@ -203,6 +221,12 @@ impl Runner {
                 let text = std::str::from_utf8(input).map_err(|e| e.to_string())?;
                 let files = [("quad.ply", QUAD_PLY)];
                 glint_scene::pbrt::parse_pbrt(text, Path::new("fuzz.pbrt"), Source::embedded(&files))
+                    .map(|_| ())
+                    .map_err(|e| e.to_string())
+            }
+            Target::Gltf => {
+                let name = if input.starts_with(b"glTF") { "fuzz.glb" } else { "fuzz.gltf" };
+                glint_scene::gltf::parse_gltf(input, Path::new(name), Source::embedded(&[]))
                     .map(|_| ())
                     .map_err(|e| e.to_string())
             }

@@ -470,3 +470,22 @@ fn mutated_files_never_panic() {
         }
     }
 }
+
+/// The examples of scenes/gltf/ (made by scripts/gltf_models.py) load as the README shows
+/// them: the knots' copper mesh instanced twice, the glowing one an area light, the file's
+/// camera and lights; the spheres framed and lit by the default sky.
+#[test]
+fn the_example_scenes_load() {
+    let scenes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/gltf");
+    let knots = load_scene(&scenes.join("knots.gltf")).unwrap_or_else(|e| panic!("{e}"));
+    assert!(knots.warnings.is_empty(), "{:?}", knots.warnings);
+    let instances = knots.scene.objects().iter().filter(|o| matches!(o.shape, Shape::Instance(_))).count();
+    assert_eq!(instances, 2);
+    assert!(knots.scene.lights().area_count() > 0);
+    assert_eq!(knots.scene.listed_lights().map(Light::kind).collect::<Vec<_>>(), ["spot", "point"]);
+    assert_eq!((knots.scene.camera().width, knots.scene.camera().height), (960, 540));
+    let spheres = load_scene(&scenes.join("spheres.glb")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(spheres.warnings.len(), 1, "{:?}", spheres.warnings);
+    assert_eq!(spheres.scene.environment().background, Rgb::ONE);
+    assert_eq!(spheres.scene.objects().len(), 6);
+}

@@ -40,6 +40,7 @@ pub fn load_gltf(path: &Path, search_path: &[PathBuf]) -> Result<LoadedScene, Sc
 /// buffers and images it names.
 pub fn parse_gltf(bytes: &[u8], name: &Path, source: Source<'_>) -> Result<LoadedScene, SceneError> {
     let error = |m: String| SceneError::new(name, None, m);
+    precheck(bytes).map_err(|m| error(format!("not a valid glTF 2.0 file: {m}")))?;
     let gltf = ::gltf::Gltf::from_slice(bytes).map_err(|e| error(format!("not a valid glTF 2.0 file: {e}")))?;
     let mut warnings = Vec::new();
     for extension in gltf.extensions_used() {
@@ -58,6 +59,53 @@ pub fn parse_gltf(bytes: &[u8], name: &Path, source: Source<'_>) -> Result<Loade
     warnings.append(&mut loaded.warnings);
     loaded.warnings = warnings;
     Ok(loaded)
+}
+
+/// What the `gltf` crate's own validation indexes without checking (found by glint-fuzz):
+/// each primitive's POSITION accessor must exist.
+fn precheck(bytes: &[u8]) -> Result<(), String> {
+    let json = match bytes.strip_prefix(b"glTF") {
+        // A .glb: the JSON chunk's length at 12, its bytes from 20.
+        Some(_) => {
+            let length = bytes.get(12..16).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
+            match length.and_then(|n| bytes.get(20..20usize.checked_add(n)?)) {
+                Some(chunk) => chunk,
+                None => return Ok(()), // the crate reports a cut file itself
+            }
+        }
+        None => bytes,
+    };
+    // Read as the crate reads it: fields it ignores are skipped unchecked (even text that is
+    // not UTF-8), so a `Value` would refuse files the crate accepts.
+    #[derive(serde::Deserialize)]
+    struct Root {
+        #[serde(default)]
+        accessors: Vec<serde::de::IgnoredAny>,
+        #[serde(default)]
+        meshes: Vec<Mesh>,
+    }
+    #[derive(serde::Deserialize)]
+    struct Mesh {
+        #[serde(default)]
+        primitives: Vec<Primitive>,
+    }
+    #[derive(serde::Deserialize)]
+    struct Primitive {
+        attributes: Attributes,
+    }
+    #[derive(serde::Deserialize)]
+    struct Attributes {
+        #[serde(rename = "POSITION")]
+        position: Option<u64>,
+    }
+    let Ok(root) = serde_json::from_slice::<Root>(json) else { return Ok(()) };
+    let accessors = root.accessors.len();
+    for position in root.meshes.iter().flat_map(|m| &m.primitives).filter_map(|p| p.attributes.position) {
+        if position as usize >= accessors {
+            return Err(format!("a primitive's POSITION is accessor {position}, but there are {accessors}"));
+        }
+    }
+    Ok(())
 }
 
 /// Each buffer's bytes: the binary chunk of a .glb, a `data:` URI, or a file.

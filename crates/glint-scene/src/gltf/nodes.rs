@@ -187,13 +187,21 @@ impl<'a> Reader<'a> {
                 warnings.push(format!("{}: {at}: points and lines have no surface; left out", self.name.display()));
                 continue;
             }
-            for semantic in [gltf::Semantic::Positions, gltf::Semantic::Normals, gltf::Semantic::TexCoords(0)] {
+            use gltf::accessor::{DataType, Dimensions};
+            let float = &[DataType::F32][..];
+            let expected = [
+                (gltf::Semantic::Positions, Dimensions::Vec3, float),
+                (gltf::Semantic::Normals, Dimensions::Vec3, float),
+                (gltf::Semantic::TexCoords(0), Dimensions::Vec2, &[DataType::F32, DataType::U8, DataType::U16][..]),
+            ];
+            for (semantic, dimensions, types) in expected {
                 if let Some(accessor) = primitive.get(&semantic) {
-                    self.check(&accessor).map_err(|m| format!("{at}: {m}"))?;
+                    self.check(&accessor, dimensions, types).map_err(|m| format!("{at}: {m}"))?;
                 }
             }
             if let Some(accessor) = primitive.indices() {
-                self.check(&accessor).map_err(|m| format!("{at}: {m}"))?;
+                self.check(&accessor, Dimensions::Scalar, &[DataType::U8, DataType::U16, DataType::U32])
+                    .map_err(|m| format!("{at}: {m}"))?;
             }
             if primitive.get(&gltf::Semantic::Colors(0)).is_some() {
                 warnings.push(format!("{}: {at}: vertex colours (COLOR_0) are not read", self.name.display()));
@@ -225,8 +233,22 @@ impl<'a> Reader<'a> {
         Ok(out)
     }
 
-    /// An accessor's elements lie within its buffer (the `gltf` crate would index past it).
-    fn check(&self, accessor: &gltf::Accessor) -> Result<(), String> {
+    /// An accessor's elements are of the kind glTF allows where it is used and lie within its
+    /// buffer (the `gltf` crate's reader would stop at `unreachable!` or index past it).
+    fn check(
+        &self,
+        accessor: &gltf::Accessor,
+        dimensions: gltf::accessor::Dimensions,
+        types: &[gltf::accessor::DataType],
+    ) -> Result<(), String> {
+        if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
+            return Err(format!(
+                "accessor {} holds {:?} of {:?}; here glTF expects {dimensions:?} of {types:?}",
+                accessor.index(),
+                accessor.dimensions(),
+                accessor.data_type()
+            ));
+        }
         if accessor.sparse().is_some() {
             return Err(format!("accessor {}: sparse accessors are not supported", accessor.index()));
         }
