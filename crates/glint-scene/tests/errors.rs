@@ -189,7 +189,7 @@ fn every_example_scene_loads() {
     let mut count = 0;
     for entry in std::fs::read_dir(&scenes).unwrap() {
         let path = entry.unwrap().path();
-        if matches!(path.extension().and_then(|e| e.to_str()), Some("toml" | "json")) {
+        if matches!(path.extension().and_then(|e| e.to_str()), Some("toml" | "json" | "pbrt")) {
             glint_scene::load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
             count += 1;
         }

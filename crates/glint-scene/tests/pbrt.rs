@@ -447,3 +447,32 @@ fn mutated_scenes_never_panic() {
         assert!(result.is_ok(), "mutant {i} panicked:\n{}", String::from_utf8_lossy(&bytes));
     }
 }
+
+/// The realistic camera as a thin lens: a single biconvex element of f = 100 mm focused at
+/// 10 m puts the film at 100·10⁴/(10⁴ − 100) mm, and a 35 mm diagonal square film's side
+/// (24.75 mm) spans 2·atan(12.37/101.01) there.
+#[test]
+fn a_realistic_camera_is_the_thin_lens_of_its_focal_length() {
+    let text = "Camera \"realistic\" \"string lensfile\" \"thin.dat\" \"float aperturediameter\" 8 \"float focusdistance\" 10\nFilm \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 64\nWorldBegin\nMaterial \"diffusetransmission\" \"rgb reflectance\" [ 0.4 0.4 0.4 ] \"float scale\" 0.5\nShape \"sphere\"\n";
+    let lens = "# radius thickness index aperture\n100 0 1.5 20\n-100 100 0 20\n";
+    let path = scene_dir("realistic", &[("scene.pbrt", text.as_bytes()), ("thin.dat", lens.as_bytes())]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.warnings.join("\n").contains("paraxial focal length (100.0 mm)"), "{:?}", loaded.warnings);
+    let camera = loaded.scene.camera();
+    let image = 100.0 * 1e4 / (1e4 - 100.0);
+    let side = 35.0 / 2f32.sqrt();
+    let expected = 2.0 * (0.5 * side / image).atan().to_degrees();
+    assert!((camera.fov_degrees - expected).abs() < 1e-3, "{} vs {expected}", camera.fov_degrees);
+    assert!(
+        matches!(camera.lens, Lens::Thin { radius, focus_distance } if (radius - 0.004).abs() < 1e-7 && focus_distance == 10.0)
+    );
+    // The diffuse transmitter: pbrt's default transmittance 0.25 and the reflectance, each
+    // times `scale`.
+    match &loaded.scene.materials()[loaded.scene.objects()[0].material as usize] {
+        Material::DiffuseTransmission(m) => {
+            assert_eq!(m.reflectance, glint_core::textures::Texture::Constant(Rgb::splat(0.2)));
+            assert_eq!(m.transmittance, glint_core::textures::Texture::Constant(Rgb::splat(0.125)));
+        }
+        other => panic!("{other:?}"),
+    }
+}

@@ -18,6 +18,7 @@ use glam::{Vec2, Vec3};
 use super::conductor::ConductorBsdf;
 use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
+use super::diffuse_transmission::DiffuseTransmissionBsdf;
 use super::mask::NullBsdf;
 use super::mixed::MixedBsdf;
 use super::plastic::PlasticBsdf;
@@ -198,6 +199,7 @@ pub(super) trait Lobes {
 pub(super) enum Leaf<'a> {
     Mixed(MixedBsdf),
     Diffuse(DiffuseBsdf),
+    DiffuseTransmission(DiffuseTransmissionBsdf),
     Conductor(ConductorBsdf),
     RoughConductor(RoughConductorBsdf),
     Dielectric(DielectricBsdf),
@@ -215,6 +217,7 @@ macro_rules! dispatch {
         match $leaf {
             Leaf::Mixed($b) => $call,
             Leaf::Diffuse($b) => $call,
+            Leaf::DiffuseTransmission($b) => $call,
             Leaf::Conductor($b) => $call,
             Leaf::RoughConductor($b) => $call,
             Leaf::Dielectric($b) => $call,

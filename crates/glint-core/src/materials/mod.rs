@@ -14,6 +14,7 @@ mod bump_map;
 mod conductor;
 mod dielectric;
 mod diffuse;
+mod diffuse_transmission;
 mod mask;
 mod microfacet;
 mod mixed;
@@ -37,6 +38,7 @@ pub use bump_map::BumpMap;
 pub use conductor::{fresnel_conductor, named_metal, Conductor, METAL_NAMES};
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
+pub use diffuse_transmission::DiffuseTransmission;
 pub use mask::Mask;
 pub use microfacet::{Distribution, Microfacet};
 pub use normal_map::NormalMap;
@@ -64,6 +66,8 @@ pub enum Material {
     /// material's lobes for the Monte Carlo integrators; it may emit.
     Phong(Phong),
     Diffuse(Diffuse),
+    /// Lambert's lobe on both sides (pbrt's `diffusetransmission`).
+    DiffuseTransmission(DiffuseTransmission),
     Conductor(Conductor),
     RoughConductor(RoughConductor),
     Dielectric(Dielectric),
@@ -157,6 +161,7 @@ impl Material {
         let (leaf, weight) = match self {
             Material::Phong(p) => (Leaf::Mixed(MixedBsdf::new(&p.evaluate(query), wo, frame())), weight),
             Material::Diffuse(m) => (m.bsdf(query, frame()), weight),
+            Material::DiffuseTransmission(m) => (m.bsdf(query, frame()), weight),
             Material::Conductor(m) => (m.bsdf(query, frame()), weight),
             Material::RoughConductor(m) => (m.bsdf(query, frame()), weight),
             Material::Dielectric(m) => (m.bsdf(query, frame()), weight),
@@ -254,6 +259,7 @@ impl Material {
         match self {
             Material::Phong(p) => p.evaluate(query),
             Material::Diffuse(m) => m.whitted(query),
+            Material::DiffuseTransmission(m) => m.whitted(query),
             Material::Conductor(m) => m.whitted(query),
             Material::RoughConductor(m) => m.whitted(query),
             Material::Dielectric(m) => m.whitted(query),
@@ -411,6 +417,10 @@ impl Material {
         match self {
             Material::Phong(_) => 0.0,
             Material::Diffuse(m) => max(&m.reflectance),
+            Material::DiffuseTransmission(m) => {
+                let (r, t) = (m.reflectance.max_value(), m.transmittance.max_value());
+                (r + t).max_element()
+            }
             Material::Conductor(m) => max(&m.specular),
             Material::RoughConductor(m) => max(&m.conductor.specular),
             Material::Dielectric(m) => max(&m.specular_reflectance).max(max(&m.specular_transmittance)),

@@ -4,9 +4,9 @@
 use std::collections::BTreeMap;
 
 use glint_core::materials::{
-    named_metal, Blend, BumpMap, Conductor, Dielectric, Diffuse, Distribution, Emitter, Fresnel, Mask, Material,
-    NormalMap, Phong, Plastic, Principled, PrincipledThin, RoughConductor, RoughDielectric, RoughPlastic,
-    SamplingRates, ThinDielectric, TwoSided, MAX_LEAVES, METAL_NAMES,
+    named_metal, Blend, BumpMap, Conductor, Dielectric, Diffuse, DiffuseTransmission, Distribution, Emitter, Fresnel,
+    Mask, Material, NormalMap, Phong, Plastic, Principled, PrincipledThin, RoughConductor, RoughDielectric,
+    RoughPlastic, SamplingRates, ThinDielectric, TwoSided, MAX_LEAVES, METAL_NAMES,
 };
 use glint_core::textures::Texture;
 use glint_core::{Named, Rgb};
@@ -216,6 +216,12 @@ impl Builder<'_> {
             MaterialDesc::Diffuse { reflectance, emission, two_sided_emission, two_sided } => {
                 let diffuse = Material::Diffuse(Diffuse { reflectance: colour("reflectance", reflectance, 0.8)? });
                 emitting(sided(diffuse, two_sided), emission.as_ref().map(|e| ("emission", e)), *two_sided_emission)?
+            }
+            MaterialDesc::DiffuseTransmission { reflectance, transmittance } => {
+                Material::DiffuseTransmission(DiffuseTransmission {
+                    reflectance: colour("reflectance", reflectance, 0.25)?,
+                    transmittance: colour("transmittance", transmittance, 0.25)?,
+                })
             }
             MaterialDesc::Conductor { metal: m, eta, k, specular_reflectance, two_sided } => {
                 let (eta, k) = metal(m, eta, k)?;

@@ -272,6 +272,8 @@ pub enum MaterialDesc {
         two_sided_emission: bool,
         two_sided: Option<bool>,
     },
+    /// Lambert's lobe on both sides of a sheet (pbrt's `diffusetransmission`).
+    DiffuseTransmission { reflectance: Option<ColorDesc>, transmittance: Option<ColorDesc> },
     /// A smooth metal (Mitsuba's `conductor`): `metal` (a name) or `eta` and `k`.
     Conductor {
         metal: Option<String>,

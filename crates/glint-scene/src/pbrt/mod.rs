@@ -5,6 +5,7 @@
 //! TOML scenes. docs/pbrt.md lists what maps to what.
 
 mod envmap;
+mod lens;
 mod params;
 mod parse;
 mod shapes;

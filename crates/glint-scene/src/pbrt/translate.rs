@@ -77,6 +77,9 @@ struct Camera {
     fov: f32,
     lens_radius: f32,
     focal_distance: f32,
+    /// A realistic camera's paraxial focal length (mm): its field of view follows from the
+    /// film's size, known at the end.
+    focal_length_mm: Option<f64>,
     at: At,
 }
 
@@ -97,6 +100,9 @@ struct Translator<'s> {
     defining: Option<(String, Vec<Located<ShapeDesc>>, At)>,
     camera: Option<Camera>,
     resolution: [u32; 2],
+    /// The film's diagonal (mm), for a realistic camera.
+    film_diagonal: f32,
+    realistic_focal_length: Option<f64>,
     /// Transforms between `ActiveTransform EndTime` and `All` are for motion blur: skipped.
     end_time_only: bool,
     counter: usize,
@@ -159,6 +165,8 @@ impl<'s> Translator<'s> {
             defining: None,
             camera: None,
             resolution: [1280, 720],
+            film_diagonal: 35.0,
+            realistic_focal_length: None,
             end_time_only: false,
             counter: 0,
         }
@@ -394,10 +402,26 @@ impl<'s> Translator<'s> {
                 (90.0, 0.0, 1e6)
             }
             "realistic" => {
-                return Err(self.parser.error(
-                    d.at,
-                    "the `realistic` camera is not supported: use `perspective` with `lensradius` and `focaldistance` (a thin lens)",
-                ))
+                let file = p
+                    .string("lensfile")
+                    .map_err(|x| self.fail(x))?
+                    .ok_or_else(|| self.parser.error(d.at, "a realistic camera needs a `lensfile`"))?;
+                let bytes = self.source.read(&file).map_err(|m| self.parser.error(self.param_at(&p, "lensfile"), m))?;
+                let table = String::from_utf8_lossy(&bytes);
+                let focal = super::lens::focal_length(&table)
+                    .map_err(|m| self.parser.error(self.param_at(&p, "lensfile"), format!("`{file}`: {m}")))?;
+                // pbrt's lens tables are in millimetres, its scenes in metres.
+                let aperture = f(p.float("aperturediameter", 1.0))?;
+                let focus = f(p.float("focusdistance", 10.0))?;
+                if !(aperture >= 0.0 && focus > 0.0) {
+                    return Err(self
+                        .parser
+                        .error(d.at, "a realistic camera needs `aperturediameter` ≥ 0 and `focusdistance` > 0"));
+                }
+                p.ignore(&["aperture"]);
+                self.warn(d.at, format!("the realistic camera is approximated by a thin lens of its paraxial focal length ({focal:.1} mm) and its aperture: no aberrations or vignetting"));
+                self.realistic_focal_length = Some(focal);
+                (0.0, 0.5 * aperture * 1e-3, focus)
             }
             other => {
                 return Err(self.parser.error(
@@ -417,8 +441,16 @@ impl<'s> Translator<'s> {
             self.warn(d.at, "pbrt scales the image by the shutter's open time; glint records radiance as it is");
         }
         self.coordinate_systems.insert("camera".into(), self.state.ctm.inverse());
-        self.camera =
-            Some(Camera { kind, camera_from_world: self.state.ctm, fov, lens_radius, focal_distance, at: d.at });
+        let focal_length_mm = self.realistic_focal_length.take();
+        self.camera = Some(Camera {
+            kind,
+            camera_from_world: self.state.ctm,
+            fov,
+            lens_radius,
+            focal_distance,
+            focal_length_mm,
+            at: d.at,
+        });
         Ok(())
     }
 
@@ -433,7 +465,11 @@ impl<'s> Translator<'s> {
             return Err(self.parser.error(d.at, format!("the film's resolution must be 1 to 32768 each, got {x}x{y}")));
         }
         self.resolution = [x as u32, y as u32];
-        p.ignore(&["filename", "savefp16", "diagonal"]);
+        p.ignore(&["filename", "savefp16"]);
+        self.film_diagonal = p.float("diagonal", 35.0).map_err(|f| self.fail(f))?;
+        if !(self.film_diagonal > 0.0 && self.film_diagonal.is_finite()) {
+            return Err(self.parser.error(self.param_at(&p, "diagonal"), "the film's `diagonal` must be > 0 (mm)"));
+        }
         if p.string("sensor").map_err(|f| self.fail(f))?.is_some_and(|s| s != "cie1931") {
             self.warn(d.at, "camera sensor spectra are not available: the film records CIE 1931 XYZ as sRGB (pbrt's default sensor)");
         }
@@ -544,8 +580,17 @@ impl<'s> Translator<'s> {
             fov: 90.0,
             lens_radius: 0.0,
             focal_distance: 1e6,
+            focal_length_mm: None,
             at: At { file: 0, offset: 0 },
         });
+        let mut camera = camera;
+        if let Some(focal) = camera.focal_length_mm {
+            // The shorter side of a film of this diagonal and aspect.
+            let shorter = self.film_diagonal as f64 * (w.min(h) as f64) / (w as f64).hypot(h as f64);
+            let fov = super::lens::field_of_view(focal, camera.focal_distance as f64 * 1e3, shorter)
+                .map_err(|m| self.parser.error(camera.at, m))?;
+            camera.fov = fov as f32;
+        }
         let world_from_camera = camera.camera_from_world.inverse();
         if !world_from_camera.is_finite() {
             return Err(self.parser.error(camera.at, "the camera's transform is singular"));
@@ -863,6 +908,18 @@ impl<'s> Translator<'s> {
                     },
                 }
             }
+            "diffusetransmission" => {
+                let scale = p.float("scale", 1.0).map_err(|f| self.fail(f))?;
+                let scaled = |c: ColorDesc| match c {
+                    ColorDesc::Rgb(rgb) => Ok(ColorDesc::Rgb(rgb.map(|x| (x * scale).clamp(0.0, 1.0)))),
+                    texture if scale == 1.0 => Ok(texture),
+                    ColorDesc::Texture(_) => Err(self.parser.error(self.param_at(&p, "scale"), "a diffusetransmission's `scale` with a textured albedo is not supported")),
+                };
+                MaterialDesc::DiffuseTransmission {
+                    reflectance: Some(scaled(self.colour(&p, "reflectance", [0.25; 3], true)?)?),
+                    transmittance: Some(scaled(self.colour(&p, "transmittance", [0.25; 3], true)?)?),
+                }
+            }
             "mix" => {
                 let names = p.strings("materials", &["string"]).map_err(|f| self.fail(f))?;
                 let [first, second] = names.unwrap_or_default() else {
@@ -881,7 +938,7 @@ impl<'s> Translator<'s> {
             other => {
                 return Err(self.parser.error(
                     d.at,
-                    format!("material `{other}` is not supported; glint reads diffuse, conductor, dielectric, thindielectric, coateddiffuse, coatedconductor, mix and interface"),
+                    format!("material `{other}` is not supported; glint reads diffuse, diffusetransmission, conductor, dielectric, thindielectric, coateddiffuse, coatedconductor, mix and interface"),
                 ))
             }
         };

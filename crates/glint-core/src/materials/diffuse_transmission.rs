@@ -1,0 +1,182 @@
+//! A diffuse reflector and transmitter (pbrt-v4's `diffusetransmission`): Lambert's lobe on
+//! the viewer's side with `reflectance`, and on the far side with `transmittance`; the same
+//! from either side, as paper, leaves and lampshades are.
+//!
+//! Scene parameters: `reflectance` and `transmittance` (colours or textures, default
+//! [0.25, 0.25, 0.25] each).
+//! ```toml
+//! [materials.paper]
+//! type = "diffuse-transmission"
+//! reflectance = [0.6, 0.6, 0.55]
+//! transmittance = [0.3, 0.3, 0.25]
+//! ```
+//! f = reflectance / π toward the viewer's side, transmittance / π through. Sampled by
+//! choosing a side in proportion to the two albedos' luminance, then a cosine-weighted
+//! direction there: weight = albedo / P(side).
+
+use glam::{Vec2, Vec3};
+
+use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
+use super::PhongPoint;
+use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
+use crate::textures::{luminance, Texture, TextureQuery};
+use crate::Rgb;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct DiffuseTransmission {
+    pub reflectance: Texture,
+    pub transmittance: Texture,
+}
+
+impl DiffuseTransmission {
+    pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
+        let (reflectance, transmittance) = (self.reflectance.evaluate(query), self.transmittance.evaluate(query));
+        let (r, t) = (luminance(reflectance).max(0.0), luminance(transmittance).max(0.0));
+        let p_reflect = if r + t > 0.0 { r / (r + t) } else { 0.0 };
+        Leaf::DiffuseTransmission(DiffuseTransmissionBsdf {
+            frame,
+            reflectance,
+            transmittance,
+            p_reflect,
+            lit: r + t > 0.0,
+        })
+    }
+
+    /// Whitted's view: Lambert's term with k_a = k_d = reflectance, and the transmittance as
+    /// a straight-through child ray (index 1): the nearest the course's model comes to light
+    /// scattered through the sheet.
+    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
+        let k_d = self.reflectance.evaluate(query);
+        PhongPoint {
+            ambient: k_d,
+            diffuse: k_d,
+            transmission: self.transmittance.evaluate(query),
+            ior: 1.0,
+            ..PhongPoint::BLACK
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+pub(super) struct DiffuseTransmissionBsdf {
+    frame: Frame,
+    reflectance: Rgb,
+    transmittance: Rgb,
+    /// The probability of sampling the reflected side.
+    p_reflect: f32,
+    lit: bool,
+}
+
+impl Lobes for DiffuseTransmissionBsdf {
+    fn eval(&self, _wo: Vec3, wi: Vec3) -> Rgb {
+        let cos = wi.dot(self.frame.normal).abs() * std::f32::consts::FRAC_1_PI;
+        if self.frame.reflects(wi) {
+            self.reflectance * cos
+        } else if self.frame.transmits(wi) {
+            self.transmittance * cos
+        } else {
+            Rgb::ZERO
+        }
+    }
+
+    fn pdf(&self, _wo: Vec3, wi: Vec3) -> f32 {
+        let local = self.frame.to_local(wi);
+        if self.frame.reflects(wi) {
+            self.p_reflect * cosine_hemisphere_pdf(local)
+        } else if self.frame.transmits(wi) {
+            (1.0 - self.p_reflect) * cosine_hemisphere_pdf(-local)
+        } else {
+            0.0
+        }
+    }
+
+    fn sample(&self, _wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        if !self.lit {
+            return None;
+        }
+        let local = square_to_cosine_hemisphere(u);
+        if local.z <= 0.0 {
+            return None;
+        }
+        let pdf = cosine_hemisphere_pdf(local);
+        if u_lobe < self.p_reflect {
+            let wi = self.frame.to_world(local);
+            self.frame.reflects(wi).then(|| BsdfSample {
+                wi,
+                weight: self.reflectance / self.p_reflect,
+                pdf: self.p_reflect * pdf,
+                delta: false,
+                eta_squared: 1.0,
+            })
+        } else {
+            let wi = self.frame.to_world(-local);
+            let p = 1.0 - self.p_reflect;
+            self.frame.transmits(wi).then(|| BsdfSample {
+                wi,
+                weight: self.transmittance / p,
+                pdf: p * pdf,
+                delta: false,
+                eta_squared: 1.0,
+            })
+        }
+    }
+
+    fn non_delta_probability(&self) -> f32 {
+        if self.lit {
+            1.0
+        } else {
+            0.0
+        }
+    }
+
+    fn frame(&self) -> &Frame {
+        &self.frame
+    }
+    fn frame_mut(&mut self) -> &mut Frame {
+        &mut self.frame
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::materials::testing::{at, check_sampling, frame_toward, furnace};
+
+    fn sheet(r: f32, t: f32) -> DiffuseTransmission {
+        DiffuseTransmission {
+            reflectance: Texture::Constant(Rgb::splat(r)),
+            transmittance: Texture::Constant(Rgb::splat(t)),
+        }
+    }
+
+    #[test]
+    fn lambert_on_each_side_by_hand() {
+        let wo = Vec3::new(0.2, 0.1, 0.9).normalize();
+        let wi = Vec3::new(0.6, 0.0, 0.8);
+        let bsdf = at(&sheet(0.6, 0.3).bsdf(&Default::default(), frame_toward(wo, Vec3::Z)));
+        let pi = std::f32::consts::PI;
+        assert!((bsdf.eval(wo, wi) - Rgb::splat(0.6 * 0.8 / pi)).abs().max_element() < 1e-6);
+        assert!((bsdf.eval(wo, -wi) - Rgb::splat(0.3 * 0.8 / pi)).abs().max_element() < 1e-6);
+        // Sides chosen 2 : 1.
+        assert!((bsdf.pdf(wo, wi) - 2.0 / 3.0 * 0.8 / pi).abs() < 1e-6);
+        assert!((bsdf.pdf(wo, -wi) - 1.0 / 3.0 * 0.8 / pi).abs() < 1e-6);
+        // From behind the same: the sheet has no front.
+        let behind = at(&sheet(0.6, 0.3).bsdf(&Default::default(), frame_toward(-wo, Vec3::Z)));
+        assert!((behind.eval(-wo, -wi) - Rgb::splat(0.6 * 0.8 / pi)).abs().max_element() < 1e-6);
+        assert!(at(&sheet(0.0, 0.0).bsdf(&Default::default(), frame_toward(wo, Vec3::Z)))
+            .sample(wo, 0.5, Vec2::splat(0.3))
+            .is_none());
+    }
+
+    #[test]
+    fn sampling_matches_pdf_and_a_lossless_sheet_passes_everything_on() {
+        let n = Vec3::new(0.2, -0.3, 0.9).normalize();
+        let wo = Vec3::new(0.5, 0.1, 0.7).normalize();
+        for (r, t) in [(0.7, 0.3), (0.1, 0.9), (1.0, 0.0), (0.0, 1.0)] {
+            let bsdf = at(&sheet(r, t).bsdf(&Default::default(), frame_toward(wo, n)));
+            check_sampling(&bsdf, wo, n, 41);
+            let a = furnace(&bsdf, wo, 5);
+            assert!((a.mean - 1.0).abs() < 1e-5, "r + t = 1 passes all light on: {a:?}");
+        }
+    }
+}
