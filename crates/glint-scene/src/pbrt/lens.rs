@@ -43,7 +43,7 @@ pub fn focal_length(table: &str) -> Result<f64, String> {
         }
         before = after;
     }
-    if !(alpha < 0.0) {
+    if alpha.is_nan() || alpha >= 0.0 {
         return Err("the lens system does not converge light (its paraxial focal length is not positive)".into());
     }
     Ok(-1.0 / alpha)
