@@ -178,6 +178,7 @@ fn every_feature() -> (Value, Vec<u8>) {
         // 3: clear-coated red paint.
         {
             "name": "paint",
+            "doubleSided": true,
             "pbrMetallicRoughness": { "baseColorFactor": [0.8, 0.1, 0.1, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.5 },
             "extensions": { "KHR_materials_clearcoat": { "clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.1 } }
         },
@@ -361,6 +362,8 @@ fn every_feature_maps_onto_glint() {
             other => panic!("{other:?}"),
         }
         assert!(matches!(material("material 2 (film): surface"), Material::PrincipledThin(_)));
+        // Double-sided: shaded from behind as from the front.
+        assert!(matches!(material("material 3 (paint): double-sided"), Material::TwoSided(_)));
         match material("material 3 (paint): surface") {
             Material::Principled(paint) => {
                 assert_eq!(paint.clearcoat, Texture::from(1.0));
@@ -445,6 +448,31 @@ fn errors_name_the_file_and_what_is_wrong() {
     document["accessors"][0]["count"] = json!(400);
     let e = write("past.gltf", &serde_json::to_vec(&document).unwrap());
     assert!(e.contains("past.gltf") && e.contains("accessor"), "{e}");
+    // A node that is two parents' child (glTF's hierarchy is disjoint trees).
+    let mut shared = document.clone();
+    shared["nodes"] = json!([{ "children": [2] }, { "children": [2] }, { "mesh": 0 }]);
+    shared["scenes"] = json!([{ "nodes": [0, 1] }]);
+    let e = write("shared.gltf", &serde_json::to_vec(&shared).unwrap());
+    assert!(e.contains("node 2 is reached twice"), "{e}");
+    // A stride shorter than the element, and an empty accessor.
+    let mut strided = document.clone();
+    strided["bufferViews"][0]["byteStride"] = json!(4);
+    let e = write("stride.gltf", &serde_json::to_vec(&strided).unwrap());
+    assert!(e.contains("stride (4) is shorter than an element (12)"), "{e}");
+    let mut empty = document.clone();
+    empty["accessors"][0]["count"] = json!(0);
+    let e = write("empty.gltf", &serde_json::to_vec(&empty).unwrap());
+    assert!(e.contains("has no elements"), "{e}");
+    // A key given twice: the last counts, as in the `gltf` crate (whose own validation
+    // would index accessor 99 unchecked).
+    let text = String::from_utf8(serde_json::to_vec(&document).unwrap()).unwrap().replacen(
+        "\"POSITION\":0",
+        "\"POSITION\":0,\"POSITION\":99",
+        1,
+    );
+    assert!(text.contains("\"POSITION\":99"), "{text}");
+    let e = write("twice.gltf", text.as_bytes());
+    assert!(e.contains("POSITION is accessor 99"), "{e}");
     // A missing external buffer.
     let (missing, _) = Builder::default().finish(json!({ "scenes": [{ "nodes": [] }] }), Some("gone.bin"));
     let e = write("missing.gltf", &serde_json::to_vec(&missing).unwrap());

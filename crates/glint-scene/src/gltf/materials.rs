@@ -82,9 +82,14 @@ pub fn translate(
             pbr.roughness_factor(),
             warnings,
         )?;
-        let ior = m.ior().unwrap_or(1.5);
+        let mut ior = m.ior().unwrap_or(1.5);
+        if ior == 0.0 {
+            // KHR_materials_ior: 0 stands for an infinite index (specular-glossiness files).
+            say(warnings, "an index of 0 (infinite) is taken as 1000: a Fresnel reflectance of 0.996");
+            ior = 1000.0;
+        }
         if !(ior.is_finite() && ior >= 1.0) {
-            return Err(format!("{name}: its index of refraction must be ≥ 1, got {ior}"));
+            return Err(format!("{name}: its index of refraction must be ≥ 1 (or 0), got {ior}"));
         }
         let transmission = match m.transmission() {
             Some(t) if t.transmission_factor() > 0.0 => Some(fraction(
@@ -104,31 +109,29 @@ pub fn translate(
             }
         }
         let (clearcoat, clearcoat_gloss) = clearcoat(&m, &name, warnings);
+        // The thin principled BSDF has no metal: a metallic transmitter (glTF's default
+        // metallic is 1) stays on the solid one, where metal does not transmit.
+        let metallic_at_all = pbr.metallic_factor() > 0.0;
+        if transmission.is_some() && volume.is_none() && metallic_at_all {
+            say(warnings, "it transmits but is metallic: rendered on the solid principled BSDF (metal does not transmit), so its dielectric part refracts rather than passing straight through a thin wall");
+        }
         let principled = match (&transmission, &volume) {
-            (Some(t), None) => {
-                if pbr.metallic_factor() > 0.0
-                    && pbr.metallic_roughness_texture().is_none()
-                    && pbr.metallic_factor() < 1.0
-                {
-                    say(warnings, "a thin transmitting material's metallic weight is left out");
-                }
-                MaterialDesc::PrincipledThin {
-                    base_color: Some(base_color),
-                    roughness: Some(roughness),
-                    anisotropic: None,
-                    spec_trans: Some(t.clone()),
-                    diff_trans: None,
-                    eta: Some(FractionDesc::Number(ior)),
-                    spec_tint: None,
-                    sheen: None,
-                    sheen_tint: None,
-                    flatness: None,
-                    diffuse_reflectance_sampling_rate: None,
-                    specular_reflectance_sampling_rate: None,
-                    specular_transmittance_sampling_rate: None,
-                    diffuse_transmittance_sampling_rate: None,
-                }
-            }
+            (Some(t), None) if !metallic_at_all => MaterialDesc::PrincipledThin {
+                base_color: Some(base_color),
+                roughness: Some(roughness),
+                anisotropic: None,
+                spec_trans: Some(t.clone()),
+                diff_trans: None,
+                eta: Some(FractionDesc::Number(ior)),
+                spec_tint: None,
+                sheen: None,
+                sheen_tint: None,
+                flatness: None,
+                diffuse_reflectance_sampling_rate: None,
+                specular_reflectance_sampling_rate: None,
+                specular_transmittance_sampling_rate: None,
+                diffuse_transmittance_sampling_rate: None,
+            },
             _ => MaterialDesc::Principled {
                 base_color: Some(base_color),
                 roughness: Some(roughness),
@@ -145,8 +148,17 @@ pub fn translate(
                 clearcoat_gloss,
             },
         };
+        let transmits = matches!(principled, MaterialDesc::PrincipledThin { .. }) || transmission.is_some();
         let mut current = format!("{name}: surface");
         scene.materials.insert(current.clone(), Located { value: principled, span: None });
+        // glTF shades a double-sided surface from behind as from the front; glint's principled
+        // BSDF is dark from behind unless it transmits.
+        if m.double_sided() && !transmits {
+            let wrapped = format!("{name}: double-sided");
+            let desc = MaterialDesc::TwoSided { front: current, back: None };
+            scene.materials.insert(wrapped.clone(), Located { value: desc, span: None });
+            current = wrapped;
+        }
         if let Some(normal) = m.normal_texture() {
             if normal.tex_coord() != 0 {
                 say(warnings, "its normal map reads TEXCOORD_0 (glint reads one set of texture coordinates)");
@@ -154,7 +166,16 @@ pub fn translate(
             if (normal.scale() - 1.0).abs() > 1e-6 {
                 say(warnings, "its normal map's `scale` is not read");
             }
-            let texture = textures.make(&normal.texture(), "normals", true, None, [1.0; 3], None)?;
+            let transform = normal.extension_value("KHR_texture_transform").map(|t| {
+                let pair = |key: &str, default: [f32; 2]| {
+                    t.get(key).and_then(|v| v.as_array()).map_or(default, |a| {
+                        [0, 1].map(|i| a.get(i).and_then(serde_json::Value::as_f64).map_or(default[i], |x| x as f32))
+                    })
+                };
+                let rotation = t.get("rotation").and_then(serde_json::Value::as_f64).unwrap_or(0.0) as f32;
+                (pair("offset", [0.0; 2]), rotation, pair("scale", [1.0; 2]))
+            });
+            let texture = textures.make(&normal.texture(), "normals", true, None, [1.0; 3], transform)?;
             let wrapped = format!("{name}: normal-mapped");
             let desc = MaterialDesc::NormalMap { normals: ColorDesc::Texture(texture), material: current };
             scene.materials.insert(wrapped.clone(), Located { value: desc, span: None });
@@ -207,6 +228,11 @@ fn clearcoat(
         warnings.push(format!("{name}: clearcoat textures are not read; its factors are"));
     }
     let r = number("clearcoatRoughnessFactor").clamp(0.0, 1.0);
+    if r * r > 0.1 {
+        warnings.push(format!(
+            "{name}: a clearcoat rougher than √0.1 is rendered at α = 0.1, the principled coat's widest"
+        ));
+    }
     let gloss = ((0.1 - r * r) / (0.1 - 0.001)).clamp(0.0, 1.0);
     (Some(FractionDesc::Number(weight)), Some(FractionDesc::Number(gloss)))
 }
@@ -236,7 +262,13 @@ impl Textures<'_> {
                 info.tex_coord()
             ));
         }
-        let transform = info.texture_transform().map(|t| (t.offset(), t.rotation(), t.scale()));
+        let transform = info.texture_transform().map(|t| {
+            if t.tex_coord().is_some_and(|c| c != 0) {
+                warnings
+                    .push(format!("texture {}: the transform's texCoord override is not read", info.texture().index()));
+            }
+            (t.offset(), t.rotation(), t.scale())
+        });
         self.make(&info.texture(), what, raw, channel, tint, transform)
     }
 

@@ -91,18 +91,17 @@ fn precheck(bytes: &[u8]) -> Result<(), String> {
     }
     #[derive(serde::Deserialize)]
     struct Primitive {
-        attributes: Attributes,
+        // A map, as the crate reads it: of a key given twice the last counts.
+        #[serde(default)]
+        attributes: std::collections::BTreeMap<String, serde_json::Value>,
     }
-    #[derive(serde::Deserialize)]
-    struct Attributes {
-        #[serde(rename = "POSITION")]
-        position: Option<u64>,
-    }
-    let Ok(root) = serde_json::from_slice::<Root>(json) else { return Ok(()) };
+    let root = serde_json::from_slice::<Root>(json).map_err(|e| format!("{e}"))?;
     let accessors = root.accessors.len();
-    for position in root.meshes.iter().flat_map(|m| &m.primitives).filter_map(|p| p.attributes.position) {
-        if position as usize >= accessors {
-            return Err(format!("a primitive's POSITION is accessor {position}, but there are {accessors}"));
+    for primitive in root.meshes.iter().flat_map(|m| &m.primitives) {
+        if let Some(position) = primitive.attributes.get("POSITION") {
+            if position.as_u64().is_none_or(|i| (i as usize) >= accessors) {
+                return Err(format!("a primitive's POSITION is accessor {position}, but there are {accessors}"));
+            }
         }
     }
     Ok(())
@@ -113,6 +112,10 @@ fn read_buffers(gltf: &::gltf::Gltf, source: &Source) -> Result<Vec<Vec<u8>>, St
     let mut buffers = Vec::new();
     for buffer in gltf.buffers() {
         let bytes = match buffer.source() {
+            // Only the first buffer may be the binary chunk (glTF 2.0, GLB): one copy of it.
+            ::gltf::buffer::Source::Bin if buffer.index() > 0 => {
+                return Err(format!("buffer {} refers to the binary chunk, which only buffer 0 may", buffer.index()))
+            }
             ::gltf::buffer::Source::Bin => gltf.blob.clone().ok_or_else(|| {
                 format!("buffer {} refers to the binary chunk, which the file does not have", buffer.index())
             })?,
@@ -174,11 +177,13 @@ fn read_images(
     made: &mut Vec<(String, Vec<u8>)>,
 ) -> Result<Vec<String>, String> {
     let mut names = Vec::new();
+    let mut total = 0u64;
     for image in gltf.images() {
         let (bytes, mime) = match image.source() {
             ::gltf::image::Source::View { view, mime_type } => {
                 let buffer = &buffers[view.buffer().index()];
-                let range = view.offset()..view.offset() + view.length();
+                let end = view.offset().saturating_add(view.length());
+                let range = view.offset()..end;
                 let bytes = buffer
                     .get(range)
                     .ok_or_else(|| format!("image {}: its buffer view lies outside its buffer", image.index()))?;
@@ -194,6 +199,15 @@ fn read_images(
             _ if bytes.starts_with(&[0xff, 0xd8]) => "jpg",
             _ => "png",
         };
+        // Many images over one large view would each copy it.
+        total += bytes.len() as u64;
+        if total > crate::limits::memory_limit() {
+            return Err(format!(
+                "the images take more than the memory limit of {} ({})",
+                crate::limits::describe(crate::limits::memory_limit()),
+                crate::limits::RAISE
+            ));
+        }
         let name = format!("gltf-image-{}.{extension}", image.index());
         made.push((name.clone(), bytes));
         names.push(name);

@@ -57,11 +57,16 @@ impl<'a> Reader<'a> {
         };
         // The nodes with their world transforms, parents first.
         let mut placed: Vec<(gltf::Node, Mat4)> = Vec::new();
+        // glTF's nodes form disjoint trees: a node reached twice is a cycle or a shared child.
+        let mut reached = vec![false; self.document.nodes().len()];
         let mut stack: Vec<(gltf::Node, Mat4, usize)> =
             gltf_scene.nodes().map(|n| (n, Mat4::IDENTITY, 0)).collect::<Vec<_>>().into_iter().rev().collect();
         while let Some((node, parent, depth)) = stack.pop() {
-            if depth > 256 || placed.len() > 10_000_000 {
-                return Err("the node hierarchy is deeper than 256 or holds a cycle".into());
+            if depth > 256 || std::mem::replace(&mut reached[node.index()], true) {
+                return Err(format!(
+                    "node {} is reached twice (glTF's node hierarchy is a set of disjoint trees) or lies deeper than 256",
+                    node.index()
+                ));
             }
             let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
             for child in node.children().collect::<Vec<_>>().into_iter().rev() {
@@ -89,9 +94,15 @@ impl<'a> Reader<'a> {
 
         let mut bounds = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
         let mut camera = None;
+        let mut hidden = 0;
         for (node, world) in &placed {
             if !world.is_finite() {
                 return Err(format!("node {}: its transform is not finite", node.index()));
+            }
+            // A zero scale hides a node (a common way to switch parts off).
+            if node.mesh().is_some() && world.determinant() == 0.0 {
+                hidden += 1;
+                continue;
             }
             if let Some(mesh) = node.mesh() {
                 for (p, primitive) in primitives[&mesh.index()].iter().enumerate() {
@@ -141,6 +152,9 @@ impl<'a> Reader<'a> {
             if let Some(light) = node.light() {
                 scene.lights.push(Located { value: punctual_light(&light, world), span: None });
             }
+        }
+        if hidden > 0 {
+            warnings.push(format!("{}: {hidden} nodes scaled to zero are left out", self.name.display()));
         }
         let framed = (bounds.0.cmple(bounds.1).all()).then_some(bounds);
         scene.camera.value = match camera {
@@ -203,6 +217,12 @@ impl<'a> Reader<'a> {
                 self.check(&accessor, Dimensions::Scalar, &[DataType::U8, DataType::U16, DataType::U32])
                     .map_err(|m| format!("{at}: {m}"))?;
             }
+            if primitive.get(&gltf::Semantic::Tangents).is_some() {
+                warnings.push(format!(
+                    "{}: {at}: TANGENT is not read: normal maps use the frame of ∂p/∂u",
+                    self.name.display()
+                ));
+            }
             if primitive.get(&gltf::Semantic::Colors(0)).is_some() {
                 warnings.push(format!("{}: {at}: vertex colours (COLOR_0) are not read", self.name.display()));
             }
@@ -258,10 +278,18 @@ impl<'a> Reader<'a> {
         let buffer = &self.buffers[view.buffer().index()];
         let size = accessor.size();
         let stride = view.stride().unwrap_or(size);
-        let needed = match accessor.count() {
-            0 => Some(0),
-            n => (n - 1).checked_mul(stride).and_then(|x| x.checked_add(size + accessor.offset())),
-        };
+        if stride < size {
+            return Err(format!(
+                "accessor {}: its view's stride ({stride}) is shorter than an element ({size})",
+                accessor.index()
+            ));
+        }
+        if accessor.count() == 0 {
+            return Err(format!("accessor {} has no elements", accessor.index()));
+        }
+        let needed = (accessor.count() - 1)
+            .checked_mul(stride)
+            .and_then(|x| x.checked_add(size)?.checked_add(accessor.offset()));
         let fits = needed.is_some_and(|end| end <= view.length())
             && view.offset().checked_add(view.length()).is_some_and(|end| end <= buffer.len());
         if !fits {

@@ -418,7 +418,13 @@ impl<'s> Translator<'s> {
                         .parser
                         .error(d.at, "a realistic camera needs `aperturediameter` ≥ 0 and `focusdistance` > 0"));
                 }
-                p.ignore(&["aperture"]);
+                if p.list.iter().any(|x| x.name == "aperture") {
+                    p.ignore(&["aperture"]);
+                    self.warn(
+                        d.at,
+                        "a realistic camera's custom `aperture` shape is not read: the thin lens's aperture is round",
+                    );
+                }
                 self.warn(d.at, format!("the realistic camera is approximated by a thin lens of its paraxial focal length ({focal:.1} mm) and its aperture: no aberrations or vignetting"));
                 self.realistic_focal_length = Some(focal);
                 (0.0, 0.5 * aperture * 1e-3, focus)
