@@ -14,6 +14,7 @@ pub mod geometry;
 pub mod integrators;
 pub mod lights;
 pub mod materials;
+pub mod media;
 pub mod named;
 pub mod photons;
 pub mod render;

@@ -15,6 +15,7 @@ pub mod mitsuba;
 pub mod native;
 pub mod pbrt;
 mod source;
+pub mod volume;
 
 pub use error::{Location, SceneError};
 pub use image::decode as decode_image;
