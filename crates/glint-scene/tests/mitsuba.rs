@@ -1042,3 +1042,25 @@ fn spectra_from_files_and_blackbodies() {
     );
     assert!(e.contains("blackbody.xml:3:") && e.contains("blackbody spectrum has no RGB value"), "{e}");
 }
+
+/// A sensor whose `to_world` mirrors (a negative scale) gives a mirrored image, as Mitsuba
+/// renders it: its right edge looks the other way than the same sensor's without the scale.
+#[test]
+fn a_mirroring_sensor_renders_mirrored() {
+    let sensor = |scale: &str| {
+        format!(
+            r#"<scene version="3.0.0"><sensor type="perspective"><float name="fov" value="40"/>
+<transform name="to_world">{scale}<lookat origin="0, 0, -5" target="0, 0, 0" up="0, 1, 0"/></transform>
+<film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor></scene>"#
+        )
+    };
+    let right_edge = |text: &str, name: &str| {
+        let loaded = load_scene(&scene_file(name, text)).unwrap_or_else(|e| panic!("{e}"));
+        loaded.scene.camera().generate_ray(8.0, 4.0).direction
+    };
+    let plain = right_edge(&sensor(""), "sensor-plain");
+    let mirrored = right_edge(&sensor(r#"<scale x="-1"/>"#), "sensor-mirrored");
+    // Mitsuba's image right is the camera's −x: looking down +z with up +y, world −x.
+    assert!(plain.x < 0.0, "{plain}");
+    assert!((mirrored - Vec3::new(-plain.x, plain.y, plain.z)).length() < 1e-5, "{mirrored} vs {plain}");
+}
