@@ -150,6 +150,11 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
         }
         return Ok(());
     }
+    if args.integrator == "volpath" {
+        return Err(CliError::Setting(
+            "explain does not follow volpath's paths yet (its media events are not recorded); explain the surfaces with `--integrator path`".into(),
+        ));
+    }
     if args.integrator != "whitted" {
         let pass = Pass {
             seed: args.seed.unwrap_or(loaded.render.seed),

@@ -16,6 +16,7 @@ mod raycast;
 pub mod recorder;
 mod sppm;
 mod vertex;
+mod volpath;
 mod wavefront;
 pub mod whitted;
 
@@ -26,6 +27,7 @@ pub use path_naive::NaivePathTracer;
 pub use photon_mapping::{PhotonMapper, PhotonSettings};
 pub use raycast::Raycast;
 pub use sppm::{Sppm, SppmExplanation, SppmGather};
+pub use volpath::VolPathTracer;
 pub use wavefront::WavefrontPathTracer;
 pub use whitted::Whitted;
 
@@ -132,6 +134,8 @@ pub enum IntegratorKind {
     BvhHeat,
     Path,
     PathNaive,
+    /// Path tracing through participating media (Mitsuba's `volpath`).
+    VolPath,
     Light,
     Photon,
     Sppm,
@@ -203,6 +207,7 @@ impl Named for IntegratorKind {
         IntegratorKind::BvhHeat,
         IntegratorKind::Path,
         IntegratorKind::PathNaive,
+        IntegratorKind::VolPath,
         IntegratorKind::Light,
         IntegratorKind::Photon,
         IntegratorKind::Sppm,
@@ -215,6 +220,7 @@ impl Named for IntegratorKind {
             IntegratorKind::BvhHeat => "bvh-heat",
             IntegratorKind::Path => "path",
             IntegratorKind::PathNaive => "path-naive",
+            IntegratorKind::VolPath => "volpath",
             IntegratorKind::Light => "light",
             IntegratorKind::Photon => "photon",
             IntegratorKind::Sppm => "sppm",
@@ -254,6 +260,7 @@ impl IntegratorKind {
             IntegratorKind::PathNaive => {
                 Box::new(NaivePathTracer { max_depth: settings.max_depth, rr_depth: settings.rr_depth })
             }
+            IntegratorKind::VolPath => Box::new(VolPathTracer::new(settings)),
             IntegratorKind::Whitted => {
                 Box::new(Whitted::new(settings.max_depth, settings.min_contribution, settings.transparent_shadows))
             }

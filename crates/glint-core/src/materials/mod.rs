@@ -334,6 +334,12 @@ impl Material {
         }
     }
 
+    /// A surface that is nowhere there (a mask of opacity 0: Mitsuba's `null` BSDF): a medium's
+    /// boundary, which light crosses unchanged.
+    pub fn is_null(&self) -> bool {
+        matches!(self, Material::Mask(m) if m.opacity.max_value() == Rgb::ZERO)
+    }
+
     /// Lambert's reflectance when the material is a Lambert reflector and nothing else (what
     /// the wavefront's lanes model), and whether it is one-sided (black from behind).
     pub fn lambert(&self) -> Option<(&Texture, bool)> {

@@ -77,11 +77,22 @@ impl GridMedium {
         self.majorant
     }
 
+    /// Where a ray from `origin` along `direction` leaves the grid's box (the medium is
+    /// empty beyond it): tracking stops there, however long the segment.
+    fn exit(&self, origin: Vec3, direction: Vec3) -> f32 {
+        let inverse = direction.recip();
+        let (a, b) = ((self.bounds.min - origin) * inverse, (self.bounds.max - origin) * inverse);
+        let far = a.max(b);
+        // NaN (a zero direction component from a face) reads as unbounded on that axis.
+        [far.x, far.y, far.z].into_iter().filter(|t| !t.is_nan()).fold(f32::INFINITY, f32::min).max(0.0)
+    }
+
     /// Delta tracking along `origin + t·direction` (unit direction) for t < `t_max`.
     pub fn delta_track(&self, origin: Vec3, direction: Vec3, t_max: f32, rng: &mut Rng) -> Collision {
         if self.majorant <= 0.0 {
             return Collision::Escaped;
         }
+        let t_max = t_max.min(self.exit(origin, direction));
         let mut t = 0.0f32;
         loop {
             t -= (1.0 - rng.next_f32()).max(f32::MIN_POSITIVE).ln() / self.majorant;
@@ -99,6 +110,7 @@ impl GridMedium {
         if self.majorant <= 0.0 {
             return 1.0;
         }
+        let t_max = t_max.min(self.exit(origin, direction));
         let (mut t, mut transmittance) = (0.0f32, 1.0f32);
         loop {
             t -= (1.0 - rng.next_f32()).max(f32::MIN_POSITIVE).ln() / self.majorant;

@@ -29,10 +29,11 @@ impl Homogeneous {
         self.sigma_a + self.sigma_s
     }
 
-    /// exp(−σ_t t) per channel.
+    /// exp(−σ_t t) per channel (an infinite distance transmits only where σ_t is 0).
     pub fn transmittance(&self, t: f32) -> Rgb {
         let s = self.sigma_t() * t;
-        Rgb::new((-s.x).exp(), (-s.y).exp(), (-s.z).exp())
+        let channel = |x: f32| if x.is_nan() { 1.0 } else { (-x).exp() };
+        Rgb::new(channel(s.x), channel(s.y), channel(s.z))
     }
 
     /// A free flight along a segment of length `t_max` (infinite for none): `u_channel`

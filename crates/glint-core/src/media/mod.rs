@@ -2,9 +2,9 @@
 //! homogeneous media (Beer–Lambert transmittance, free flights with spectral MIS) and
 //! heterogeneous grid media (trilinear density, delta and ratio tracking against a majorant).
 //!
-//! The volumetric path tracer and photon mapping in media that will use them are not written
-//! yet (issue 29); each part here is tested on its own against analytic answers and
-//! quadrature.
+//! `volpath` (integrators/volpath.rs) traces paths through them; photon mapping in media is
+//! not written yet (issue 29). Each part here is tested on its own against analytic answers
+//! and quadrature.
 
 mod grid;
 mod homogeneous;
@@ -13,3 +13,66 @@ mod phase;
 pub use grid::{Collision, GridMedium};
 pub use homogeneous::{Flight, Homogeneous};
 pub use phase::{PhaseFunction, PhaseSample};
+
+use glam::Vec3;
+
+use crate::sampling::Rng;
+use crate::Rgb;
+
+/// A medium of the scene: what fills it and how it scatters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Medium {
+    pub kind: MediumKind,
+    pub phase: PhaseFunction,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum MediumKind {
+    Homogeneous(Homogeneous),
+    /// Boxed: a grid holds its voxels.
+    Grid(Box<GridMedium>),
+}
+
+/// The media on either side of a surface: `inside` behind its geometric normal, `outside`
+/// in front (`None`: no medium, vacuum).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MediumInterface {
+    pub inside: Option<u32>,
+    pub outside: Option<u32>,
+}
+
+impl MediumInterface {
+    /// The medium a direction `w` leaving the surface goes into.
+    pub fn toward(&self, w: Vec3, geometric_normal: Vec3) -> Option<u32> {
+        if w.dot(geometric_normal) > 0.0 {
+            self.outside
+        } else {
+            self.inside
+        }
+    }
+}
+
+impl Medium {
+    /// The transmittance over `distance` from `origin` along the unit `direction`: exact for
+    /// a homogeneous medium, ratio tracking's unbiased estimate in a grid (its numbers from
+    /// `rng`).
+    pub fn transmittance(&self, origin: Vec3, direction: Vec3, distance: f32, rng: &mut Rng) -> Rgb {
+        match &self.kind {
+            MediumKind::Homogeneous(m) => m.transmittance(distance),
+            MediumKind::Grid(g) => Rgb::splat(g.ratio_track(origin, direction, distance, rng)),
+        }
+    }
+
+    /// A free flight from `origin` along the unit `direction`, ending before `t_max` in a
+    /// scattering event or passing the segment. A grid's real collision scatters with weight
+    /// = its albedo (absorption folded into the weight, as Mitsuba's `volpath` does).
+    pub fn flight(&self, origin: Vec3, direction: Vec3, t_max: f32, rng: &mut Rng) -> Flight {
+        match &self.kind {
+            MediumKind::Homogeneous(m) => m.sample_flight(t_max, rng.next_f32(), rng.next_f32()),
+            MediumKind::Grid(g) => match g.delta_track(origin, direction, t_max, rng) {
+                Collision::At(t) => Flight::Scattered { t, weight: g.albedo },
+                Collision::Escaped => Flight::Passed { weight: Rgb::ONE },
+            },
+        }
+    }
+}

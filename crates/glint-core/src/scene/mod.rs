@@ -11,6 +11,7 @@ use crate::camera::Camera;
 use crate::geometry::Ray;
 use crate::lights::{Environment, Light, LightSelection, Lights, TriangleSampling};
 use crate::materials::Material;
+use crate::media::{Medium, MediumInterface};
 use crate::shapes::IntersectMethods;
 use crate::Rgb;
 
@@ -25,6 +26,11 @@ pub struct Scene {
     material_names: Vec<String>,
     lights: Lights,
     environment: Environment,
+    /// Participating media, the media on either side of each object (by object; empty when
+    /// the scene has no media) and the camera's.
+    media: Vec<Medium>,
+    medium_interfaces: Vec<MediumInterface>,
+    camera_medium: Option<u32>,
 }
 
 /// A scene's parts, gathered before the BVH and the lights are derived from them. Nothing
@@ -39,6 +45,9 @@ pub struct SceneBuilder {
     methods: IntersectMethods,
     triangle_sampling: Option<TriangleSampling>,
     light_selection: LightSelection,
+    media: Vec<Medium>,
+    medium_interfaces: Vec<MediumInterface>,
+    camera_medium: Option<u32>,
 }
 
 impl SceneBuilder {
@@ -52,6 +61,9 @@ impl SceneBuilder {
             methods: IntersectMethods::default(),
             triangle_sampling: None,
             light_selection: LightSelection::default(),
+            media: Vec::new(),
+            medium_interfaces: Vec::new(),
+            camera_medium: None,
         }
     }
 
@@ -110,6 +122,15 @@ impl SceneBuilder {
     }
 
     /// The BVH built and the lights derived.
+    /// Participating media, the media on either side of each object (by object index) and
+    /// the camera's medium.
+    pub fn media(mut self, media: Vec<Medium>, interfaces: Vec<MediumInterface>, camera: Option<u32>) -> Self {
+        self.media = media;
+        self.medium_interfaces = interfaces;
+        self.camera_medium = camera;
+        self
+    }
+
     pub fn build(self) -> Scene {
         let (material_names, materials): (Vec<String>, Vec<Material>) = self.materials.into_iter().unzip();
         let geometry = Geometry::new(self.objects, self.methods);
@@ -118,11 +139,35 @@ impl SceneBuilder {
             lights.set_triangle_sampling(strategy);
         }
         lights.set_selection(self.light_selection);
-        Scene { camera: self.camera, geometry, materials, material_names, lights, environment: self.environment }
+        Scene {
+            camera: self.camera,
+            geometry,
+            materials,
+            material_names,
+            lights,
+            environment: self.environment,
+            media: self.media,
+            medium_interfaces: self.medium_interfaces,
+            camera_medium: self.camera_medium,
+        }
     }
 }
 
 impl Scene {
+    pub fn media(&self) -> &[Medium] {
+        &self.media
+    }
+
+    /// The media on either side of object `object` (none where the scene gave none).
+    pub fn medium_interface(&self, object: u32) -> MediumInterface {
+        self.medium_interfaces.get(object as usize).copied().unwrap_or_default()
+    }
+
+    /// The medium the camera is in.
+    pub fn camera_medium(&self) -> Option<u32> {
+        self.camera_medium
+    }
+
     pub fn camera(&self) -> &Camera {
         &self.camera
     }

@@ -49,6 +49,7 @@ impl<'a> Reader<'a> {
             meshes: BTreeMap::new(),
             lights: Vec::new(),
             shapes: Vec::new(),
+            media: Default::default(),
         };
         let materials = materials::translate(self.document, self.images, &mut scene, &mut warnings)?;
 
@@ -129,9 +130,18 @@ impl<'a> Reader<'a> {
                             },
                             span: None,
                         });
-                        ShapeDesc::Instance { mesh: library, material: info.name.clone(), transform, name }
+                        ShapeDesc::Instance {
+                            interior: None,
+                            exterior: None,
+                            mesh: library,
+                            material: info.name.clone(),
+                            transform,
+                            name,
+                        }
                     } else {
                         ShapeDesc::Mesh {
+                            interior: None,
+                            exterior: None,
                             file: None,
                             data: Some(primitive.data.clone()),
                             shape_index: 0,
@@ -325,6 +335,7 @@ impl<'a> Reader<'a> {
             focus_distance: None,
             orthographic_height,
             mirror,
+            medium: None,
         })
     }
 }
@@ -377,5 +388,6 @@ fn framing_camera(bounds: Option<(Vec3, Vec3)>, aspect: f32) -> CameraDesc {
         focus_distance: None,
         orthographic_height: None,
         mirror: false,
+        medium: None,
     }
 }

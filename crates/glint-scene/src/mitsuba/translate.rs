@@ -53,6 +53,7 @@ impl<'a> Translator<'a> {
             focus_distance: None,
             orthographic_height: None,
             mirror: false,
+            medium: None,
         };
         let scene = SceneFile {
             camera: Located { value: camera, span: None },
@@ -72,6 +73,7 @@ impl<'a> Translator<'a> {
             meshes: BTreeMap::new(),
             lights: Vec::new(),
             shapes: Vec::new(),
+            media: Default::default(),
         };
         Ok(Self {
             files,
@@ -255,6 +257,7 @@ impl<'a> Translator<'a> {
                 focus_distance,
                 orthographic_height,
                 mirror,
+                medium: None,
             },
             span: sensor.position.span.clone(),
         };
@@ -464,7 +467,7 @@ impl<'a> Translator<'a> {
                 // Mitsuba turns v over in obj and ply files, not in serialized ones.
                 let flip_v = flip_v && kind != "serialized";
                 // Mitsuba makes smooth normals for a file without them.
-                ShapeDesc::Mesh {
+                ShapeDesc::Mesh { interior: None, exterior: None,
                     file: Some(file),
                     data: None,
                     shape_index,
@@ -476,17 +479,17 @@ impl<'a> Translator<'a> {
                     name,
                 }
             }
-            "rectangle" => ShapeDesc::Quad {
+            "rectangle" => ShapeDesc::Quad { interior: None, exterior: None,
                 vertices: [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]],
                 material,
                 transform,
                 name,
             },
-            "cube" => ShapeDesc::Box { min: [-1.0; 3], max: [1.0; 3], material, transform, name },
+            "cube" => ShapeDesc::Box { interior: None, exterior: None, min: [-1.0; 3], max: [1.0; 3], material, transform, name },
             "sphere" => {
                 let center = p.point(self, "center")?.unwrap_or(Vec3::ZERO);
                 let radius = p.float(self, "radius")?.unwrap_or(1.0);
-                ShapeDesc::Sphere { center: center.to_array(), radius, material, transform, name }
+                ShapeDesc::Sphere { interior: None, exterior: None, center: center.to_array(), radius, material, transform, name }
             }
             "disk" => {
                 for t in disk_triangles() {
@@ -550,6 +553,7 @@ impl<'a> Translator<'a> {
                 material,
                 transform,
                 name,
+                ..
             } = &member.value
             {
                 let mesh = format!("{id}#{i}");
@@ -563,6 +567,8 @@ impl<'a> Translator<'a> {
                 };
                 self.scene.meshes.insert(mesh.clone(), Located { value: desc, span: member.span.clone() });
                 member.value = ShapeDesc::Instance {
+                    interior: None,
+                    exterior: None,
                     mesh,
                     material: material.clone(),
                     transform: transform.clone(),

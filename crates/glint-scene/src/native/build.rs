@@ -8,13 +8,14 @@ use std::sync::Arc;
 use glam::{Affine2, Mat3, Mat4, Quat, Vec2, Vec3};
 use glint_core::camera::{Camera, Lens};
 use glint_core::filter::Filter;
-use glint_core::geometry::Transform;
+use glint_core::geometry::{Aabb, Transform};
 use glint_core::integrators::{IntegratorKind, IntegratorSettings, PhotonSettings};
 use glint_core::lights::{
     DirectionalLight, Environment, EnvironmentMap, Falloff, Light, PointLight, Slide, SpotLight, SpotProfile,
 };
 use glint_core::lights::{LightSelection, TriangleSampling};
 use glint_core::materials::Material;
+use glint_core::media::{GridMedium, Homogeneous, Medium, MediumInterface, MediumKind, PhaseFunction};
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::{Geometry, Object, SceneBuilder};
 use glint_core::shapes::{
@@ -96,6 +97,7 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
     }
 
     check_mesh_attributes(&cx, &file, &textures, &objects)?;
+    let (media, interfaces, camera_medium) = build_media(&cx, &file, source)?;
     warnings.extend(materials.iter().filter_map(|(name, m)| m.energy_warning(name)));
     let scene = SceneBuilder::new(camera)
         .objects(objects)
@@ -105,6 +107,7 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         .methods(methods)
         .triangle_sampling(render.light_sampling)
         .light_selection(render.light_selection)
+        .media(media, interfaces, camera_medium)
         .build();
     let inputs = std::iter::once(path.to_path_buf()).chain(source.files_read()).collect();
     Ok(LoadedScene { scene, render, warnings, inputs })
@@ -377,6 +380,108 @@ fn shade(mesh: &mut Mesh, smooth: bool, compute: bool) {
     } else if compute && mesh.normals.is_none() {
         mesh.compute_vertex_normals();
     }
+}
+
+/// What `build_media` gives.
+type SceneMedia = (Vec<Medium>, Vec<MediumInterface>, Option<u32>);
+
+/// The scene's media, the interface of each shape (by shape, empty without media) and the
+/// camera's medium.
+fn build_media(cx: &Context, file: &SceneFile, source: &Source) -> Result<SceneMedia, SceneError> {
+    let names: Vec<&String> = file.media.keys().collect();
+    let index =
+        |name: &str| -> Result<u32, String> {
+            names.iter().position(|n| *n == name).map(|i| i as u32).ok_or_else(|| {
+                format!("unknown medium `{name}`{}", did_you_mean(name, names.iter().map(|n| n.as_str())))
+            })
+        };
+    let mut media = Vec::new();
+    for (name, entry) in &file.media {
+        let at = |key: &str, m: String| cx.error(&entry.span, Some(key), format!("medium `{name}`: {m}"));
+        media.push(build_medium(&entry.value, source).map_err(|(key, m)| at(key, m))?);
+    }
+    let camera = &file.camera;
+    let camera_medium = match &camera.value.medium {
+        Some(name) => Some(index(name).map_err(|m| cx.error(&camera.span, Some("medium"), format!("camera: {m}")))?),
+        None => None,
+    };
+    let mut interfaces = Vec::new();
+    if !media.is_empty() {
+        for (i, entry) in file.shapes.iter().enumerate() {
+            let (inside, outside) = entry.value.media();
+            let at = |key: &str, m: String| cx.error(&entry.span, Some(key), format!("shapes[{i}]: {m}"));
+            interfaces.push(MediumInterface {
+                inside: inside.map(index).transpose().map_err(|m| at("interior", m))?,
+                outside: outside.map(index).transpose().map_err(|m| at("exterior", m))?,
+            });
+        }
+    } else if let Some((i, _)) = file.shapes.iter().enumerate().find(|(_, e)| e.value.media() != (None, None)) {
+        return Err(cx.error(
+            &file.shapes[i].span,
+            Some("interior"),
+            format!("shapes[{i}]: it names a medium, but `[media]` defines none"),
+        ));
+    }
+    Ok((media, interfaces, camera_medium))
+}
+
+fn build_medium(desc: &MediumDesc, source: &Source) -> Result<Medium, (&'static str, String)> {
+    let colour = |key: &'static str, v: Vector| non_negative(v).map_err(|m| (key, format!("`{key}` {m}")));
+    let scale = |s: Option<f32>| match s.unwrap_or(1.0) {
+        x if x.is_finite() && x >= 0.0 => Ok(x),
+        x => Err(("scale", format!("`scale` must be ≥ 0, got {x}"))),
+    };
+    let albedo_of = |v: Option<Vector>, default: f32| -> Result<Vec3, (&'static str, String)> {
+        let a = colour("albedo", v.unwrap_or([default; 3]))?;
+        if a.max_element() > 1.0 {
+            return Err(("albedo", format!("`albedo` is a fraction in [0, 1], got {a}")));
+        }
+        Ok(a)
+    };
+    let phase = |p: &Option<PhaseDesc>| match p {
+        None | Some(PhaseDesc::Isotropic) => Ok(PhaseFunction::Isotropic),
+        Some(PhaseDesc::Hg { g }) if g.abs() < 1.0 => Ok(PhaseFunction::HenyeyGreenstein { g: *g }),
+        Some(PhaseDesc::Hg { g }) => Err(("phase", format!("Henyey–Greenstein's `g` lies in (−1, 1), got {g}"))),
+    };
+    Ok(match desc {
+        MediumDesc::Homogeneous { sigma_a, sigma_s, sigma_t, albedo, scale: s, phase: p } => {
+            let k = scale(*s)?;
+            let (sigma_a, sigma_s) = match (sigma_a, sigma_s, sigma_t, albedo) {
+                (a, s, None, None) => {
+                    (colour("sigma_a", a.unwrap_or([0.0; 3]))?, colour("sigma_s", s.unwrap_or([0.0; 3]))?)
+                }
+                (None, None, t, albedo) => {
+                    let t = colour("sigma_t", t.unwrap_or([1.0; 3]))?;
+                    let albedo = albedo_of(*albedo, 0.8)?;
+                    (t * (Vec3::ONE - albedo), t * albedo)
+                }
+                _ => {
+                    return Err(("sigma_t", "give `sigma_a` and `sigma_s`, or `sigma_t` and `albedo`, not both".into()))
+                }
+            };
+            Medium {
+                kind: MediumKind::Homogeneous(Homogeneous { sigma_a: sigma_a * k, sigma_s: sigma_s * k }),
+                phase: phase(p)?,
+            }
+        }
+        MediumDesc::Grid { file, albedo, scale: s, min, max, phase: p } => {
+            let bytes = source.read(file).map_err(|m| ("file", format!("volume file: {m}")))?;
+            let grid = crate::volume::read_vol(&bytes).map_err(|m| ("file", format!("`{file}`: {m}")))?;
+            if grid.channels != 1 {
+                return Err(("file", format!("`{file}` has {} channels; a density grid has one", grid.channels)));
+            }
+            let bounds = Aabb {
+                min: min.map_or(Ok(grid.min), |v| finite(v).map_err(|m| ("min", m)))?,
+                max: max.map_or(Ok(grid.max), |v| finite(v).map_err(|m| ("max", m)))?,
+            };
+            if !bounds.min.cmplt(bounds.max).all() {
+                return Err(("min", format!("the grid's box {} – {} is empty", bounds.min, bounds.max)));
+            }
+            let medium = GridMedium::new(grid.resolution, grid.values, bounds, scale(*s)?, albedo_of(*albedo, 0.8)?)
+                .ok_or(("file", format!("`{file}`: densities must be finite and ≥ 0")))?;
+            Medium { kind: MediumKind::Grid(Box::new(medium)), phase: phase(p)? }
+        }
+    })
 }
 
 /// A mesh from its file or from the scene's own `data`, checked, and how to name it in

@@ -413,6 +413,10 @@ impl Builder<'_> {
                 let second = self.reference(name, "second", second)?;
                 Material::Blend(Box::new(Blend { weight, first, second }))
             }
+            MaterialDesc::Null => Material::Mask(Box::new(Mask {
+                opacity: Texture::Constant(Rgb::ZERO),
+                material: Material::Diffuse(Diffuse { reflectance: Texture::Constant(Rgb::ZERO) }),
+            })),
             MaterialDesc::Mask { opacity, material } => {
                 let opacity = fraction("opacity", opacity)?;
                 let material = self.reference(name, "material", material)?;

@@ -33,6 +33,46 @@ pub struct SceneFile {
     pub lights: Vec<Located<LightDesc>>,
     #[serde(default)]
     pub shapes: Vec<Located<ShapeDesc>>,
+    /// Participating media, by name: shapes bound them (`interior`, `exterior`), the camera
+    /// may be in one (`medium`).
+    #[serde(default)]
+    pub media: BTreeMap<String, Located<MediumDesc>>,
+}
+
+/// A participating medium.
+#[derive(Deserialize, Debug)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum MediumDesc {
+    /// σ_a and σ_s, or σ_t and the albedo σ_s / σ_t (per channel, per unit length), each
+    /// times `scale`.
+    Homogeneous {
+        sigma_a: Option<Vector>,
+        sigma_s: Option<Vector>,
+        sigma_t: Option<Vector>,
+        albedo: Option<Vector>,
+        scale: Option<f32>,
+        phase: Option<PhaseDesc>,
+    },
+    /// σ_t = `scale` × the density of a Mitsuba `.vol` grid (one channel) over its box, or
+    /// over `min`–`max` when given; a constant `albedo`.
+    Grid {
+        file: String,
+        albedo: Option<Vector>,
+        scale: Option<f32>,
+        min: Option<Vector>,
+        max: Option<Vector>,
+        phase: Option<PhaseDesc>,
+    },
+}
+
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum PhaseDesc {
+    Isotropic,
+    /// Henyey–Greenstein, mean cosine `g` in (−1, 1).
+    Hg {
+        g: f32,
+    },
 }
 
 /// A mesh loaded once and placed any number of times by `instance` shapes.
@@ -86,6 +126,8 @@ pub struct CameraDesc {
     /// cameras of left-handed formats (pbrt's) and mirroring transforms.
     #[serde(default)]
     pub mirror: bool,
+    /// The medium the camera is in (a name in `[media]`).
+    pub medium: Option<String>,
 }
 
 fn default_up() -> Vector {
@@ -272,6 +314,8 @@ pub enum MaterialDesc {
         two_sided_emission: bool,
         two_sided: Option<bool>,
     },
+    /// No surface at all (Mitsuba's `null`): a medium's boundary that light crosses unchanged.
+    Null,
     /// Lambert's lobe on both sides of a sheet (pbrt's `diffusetransmission`).
     DiffuseTransmission { reflectance: Option<ColorDesc>, transmittance: Option<ColorDesc> },
     /// A smooth metal (Mitsuba's `conductor`): `metal` (a name) or `eta` and `k`.
@@ -580,6 +624,9 @@ pub enum ShapeDesc {
         center: Vector,
         radius: f32,
         material: String,
+        /// Media inside (behind the normals) and outside (names in `[media]`).
+        interior: Option<String>,
+        exterior: Option<String>,
         #[serde(default)]
         transform: Vec<TransformOp>,
         name: Option<String>,
@@ -614,6 +661,9 @@ pub enum ShapeDesc {
         min: Vector,
         max: Vector,
         material: String,
+        /// Media inside (behind the normals) and outside (names in `[media]`).
+        interior: Option<String>,
+        exterior: Option<String>,
         #[serde(default)]
         transform: Vec<TransformOp>,
         name: Option<String>,
@@ -634,6 +684,9 @@ pub enum ShapeDesc {
         #[serde(default)]
         compute_normals: bool,
         material: String,
+        /// Media inside (behind the normals) and outside (names in `[media]`).
+        interior: Option<String>,
+        exterior: Option<String>,
         #[serde(default)]
         transform: Vec<TransformOp>,
         name: Option<String>,
@@ -643,6 +696,9 @@ pub enum ShapeDesc {
     Quad {
         vertices: [Vector; 4],
         material: String,
+        /// Media inside (behind the normals) and outside (names in `[media]`).
+        interior: Option<String>,
+        exterior: Option<String>,
         #[serde(default)]
         transform: Vec<TransformOp>,
         name: Option<String>,
@@ -650,6 +706,9 @@ pub enum ShapeDesc {
     Instance {
         mesh: String,
         material: String,
+        /// Media inside (behind the normals) and outside (names in `[media]`).
+        interior: Option<String>,
+        exterior: Option<String>,
         #[serde(default)]
         transform: Vec<TransformOp>,
         name: Option<String>,
@@ -734,6 +793,18 @@ impl ShapeDesc {
             | ShapeDesc::Quad { transform, name, .. }
             | ShapeDesc::Instance { transform, name, .. }
             | ShapeDesc::Csg { transform, name, .. } => (transform, name),
+        }
+    }
+
+    /// The media inside and outside the shape, where it bounds any.
+    pub fn media(&self) -> (Option<&str>, Option<&str>) {
+        match self {
+            ShapeDesc::Sphere { interior, exterior, .. }
+            | ShapeDesc::Box { interior, exterior, .. }
+            | ShapeDesc::Mesh { interior, exterior, .. }
+            | ShapeDesc::Quad { interior, exterior, .. }
+            | ShapeDesc::Instance { interior, exterior, .. } => (interior.as_deref(), exterior.as_deref()),
+            _ => (None, None),
         }
     }
 

@@ -148,6 +148,7 @@ impl<'s> Translator<'s> {
             meshes: Default::default(),
             lights: Vec::new(),
             shapes: Vec::new(),
+            media: Default::default(),
         };
         Self {
             parser,
@@ -635,6 +636,7 @@ impl<'s> Translator<'s> {
                 focus_distance,
                 orthographic_height,
                 mirror,
+                medium: None,
             },
             span: None,
         };
@@ -653,6 +655,7 @@ impl<'s> Translator<'s> {
                 meshes: Default::default(),
                 lights: Vec::new(),
                 shapes: Vec::new(),
+                media: Default::default(),
             },
         );
         if file.lights.is_empty() && file.environment.map.is_none() && file.environment.background == [0.0; 3] {
@@ -1347,7 +1350,7 @@ impl<'s> Translator<'s> {
                     // glint's sphere has its pole on +y (u about +y from +x); pbrt's on +z (u
                     // about +z from +x): swapping y and z gives pbrt's uv, hence its textures.
                     let swap = Mat4::from_cols(Vec4::X, Vec4::Z, Vec4::Y, Vec4::W);
-                    let desc = ShapeDesc::Sphere { center: [0.0; 3], radius, material, transform: vec![matrix_op(swap), matrix_op(ctm)], name: None };
+                    let desc = ShapeDesc::Sphere { interior: None, exterior: None, center: [0.0; 3], radius, material, transform: vec![matrix_op(swap), matrix_op(ctm)], name: None };
                     return self.push_shape(d.at, desc);
                 }
                 shapes::partial_sphere(radius, z_min, z_max, phi_max.to_radians())
@@ -1433,6 +1436,8 @@ impl<'s> Translator<'s> {
         let smooth = data.normals.is_some() || kind == "loopsubdiv";
         let material = self.shape_material();
         let desc = ShapeDesc::Mesh {
+            interior: None,
+            exterior: None,
             file: None,
             data: Some(data),
             shape_index: 0,
@@ -1498,12 +1503,14 @@ impl<'s> Translator<'s> {
                     material,
                     transform,
                     name,
+                    ..
                 } = shape.value
                 {
                     let mesh = format!("object {object} #{i}");
                     let desc = MeshDesc { file, data, shape_index, smooth, flip_v, compute_normals };
                     self.scene.meshes.insert(mesh.clone(), Located { value: desc, span: None });
-                    shape.value = ShapeDesc::Instance { mesh, material, transform, name };
+                    shape.value =
+                        ShapeDesc::Instance { interior: None, exterior: None, mesh, material, transform, name };
                 }
                 shape
             })
@@ -1634,5 +1641,6 @@ fn default_camera() -> CameraDesc {
         focus_distance: None,
         orthographic_height: None,
         mirror: true,
+        medium: None,
     }
 }

@@ -1,0 +1,269 @@
+//! Volumetric path tracing (`--integrator volpath`; Mitsuba's `volpath`, pbrt-v4's
+//! `VolPathIntegrator` without its spectral machinery): the path tracer's estimator with
+//! participating media between surfaces.
+//!
+//! A path knows the medium it travels in: the camera's, then the one a surface's interface
+//! gives on the side the path leaves into. Along each segment in a medium a free flight is
+//! drawn (`Medium::flight`: exponential by a channel chosen uniformly, with MIS over the
+//! channels, in a homogeneous medium; delta tracking in a grid). A flight that scatters makes
+//! a vertex in the medium: next-event estimation toward one light, its shadow ray's
+//! transmittance through every medium and null surface on the way (exact, or ratio tracking
+//! in grids), weighed by the power heuristic against phase-function sampling, then a new
+//! direction from the phase function. A flight that passes reaches the surface, which is
+//! shaded as the path tracer shades it, its light samples' shadow rays attenuated the same
+//! way. Null surfaces (masks of opacity 0, Mitsuba's `null`) are crossed without a bounce:
+//! they only change the medium. Scattering in a medium counts as a bounce for `max_depth`
+//! and Russian roulette, as in Mitsuba.
+
+use glam::Vec3;
+
+use super::path::{power_heuristic, BounceDraws};
+use super::vertex::Vertex;
+use super::{Integrator, IntegratorSettings, SampleContext};
+use crate::geometry::Ray;
+use crate::lights::{LightEnd, LightSample};
+use crate::media::{Flight, MediumInterface};
+use crate::sampling::Rng;
+use crate::scene::Scene;
+use crate::Rgb;
+
+#[derive(Clone, Copy, Debug)]
+pub struct VolPathTracer {
+    pub max_depth: u32,
+    pub rr_depth: u32,
+}
+
+impl VolPathTracer {
+    pub fn new(settings: &IntegratorSettings) -> Self {
+        Self { max_depth: settings.max_depth, rr_depth: settings.rr_depth }
+    }
+}
+
+/// Where the last direction was sampled, for the MIS weight of emission found along it.
+#[derive(Clone, Copy, Debug)]
+struct Previous {
+    point: Vec3,
+    /// The surface's shading normal; `None` in a medium.
+    normal: Option<Vec3>,
+    pdf: f32,
+    delta: bool,
+}
+
+/// Null surfaces a single shadow ray or segment may cross before glint gives up on it.
+const MAX_CROSSINGS: usize = 256;
+
+impl Integrator for VolPathTracer {
+    fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
+        // The media's tracking draws many numbers: an independent stream per sample, seeded
+        // by the sampler (deterministic for the seed, at any thread count).
+        let seed = ((context.sampler.next_f32() as f64 * 4294967296.0) as u64) << 32
+            | (context.sampler.next_f32() as f64 * 4294967296.0) as u64;
+        let mut rng = Rng::new(seed, 0x766f6c70);
+        let (mut radiance, mut throughput, mut eta_scale) = (Rgb::ZERO, Rgb::ONE, 1.0f32);
+        let mut medium = scene.camera_medium();
+        let mut previous: Option<Previous> = None;
+        let mut depth = 0u32;
+        let mut ray = Ray::new(camera_ray.origin, camera_ray.direction.normalize());
+        let mut crossings = 0usize;
+        loop {
+            context.rays.reflection += 1;
+            let hit = scene.intersect(&ray);
+            let t_max = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+            if let Some(m) = medium.map(|i| &scene.media()[i as usize]) {
+                match m.flight(ray.origin, ray.direction, t_max, &mut rng) {
+                    Flight::Scattered { t, weight } => {
+                        throughput *= weight;
+                        let point = ray.origin + t * ray.direction;
+                        if depth >= self.max_depth || throughput == Rgb::ZERO {
+                            break;
+                        }
+                        // Light sampling from the medium, against phase sampling.
+                        let (u_select, u) = BounceDraws::light(&mut context.sampler);
+                        if let Some(light) = scene.lights().sample_li(point, None, u_select, u) {
+                            let f = m.phase.eval(ray.direction, light.direction);
+                            if light.radiance != Rgb::ZERO && f > 0.0 && light.pdf > 0.0 {
+                                context.rays.shadow += 1;
+                                let shadow = shadow_ray_from(point, &light);
+                                let tr = transmittance(scene, shadow, medium, &mut rng);
+                                if tr != Rgb::ZERO {
+                                    let w = if light.delta { 1.0 } else { power_heuristic(light.pdf, f) };
+                                    radiance += throughput * light.radiance * tr * (f * w / light.pdf);
+                                }
+                            }
+                        }
+                        let (_, u) = BounceDraws::scatter(&mut context.sampler);
+                        let sample = m.phase.sample(ray.direction, u);
+                        previous = Some(Previous { point, normal: None, pdf: sample.pdf, delta: false });
+                        ray = Ray::new(point, sample.outgoing);
+                        depth += 1;
+                        crossings = 0;
+                        if depth >= self.rr_depth && !roulette(&mut throughput, eta_scale, context) {
+                            break;
+                        }
+                        continue;
+                    }
+                    Flight::Passed { weight } => throughput *= weight,
+                }
+            }
+            let Some(hit) = hit else {
+                let seen = match previous {
+                    Some(from) if !from.delta => scene
+                        .lights()
+                        .environment_seen(ray.direction)
+                        .map(|(radiance, pdf)| (radiance, power_heuristic(from.pdf, pdf))),
+                    _ => None,
+                };
+                let (background, weight) = seen.unwrap_or_else(|| (scene.environment().radiance(ray.direction), 1.0));
+                radiance += throughput * background * weight;
+                break;
+            };
+            let material = &scene.materials()[hit.material as usize];
+            if material.is_null() {
+                // A medium's boundary: cross it, the path unchanged but for its medium.
+                crossings += 1;
+                if crossings > MAX_CROSSINGS {
+                    break;
+                }
+                // An object without an interface keeps the path's medium.
+                let interface = scene.medium_interface(hit.object);
+                if interface != MediumInterface::default() {
+                    medium = interface.toward(ray.direction, hit.geometry.geometric_normal);
+                }
+                ray = hit.spawn_ray(ray.direction);
+                continue;
+            }
+            crossings = 0;
+            let vertex = Vertex::at(scene, &ray, hit);
+            let (wo, geometric) = (vertex.wo, hit.geometry.geometric_normal);
+            let emitted = vertex.emitted();
+            if emitted != Rgb::ZERO {
+                let weight = match previous {
+                    Some(from) if !from.delta => {
+                        let light_pdf = scene.lights().pdf_area(
+                            from.point,
+                            from.normal,
+                            hit.object,
+                            hit.prim,
+                            hit.geometry.point,
+                            geometric,
+                        );
+                        power_heuristic(from.pdf, light_pdf)
+                    }
+                    _ => 1.0,
+                };
+                radiance += throughput * emitted * weight;
+            }
+            if depth >= self.max_depth {
+                break;
+            }
+            let bsdf = vertex.bsdf();
+            let interface = scene.medium_interface(hit.object);
+            let has_interface = interface != MediumInterface::default();
+            let medium_toward = |w: Vec3| if has_interface { interface.toward(w, geometric) } else { medium };
+            if bsdf.has_diffuse() {
+                let (u_select, u) = BounceDraws::light(&mut context.sampler);
+                if let Some(light) =
+                    scene.lights().sample_li(hit.geometry.point, Some(hit.geometry.shading_normal), u_select, u)
+                {
+                    let f = bsdf.eval(wo, light.direction);
+                    if light.radiance != Rgb::ZERO && f != Rgb::ZERO && light.pdf > 0.0 {
+                        context.rays.shadow += 1;
+                        let tr = transmittance(
+                            scene,
+                            hit.spawn_shadow_ray(&light),
+                            medium_toward(light.direction),
+                            &mut rng,
+                        );
+                        if tr != Rgb::ZERO {
+                            let w = if light.delta {
+                                1.0
+                            } else {
+                                power_heuristic(light.pdf, bsdf.pdf(wo, light.direction))
+                            };
+                            radiance += throughput * f * light.radiance * tr * (w / light.pdf);
+                        }
+                    }
+                }
+            }
+            let (u_lobe, u) = BounceDraws::scatter(&mut context.sampler);
+            let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break };
+            throughput *= sample.weight;
+            eta_scale *= sample.eta_squared;
+            previous = Some(Previous {
+                point: hit.geometry.point,
+                normal: Some(hit.geometry.shading_normal),
+                pdf: sample.pdf,
+                delta: sample.delta,
+            });
+            medium = medium_toward(sample.wi);
+            depth += 1;
+            if depth >= self.rr_depth && !roulette(&mut throughput, eta_scale, context) {
+                break;
+            }
+            if throughput == Rgb::ZERO {
+                break;
+            }
+            ray = hit.spawn_ray(sample.wi.normalize());
+        }
+        radiance
+    }
+}
+
+/// Russian roulette as the path tracer plays it (Mitsuba's rule).
+fn roulette(throughput: &mut Rgb, eta_scale: f32, context: &mut SampleContext) -> bool {
+    let survival = (throughput.max_element() * eta_scale).min(0.95);
+    if survival <= 0.0 || BounceDraws::roulette(&mut context.sampler) >= survival {
+        return false;
+    }
+    *throughput /= survival;
+    true
+}
+
+/// A shadow ray from a point in a medium toward a sampled light: over t ∈ (0, 1) to a point
+/// (short of a surface light by a relative margin), unbounded toward the environment.
+fn shadow_ray_from(point: Vec3, light: &LightSample) -> Ray {
+    match light.end {
+        LightEnd::Surface { point: target, .. } | LightEnd::Point(target) => {
+            Ray { origin: point, direction: target - point, t_min: 0.0, t_max: 1.0 - 1e-4 }
+        }
+        LightEnd::Infinite => Ray::new(point, light.direction),
+    }
+}
+
+/// The transmittance along a shadow ray that starts in `medium`: zero at the first opaque
+/// surface; through null surfaces, the product of the media's transmittances piece by piece.
+fn transmittance(scene: &Scene, mut ray: Ray, mut medium: Option<u32>, rng: &mut Rng) -> Rgb {
+    let mut tr = Rgb::ONE;
+    let length = ray.direction.length();
+    if length.is_nan() || length <= 0.0 {
+        return Rgb::ZERO;
+    }
+    for _ in 0..MAX_CROSSINGS {
+        let hit = scene.intersect(&ray);
+        let end = hit.as_ref().map_or(ray.t_max, |h| h.t);
+        if let Some(m) = medium.map(|i| &scene.media()[i as usize]) {
+            let from = ray.origin + ray.t_min * ray.direction;
+            let distance = (end - ray.t_min).max(0.0) * length;
+            tr *= m.transmittance(from, ray.direction / length, distance, rng);
+            if tr == Rgb::ZERO {
+                return tr;
+            }
+        }
+        let Some(hit) = hit else { return tr };
+        if !scene.materials()[hit.material as usize].is_null() {
+            return Rgb::ZERO;
+        }
+        let interface = scene.medium_interface(hit.object);
+        if interface != MediumInterface::default() {
+            medium = interface.toward(ray.direction, hit.geometry.geometric_normal);
+        }
+        // On from the crossing, the rest of the segment.
+        let rest = hit.spawn_ray(ray.direction / length);
+        let remaining = if ray.t_max.is_finite() { (ray.t_max - hit.t) * length } else { f32::INFINITY };
+        ray = Ray { t_max: remaining, ..rest };
+        if ray.t_max <= ray.t_min {
+            return tr;
+        }
+    }
+    Rgb::ZERO
+}

@@ -1,0 +1,172 @@
+//! Participating media through the native format and `volpath`: Beer–Lambert through a slab
+//! (homogeneous and grid, against the exact transmittance), the furnace of a lossless
+//! medium under a uniform sky (radiance conserved), and the format's errors.
+
+use std::path::PathBuf;
+
+use glint_core::render::{render, RenderSettings};
+use glint_core::Rgb;
+use glint_scene::load_scene;
+
+fn scene(name: &str, text: &str, files: &[(&str, Vec<u8>)]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("glint-media-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (file, bytes) in files {
+        std::fs::write(dir.join(file), bytes).unwrap();
+    }
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// The mean and the standard error of the mean of every pixel's value, per channel.
+fn render_mean(path: &std::path::Path, spp: u32, seed: u64) -> (Rgb, Rgb) {
+    let loaded = load_scene(path).unwrap_or_else(|e| panic!("{e}"));
+    let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).unwrap();
+    let settings = RenderSettings { spp, seed, filter: loaded.render.filter, sampler: loaded.render.sampler };
+    let image = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film.to_rgb();
+    let n = image.len() as f32;
+    let mean = image.iter().sum::<Rgb>() / n;
+    let variance = image.iter().map(|p| (*p - mean) * (*p - mean)).sum::<Rgb>() / (n - 1.0);
+    (mean, (variance / n).map(f32::sqrt))
+}
+
+/// An orthographic camera looking down −z through a unit-thick box of medium (null walls)
+/// at a white sky: every pixel sees exp(−σ_t · 1).
+fn slab(medium: &str) -> String {
+    format!(
+        r#"[camera]
+position = [0, 0, 5]
+look_at = [0, 0, 0]
+orthographic_height = 1.0
+resolution = [16, 16]
+
+[render]
+integrator = "volpath"
+max_depth = -1
+sampler = "independent"
+
+[environment]
+background = [1, 1, 1]
+
+[materials.boundary]
+type = "null"
+
+{medium}
+
+[[shapes]]
+type = "box"
+min = [-2, -2, -0.5]
+max = [2, 2, 0.5]
+material = "boundary"
+interior = "fog"
+"#
+    )
+}
+
+#[test]
+fn beer_lambert_through_a_slab_of_homogeneous_medium() {
+    let path = scene(
+        "slab",
+        &slab("[media.fog]\ntype = \"homogeneous\"\nsigma_a = [0.5, 1.0, 2.0]\nsigma_s = [0.0, 0.0, 0.0]"),
+        &[],
+    );
+    let (mean, error) = render_mean(&path, 64, 1);
+    let expected = Rgb::new((-0.5f32).exp(), (-1.0f32).exp(), (-2.0f32).exp());
+    for c in 0..3 {
+        assert!((mean[c] - expected[c]).abs() < 4.0 * error[c] + 1e-4, "channel {c}: {mean} vs {expected} ± {error}");
+    }
+}
+
+fn vol(resolution: [i32; 3], values: &[f32], min: [f32; 3], max: [f32; 3]) -> Vec<u8> {
+    let mut bytes = b"VOL\x03".to_vec();
+    for n in [1, resolution[0], resolution[1], resolution[2], 1] {
+        bytes.extend_from_slice(&n.to_le_bytes());
+    }
+    for f in min.iter().chain(&max).chain(values) {
+        bytes.extend_from_slice(&f.to_le_bytes());
+    }
+    bytes
+}
+
+/// The same slab as an absorbing grid (albedo 0) of two voxels, densities ½ and 1 along x:
+/// delta tracking's escapes estimate exp(−∫σ_t).
+#[test]
+fn beer_lambert_through_a_grid_slab() {
+    let grid = vol([2, 1, 1], &[0.5, 1.0], [-2.0, -2.0, -0.5], [2.0, 2.0, 0.5]);
+    let medium = "[media.fog]\ntype = \"grid\"\nfile = \"density.vol\"\nscale = 2.0\nalbedo = [0, 0, 0]";
+    // The voxel centres lie at x = ±1, so over the view (x ∈ [−½, ½]) the density blends
+    // linearly, 0.75 + 0.25 x: the pixels' mean transmittance is the mean of
+    // exp(−2 (0.75 + 0.25 x)) over the view.
+    let path = scene("grid-slab", &slab(medium), &[("density.vol", grid)]);
+    let (mean, error) = render_mean(&path, 256, 2);
+    let n = 10_000;
+    let expected = (0..n)
+        .map(|i| {
+            let x = -0.5 + (i as f64 + 0.5) / n as f64;
+            (-2.0 * (0.75 + 0.25 * x)).exp()
+        })
+        .sum::<f64>() as f32
+        / n as f32;
+    for c in 0..3 {
+        assert!((mean[c] - expected).abs() < 4.0 * error[c] + 2e-3, "channel {c}: {mean} vs {expected} ± {error}");
+    }
+}
+
+/// A lossless medium (albedo 1) inside a null sphere around the camera, under a white sky:
+/// light is only redistributed, so radiance is 1 in every direction (the furnace).
+#[test]
+fn a_lossless_medium_under_a_uniform_sky_conserves_radiance() {
+    for (name, medium) in [
+        ("homogeneous", "[media.fog]\ntype = \"homogeneous\"\nsigma_t = [0.3, 0.6, 0.9]\nalbedo = [1, 1, 1]\nphase = { type = \"hg\", g = 0.6 }"),
+        ("isotropic", "[media.fog]\ntype = \"homogeneous\"\nsigma_s = [0.5, 0.5, 0.5]"),
+    ] {
+        let text = format!(
+            r#"[camera]
+position = [0, 0, 0]
+look_at = [0, 0, 1]
+fov = 90
+resolution = [12, 12]
+medium = "fog"
+
+[render]
+integrator = "volpath"
+max_depth = -1
+sampler = "independent"
+
+[environment]
+background = [1, 1, 1]
+
+[materials.boundary]
+type = "null"
+
+{medium}
+
+[[shapes]]
+type = "sphere"
+radius = 3
+material = "boundary"
+interior = "fog"
+"#
+        );
+        let path = scene(&format!("furnace-{name}"), &text, &[]);
+        let (mean, error) = render_mean(&path, 64, 3);
+        for c in 0..3 {
+            assert!((mean[c] - 1.0).abs() < 4.0 * error[c] + 2e-3, "{name}, channel {c}: {mean} ± {error}");
+        }
+    }
+}
+
+#[test]
+fn media_errors_name_what_is_wrong() {
+    let bad = |name: &str, medium: &str, expected: &str| {
+        let path = scene(name, &slab(medium), &[]);
+        let e = load_scene(&path).err().unwrap_or_else(|| panic!("{name}: expected an error")).to_string();
+        assert!(e.contains(expected), "{name}: {e}");
+    };
+    bad("both", "[media.fog]\ntype = \"homogeneous\"\nsigma_a = [1, 1, 1]\nsigma_t = [1, 1, 1]", "not both");
+    bad("albedo", "[media.fog]\ntype = \"homogeneous\"\nsigma_t = [1, 1, 1]\nalbedo = [2, 0, 0]", "fraction in [0, 1]");
+    bad("g", "[media.fog]\ntype = \"homogeneous\"\nphase = { type = \"hg\", g = 1.5 }", "(−1, 1)");
+    bad("unknown", "[media.fgo]\ntype = \"homogeneous\"", "unknown medium `fog`; did you mean `fgo`?");
+    bad("file", "[media.fog]\ntype = \"grid\"\nfile = \"missing.vol\"", "missing.vol");
+}
