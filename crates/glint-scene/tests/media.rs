@@ -157,6 +157,64 @@ interior = "fog"
     }
 }
 
+/// A point light seen through fog by a surface: the shadow ray toward it, unnormalised and
+/// crossing the fog box's walls, is attenuated by the fog's thickness alone. A diffuse floor
+/// (albedo ½) at z = 0 under a light of intensity 16 at z = 4, with 2 units of absorbing fog
+/// (σ_a = 0.3) between: radiance ½/π · 16/4² · e^{−0.6} on the light's path, times e^{−0.6}
+/// again on the camera's path down through the same fog.
+#[test]
+fn a_shadow_ray_through_fog_is_attenuated_by_the_fog_alone() {
+    let text = r#"[camera]
+position = [0, 0, 10]
+look_at = [0, 0, 0]
+orthographic_height = 0.02
+resolution = [4, 4]
+
+[render]
+integrator = "volpath"
+max_depth = 1
+sampler = "independent"
+
+[materials.boundary]
+type = "null"
+
+[materials.floor]
+type = "diffuse"
+reflectance = [0.5, 0.5, 0.5]
+
+[media.fog]
+type = "homogeneous"
+sigma_a = [0.3, 0.3, 0.3]
+
+[[lights]]
+type = "point"
+position = [0, 0, 4]
+intensity = 16
+falloff = "inverse-square"
+
+[[shapes]]
+type = "box"
+min = [-5, -5, 1]
+max = [5, 5, 3]
+material = "boundary"
+interior = "fog"
+
+[[shapes]]
+type = "quad"
+vertices = [[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]]
+material = "floor"
+"#;
+    let path = scene("shadow", text, &[]);
+    let (mean, error) = render_mean(&path, 1024, 4);
+    let expected = 0.5 / std::f32::consts::PI * (16.0 / 16.0) * (-0.6f32).exp() * (-0.6f32).exp();
+    for c in 0..3 {
+        assert!(
+            (mean[c] - expected).abs() < 4.0 * error[c] + 1e-3 * expected,
+            "channel {c}: {mean} vs {expected} ± {error}"
+        );
+    }
+}
+
 #[test]
 fn media_errors_name_what_is_wrong() {
     let bad = |name: &str, medium: &str, expected: &str| {

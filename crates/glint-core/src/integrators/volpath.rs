@@ -20,7 +20,7 @@ use glam::Vec3;
 use super::path::{power_heuristic, BounceDraws};
 use super::vertex::Vertex;
 use super::{Integrator, IntegratorSettings, SampleContext};
-use crate::geometry::Ray;
+use crate::geometry::{offset_ray_origin, Ray};
 use crate::lights::{LightEnd, LightSample};
 use crate::media::{Flight, MediumInterface};
 use crate::sampling::Rng;
@@ -49,7 +49,8 @@ struct Previous {
     delta: bool,
 }
 
-/// Null surfaces a single shadow ray or segment may cross before glint gives up on it.
+/// Null surfaces a single shadow ray or path segment may cross before glint gives up on it
+/// (the light beyond is lost: scenes of more nested null boundaries than this render dark).
 const MAX_CROSSINGS: usize = 256;
 
 impl Integrator for VolPathTracer {
@@ -223,28 +224,35 @@ fn roulette(throughput: &mut Rgb, eta_scale: f32, context: &mut SampleContext) -
 /// (short of a surface light by a relative margin), unbounded toward the environment.
 fn shadow_ray_from(point: Vec3, light: &LightSample) -> Ray {
     match light.end {
-        LightEnd::Surface { point: target, .. } | LightEnd::Point(target) => {
+        LightEnd::Surface { point: target, normal, error } => {
+            // The far end off the light's surface by its error bound, as surface points'
+            // shadow rays end (a sphere light must not shadow its own sample).
+            let target = offset_ray_origin(target, error, normal, point - target);
             Ray { origin: point, direction: target - point, t_min: 0.0, t_max: 1.0 - 1e-4 }
         }
+        LightEnd::Point(target) => Ray { origin: point, direction: target - point, t_min: 0.0, t_max: 1.0 - 1e-4 },
         LightEnd::Infinite => Ray::new(point, light.direction),
     }
 }
 
 /// The transmittance along a shadow ray that starts in `medium`: zero at the first opaque
 /// surface; through null surfaces, the product of the media's transmittances piece by piece.
-fn transmittance(scene: &Scene, mut ray: Ray, mut medium: Option<u32>, rng: &mut Rng) -> Rgb {
-    let mut tr = Rgb::ONE;
+/// (Shadow rays toward points come with their direction unnormalised and t ∈ (0, 1): the ray
+/// is put in world units first, so every piece's length is a distance.)
+fn transmittance(scene: &Scene, ray: Ray, mut medium: Option<u32>, rng: &mut Rng) -> Rgb {
     let length = ray.direction.length();
     if length.is_nan() || length <= 0.0 {
         return Rgb::ZERO;
     }
+    let direction = ray.direction / length;
+    let mut ray = Ray { origin: ray.origin, direction, t_min: ray.t_min * length, t_max: ray.t_max * length };
+    let mut tr = Rgb::ONE;
     for _ in 0..MAX_CROSSINGS {
         let hit = scene.intersect(&ray);
         let end = hit.as_ref().map_or(ray.t_max, |h| h.t);
         if let Some(m) = medium.map(|i| &scene.media()[i as usize]) {
-            let from = ray.origin + ray.t_min * ray.direction;
-            let distance = (end - ray.t_min).max(0.0) * length;
-            tr *= m.transmittance(from, ray.direction / length, distance, rng);
+            let from = ray.origin + ray.t_min * direction;
+            tr *= m.transmittance(from, direction, (end - ray.t_min).max(0.0), rng);
             if tr == Rgb::ZERO {
                 return tr;
             }
@@ -255,12 +263,11 @@ fn transmittance(scene: &Scene, mut ray: Ray, mut medium: Option<u32>, rng: &mut
         }
         let interface = scene.medium_interface(hit.object);
         if interface != MediumInterface::default() {
-            medium = interface.toward(ray.direction, hit.geometry.geometric_normal);
+            medium = interface.toward(direction, hit.geometry.geometric_normal);
         }
         // On from the crossing, the rest of the segment.
-        let rest = hit.spawn_ray(ray.direction / length);
-        let remaining = if ray.t_max.is_finite() { (ray.t_max - hit.t) * length } else { f32::INFINITY };
-        ray = Ray { t_max: remaining, ..rest };
+        let remaining = ray.t_max - hit.t;
+        ray = Ray { t_max: remaining, ..hit.spawn_ray(direction) };
         if ray.t_max <= ray.t_min {
             return tr;
         }

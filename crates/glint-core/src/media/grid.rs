@@ -18,20 +18,26 @@ use crate::Rgb;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct GridMedium {
-    /// Voxels along x, y and z.
-    pub resolution: [usize; 3],
+    /// Voxels along x, y and z (private with the densities and the scale: the majorant is
+    /// made from them once).
+    resolution: [usize; 3],
     /// x fastest, then y, then z.
-    pub density: Vec<f32>,
-    pub bounds: Aabb,
-    pub scale: f32,
+    density: Vec<f32>,
+    bounds: Aabb,
+    scale: f32,
     pub albedo: Rgb,
     majorant: f32,
 }
 
+/// Tentative collisions one tracking walk may take (σ̄ × the length inside the box on
+/// average): a bound on the work of a walk through a very dense grid, past which it stops as
+/// if it had left the box (a bias only in grids some 10⁶ mean free paths across).
+const MAX_STEPS: usize = 1 << 20;
+
 /// Where delta tracking ends a flight.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Collision {
-    /// A real collision at distance `t` (scatter with probability `albedo`, else absorbed).
+    /// A real collision at distance `t` (the medium scatters with weight `albedo`).
     At(f32),
     /// Reached the end of the segment.
     Escaped,
@@ -48,6 +54,12 @@ impl GridMedium {
             return None;
         }
         let majorant = scale * density.iter().fold(0.0f32, |m, &d| m.max(d));
+        if !majorant.is_finite() {
+            return None;
+        }
+        if !majorant.is_finite() {
+            return None;
+        }
         Some(Self { resolution, density, bounds, scale, albedo, majorant })
     }
 
@@ -77,14 +89,17 @@ impl GridMedium {
         self.majorant
     }
 
-    /// Where a ray from `origin` along `direction` leaves the grid's box (the medium is
-    /// empty beyond it): tracking stops there, however long the segment.
-    fn exit(&self, origin: Vec3, direction: Vec3) -> f32 {
+    /// The part of [0, t_max] where a ray from `origin` along `direction` is inside the
+    /// grid's box (the medium is empty elsewhere): tracking runs there alone. `None` if it
+    /// misses the box or the part is not finite.
+    fn span(&self, origin: Vec3, direction: Vec3, t_max: f32) -> Option<(f32, f32)> {
         let inverse = direction.recip();
         let (a, b) = ((self.bounds.min - origin) * inverse, (self.bounds.max - origin) * inverse);
-        let far = a.max(b);
-        // NaN (a zero direction component from a face) reads as unbounded on that axis.
-        [far.x, far.y, far.z].into_iter().filter(|t| !t.is_nan()).fold(f32::INFINITY, f32::min).max(0.0)
+        let (near, far) = (a.min(b), a.max(b));
+        // NaN (a zero direction component on a face) reads as unbounded on that axis.
+        let enter = [near.x, near.y, near.z].into_iter().filter(|t| !t.is_nan()).fold(0.0f32, f32::max);
+        let exit = [far.x, far.y, far.z].into_iter().filter(|t| !t.is_nan()).fold(t_max, f32::min);
+        (enter < exit && exit.is_finite()).then_some((enter, exit))
     }
 
     /// Delta tracking along `origin + t·direction` (unit direction) for t < `t_max`.
@@ -92,17 +107,18 @@ impl GridMedium {
         if self.majorant <= 0.0 {
             return Collision::Escaped;
         }
-        let t_max = t_max.min(self.exit(origin, direction));
-        let mut t = 0.0f32;
-        loop {
-            t -= (1.0 - rng.next_f32()).max(f32::MIN_POSITIVE).ln() / self.majorant;
-            if t >= t_max {
+        let Some((mut t, t_max)) = self.span(origin, direction, t_max) else { return Collision::Escaped };
+        for _ in 0..MAX_STEPS {
+            let next = t - (1.0 - rng.next_f32()).max(f32::MIN_POSITIVE).ln() / self.majorant;
+            if next >= t_max || next <= t {
                 return Collision::Escaped;
             }
+            t = next;
             if rng.next_f32() * self.majorant < self.sigma_t(origin + t * direction) {
                 return Collision::At(t);
             }
         }
+        Collision::Escaped
     }
 
     /// Ratio tracking's estimate of the transmittance from `origin` over `t_max`.
@@ -110,13 +126,14 @@ impl GridMedium {
         if self.majorant <= 0.0 {
             return 1.0;
         }
-        let t_max = t_max.min(self.exit(origin, direction));
-        let (mut t, mut transmittance) = (0.0f32, 1.0f32);
-        loop {
-            t -= (1.0 - rng.next_f32()).max(f32::MIN_POSITIVE).ln() / self.majorant;
-            if t >= t_max {
+        let Some((mut t, t_max)) = self.span(origin, direction, t_max) else { return 1.0 };
+        let mut transmittance = 1.0f32;
+        for _ in 0..MAX_STEPS {
+            let next = t - (1.0 - rng.next_f32()).max(f32::MIN_POSITIVE).ln() / self.majorant;
+            if next >= t_max || next <= t {
                 return transmittance;
             }
+            t = next;
             transmittance *= 1.0 - self.sigma_t(origin + t * direction) / self.majorant;
             // Roulette once the estimate is small: unbiased, and it ends long walks.
             if transmittance < 0.1 {
@@ -126,6 +143,7 @@ impl GridMedium {
                 transmittance = 1.0;
             }
         }
+        transmittance
     }
 }
 

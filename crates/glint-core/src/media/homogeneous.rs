@@ -1,10 +1,10 @@
 //! A homogeneous medium: absorption σ_a and scattering σ_s per colour channel, the same
 //! everywhere. Transmittance over a distance t is Beer–Lambert's exp(−σ_t t), σ_t = σ_a + σ_s.
 //!
-//! Free-flight distances are drawn as Mitsuba's RGB volumetric path tracer draws them: a
-//! channel chosen uniformly, t from its exponential; the density of t is then the mean over
-//! the channels of σ_t,c exp(−σ_t,c t) (one-sample MIS over the channels), so a medium whose
-//! channels differ is sampled without bias and with bounded weights.
+//! Free-flight distances are drawn as pbrt-v4 and Mitsuba's `volpathmis` draw them: a channel
+//! chosen uniformly, t from its exponential, and the density of t the mean over the channels
+//! of σ_t,c exp(−σ_t,c t) (one-sample MIS over the channels), so a medium whose channels
+//! differ is sampled without bias and with bounded weights.
 
 use crate::Rgb;
 

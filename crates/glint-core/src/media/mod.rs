@@ -44,7 +44,8 @@ pub struct MediumInterface {
 impl MediumInterface {
     /// The medium a direction `w` leaving the surface goes into.
     pub fn toward(&self, w: Vec3, geometric_normal: Vec3) -> Option<u32> {
-        if w.dot(geometric_normal) > 0.0 {
+        // As ray origins are offset: outside unless strictly behind the normal.
+        if w.dot(geometric_normal) >= 0.0 {
             self.outside
         } else {
             self.inside

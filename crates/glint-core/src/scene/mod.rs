@@ -121,7 +121,6 @@ impl SceneBuilder {
         self
     }
 
-    /// The BVH built and the lights derived.
     /// Participating media, the media on either side of each object (by object index) and
     /// the camera's medium.
     pub fn media(mut self, media: Vec<Medium>, interfaces: Vec<MediumInterface>, camera: Option<u32>) -> Self {
@@ -131,6 +130,7 @@ impl SceneBuilder {
         self
     }
 
+    /// The BVH built and the lights derived.
     pub fn build(self) -> Scene {
         let (material_names, materials): (Vec<String>, Vec<Material>) = self.materials.into_iter().unzip();
         let geometry = Geometry::new(self.objects, self.methods);
