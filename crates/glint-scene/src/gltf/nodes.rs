@@ -3,7 +3,7 @@
 //! instanced, unless it emits light: glint samples emitting meshes, not instances), the first
 //! camera met (or, without one, a camera that frames the scene), and KHR_lights_punctual.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::path::Path;
 
 use glam::{Mat4, Vec3};
@@ -39,18 +39,10 @@ impl<'a> Reader<'a> {
 
     pub fn translate(&self) -> Result<(SceneFile, Vec<String>), String> {
         let mut warnings = Vec::new();
-        let mut scene = SceneFile {
-            camera: Located { value: framing_camera(None, 4.0 / 3.0), span: None },
-            render: RenderDesc { integrator: "path".into(), spp: 64, max_depth: -1, ..RenderDesc::default() },
-            intersection: IntersectionDesc::default(),
-            environment: EnvironmentDesc::default(),
-            textures: BTreeMap::new(),
-            materials: BTreeMap::new(),
-            meshes: BTreeMap::new(),
-            lights: Vec::new(),
-            shapes: Vec::new(),
-            media: Default::default(),
-        };
+        let mut scene = SceneFile::new(
+            framing_camera(None, 4.0 / 3.0),
+            RenderDesc { integrator: "path".into(), spp: 64, max_depth: -1, ..RenderDesc::default() },
+        );
         let materials = materials::translate(self.document, self.images, &mut scene, &mut warnings)?;
 
         let Some(gltf_scene) = self.document.default_scene().or_else(|| self.document.scenes().next()) else {

@@ -5,7 +5,7 @@
 //! differ in its noise or in a documented approximation, a warning.
 
 use std::cell::RefCell;
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{HashMap, HashSet};
 
 use glam::{Affine2, Mat4, Vec2, Vec3};
 
@@ -55,9 +55,9 @@ impl<'a> Translator<'a> {
             mirror: false,
             medium: None,
         };
-        let scene = SceneFile {
-            camera: Located { value: camera, span: None },
-            render: RenderDesc {
+        let scene = SceneFile::new(
+            camera,
+            RenderDesc {
                 integrator: "path".into(),
                 max_depth: -1,
                 spp: 4,
@@ -66,15 +66,7 @@ impl<'a> Translator<'a> {
                 light_selection: "uniform".into(),
                 ..RenderDesc::default()
             },
-            intersection: IntersectionDesc::default(),
-            environment: EnvironmentDesc::default(),
-            textures: BTreeMap::new(),
-            materials: BTreeMap::new(),
-            meshes: BTreeMap::new(),
-            lights: Vec::new(),
-            shapes: Vec::new(),
-            media: Default::default(),
-        };
+        );
         Ok(Self {
             files,
             ids,

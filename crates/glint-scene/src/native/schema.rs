@@ -39,6 +39,24 @@ pub struct SceneFile {
     pub media: BTreeMap<String, Located<MediumDesc>>,
 }
 
+impl SceneFile {
+    /// A scene of nothing but `camera` and `render` (what the other formats' readers fill).
+    pub fn new(camera: CameraDesc, render: RenderDesc) -> Self {
+        Self {
+            camera: Located { value: camera, span: None },
+            render,
+            intersection: IntersectionDesc::default(),
+            environment: EnvironmentDesc::default(),
+            textures: BTreeMap::new(),
+            materials: BTreeMap::new(),
+            meshes: BTreeMap::new(),
+            lights: Vec::new(),
+            shapes: Vec::new(),
+            media: BTreeMap::new(),
+        }
+    }
+}
+
 /// A participating medium.
 #[derive(Deserialize, Debug)]
 #[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]

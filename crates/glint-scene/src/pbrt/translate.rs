@@ -132,24 +132,16 @@ fn alpha_of(roughness: f32, remap: bool) -> f32 {
 
 impl<'s> Translator<'s> {
     fn new(parser: Parser<'s>, source: &'s Source<'s>) -> Self {
-        let scene = SceneFile {
-            camera: Located { value: default_camera(), span: None },
-            render: RenderDesc {
+        let scene = SceneFile::new(
+            default_camera(),
+            RenderDesc {
                 integrator: "path".into(),
                 spp: 16,
                 max_depth: 6,
                 filter: "gaussian".into(),
                 ..RenderDesc::default()
             },
-            intersection: IntersectionDesc::default(),
-            environment: EnvironmentDesc::default(),
-            textures: Default::default(),
-            materials: Default::default(),
-            meshes: Default::default(),
-            lights: Vec::new(),
-            shapes: Vec::new(),
-            media: Default::default(),
-        };
+        );
         Self {
             parser,
             source,
@@ -643,21 +635,7 @@ impl<'s> Translator<'s> {
         if self.scene.materials.is_empty() && !self.scene.shapes.is_empty() {
             self.default_material();
         }
-        let file = std::mem::replace(
-            &mut self.scene,
-            SceneFile {
-                camera: Located { value: default_camera(), span: None },
-                render: RenderDesc::default(),
-                intersection: IntersectionDesc::default(),
-                environment: EnvironmentDesc::default(),
-                textures: Default::default(),
-                materials: Default::default(),
-                meshes: Default::default(),
-                lights: Vec::new(),
-                shapes: Vec::new(),
-                media: Default::default(),
-            },
-        );
+        let file = std::mem::replace(&mut self.scene, SceneFile::new(default_camera(), RenderDesc::default()));
         if file.lights.is_empty() && file.environment.map.is_none() && file.environment.background == [0.0; 3] {
             let emitters = file.materials.values().any(|m| matches!(m.value, MaterialDesc::Emitter { .. }));
             if !emitters {
