@@ -533,40 +533,15 @@ impl<'a> Translator<'a> {
             }
             self.shape(child)?;
         }
-        let mut members: Vec<Located<ShapeDesc>> = self.scene.shapes.drain(first..).collect();
-        for (i, member) in members.iter_mut().enumerate() {
-            if let ShapeDesc::Mesh {
-                file,
-                data,
-                shape_index,
-                smooth,
-                flip_v,
-                compute_normals,
-                material,
-                transform,
-                name,
-                ..
-            } = &member.value
-            {
-                let mesh = format!("{id}#{i}");
-                let desc = MeshDesc {
-                    file: file.clone(),
-                    data: data.clone(),
-                    shape_index: *shape_index,
-                    smooth: *smooth,
-                    flip_v: *flip_v,
-                    compute_normals: *compute_normals,
-                };
-                self.scene.meshes.insert(mesh.clone(), Located { value: desc, span: member.span.clone() });
-                member.value = ShapeDesc::Instance {
-                    interior: None,
-                    exterior: None,
-                    mesh,
-                    material: material.clone(),
-                    transform: transform.clone(),
-                    name: name.clone(),
-                };
+        let shapes: Vec<Located<ShapeDesc>> = self.scene.shapes.drain(first..).collect();
+        let mut members = Vec::with_capacity(shapes.len());
+        for (i, member) in shapes.into_iter().enumerate() {
+            let name = format!("{id}#{i}");
+            let (value, mesh) = member.value.into_instance(&name);
+            if let Some(mesh) = mesh {
+                self.scene.meshes.insert(name, Located { value: mesh, span: member.span.clone() });
             }
+            members.push(Located { value, span: member.span });
         }
         self.unused(&self.properties(group));
         self.groups.insert(id.to_string(), members);

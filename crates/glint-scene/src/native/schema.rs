@@ -814,6 +814,37 @@ impl ShapeDesc {
         }
     }
 
+    /// A mesh shape as an instance named `mesh`, with the mesh it places (for `[meshes]`), so
+    /// that every placement shares one BVH (Mitsuba's shapegroups, pbrt's objects); any other
+    /// shape as it is, with no mesh.
+    pub fn into_instance(self, mesh: &str) -> (ShapeDesc, Option<MeshDesc>) {
+        match self {
+            ShapeDesc::Mesh {
+                file,
+                data,
+                shape_index,
+                smooth,
+                flip_v,
+                compute_normals,
+                material,
+                transform,
+                name,
+                ..
+            } => (
+                ShapeDesc::Instance {
+                    interior: None,
+                    exterior: None,
+                    mesh: mesh.to_string(),
+                    material,
+                    transform,
+                    name,
+                },
+                Some(MeshDesc { file, data, shape_index, smooth, flip_v, compute_normals }),
+            ),
+            other => (other, None),
+        }
+    }
+
     /// The media inside and outside the shape, where it bounds any.
     pub fn media(&self) -> (Option<&str>, Option<&str>) {
         match self {

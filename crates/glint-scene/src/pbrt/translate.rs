@@ -809,20 +809,7 @@ impl<'s> Translator<'s> {
             "conductor" => {
                 let (metal, eta, k) = self.conductor_optics(&p, "")?;
                 let (eta, k) = if metal.is_some() { (None, None) } else { (Some(eta), Some(k)) };
-                match self.roughness(&p, "")? {
-                    None => MaterialDesc::Conductor { metal, eta, k, specular_reflectance: None, two_sided: Some(true) },
-                    Some((u, v)) => MaterialDesc::RoughConductor {
-                        metal,
-                        eta,
-                        k,
-                        specular_reflectance: None,
-                        alpha: if v.is_none() { Some(u.clone()) } else { None },
-                        alpha_u: v.is_some().then(|| u.clone()),
-                        alpha_v: v,
-                        distribution: None,
-                        two_sided: Some(true),
-                    },
-                }
+                conductor(metal, eta, k, self.roughness(&p, "")?)
             }
             "dielectric" | "thindielectric" => {
                 let eta = self.index(&p, "eta", 1.5)?;
@@ -880,20 +867,7 @@ impl<'s> Translator<'s> {
                 let roughness = self.roughness(&p, "conductor.")?;
                 p.ignore(&["thickness", "g", "maxdepth", "nsamples", "albedo"]);
                 self.warn(d.at, "coatedconductor is approximated by its conductor alone, its η and k taken relative to the coat's index: the coat's own reflection and roughness are left out");
-                match roughness {
-                    None => MaterialDesc::Conductor { metal: None, eta: Some(eta), k: Some(k), specular_reflectance: None, two_sided: Some(true) },
-                    Some((u, v)) => MaterialDesc::RoughConductor {
-                        metal: None,
-                        eta: Some(eta),
-                        k: Some(k),
-                        specular_reflectance: None,
-                        alpha: if v.is_none() { Some(u.clone()) } else { None },
-                        alpha_u: v.is_some().then(|| u.clone()),
-                        alpha_v: v,
-                        distribution: None,
-                        two_sided: Some(true),
-                    },
-                }
+                conductor(None, Some(eta), Some(k), roughness)
             }
             "diffusetransmission" => {
                 let scale = p.float("scale", 1.0).map_err(|f| self.fail(f))?;
@@ -1470,27 +1444,13 @@ impl<'s> Translator<'s> {
         shapes
             .into_iter()
             .enumerate()
-            .map(|(i, mut shape)| {
-                if let ShapeDesc::Mesh {
-                    file,
-                    data,
-                    shape_index,
-                    smooth,
-                    flip_v,
-                    compute_normals,
-                    material,
-                    transform,
-                    name,
-                    ..
-                } = shape.value
-                {
-                    let mesh = format!("object {object} #{i}");
-                    let desc = MeshDesc { file, data, shape_index, smooth, flip_v, compute_normals };
-                    self.scene.meshes.insert(mesh.clone(), Located { value: desc, span: None });
-                    shape.value =
-                        ShapeDesc::Instance { interior: None, exterior: None, mesh, material, transform, name };
+            .map(|(i, shape)| {
+                let name = format!("object {object} #{i}");
+                let (value, mesh) = shape.value.into_instance(&name);
+                if let Some(mesh) = mesh {
+                    self.scene.meshes.insert(name, Located { value: mesh, span: None });
                 }
-                shape
+                Located { value, span: shape.span }
             })
             .collect()
     }
@@ -1583,6 +1543,29 @@ impl<'s> Translator<'s> {
             shapes::append(&mut data, shapes::bilinear_patch(corners, patch_uvs, patch_normals, cells));
         }
         Ok(data)
+    }
+}
+
+/// A two-sided metal: smooth without roughness, else GGX of width α (or α_u, α_v).
+fn conductor(
+    metal: Option<String>,
+    eta: Option<[f32; 3]>,
+    k: Option<[f32; 3]>,
+    roughness: Option<(FractionDesc, Option<FractionDesc>)>,
+) -> MaterialDesc {
+    match roughness {
+        None => MaterialDesc::Conductor { metal, eta, k, specular_reflectance: None, two_sided: Some(true) },
+        Some((u, v)) => MaterialDesc::RoughConductor {
+            metal,
+            eta,
+            k,
+            specular_reflectance: None,
+            alpha: if v.is_none() { Some(u.clone()) } else { None },
+            alpha_u: v.is_some().then(|| u.clone()),
+            alpha_v: v,
+            distribution: None,
+            two_sided: Some(true),
+        },
     }
 }
 
