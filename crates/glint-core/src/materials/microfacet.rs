@@ -2,7 +2,9 @@
 //! (Trowbridge–Reitz), with Smith masking-shadowing (height-correlated or separable) and sampling
 //! of the visible normals (Heitz 2018, "Sampling the GGX Distribution of Visible Normals", JCGT
 //! 7(4)); and Beckmann (Mitsuba's default), whose Smith G1 is the rational fit Walter et al. give
-//! (as Mitsuba evaluates it) and whose normals are sampled by D(h) cos θ_h. Directions are
+//! (as Mitsuba evaluates it) and whose visible normals are sampled by inverting their slope
+//! distribution (Heitz & d'Eon 2014, "Importance Sampling Microfacet-Based BSDFs using the
+//! Distribution of Visible Normals", with Jakob's numerical inversion). Directions are
 //! in the local frame, where the macro-surface normal is +z. `alpha_x`, `alpha_y` are the widths
 //! along the frame's tangent and bitangent (equal: isotropic; the usual perceptual `roughness`
 //! squared). The isotropic case keeps its own arithmetic, which the course's materials were
@@ -125,11 +127,12 @@ impl Microfacet {
         1.0 / (1.0 + self.lambda(wo) + self.lambda(wi))
     }
 
-    /// A micro-normal for `wo` (wo.z > 0), from two uniform numbers: a visible one (GGX), or by
-    /// D(h) cos θ_h (Beckmann: then it may face away from `wo`, and callers drop such samples).
+    /// A visible micro-normal for `wo` (wo.z > 0), from two uniform numbers: by Heitz's
+    /// hemisphere construction for GGX (2018), by inverting the visible slopes' distribution
+    /// for Beckmann (Heitz & d'Eon 2014, with Jakob's numerical inversion).
     pub fn sample_normal(&self, wo: Vec3, u: Vec2) -> Vec3 {
         if self.distribution == Distribution::Beckmann {
-            return self.sample_beckmann(u);
+            return self.sample_beckmann_visible(wo, u);
         }
         let v = Vec3::new(self.alpha_x * wo.x, self.alpha_y * wo.y, wo.z).normalize();
         let length2 = v.x * v.x + v.y * v.y;
@@ -144,46 +147,56 @@ impl Microfacet {
         Vec3::new(self.alpha_x * n.x, self.alpha_y * n.y, n.z.max(1e-7)).normalize()
     }
 
-    /// Beckmann normals by D(h) cos θ_h: tan²θ = −α² ln(1 − u₁), φ from u₂ stretched by the
-    /// widths (α² the width in that azimuth).
-    fn sample_beckmann(&self, u: Vec2) -> Vec3 {
-        let (ax, ay) = (self.alpha_x, self.alpha_y);
-        let (phi, alpha2) = if self.is_isotropic() {
-            (2.0 * PI * u.y, ax * ax)
-        } else {
-            let mut phi = (ay / ax * (2.0 * PI * u.y + 0.5 * PI).tan()).atan();
-            if u.y > 0.5 {
-                phi += PI;
-            }
-            let (sin, cos) = phi.sin_cos();
-            (phi, 1.0 / (cos * cos / (ax * ax) + sin * sin / (ay * ay)))
-        };
-        let tan2 = -alpha2 * (1.0 - u.x).max(f32::MIN_POSITIVE).ln();
-        let cos = 1.0 / (1.0 + tan2).sqrt();
-        let sin = (1.0 - cos * cos).max(0.0).sqrt();
-        Vec3::new(sin * phi.cos(), sin * phi.sin(), cos)
+    /// Beckmann's visible normals: `wo` stretched to unit roughness, a visible slope drawn
+    /// there (`beckmann_visible_slope`, with the view along +x), turned to `wo`'s azimuth and
+    /// stretched back.
+    fn sample_beckmann_visible(&self, wo: Vec3, u: Vec2) -> Vec3 {
+        let stretched = Vec3::new(self.alpha_x * wo.x, self.alpha_y * wo.y, wo.z).normalize();
+        let sin_theta = (1.0 - stretched.z * stretched.z).max(0.0).sqrt();
+        let (cos_phi, sin_phi) =
+            if sin_theta > 1e-7 { (stretched.x / sin_theta, stretched.y / sin_theta) } else { (1.0, 0.0) };
+        let (x, y) = beckmann_visible_slope(stretched.z, u);
+        let (x, y) = (cos_phi * x - sin_phi * y, sin_phi * x + cos_phi * y);
+        Vec3::new(-self.alpha_x * x, -self.alpha_y * y, 1.0).normalize()
+    }
+
+    /// Smith's G1 for the density of visible normals: GGX's, and for Beckmann the exact
+    /// 2 / (1 + erf a + e^(−a²) / (a √π)) (its samples are exact; the rational fit `g1`
+    /// evaluates the BSDF, as Mitsuba's does).
+    fn visible_g1(&self, wo: Vec3) -> f32 {
+        if self.distribution != Distribution::Beckmann {
+            return self.g1(wo);
+        }
+        let cos2 = wo.z * wo.z;
+        if cos2 <= 0.0 {
+            return 0.0;
+        }
+        let (x, y) = (self.alpha_x * wo.x, self.alpha_y * wo.y);
+        let alpha_tan = ((x * x + y * y) / cos2).sqrt();
+        if alpha_tan <= 0.0 {
+            return 1.0;
+        }
+        let a = 1.0 / alpha_tan;
+        2.0 / (1.0 + erf(a) + (-a * a).exp() / (a * PI.sqrt()))
     }
 
     /// Density per solid angle of `sample_normal`'s micro-normal `h` for `wo`: the visible
-    /// normals' G1(wo)·max(0, wo·h)·D(h) / cos θ_o, or Beckmann's D(h) cos θ_h.
+    /// normals' G1(wo)·max(0, wo·h)·D(h) / cos θ_o.
     fn normal_pdf(&self, wo: Vec3, h: Vec3) -> f32 {
-        match self.distribution {
-            Distribution::Ggx => self.g1(wo) * wo.dot(h).max(0.0) * self.d(h) / wo.z,
-            Distribution::Beckmann => self.d(h) * h.z,
+        if wo.z <= 0.0 {
+            return 0.0;
         }
+        self.visible_g1(wo) * wo.dot(h).max(0.0) * self.d(h) / wo.z
     }
 
     /// Density per solid angle of the reflected direction `wi` when `h` is sampled by
-    /// `sample_normal`: the normal's density / (4 wo·h) (for GGX, G1(wo)·D(h) / (4 cos θ_o)).
+    /// `sample_normal`: the normal's density / (4 wo·h) = G1(wo)·D(h) / (4 cos θ_o).
     pub fn reflection_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
         let h = (wo + wi).normalize();
-        match self.distribution {
-            Distribution::Ggx => self.g1(wo) * self.d(h) / (4.0 * wo.z),
-            Distribution::Beckmann => self.normal_pdf(wo, h) / (4.0 * wo.dot(h)),
-        }
+        self.visible_g1(wo) * self.d(h) / (4.0 * wo.z)
     }
 
     /// f(wo, wi)·cos θ_i without the Fresnel factor: D·G2 / (4 cos θ_o).
@@ -227,6 +240,92 @@ impl Microfacet {
         let denominator = wo.dot(h) + ratio * wi.dot(h);
         wi.dot(h).abs() * wo.dot(h) * ratio * ratio * self.d(h) * self.g2(wo, wi) / (wo.z * denominator * denominator)
     }
+}
+
+/// A slope (x, y) of Beckmann's distribution at unit roughness, visible from a direction of
+/// cosine `cos_theta` in the xz plane (x toward it). y is Gaussian; x is found by inverting
+/// its distribution function in the variable b = erf(x), where it reads
+/// C(b) = (1 + b + tan θ e^(−erfinv(b)²) / √π) / (1 + erf(cot θ) + tan θ e^(−cot² θ) / √π),
+/// by Newton's method kept inside a bisection bracket, from a fitted first guess.
+fn beckmann_visible_slope(cos_theta: f32, u: Vec2) -> (f32, f32) {
+    if cos_theta > 0.9999 {
+        // Seen from straight above: the slopes' own Gaussian.
+        let r = (-(1.0 - u.x).max(f32::MIN_POSITIVE).ln()).sqrt();
+        let phi = 2.0 * PI * u.y;
+        return (r * phi.cos(), r * phi.sin());
+    }
+    let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+    let tan_theta = sin_theta / cos_theta;
+    let cot_theta = 1.0 / tan_theta;
+    let inv_sqrt_pi = 1.0 / PI.sqrt();
+    let (mut low, mut high) = (-1.0f32, erf(cot_theta));
+    let target = u.x.max(1e-6);
+    let theta = cos_theta.acos();
+    let fit = 1.0 + theta * (-0.876 + theta * (0.4265 - 0.0594 * theta));
+    let mut b = high - (1.0 + high) * (1.0 - target).powf(fit);
+    let normalization = 1.0 / (1.0 + high + inv_sqrt_pi * tan_theta * (-cot_theta * cot_theta).exp());
+    for _ in 0..10 {
+        if !(b >= low && b <= high) {
+            b = 0.5 * (low + high);
+        }
+        let x = erf_inv(b);
+        let value = normalization * (1.0 + b + inv_sqrt_pi * tan_theta * (-x * x).exp()) - target;
+        if value.abs() < 1e-5 {
+            break;
+        }
+        if value > 0.0 {
+            high = b;
+        } else {
+            low = b;
+        }
+        let derivative = normalization * (1.0 - x * tan_theta);
+        b -= value / derivative;
+    }
+    (erf_inv(b), erf_inv(2.0 * u.y.max(1e-6) - 1.0))
+}
+
+/// The error function (Abramowitz & Stegun 7.1.26, absolute error below 1.5·10⁻⁷).
+fn erf(x: f32) -> f32 {
+    let t = 1.0 / (1.0 + 0.327_591_1 * x.abs());
+    let poly = t * (0.254_829_6 + t * (-0.284_496_74 + t * (1.421_413_7 + t * (-1.453_152 + t * 1.061_405_4))));
+    (1.0 - poly * (-x * x).exp()).copysign(x)
+}
+
+/// The inverse error function on (−1, 1) (Giles' single-precision polynomials, 2010).
+fn erf_inv(x: f32) -> f32 {
+    let w = -((1.0 - x) * (1.0 + x)).max(f32::MIN_POSITIVE).ln();
+    let p = if w < 5.0 {
+        let w = w - 2.5;
+        [
+            2.810_226_4e-8,
+            3.432_739_4e-7,
+            -3.523_387_7e-6,
+            -4.391_506_5e-6,
+            2.185_808_7e-4,
+            -1.253_725e-3,
+            -4.177_681_6e-3,
+            0.246_640_73,
+            1.501_409_4,
+        ]
+        .iter()
+        .fold(0.0, |p, c| c + p * w)
+    } else {
+        let w = w.sqrt() - 3.0;
+        [
+            -2.002_142_6e-4,
+            1.009_505_6e-4,
+            1.349_343_2e-3,
+            -3.673_428_4e-3,
+            5.739_507_7e-3,
+            -7.622_461e-3,
+            9.438_870_5e-3,
+            1.001_674,
+            2.832_976_8,
+        ]
+        .iter()
+        .fold(0.0, |p, c| c + p * w)
+    };
+    p * x
 }
 
 #[cfg(test)]
@@ -286,6 +385,31 @@ mod tests {
                 11,
             );
             assert!(r.p_value > 0.01 / 8.0, "alpha {alpha}: p = {} (chi2 {})", r.p_value, r.statistic);
+        }
+    }
+
+    /// erf by hand-checked values (tables of the error function), and erfinv its inverse;
+    /// Beckmann's visible normals always face the viewer.
+    #[test]
+    fn erf_and_its_inverse_and_visible_beckmann_normals() {
+        for (x, expected) in
+            [(0.0f32, 0.0f32), (0.5, 0.520_499_9), (1.0, 0.842_700_8), (2.0, 0.995_322_3), (-1.0, -0.842_700_8)]
+        {
+            assert!((erf(x) - expected).abs() < 3e-7, "erf({x}) = {} vs {expected}", erf(x));
+        }
+        for k in -30..=30 {
+            let x = k as f32 / 10.0;
+            let back = erf_inv(erf(x));
+            // erf flattens beyond |x| ≈ 2.5, where f32 cannot tell its values apart.
+            let tolerance = if x.abs() <= 2.0 { 2e-4 } else { 2e-2 };
+            assert!((back - x).abs() < tolerance, "erfinv(erf({x})) = {back}");
+        }
+        let m = Microfacet::separable(0.5, 0.2).with(Distribution::Beckmann);
+        let mut rng = crate::sampling::Rng::new(9, 9);
+        for _ in 0..20_000 {
+            let wo = Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32() * 0.99 + 0.01).normalize();
+            let h = m.sample_normal(wo, Vec2::new(rng.next_f32(), rng.next_f32()));
+            assert!(h.is_finite() && h.z > 0.0 && wo.dot(h) > -1e-4, "wo {wo}, h {h}");
         }
     }
 

@@ -267,6 +267,53 @@ mod tests {
         }
     }
 
+    /// The transmittance table against the integral itself, taken by the midpoint rule over
+    /// the micro-normals' hemisphere (no sampling routine involved): t(wo) = ∫ D_wo(h)
+    /// (1 − F(wo·h)) G1(wt) dh with the visible normals' density D_wo(h) = G1(wo) (wo·h)⁺ D(h)
+    /// / cos θ_o, for both distributions at α = 0.1 and 0.4. (Beckmann's normals, once drawn
+    /// by D cos θ_h rather than as visible normals, made a table 2–6 % off.)
+    #[test]
+    fn transmittance_tables_match_the_integral_by_quadrature() {
+        for distribution in [Distribution::Ggx, Distribution::Beckmann] {
+            for alpha in [0.1f32, 0.4] {
+                let microfacet = Microfacet::separable(alpha, alpha).with(distribution);
+                let eta = 1.49f32;
+                let tables = CoatTables::new(microfacet, eta);
+                // Entries of the table at cos θ = 0.21, 0.51 and 0.90.
+                for j in [13usize, 32, 57] {
+                    let cos = j as f32 / (TABLE_SIZE - 1) as f32;
+                    let wo = Vec3::new((1.0 - cos * cos).sqrt(), 0.0, cos);
+                    let (n_theta, n_phi) = (1200, 240);
+                    let mut sum = 0.0f64;
+                    for i in 0..n_theta {
+                        let theta = (i as f64 + 0.5) * std::f64::consts::FRAC_PI_2 / n_theta as f64;
+                        for j in 0..n_phi {
+                            let phi = (j as f64 + 0.5) * std::f64::consts::TAU / n_phi as f64;
+                            let h = Vec3::new(
+                                (theta.sin() * phi.cos()) as f32,
+                                (theta.sin() * phi.sin()) as f32,
+                                theta.cos() as f32,
+                            );
+                            let visible = microfacet.g1(wo) * wo.dot(h).max(0.0) * microfacet.d(h) / wo.z;
+                            let Some(wt) = refract(-wo, h, 1.0 / eta) else { continue };
+                            let g1 = if wt.dot(h) * wt.z > 0.0 { microfacet.g1(wt) } else { 0.0 };
+                            let term = visible * (1.0 - fresnel_dielectric(wo.dot(h), 1.0 / eta)) * g1;
+                            let area = theta.sin()
+                                * (std::f64::consts::FRAC_PI_2 / n_theta as f64)
+                                * (std::f64::consts::TAU / n_phi as f64);
+                            sum += term as f64 * area;
+                        }
+                    }
+                    let table = tables.transmittance[j];
+                    assert!(
+                        (table as f64 - sum).abs() < 0.01,
+                        "{distribution:?} α {alpha}, cos {cos}: table {table} vs quadrature {sum}"
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn sampling_matches_pdf() {
         let n = Vec3::new(0.2, -0.1, 1.0).normalize();
