@@ -1,6 +1,7 @@
 //! Participating media through the native format and `volpath`: Beer–Lambert through a slab
-//! (homogeneous and grid, against the exact transmittance), the furnace of a lossless
-//! medium under a uniform sky (radiance conserved), and the format's errors.
+//! (homogeneous and grid, grey and per channel, against the exact transmittance), the furnace
+//! of a lossless medium under a uniform sky (radiance conserved), shadow rays through fog and
+//! through thin sheets, and the format's errors.
 
 use std::path::PathBuf;
 
@@ -79,8 +80,12 @@ fn beer_lambert_through_a_slab_of_homogeneous_medium() {
 }
 
 fn vol(resolution: [i32; 3], values: &[f32], min: [f32; 3], max: [f32; 3]) -> Vec<u8> {
+    vol_channels(resolution, 1, values, min, max)
+}
+
+fn vol_channels(resolution: [i32; 3], channels: i32, values: &[f32], min: [f32; 3], max: [f32; 3]) -> Vec<u8> {
     let mut bytes = b"VOL\x03".to_vec();
-    for n in [1, resolution[0], resolution[1], resolution[2], 1] {
+    for n in [1, resolution[0], resolution[1], resolution[2], channels] {
         bytes.extend_from_slice(&n.to_le_bytes());
     }
     for f in min.iter().chain(&max).chain(values) {
@@ -113,6 +118,25 @@ fn beer_lambert_through_a_grid_slab() {
     }
 }
 
+/// A grid of one colour per channel over only half the slab's thickness, its box placed by a
+/// transform (the unit cube scaled and moved, as Mitsuba's `to_world` places volumes): the
+/// medium is empty outside that box, so each channel sees exp(−σ_t,c · ½).
+#[test]
+fn a_chromatic_grid_fills_its_own_box_only() {
+    let medium = r#"[media.fog]
+type = "grid"
+value = [0.5, 1.0, 2.0]
+scale = 2.0
+albedo = [0, 0, 0]
+transform = [{ translate = [-0.5, -0.5, -0.5] }, { scale = [4, 4, 0.5] }, { translate = [0, 0, 0.25] }]"#;
+    let path = scene("chromatic-grid", &slab(medium), &[]);
+    let (mean, error) = render_mean(&path, 64, 5);
+    let expected = Rgb::new((-0.5f32).exp(), (-1.0f32).exp(), (-2.0f32).exp());
+    for c in 0..3 {
+        assert!((mean[c] - expected[c]).abs() < 4.0 * error[c] + 2e-3, "channel {c}: {mean} vs {expected} ± {error}");
+    }
+}
+
 /// A lossless medium (albedo 1) inside a null sphere around the camera, under a white sky:
 /// light is only redistributed, so radiance is 1 in every direction (the furnace).
 #[test]
@@ -120,6 +144,12 @@ fn a_lossless_medium_under_a_uniform_sky_conserves_radiance() {
     for (name, medium) in [
         ("homogeneous", "[media.fog]\ntype = \"homogeneous\"\nsigma_t = [0.3, 0.6, 0.9]\nalbedo = [1, 1, 1]\nphase = { type = \"hg\", g = 0.6 }"),
         ("isotropic", "[media.fog]\ntype = \"homogeneous\"\nsigma_s = [0.5, 0.5, 0.5]"),
+        // Densities differing by channel and voxel, an albedo field of ones: delta tracking
+        // with one channel drawn per flight, weighed over the three.
+        (
+            "chromatic-grid",
+            "[media.fog]\ntype = \"grid\"\nfile = \"density.vol\"\nscale = 1.5\nalbedo = { file = \"albedo.vol\", min = [-3, -3, -3], max = [3, 3, 3] }\nmin = [-3, -3, -3]\nmax = [3, 3, 3]",
+        ),
     ] {
         let text = format!(
             r#"[camera]
@@ -149,7 +179,12 @@ material = "boundary"
 interior = "fog"
 "#
         );
-        let path = scene(&format!("furnace-{name}"), &text, &[]);
+        let density: Vec<f32> = (0..27).flat_map(|i| [(i % 4) as f32 * 0.3, (i % 3) as f32 * 0.5 + 0.1, 1.0 - (i % 5) as f32 * 0.2]).collect();
+        let files = [
+            ("density.vol", vol_channels([3, 3, 3], 3, &density, [0.0; 3], [1.0; 3])),
+            ("albedo.vol", vol([2, 2, 2], &[1.0; 8], [0.0; 3], [1.0; 3])),
+        ];
+        let path = scene(&format!("furnace-{name}"), &text, &files);
         let (mean, error) = render_mean(&path, 64, 3);
         for c in 0..3 {
             assert!((mean[c] - 1.0).abs() < 4.0 * error[c] + 2e-3, "{name}, channel {c}: {mean} ± {error}");
@@ -215,6 +250,80 @@ material = "floor"
     }
 }
 
+/// Shadow rays pass a thin sheet of glass (Mitsuba's null transmission) with its
+/// transmittance 1 − R', R' = 2R / (1 + R) for Fresnel's R: a diffuse floor (albedo ½) under a
+/// point light of intensity 16 at height 4, a pane (n = 1.5) at height 2 between them, seen
+/// straight down through the same pane. Blocked shadow rays would leave the floor black (a
+/// point light cannot be found by sampling).
+#[test]
+fn a_shadow_ray_through_a_thin_sheet_carries_its_transmittance() {
+    let text = r#"[camera]
+position = [0, 0, 10]
+look_at = [0, 0, 0]
+orthographic_height = 2.0
+resolution = [16, 16]
+
+[render]
+integrator = "volpath"
+max_depth = 1
+sampler = "independent"
+
+[materials.pane]
+type = "thin-dielectric"
+int_ior = 1.5
+ext_ior = 1.0
+
+[materials.floor]
+type = "diffuse"
+reflectance = [0.5, 0.5, 0.5]
+
+[[lights]]
+type = "point"
+position = [0, 0, 4]
+intensity = 16
+falloff = "inverse-square"
+
+[[shapes]]
+type = "quad"
+vertices = [[-5, -5, 2], [5, -5, 2], [5, 5, 2], [-5, 5, 2]]
+material = "pane"
+
+[[shapes]]
+type = "quad"
+vertices = [[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]]
+material = "floor"
+"#;
+    let path = scene("thin-sheet", text, &[]);
+    let (mean, error) = render_mean(&path, 256, 6);
+    // Fresnel's reflectance of unpolarised light from air into n = 1.5.
+    let fresnel = |cos_i: f64| {
+        let sin_t = (1.0 - cos_i * cos_i).sqrt() / 1.5;
+        let cos_t = (1.0 - sin_t * sin_t).sqrt();
+        let s = (cos_i - 1.5 * cos_t) / (cos_i + 1.5 * cos_t);
+        let p = (1.5 * cos_i - cos_t) / (1.5 * cos_i + cos_t);
+        0.5 * (s * s + p * p)
+    };
+    let sheet = |cos: f64| 1.0 - 2.0 * fresnel(cos) / (1.0 + fresnel(cos));
+    // The floor's radiance over the view (x, y ∈ [−1, 1]), by the midpoint rule.
+    let n = 400;
+    let mut sum = 0.0;
+    for i in 0..n {
+        for j in 0..n {
+            let (x, y) = (-1.0 + (i as f64 + 0.5) * 2.0 / n as f64, -1.0 + (j as f64 + 0.5) * 2.0 / n as f64);
+            let r2 = x * x + y * y + 16.0;
+            let cos = 4.0 / r2.sqrt();
+            sum += 0.5 / std::f64::consts::PI * 16.0 * cos / r2 * sheet(cos) * sheet(1.0);
+        }
+    }
+    let expected = (sum / (n * n) as f64) as f32;
+    for c in 0..3 {
+        assert!(
+            (mean[c] - expected).abs() < 4.0 * error[c] + 2e-3 * expected,
+            "channel {c}: {mean} vs {expected} ± {error}"
+        );
+    }
+}
+
 #[test]
 fn media_errors_name_what_is_wrong() {
     let bad = |name: &str, medium: &str, expected: &str| {
@@ -227,4 +336,11 @@ fn media_errors_name_what_is_wrong() {
     bad("g", "[media.fog]\ntype = \"homogeneous\"\nphase = { type = \"hg\", g = 1.5 }", "(−1, 1)");
     bad("unknown", "[media.fgo]\ntype = \"homogeneous\"", "unknown medium `fog`; did you mean `fgo`?");
     bad("file", "[media.fog]\ntype = \"grid\"\nfile = \"missing.vol\"", "missing.vol");
+    bad("no data", "[media.fog]\ntype = \"grid\"\nscale = 2", "needs a `file`");
+    bad(
+        "two boxes",
+        "[media.fog]\ntype = \"grid\"\nvalue = [1, 1, 1]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\ntransform = [{ scale = 2 }]",
+        "not both",
+    );
+    bad("flat", "[media.fog]\ntype = \"grid\"\nvalue = [1, 1, 1]\ntransform = [{ scale = [1, 0, 1] }]", "singular");
 }

@@ -12,8 +12,10 @@
 //! direction from the phase function. A flight that passes reaches the surface, which is
 //! shaded as the path tracer shades it, its light samples' shadow rays attenuated the same
 //! way. Null surfaces (masks of opacity 0, Mitsuba's `null`) are crossed without a bounce:
-//! they only change the medium. Scattering in a medium counts as a bounce for `max_depth`
-//! and Russian roulette, as in Mitsuba.
+//! they only change the medium; so is a thin sheet when light passes straight through it
+//! (Mitsuba's null transmission: shadow rays pass it too, with its transmittance).
+//! Scattering in a medium counts as a bounce for `max_depth` and Russian roulette, as in
+//! Mitsuba.
 
 use glam::Vec3;
 
@@ -98,7 +100,7 @@ impl Integrator for VolPathTracer {
                         ray = Ray::new(point, sample.outgoing);
                         depth += 1;
                         crossings = 0;
-                        if depth >= self.rr_depth && !roulette(&mut throughput, eta_scale, context) {
+                        if depth > self.rr_depth && !roulette(&mut throughput, eta_scale, context) {
                             break;
                         }
                         continue;
@@ -133,7 +135,6 @@ impl Integrator for VolPathTracer {
                 ray = hit.spawn_ray(ray.direction);
                 continue;
             }
-            crossings = 0;
             let vertex = Vertex::at(scene, &ray, hit);
             let (wo, geometric) = (vertex.wo, hit.geometry.geometric_normal);
             let emitted = vertex.emitted();
@@ -154,14 +155,21 @@ impl Integrator for VolPathTracer {
                 };
                 radiance += throughput * emitted * weight;
             }
-            if depth >= self.max_depth {
+            let bsdf = vertex.bsdf();
+            let passable = bsdf.null_transmission(wo) != Rgb::ZERO;
+            // Past the last bounce a path may still pass straight through a thin sheet: that
+            // is no bounce (as in Mitsuba), and the light beyond still counts.
+            let last = depth >= self.max_depth;
+            if last && !passable {
                 break;
             }
-            let bsdf = vertex.bsdf();
+            if !passable {
+                crossings = 0;
+            }
             let interface = scene.medium_interface(hit.object);
             let has_interface = interface != MediumInterface::default();
             let medium_toward = |w: Vec3| if has_interface { interface.toward(w, geometric) } else { medium };
-            if bsdf.has_diffuse() {
+            if bsdf.has_diffuse() && !last {
                 let (u_select, u) = BounceDraws::light(&mut context.sampler);
                 if let Some(light) =
                     scene.lights().sample_li(hit.geometry.point, Some(hit.geometry.shading_normal), u_select, u)
@@ -189,6 +197,20 @@ impl Integrator for VolPathTracer {
             let (u_lobe, u) = BounceDraws::scatter(&mut context.sampler);
             let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break };
             throughput *= sample.weight;
+            if bsdf.is_null_event(wo, &sample) {
+                // Straight through a thin sheet: a boundary crossed, as a null surface is (no
+                // bounce; emission beyond is weighed against the last real scattering).
+                crossings += 1;
+                if crossings > MAX_CROSSINGS || throughput == Rgb::ZERO {
+                    break;
+                }
+                medium = medium_toward(sample.wi);
+                ray = hit.spawn_ray(sample.wi);
+                continue;
+            }
+            if last {
+                break;
+            }
             eta_scale *= sample.eta_squared;
             previous = Some(Previous {
                 point: hit.geometry.point,
@@ -198,7 +220,7 @@ impl Integrator for VolPathTracer {
             });
             medium = medium_toward(sample.wi);
             depth += 1;
-            if depth >= self.rr_depth && !roulette(&mut throughput, eta_scale, context) {
+            if depth > self.rr_depth && !roulette(&mut throughput, eta_scale, context) {
                 break;
             }
             if throughput == Rgb::ZERO {
@@ -210,7 +232,8 @@ impl Integrator for VolPathTracer {
     }
 }
 
-/// Russian roulette as the path tracer plays it (Mitsuba's rule).
+/// Russian roulette as the path tracer plays it (Mitsuba's rule), once a path has scattered
+/// more than `rr_depth` times (Mitsuba's `volpath` starts one bounce later than its `path`).
 fn roulette(throughput: &mut Rgb, eta_scale: f32, context: &mut SampleContext) -> bool {
     let survival = (throughput.max_element() * eta_scale).min(0.95);
     if survival <= 0.0 || BounceDraws::roulette(&mut context.sampler) >= survival {
@@ -236,7 +259,8 @@ fn shadow_ray_from(point: Vec3, light: &LightSample) -> Ray {
 }
 
 /// The transmittance along a shadow ray that starts in `medium`: zero at the first opaque
-/// surface; through null surfaces, the product of the media's transmittances piece by piece.
+/// surface; through null surfaces and thin sheets (their null transmission), the product of
+/// the media's transmittances piece by piece, as Mitsuba's `volpath` lets shadow rays through.
 /// (Shadow rays toward points come with their direction unnormalised and t ∈ (0, 1): the ray
 /// is put in world units first, so every piece's length is a distance.)
 fn transmittance(scene: &Scene, ray: Ray, mut medium: Option<u32>, rng: &mut Rng) -> Rgb {
@@ -259,7 +283,12 @@ fn transmittance(scene: &Scene, ray: Ray, mut medium: Option<u32>, rng: &mut Rng
         }
         let Some(hit) = hit else { return tr };
         if !scene.materials()[hit.material as usize].is_null() {
-            return Rgb::ZERO;
+            // A thin sheet lets light through, straight, with its transmittance.
+            let vertex = Vertex::at(scene, &ray, hit);
+            tr *= vertex.bsdf().null_transmission(vertex.wo);
+            if tr == Rgb::ZERO {
+                return tr;
+            }
         }
         let interface = scene.medium_interface(hit.object);
         if interface != MediumInterface::default() {

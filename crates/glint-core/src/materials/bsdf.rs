@@ -180,6 +180,11 @@ pub(super) trait Lobes {
     fn lambertian(&self) -> Option<Rgb> {
         None
     }
+    /// The weight of light passing straight through, unbent (Mitsuba's null transmission:
+    /// a null surface's 1, a thin sheet's transmittance); zero for the rest of the set.
+    fn null_transmission(&self, _wo: Vec3) -> Rgb {
+        Rgb::ZERO
+    }
     fn frame(&self) -> &Frame;
     fn frame_mut(&mut self) -> &mut Frame;
 
@@ -255,6 +260,9 @@ impl Leaf<'_> {
     fn non_delta_probability(&self) -> f32 {
         dispatch!(self, b => b.non_delta_probability())
     }
+    fn null_transmission(&self, wo: Vec3) -> Rgb {
+        dispatch!(self, b => b.null_transmission(wo))
+    }
     /// Lambert's k_d; `None` under a map's shadowing, which Lambert's lobe does not have.
     fn lambertian(&self) -> Option<Rgb> {
         if self.frame().shadowing_alpha2 > 0.0 {
@@ -293,6 +301,10 @@ impl<'a> Mixture<'a> {
 
     fn non_delta_probability(&self) -> f32 {
         self.parts().map(|(leaf, w)| leaf.non_delta_probability() * w).sum()
+    }
+
+    fn null_transmission(&self, wo: Vec3) -> Rgb {
+        self.parts().fold(Rgb::ZERO, |sum, (leaf, w)| sum + leaf.null_transmission(wo) * w)
     }
 
     /// The leaves' non-delta parts come first in `u_lobe`'s range, each `w_i · p_i` wide, then
@@ -394,6 +406,21 @@ impl<'a> Bsdf<'a> {
             Kind::One(leaf) => leaf.non_delta_probability(),
             Kind::Mixture(m) => m.non_delta_probability(),
         }
+    }
+
+    /// The weight with which light passes the surface straight through, unbent (null
+    /// surfaces, masks, thin sheets): volumetric path tracing crosses such surfaces as media
+    /// boundaries rather than bounces, and lets shadow rays through them.
+    pub fn null_transmission(&self, wo: Vec3) -> Rgb {
+        match &self.kind {
+            Kind::One(leaf) => leaf.null_transmission(wo),
+            Kind::Mixture(m) => m.null_transmission(wo),
+        }
+    }
+
+    /// Whether `sample`, drawn for `wo`, passed straight through a null-transmitting lobe.
+    pub fn is_null_event(&self, wo: Vec3, sample: &BsdfSample) -> bool {
+        sample.delta && sample.wi == -wo && self.null_transmission(wo) != Rgb::ZERO
     }
 
     /// Whether light sampling can contribute (a non-delta lobe exists).

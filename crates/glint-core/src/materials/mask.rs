@@ -37,6 +37,10 @@ impl Lobes for NullBsdf {
         Some(BsdfSample { wi: -wo, weight: Rgb::ONE, pdf: 1.0, delta: true, eta_squared: 1.0 })
     }
 
+    fn null_transmission(&self, _wo: Vec3) -> Rgb {
+        Rgb::ONE
+    }
+
     fn frame(&self) -> &Frame {
         &self.frame
     }

@@ -74,6 +74,10 @@ impl Lobes for ThinDielectricBsdf {
         Some(BsdfSample { wi: -wo, weight: self.transmittance, pdf: 1.0 - r, delta: true, eta_squared: 1.0 })
     }
 
+    fn null_transmission(&self, wo: Vec3) -> Rgb {
+        self.transmittance * (1.0 - sheet_reflectance(wo.dot(self.frame.normal).abs(), self.eta))
+    }
+
     fn frame(&self) -> &Frame {
         &self.frame
     }

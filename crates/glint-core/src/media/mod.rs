@@ -9,10 +9,12 @@
 mod grid;
 mod homogeneous;
 mod phase;
+mod voxels;
 
-pub use grid::{Collision, GridMedium};
+pub use grid::{Albedo, GridMedium};
 pub use homogeneous::{Flight, Homogeneous};
 pub use phase::{PhaseFunction, PhaseSample};
+pub use voxels::{box_to_world, VoxelField};
 
 use glam::Vec3;
 
@@ -60,20 +62,17 @@ impl Medium {
     pub fn transmittance(&self, origin: Vec3, direction: Vec3, distance: f32, rng: &mut Rng) -> Rgb {
         match &self.kind {
             MediumKind::Homogeneous(m) => m.transmittance(distance),
-            MediumKind::Grid(g) => Rgb::splat(g.ratio_track(origin, direction, distance, rng)),
+            MediumKind::Grid(g) => g.ratio_track(origin, direction, distance, rng),
         }
     }
 
     /// A free flight from `origin` along the unit `direction`, ending before `t_max` in a
-    /// scattering event or passing the segment. A grid's real collision scatters with weight
-    /// = its albedo (absorption folded into the weight, as Mitsuba's `volpath` does).
+    /// scattering event or passing the segment (absorption folded into the weight, as
+    /// Mitsuba's `volpath` does).
     pub fn flight(&self, origin: Vec3, direction: Vec3, t_max: f32, rng: &mut Rng) -> Flight {
         match &self.kind {
             MediumKind::Homogeneous(m) => m.sample_flight(t_max, rng.next_f32(), rng.next_f32()),
-            MediumKind::Grid(g) => match g.delta_track(origin, direction, t_max, rng) {
-                Collision::At(t) => Flight::Scattered { t, weight: g.albedo },
-                Collision::Escaped => Flight::Passed { weight: Rgb::ONE },
-            },
+            MediumKind::Grid(g) => g.flight(origin, direction, t_max, rng),
         }
     }
 }

@@ -5,17 +5,19 @@ use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
 
-use glam::{Affine2, Mat3, Mat4, Quat, Vec2, Vec3};
+use glam::{Affine2, Affine3A, Mat3, Mat4, Quat, Vec2, Vec3};
 use glint_core::camera::{Camera, Lens};
 use glint_core::filter::Filter;
-use glint_core::geometry::{Aabb, Transform};
+use glint_core::geometry::Transform;
 use glint_core::integrators::{IntegratorKind, IntegratorSettings, PhotonSettings};
 use glint_core::lights::{
     DirectionalLight, Environment, EnvironmentMap, Falloff, Light, PointLight, Slide, SpotLight, SpotProfile,
 };
 use glint_core::lights::{LightSelection, TriangleSampling};
 use glint_core::materials::Material;
-use glint_core::media::{GridMedium, Homogeneous, Medium, MediumInterface, MediumKind, PhaseFunction};
+use glint_core::media::{
+    box_to_world, Albedo, GridMedium, Homogeneous, Medium, MediumInterface, MediumKind, PhaseFunction, VoxelField,
+};
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::{Geometry, Object, SceneBuilder};
 use glint_core::shapes::{
@@ -464,24 +466,63 @@ fn build_medium(desc: &MediumDesc, source: &Source) -> Result<Medium, (&'static 
                 phase: phase(p)?,
             }
         }
-        MediumDesc::Grid { file, albedo, scale: s, min, max, phase: p } => {
-            let bytes = source.read(file).map_err(|m| ("file", format!("volume file: {m}")))?;
-            let grid = crate::volume::read_vol(&bytes).map_err(|m| ("file", format!("`{file}`: {m}")))?;
-            if grid.channels != 1 {
-                return Err(("file", format!("`{file}` has {} channels; a density grid has one", grid.channels)));
-            }
-            let bounds = Aabb {
-                min: min.map_or(Ok(grid.min), |v| finite(v).map_err(|m| ("min", m)))?,
-                max: max.map_or(Ok(grid.max), |v| finite(v).map_err(|m| ("max", m)))?,
+        MediumDesc::Grid { file, value, min, max, transform, albedo, scale: s, phase: p } => {
+            let density = voxel_field(file.as_deref(), *value, (*min, *max), transform, source)?;
+            let albedo = match albedo {
+                None => Albedo::Constant(albedo_of(None, 0.8)?),
+                Some(AlbedoDesc::Constant(a)) => Albedo::Constant(albedo_of(Some(*a), 0.8)?),
+                Some(AlbedoDesc::Field(f)) => Albedo::Field(
+                    voxel_field(Some(&f.file), None, (f.min, f.max), &f.transform, source)
+                        .map_err(|(_, m)| ("albedo", format!("albedo: {m}")))?,
+                ),
             };
-            if !bounds.min.cmplt(bounds.max).all() {
-                return Err(("min", format!("the grid's box {} – {} is empty", bounds.min, bounds.max)));
-            }
-            let medium = GridMedium::new(grid.resolution, grid.values, bounds, scale(*s)?, albedo_of(*albedo, 0.8)?)
-                .ok_or(("file", format!("`{file}`: densities must be finite and ≥ 0")))?;
+            let medium = GridMedium::new(density, scale(*s)?, albedo)
+                .ok_or(("scale", "the grid's largest density times `scale` is not finite".to_string()))?;
             Medium { kind: MediumKind::Grid(Box::new(medium)), phase: phase(p)? }
         }
     })
+}
+
+/// A grid medium's field: a `.vol` file's or one value's, over the file's box, `min`–`max`
+/// or the unit cube under `transform`.
+fn voxel_field(
+    file: Option<&str>,
+    value: Option<Vector>,
+    (min, max): (Option<Vector>, Option<Vector>),
+    transform: &[TransformOp],
+    source: &Source,
+) -> Result<VoxelField, (&'static str, String)> {
+    let (resolution, channels, values, own_box) = match (file, value) {
+        (Some(file), None) => {
+            let bytes = source.read(file).map_err(|m| ("file", format!("volume file: {m}")))?;
+            let grid = crate::volume::read_vol(&bytes).map_err(|m| ("file", format!("`{file}`: {m}")))?;
+            (grid.resolution, grid.channels, grid.values, Some((grid.min, grid.max)))
+        }
+        (None, Some(v)) => ([1, 1, 1], 3, non_negative(v).map_err(|m| ("value", m))?.to_array().to_vec(), None),
+        (Some(_), Some(_)) => return Err(("value", "give a grid's `file` or one `value`, not both".into())),
+        (None, None) => return Err(("file", "a grid medium needs a `file` (or one `value`)".into())),
+    };
+    let to_world = match (min, max, transform.is_empty()) {
+        (None, None, false) => {
+            let t = build_transform(transform).map_err(|m| ("transform", m))?.expect("a transform is given");
+            Affine3A::from_mat4(t.to_world)
+        }
+        (_, _, false) => {
+            return Err(("transform", "give a grid's box by `min`–`max` or by `transform`, not both".into()))
+        }
+        (min, max, true) => {
+            let unit = (Vec3::ZERO, Vec3::ONE);
+            let (own_min, own_max) = own_box.unwrap_or(unit);
+            let min = min.map_or(Ok(own_min), |v| finite(v).map_err(|m| ("min", m)))?;
+            let max = max.map_or(Ok(own_max), |v| finite(v).map_err(|m| ("max", m)))?;
+            if !min.cmplt(max).all() {
+                return Err(("min", format!("the grid's box {min} – {max} is empty")));
+            }
+            box_to_world(min, max)
+        }
+    };
+    VoxelField::new(resolution, channels, values, to_world)
+        .ok_or(("file", "a grid's values must be finite and ≥ 0, and its transform invertible".to_string()))
 }
 
 /// A mesh from its file or from the scene's own `data`, checked, and how to name it in

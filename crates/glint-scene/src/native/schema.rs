@@ -71,16 +71,39 @@ pub enum MediumDesc {
         scale: Option<f32>,
         phase: Option<PhaseDesc>,
     },
-    /// σ_t = `scale` × the density of a Mitsuba `.vol` grid (one channel) over its box, or
-    /// over `min`–`max` when given; a constant `albedo`.
+    /// σ_t = `scale` × a density field: a Mitsuba `.vol` grid (`file`, one channel or three)
+    /// or one `value` (per channel), over a box: the file's own, or `min`–`max`, or the unit
+    /// cube moved by `transform` (as Mitsuba's `to_world`). The medium is empty outside the
+    /// box. The `albedo` is a constant or a field of its own.
     Grid {
-        file: String,
-        albedo: Option<Vector>,
-        scale: Option<f32>,
+        file: Option<String>,
+        value: Option<Vector>,
         min: Option<Vector>,
         max: Option<Vector>,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        albedo: Option<AlbedoDesc>,
+        scale: Option<f32>,
         phase: Option<PhaseDesc>,
     },
+}
+
+/// A grid medium's albedo: one colour, or a `.vol` field placed as the density's is.
+#[derive(Deserialize, Debug)]
+#[serde(untagged)]
+pub enum AlbedoDesc {
+    Constant(Vector),
+    Field(AlbedoField),
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct AlbedoField {
+    pub file: String,
+    pub min: Option<Vector>,
+    pub max: Option<Vector>,
+    #[serde(default)]
+    pub transform: Vec<TransformOp>,
 }
 
 #[derive(Deserialize, Debug, Clone, Copy)]
