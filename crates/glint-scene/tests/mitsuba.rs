@@ -482,16 +482,95 @@ fn errors_name_the_file_line_and_what_was_expected() {
     // An environment map without its file.
     let e = error_of("envmap", &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"envmap\"/>\n</scene>\n"));
     assert!(e.contains("envmap.xml:3:") && e.contains("filename"), "{e}");
-    // A participating medium would change the image: an error, not a silent skip.
-    let e =
-        error_of("medium", &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<medium type=\"homogeneous\"/>\n</scene>\n"));
-    assert!(e.contains("medium.xml:3:") && e.contains("participating media"), "{e}");
+    // Media glint does not have: errors at their lines.
+    let medium = |name: &str, inside: &str| {
+        error_of(
+            name,
+            &format!(
+                "<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"cube\">\n<bsdf type=\"null\"/>\n{inside}\n</shape>\n</scene>\n"
+            ),
+        )
+    };
+    let e = medium("medium-kind", "<medium type=\"foggy\" name=\"interior\"/>");
+    assert!(e.contains("medium-kind.xml:5:") && e.contains("<medium type=\"foggy\"> is not supported"), "{e}");
+    let e = medium("phase", "<medium type=\"homogeneous\" name=\"interior\">\n<phase type=\"rayleigh\"/>\n</medium>");
+    assert!(e.contains("phase.xml:6:") && e.contains("<phase type=\"rayleigh\"> is not supported"), "{e}");
+    let e = medium(
+        "volume",
+        "<medium type=\"heterogeneous\" name=\"interior\">\n<volume type=\"gridvolume\" name=\"sigma_t\">\n<string name=\"filename\" value=\"a.vol\"/>\n<string name=\"wrap_mode\" value=\"repeat\"/>\n</volume>\n</medium>",
+    );
+    assert!(e.contains("volume.xml:6:") && e.contains("`wrap_mode` `repeat` is not supported"), "{e}");
+    let e = medium(
+        "homogeneous-grid",
+        "<medium type=\"homogeneous\" name=\"interior\">\n<volume type=\"gridvolume\" name=\"sigma_t\">\n<string name=\"filename\" value=\"a.vol\"/>\n</volume>\n</medium>",
+    );
+    assert!(e.contains("homogeneous-grid.xml:5:") && e.contains("is a constant, not a grid volume"), "{e}");
+    let e = medium("side", "<medium type=\"homogeneous\" name=\"inside\"/>");
+    assert!(e.contains("side.xml:5:") && e.contains("`interior` or `exterior`"), "{e}");
     // Not Mitsuba 3.
     let e = error_of("version", "<scene version=\"0.6.0\">\n</scene>\n");
     assert!(e.contains("version 0.6.0"), "{e}");
     // A sensor is required.
     let e = error_of("nosensor", "<scene version=\"3.0.0\">\n</scene>\n");
     assert!(e.contains("no <sensor>"), "{e}");
+}
+
+/// Mitsuba's media through the XML reader: an orthographic view down through a cube (null
+/// walls, [−1, 1]³) of absorbing medium at a white sky, so each pixel sees the transmittance
+/// of its column. A homogeneous medium fills the cube: exp(−2 σ_t scale). A heterogeneous
+/// medium with a constant σ_t is, as in Mitsuba, a constvolume over the unit cube [0, 1]³: a
+/// quarter of the view sees exp(−σ_t scale), the rest the sky unattenuated.
+#[test]
+fn media_read_from_mitsuba_xml_keep_mitsubas_semantics() {
+    let scene = |name: &str, medium: &str| {
+        scene_file(
+            name,
+            &format!(
+                r#"<scene version="3.0.0">
+    <integrator type="volpath"><integer name="max_depth" value="-1"/></integrator>
+    <sensor type="orthographic">
+        <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film>
+    </sensor>
+    <emitter type="constant"><rgb name="radiance" value="1"/></emitter>
+    {medium}
+    <shape type="cube">
+        <bsdf type="null"/>
+        <ref name="interior" id="fog"/>
+    </shape>
+</scene>"#
+            ),
+        )
+    };
+    let mean_of = |path: &Path| {
+        let loaded = load_scene(path).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(loaded.render.integrator, IntegratorKind::VolPath);
+        let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).unwrap();
+        let settings =
+            RenderSettings { spp: 64, seed: 1, filter: loaded.render.filter, sampler: loaded.render.sampler };
+        let image = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film.to_rgb();
+        image.iter().sum::<Rgb>() / image.len() as f32
+    };
+    let homogeneous = scene(
+        "homogeneous",
+        r#"<medium type="homogeneous" id="fog">
+        <rgb name="sigma_t" value="0.25, 0.5, 1"/><float name="albedo" value="0"/><float name="scale" value="0.5"/>
+        <phase type="isotropic"/>
+    </medium>"#,
+    );
+    let mean = mean_of(&homogeneous);
+    let expected = Rgb::new((-0.25f32).exp(), (-0.5f32).exp(), (-1.0f32).exp());
+    assert!((mean - expected).abs().max_element() < 2e-3, "homogeneous: {mean} vs {expected}");
+    let heterogeneous = scene(
+        "heterogeneous",
+        r#"<medium type="heterogeneous" id="fog">
+        <rgb name="sigma_t" value="0.5, 1, 2"/><float name="albedo" value="0"/>
+        <phase type="hg"><float name="g" value="0.3"/></phase>
+    </medium>"#,
+    );
+    let mean = mean_of(&heterogeneous);
+    let expected = Rgb::new((-0.5f32).exp(), (-1.0f32).exp(), (-2.0f32).exp()) * 0.25 + Rgb::splat(0.75);
+    assert!((mean - expected).abs().max_element() < 5e-3, "heterogeneous: {mean} vs {expected}");
 }
 
 #[test]
@@ -537,7 +616,8 @@ fn sensor_sampler_integrator_and_emitter_variants() {
     for (kind, expected, depth) in [
         ("direct", IntegratorKind::Path, 1),
         ("ptracer", IntegratorKind::Light, 2),
-        ("volpath", IntegratorKind::Path, 2),
+        ("volpath", IntegratorKind::VolPath, 2),
+        ("volpathmis", IntegratorKind::VolPath, 2),
         ("sppm", IntegratorKind::Sppm, 2),
     ] {
         let loaded = scene_with(

@@ -4,6 +4,8 @@
 //! faithfully is an error naming the element and its line, or, where the image would only
 //! differ in its noise or in a documented approximation, a warning.
 
+mod media;
+
 use std::cell::RefCell;
 use std::collections::{HashMap, HashSet};
 
@@ -31,6 +33,8 @@ pub(super) struct Translator<'a> {
     materials_by_element: HashMap<(usize, u32, u32), String>,
     /// Each `shapegroup`'s shapes by its id, placed by every `instance` of it.
     groups: HashMap<String, Vec<Located<ShapeDesc>>>,
+    /// Media already made for a `<medium>` element (by its position), so references share them.
+    media_by_element: HashMap<(usize, u32, u32), String>,
 }
 
 /// The properties of one plugin element, recording which ones were read.
@@ -74,6 +78,7 @@ impl<'a> Translator<'a> {
             warnings: RefCell::default(),
             materials_by_element: HashMap::new(),
             groups: HashMap::new(),
+            media_by_element: HashMap::new(),
         })
     }
 
@@ -87,13 +92,6 @@ impl<'a> Translator<'a> {
 
     /// The whole scene.
     pub fn translate(mut self, root: &'a Element) -> Result<(SceneFile, Vec<String>)> {
-        // Media first: a scene that needs them cannot be rendered whatever else it holds.
-        if let Some(medium) = find_medium(root) {
-            return Err(self.error(
-                &medium.position,
-                format!("{}: participating media are not supported by glint", medium.describe()),
-            ));
-        }
         let mut sensors = 0;
         let mut integrator = None;
         for child in &root.children {
@@ -110,13 +108,7 @@ impl<'a> Translator<'a> {
                 "shape" => self.shape(child)?,
                 "emitter" => self.emitter(child)?,
                 // Declared for <ref>; used where referenced.
-                "bsdf" | "texture" => {}
-                "medium" | "phase" | "volume" => {
-                    return Err(self.error(
-                        &child.position,
-                        format!("{}: participating media are not supported by glint", child.describe()),
-                    ))
-                }
+                "bsdf" | "texture" | "medium" | "phase" | "volume" => {}
                 other => {
                     return Err(self.error(&child.position, format!("unexpected <{other}> in <scene>")));
                 }
@@ -160,7 +152,7 @@ impl<'a> Translator<'a> {
 
     // ----- sensor, film, sampler, integrator -------------------------------------------------
 
-    fn sensor(&mut self, sensor: &Element) -> Result<()> {
+    fn sensor(&mut self, sensor: &'a Element) -> Result<()> {
         let kind = sensor.attribute("type").unwrap_or("");
         if !matches!(kind, "perspective" | "thinlens" | "orthographic") {
             return Err(self.error(
@@ -173,6 +165,7 @@ impl<'a> Translator<'a> {
         let p = self.properties(sensor);
         // Film first: the field of view's axis needs the aspect ratio.
         let (mut width, mut height) = (768u32, 576u32);
+        let mut medium = None;
         for child in &sensor.children {
             match child.tag.as_str() {
                 "film" => {
@@ -181,6 +174,10 @@ impl<'a> Translator<'a> {
                     height = h;
                 }
                 "sampler" => self.sampler(child)?,
+                "medium" | "ref" => {
+                    medium = Some(self.medium_child(child)?);
+                    p.used.borrow_mut().insert("medium".into());
+                }
                 _ => {}
             }
         }
@@ -249,7 +246,7 @@ impl<'a> Translator<'a> {
                 focus_distance,
                 orthographic_height,
                 mirror,
-                medium: None,
+                medium,
             },
             span: sensor.position.span.clone(),
         };
@@ -337,10 +334,9 @@ impl<'a> Translator<'a> {
         p.boolean(self, "hide_emitters")?;
         let name = match kind {
             "path" => "path",
-            "volpath" | "volpathmis" => {
-                self.warn(&integrator.position, format!("<integrator type=\"{kind}\">: rendered by `path` (no media)"));
-                "path"
-            }
+            // volpathmis weighs the channels of a chromatic medium by MIS along the path; glint's
+            // volpath weighs them at each free flight: the same image, each without bias.
+            "volpath" | "volpathmis" => "volpath",
             "direct" => "path",
             "ptracer" => "light",
             "photonmapper" => "photon",
@@ -349,7 +345,7 @@ impl<'a> Translator<'a> {
                 return Err(self.error(
                     &integrator.position,
                     format!(
-                        "<integrator type=\"{kind}\"> is not supported; glint maps path, volpath, direct, ptracer, photonmapper and sppm"
+                        "<integrator type=\"{kind}\"> is not supported; glint maps path, volpath, volpathmis, direct, ptracer, photonmapper and sppm"
                     ),
                 ))
             }
@@ -412,28 +408,39 @@ impl<'a> Translator<'a> {
 
         let mut bsdf = None;
         let mut emission = None;
+        let (mut interior, mut exterior) = (None, None);
         for child in &shape.children {
-            match child.tag.as_str() {
-                "bsdf" => bsdf = Some(child),
-                "ref" => {
-                    let target = self.resolve(child)?;
-                    match target.tag.as_str() {
-                        "bsdf" => bsdf = Some(target),
-                        other => {
-                            return Err(self.error(
-                                &child.position,
-                                format!(
-                                    "a shape can refer to a <bsdf>, not to <{other}> `{}`",
-                                    child.attribute("id").unwrap_or("")
-                                ),
-                            ))
-                        }
-                    }
+            let target = match child.tag.as_str() {
+                "ref" => self.resolve(child)?,
+                "emitter" => {
+                    emission = Some(self.area_emitter(child)?);
+                    continue;
                 }
-                "emitter" => emission = Some(self.area_emitter(child)?),
+                _ => child,
+            };
+            match (target.tag.as_str(), child.attribute("name")) {
+                ("bsdf", _) => bsdf = Some(target),
+                ("medium", Some(side @ ("interior" | "exterior"))) => {
+                    let medium = Some(self.medium(target)?);
+                    *if side == "interior" { &mut interior } else { &mut exterior } = medium;
+                    p.used.borrow_mut().insert(side.to_string());
+                }
+                ("medium", _) => {
+                    return Err(self.error(&child.position, "a shape's medium is named `interior` or `exterior`"))
+                }
+                (other, _) if child.tag == "ref" => {
+                    return Err(self.error(
+                        &child.position,
+                        format!(
+                            "a shape can refer to a <bsdf> or a <medium>, not to <{other}> `{}`",
+                            child.attribute("id").unwrap_or("")
+                        ),
+                    ))
+                }
                 _ => {}
             }
         }
+        let has_media = interior.is_some() || exterior.is_some();
         if flip_normals && (emission.is_some() || bsdf.is_some_and(|b| self.is_dielectric(b))) {
             return Err(self.error(
                 &shape.position,
@@ -459,7 +466,9 @@ impl<'a> Translator<'a> {
                 // Mitsuba turns v over in obj and ply files, not in serialized ones.
                 let flip_v = flip_v && kind != "serialized";
                 // Mitsuba makes smooth normals for a file without them.
-                ShapeDesc::Mesh { interior: None, exterior: None,
+                ShapeDesc::Mesh {
+                    interior,
+                    exterior,
                     file: Some(file),
                     data: None,
                     shape_index,
@@ -471,17 +480,25 @@ impl<'a> Translator<'a> {
                     name,
                 }
             }
-            "rectangle" => ShapeDesc::Quad { interior: None, exterior: None,
+            "rectangle" => ShapeDesc::Quad {
+                interior,
+                exterior,
                 vertices: [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]],
                 material,
                 transform,
                 name,
             },
-            "cube" => ShapeDesc::Box { interior: None, exterior: None, min: [-1.0; 3], max: [1.0; 3], material, transform, name },
+            "cube" => ShapeDesc::Box { interior, exterior, min: [-1.0; 3], max: [1.0; 3], material, transform, name },
             "sphere" => {
                 let center = p.point(self, "center")?.unwrap_or(Vec3::ZERO);
                 let radius = p.float(self, "radius")?.unwrap_or(1.0);
-                ShapeDesc::Sphere { interior: None, exterior: None, center: center.to_array(), radius, material, transform, name }
+                ShapeDesc::Sphere { interior, exterior, center: center.to_array(), radius, material, transform, name }
+            }
+            "disk" | "cylinder" if has_media => {
+                return Err(self.error(
+                    &shape.position,
+                    format!("media on a <shape type=\"{kind}\"> are not supported: bound a medium by a closed mesh, cube or sphere"),
+                ))
             }
             "disk" => {
                 for t in disk_triangles() {
@@ -757,6 +774,8 @@ impl<'a> Translator<'a> {
                 let material = self.nested_material(bsdf, nested[0], "material")?;
                 MaterialDesc::Mask { opacity, material }
             }
+            // A medium's boundary, crossed without a bounce.
+            "null" => MaterialDesc::Null,
             "diffuse" => MaterialDesc::Diffuse {
                 reflectance: Some(p.color(self, "reflectance")?.unwrap_or(ColorDesc::Rgb([0.5; 3]))),
                 emission: None,
@@ -1293,14 +1312,6 @@ impl<'a> Translator<'a> {
 }
 
 /// Every object with an `id`, anywhere in the tree; a repeated id is an error.
-/// The first `<medium>`, `<phase>` or `<volume>` anywhere in the tree.
-fn find_medium(element: &Element) -> Option<&Element> {
-    if matches!(element.tag.as_str(), "medium" | "phase" | "volume") {
-        return Some(element);
-    }
-    element.children.iter().find_map(find_medium)
-}
-
 fn collect_ids<'a>(element: &'a Element, ids: &mut HashMap<String, &'a Element>, files: &Files) -> Result<()> {
     for child in &element.children {
         if !PROPERTY_TAGS.contains(&child.tag.as_str()) {
