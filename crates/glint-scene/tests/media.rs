@@ -250,6 +250,69 @@ material = "floor"
     }
 }
 
+/// A camera at the centre of a null sphere of emitting medium, in the dark. Absorbing only
+/// (σ_a, L_e): every ray sees L_e (1 − e^(−σ_a R)) exactly. Scattering too, in a sphere many
+/// mean free paths across: the medium is in equilibrium with its own light, L = L_e (the
+/// emission σ_a L_e balances the absorption σ_a L), for a homogeneous medium and a grid alike.
+#[test]
+fn an_emitting_medium_glows_as_the_transfer_equation_says() {
+    let sphere = |name: &str, medium: &str, radius: f32| {
+        let text = format!(
+            r#"[camera]
+position = [0, 0, 0]
+look_at = [0, 0, 1]
+fov = 90
+resolution = [12, 12]
+medium = "glow"
+
+[render]
+integrator = "volpath"
+max_depth = -1
+sampler = "independent"
+
+[materials.boundary]
+type = "null"
+
+{medium}
+
+[[shapes]]
+type = "sphere"
+radius = {radius}
+material = "boundary"
+interior = "glow"
+"#
+        );
+        scene(name, &text, &[])
+    };
+    let absorbing = sphere(
+        "glow-absorbing",
+        "[media.glow]\ntype = \"homogeneous\"\nsigma_a = [0.2, 0.5, 1.0]\nemission = [1, 2, 3]",
+        2.0,
+    );
+    let (mean, error) = render_mean(&absorbing, 64, 7);
+    let expected = Rgb::new(1.0 - (-0.4f32).exp(), 2.0 * (1.0 - (-1.0f32).exp()), 3.0 * (1.0 - (-2.0f32).exp()));
+    for c in 0..3 {
+        assert!(
+            (mean[c] - expected[c]).abs() < 4.0 * error[c] + 2e-3,
+            "absorbing, channel {c}: {mean} vs {expected} ± {error}"
+        );
+    }
+    for (name, medium) in [
+        ("glow-homogeneous", "[media.glow]\ntype = \"homogeneous\"\nsigma_t = [1, 1, 1]\nalbedo = [0.7, 0.5, 0.3]\nemission = [1, 2, 3]"),
+        ("glow-grid", "[media.glow]\ntype = \"grid\"\nvalue = [1, 1.5, 2]\nmin = [-30, -30, -30]\nmax = [30, 30, 30]\nalbedo = [0.7, 0.5, 0.3]\nemission = [1, 2, 3]"),
+    ] {
+        let path = sphere(name, medium, 25.0);
+        let (mean, error) = render_mean(&path, 32, 8);
+        let expected = Rgb::new(1.0, 2.0, 3.0);
+        for c in 0..3 {
+            assert!(
+                (mean[c] - expected[c]).abs() < 4.0 * error[c] + 3e-3 * expected[c],
+                "{name}, channel {c}: {mean} vs {expected} ± {error}"
+            );
+        }
+    }
+}
+
 /// Shadow rays pass a thin sheet of glass (Mitsuba's null transmission) with its
 /// transmittance 1 − R', R' = 2R / (1 + R) for Fresnel's R: a diffuse floor (albedo ½) under a
 /// point light of intensity 16 at height 4, a pane (n = 1.5) at height 2 between them, seen

@@ -15,7 +15,8 @@
 //! they only change the medium; so is a thin sheet when light passes straight through it
 //! (Mitsuba's null transmission: shadow rays pass it too, with its transmittance).
 //! Scattering in a medium counts as a bounce for `max_depth` and Russian roulette, as in
-//! Mitsuba.
+//! Mitsuba. An emitting medium's light (σ_a L_e per unit length) is gathered at each
+//! collision.
 
 use glam::Vec3;
 
@@ -75,8 +76,14 @@ impl Integrator for VolPathTracer {
             if let Some(m) = medium.map(|i| &scene.media()[i as usize]) {
                 match m.flight(ray.origin, ray.direction, t_max, &mut rng) {
                     Flight::Scattered { t, weight } => {
-                        throughput *= weight;
                         let point = ray.origin + t * ray.direction;
+                        let (sigma_s, sigma_a) = m.coefficients(point);
+                        // An emitting medium's light along the flight, estimated at its
+                        // collision (no light sampling finds it, so it counts in full).
+                        if m.emission != Rgb::ZERO {
+                            radiance += throughput * weight * sigma_a * m.emission;
+                        }
+                        throughput *= weight * sigma_s;
                         if depth >= self.max_depth || throughput == Rgb::ZERO {
                             break;
                         }

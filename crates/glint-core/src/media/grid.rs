@@ -80,9 +80,9 @@ impl GridMedium {
     /// are too): a channel c is drawn, and each tentative collision is real with probability
     /// σ_t,c / σ̄. The weight is the flight's contribution over the mean of the three
     /// channels' probabilities of the same decisions (one-sample MIS over the channels, as
-    /// for homogeneous media): a grey density makes it the albedo at a real collision and 1
-    /// for a pass, as plain delta tracking; densities that differ by channel are tracked
-    /// without bias wherever any channel is dense.
+    /// for homogeneous media): for a grey density it is 1 / σ_t at a real collision (times
+    /// σ_s: the albedo, as plain delta tracking) and 1 for a pass; densities that differ by
+    /// channel are tracked without bias wherever any channel is dense.
     pub fn flight(&self, origin: Vec3, direction: Vec3, t_max: f32, rng: &mut Rng) -> Flight {
         let passed = Flight::Passed { weight: Rgb::ONE };
         if self.majorant <= 0.0 {
@@ -98,9 +98,10 @@ impl GridMedium {
             let point = origin + t * direction;
             let real = (self.sigma_t(point) / self.majorant).min(Rgb::ONE);
             if rng.next_f32() < real[channel] {
-                let sigma_s = real * self.albedo_at(point);
+                // Over σ̄ once more: the contribution's coefficient at the collision (σ_s, σ_t
+                // or the emission, over σ̄) is the caller's.
                 let mean = (probability * real).element_sum() / 3.0;
-                return Flight::Scattered { t, weight: contribution * sigma_s / mean };
+                return Flight::Scattered { t, weight: contribution / (mean * self.majorant) };
             }
             let null = Rgb::ONE - real;
             contribution *= null;
@@ -266,6 +267,8 @@ mod tests {
         for _ in 0..n {
             if let Flight::Scattered { weight, t } = grid.flight(origin, Vec3::X, t_max, &mut rng) {
                 assert!(t < t_max);
+                let point = origin + t * Vec3::X;
+                let weight = weight * grid.sigma_t(point) * grid.albedo_at(point);
                 for c in 0..3 {
                     sum[c] += weight[c] as f64;
                     sum2[c] += (weight[c] as f64).powi(2);

@@ -17,8 +17,9 @@ pub struct Homogeneous {
 /// Where a free flight ends and the weight that event carries.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Flight {
-    /// Scattered at distance `t`: the path's throughput is multiplied by `weight`
-    /// (σ_s · transmittance / density), and the phase function takes over.
+    /// A real collision at distance `t`, with `weight` = transmittance / density of t (per
+    /// channel): times σ_s there it is the path's scattering weight, times σ_t the power a
+    /// photon brings there, times the medium's emission the light emitted along the way.
     Scattered { t: f32, weight: Rgb },
     /// Reached the end of the segment (`t_max`) unscattered: weight transmittance / P(this).
     Passed { weight: Rgb },
@@ -46,7 +47,7 @@ impl Homogeneous {
         if t < t_max {
             let transmittance = self.transmittance(t);
             let density = (sigma_t * transmittance).element_sum() / 3.0;
-            Flight::Scattered { t, weight: self.sigma_s * transmittance / density }
+            Flight::Scattered { t, weight: transmittance / density }
         } else {
             let transmittance = self.transmittance(t_max);
             let probability = transmittance.element_sum() / 3.0;
@@ -91,6 +92,7 @@ mod tests {
                 }
                 Flight::Scattered { weight, t } => {
                     assert!(t < t_max);
+                    let weight = weight * medium.sigma_s;
                     scattered += weight;
                     scattered2 += weight * weight;
                 }
@@ -119,7 +121,9 @@ mod tests {
         let fog = Homogeneous { sigma_a: Rgb::ZERO, sigma_s: Rgb::ONE };
         match fog.sample_flight(f32::INFINITY, 0.2, 0.999_999) {
             // A lossless medium scatters with weight 1 (σ_s = σ_t, one channel).
-            Flight::Scattered { weight, .. } => assert!((weight - Rgb::ONE).abs().max_element() < 1e-5),
+            Flight::Scattered { weight, .. } => {
+                assert!((weight * fog.sigma_s - Rgb::ONE).abs().max_element() < 1e-5)
+            }
             other => panic!("{other:?}"),
         }
     }

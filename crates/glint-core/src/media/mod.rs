@@ -26,6 +26,9 @@ use crate::Rgb;
 pub struct Medium {
     pub kind: MediumKind,
     pub phase: PhaseFunction,
+    /// The radiance L_e the medium emits where it absorbs: σ_a L_e per unit length (pbrt's
+    /// `Le`; zero for most media).
+    pub emission: Rgb,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -66,9 +69,20 @@ impl Medium {
         }
     }
 
+    /// σ_s and σ_a at a point (a grid's are zero outside its box).
+    pub fn coefficients(&self, p: Vec3) -> (Rgb, Rgb) {
+        match &self.kind {
+            MediumKind::Homogeneous(m) => (m.sigma_s, m.sigma_a),
+            MediumKind::Grid(g) => {
+                let (sigma_t, albedo) = (g.sigma_t(p), g.albedo_at(p));
+                (sigma_t * albedo, sigma_t * (Rgb::ONE - albedo))
+            }
+        }
+    }
+
     /// A free flight from `origin` along the unit `direction`, ending before `t_max` in a
-    /// scattering event or passing the segment (absorption folded into the weight, as
-    /// Mitsuba's `volpath` does).
+    /// real collision or passing the segment (the weight is transmittance over density: see
+    /// `Flight`).
     pub fn flight(&self, origin: Vec3, direction: Vec3, t_max: f32, rng: &mut Rng) -> Flight {
         match &self.kind {
             MediumKind::Homogeneous(m) => m.sample_flight(t_max, rng.next_f32(), rng.next_f32()),

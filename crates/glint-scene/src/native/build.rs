@@ -445,8 +445,9 @@ fn build_medium(desc: &MediumDesc, source: &Source) -> Result<Medium, (&'static 
         Some(PhaseDesc::Hg { g }) if g.abs() < 1.0 => Ok(PhaseFunction::HenyeyGreenstein { g: *g }),
         Some(PhaseDesc::Hg { g }) => Err(("phase", format!("Henyey–Greenstein's `g` lies in (−1, 1), got {g}"))),
     };
+    let emitted = |e: Option<Vector>| e.map_or(Ok(Vec3::ZERO), |v| colour("emission", v));
     Ok(match desc {
-        MediumDesc::Homogeneous { sigma_a, sigma_s, sigma_t, albedo, scale: s, phase: p } => {
+        MediumDesc::Homogeneous { sigma_a, sigma_s, sigma_t, albedo, scale: s, phase: p, emission } => {
             let k = scale(*s)?;
             let (sigma_a, sigma_s) = match (sigma_a, sigma_s, sigma_t, albedo) {
                 (a, s, None, None) => {
@@ -464,9 +465,10 @@ fn build_medium(desc: &MediumDesc, source: &Source) -> Result<Medium, (&'static 
             Medium {
                 kind: MediumKind::Homogeneous(Homogeneous { sigma_a: sigma_a * k, sigma_s: sigma_s * k }),
                 phase: phase(p)?,
+                emission: emitted(*emission)?,
             }
         }
-        MediumDesc::Grid { file, value, min, max, transform, albedo, scale: s, phase: p } => {
+        MediumDesc::Grid { file, value, min, max, transform, albedo, scale: s, phase: p, emission } => {
             let density = voxel_field(file.as_deref(), *value, (*min, *max), transform, source)?;
             let albedo = match albedo {
                 None => Albedo::Constant(albedo_of(None, 0.8)?),
@@ -478,7 +480,7 @@ fn build_medium(desc: &MediumDesc, source: &Source) -> Result<Medium, (&'static 
             };
             let medium = GridMedium::new(density, scale(*s)?, albedo)
                 .ok_or(("scale", "the grid's largest density times `scale` is not finite".to_string()))?;
-            Medium { kind: MediumKind::Grid(Box::new(medium)), phase: phase(p)? }
+            Medium { kind: MediumKind::Grid(Box::new(medium)), phase: phase(p)?, emission: emitted(*emission)? }
         }
     })
 }

@@ -70,6 +70,8 @@ pub enum MediumDesc {
         albedo: Option<Vector>,
         scale: Option<f32>,
         phase: Option<PhaseDesc>,
+        /// Radiance emitted where the medium absorbs (σ_a × this per unit length).
+        emission: Option<Vector>,
     },
     /// σ_t = `scale` × a density field: a Mitsuba `.vol` grid (`file`, one channel or three)
     /// or one `value` (per channel), over a box: the file's own, or `min`–`max`, or the unit
@@ -85,6 +87,7 @@ pub enum MediumDesc {
         albedo: Option<AlbedoDesc>,
         scale: Option<f32>,
         phase: Option<PhaseDesc>,
+        emission: Option<Vector>,
     },
 }
 

@@ -59,6 +59,7 @@ impl<'a> Translator<'a> {
                     albedo: Some(constant(albedo, "albedo", 0.75)?),
                     scale,
                     phase: Some(phase),
+                    emission: None,
                 }
             }
             "heterogeneous" => {
@@ -82,6 +83,7 @@ impl<'a> Translator<'a> {
                     albedo: Some(albedo),
                     scale,
                     phase: Some(phase),
+                    emission: None,
                 }
             }
             _ => {
