@@ -150,10 +150,11 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
         }
         return Ok(());
     }
-    if args.integrator == "volpath" {
-        return Err(CliError::Setting(
-            "explain does not follow volpath's paths yet (its media events are not recorded); explain the surfaces with `--integrator path`".into(),
-        ));
+    if matches!(args.integrator.as_str(), "volpath" | "volphoton") {
+        return Err(CliError::Setting(format!(
+            "explain does not follow {}'s paths yet (its media events are not recorded); explain the surfaces with `--integrator path`",
+            args.integrator
+        )));
     }
     if args.integrator != "whitted" {
         let pass = Pass {

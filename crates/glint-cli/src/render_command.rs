@@ -151,16 +151,16 @@ pub struct RenderArgs {
     /// uninterrupted render gives.
     #[arg(long)]
     resume: Option<PathBuf>,
-    /// Photon mapping: photons stored in the global map.
+    /// Photon mapping: photons stored in the global map (volphoton: in the volume map).
     #[arg(long)]
     photons: Option<u32>,
     /// Photon mapping: photons stored in the caustic map.
     #[arg(long)]
     caustic_photons: Option<u32>,
-    /// Photon mapping: photons per radiance estimate (k nearest).
+    /// Photon mapping and volphoton: photons per radiance estimate (k nearest).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     photon_nearest: Option<u32>,
-    /// Photon mapping: largest search radius (0: 5 % of the scene's diagonal).
+    /// Photon mapping and volphoton: largest search radius (0: 5 % of the scene's diagonal).
     #[arg(long)]
     photon_radius: Option<f32>,
     /// Photon mapping: final-gather rays per camera sample (0: no indirect light but caustics).

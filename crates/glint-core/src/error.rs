@@ -20,6 +20,10 @@ pub enum RenderError {
     ThinLensLightTracing,
     #[error("interrupted while the photon maps were built")]
     Interrupted,
+    #[error(
+        "volphoton shoots photons from lights only, and a medium of this scene emits light: render it with volpath"
+    )]
+    EmittingMedium,
     #[error("the checkpoint holds state this integrator does not have")]
     UnexpectedState,
     #[error("the checkpoint's SPPM state does not match this render")]

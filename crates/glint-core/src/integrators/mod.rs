@@ -17,6 +17,7 @@ pub mod recorder;
 mod sppm;
 mod vertex;
 mod volpath;
+mod volume_photons;
 mod wavefront;
 pub mod whitted;
 
@@ -28,6 +29,7 @@ pub use photon_mapping::{PhotonMapper, PhotonSettings};
 pub use raycast::Raycast;
 pub use sppm::{Sppm, SppmExplanation, SppmGather};
 pub use volpath::VolPathTracer;
+pub use volume_photons::VolumePhotons;
 pub use wavefront::WavefrontPathTracer;
 pub use whitted::Whitted;
 
@@ -136,6 +138,9 @@ pub enum IntegratorKind {
     PathNaive,
     /// Path tracing through participating media (Mitsuba's `volpath`).
     VolPath,
+    /// `volpath` with the light scattered in media gathered from a volume photon map
+    /// (Jensen & Christensen 1998).
+    VolPhoton,
     Light,
     Photon,
     Sppm,
@@ -208,6 +213,7 @@ impl Named for IntegratorKind {
         IntegratorKind::Path,
         IntegratorKind::PathNaive,
         IntegratorKind::VolPath,
+        IntegratorKind::VolPhoton,
         IntegratorKind::Light,
         IntegratorKind::Photon,
         IntegratorKind::Sppm,
@@ -221,6 +227,7 @@ impl Named for IntegratorKind {
             IntegratorKind::Path => "path",
             IntegratorKind::PathNaive => "path-naive",
             IntegratorKind::VolPath => "volpath",
+            IntegratorKind::VolPhoton => "volphoton",
             IntegratorKind::Light => "light",
             IntegratorKind::Photon => "photon",
             IntegratorKind::Sppm => "sppm",
@@ -231,7 +238,10 @@ impl Named for IntegratorKind {
 impl IntegratorKind {
     /// Whether it follows light from the lights (and so needs physical lights).
     pub fn traces_particles(self) -> bool {
-        matches!(self, IntegratorKind::Light | IntegratorKind::Photon | IntegratorKind::Sppm)
+        matches!(
+            self,
+            IntegratorKind::Light | IntegratorKind::Photon | IntegratorKind::Sppm | IntegratorKind::VolPhoton
+        )
     }
 
     /// Whether each of its camera samples lands in its own pixel (not light tracing's splats,
@@ -264,7 +274,9 @@ impl IntegratorKind {
             IntegratorKind::Whitted => {
                 Box::new(Whitted::new(settings.max_depth, settings.min_contribution, settings.transparent_shadows))
             }
-            IntegratorKind::Light | IntegratorKind::Photon | IntegratorKind::Sppm => return None,
+            IntegratorKind::Light | IntegratorKind::Photon | IntegratorKind::Sppm | IntegratorKind::VolPhoton => {
+                return None
+            }
         })
     }
 
@@ -307,6 +319,22 @@ impl IntegratorKind {
                     stop,
                 )?);
                 Box::new(CameraPasses(mapper))
+            }
+            IntegratorKind::VolPhoton => {
+                let photons = VolumePhotons::shoot(
+                    scene,
+                    settings.max_depth,
+                    settings.photon.global_photons as u64,
+                    settings.photon.nearest as usize,
+                    settings.photon.max_radius,
+                    seed,
+                    stop,
+                )?;
+                let tracer: Box<dyn Integrator> = Box::new(VolPathTracer {
+                    photons: Some(std::sync::Arc::new(photons)),
+                    ..VolPathTracer::new(settings)
+                });
+                Box::new(CameraPasses(tracer))
             }
             camera => Box::new(CameraPasses(camera.create(settings).expect("a camera integrator"))),
         })

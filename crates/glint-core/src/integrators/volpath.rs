@@ -18,10 +18,13 @@
 //! Mitsuba. An emitting medium's light (σ_a L_e per unit length) is gathered at each
 //! collision.
 
+use std::sync::Arc;
+
 use glam::Vec3;
 
 use super::path::{power_heuristic, BounceDraws};
 use super::vertex::Vertex;
+use super::volume_photons::VolumePhotons;
 use super::{Integrator, IntegratorSettings, SampleContext};
 use crate::geometry::{offset_ray_origin, Ray};
 use crate::lights::{LightEnd, LightSample};
@@ -30,15 +33,18 @@ use crate::sampling::Rng;
 use crate::scene::Scene;
 use crate::Rgb;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone)]
 pub struct VolPathTracer {
     pub max_depth: u32,
     pub rr_depth: u32,
+    /// Volumetric photon mapping (`volphoton`): a path stops at its first scattering in a
+    /// medium, where the light that scattered before arriving comes from these photons.
+    pub photons: Option<Arc<VolumePhotons>>,
 }
 
 impl VolPathTracer {
     pub fn new(settings: &IntegratorSettings) -> Self {
-        Self { max_depth: settings.max_depth, rr_depth: settings.rr_depth }
+        Self { max_depth: settings.max_depth, rr_depth: settings.rr_depth, photons: None }
     }
 }
 
@@ -96,10 +102,24 @@ impl Integrator for VolPathTracer {
                                 let shadow = shadow_ray_from(point, &light);
                                 let tr = transmittance(scene, shadow, medium, &mut rng);
                                 if tr != Rgb::ZERO {
-                                    let w = if light.delta { 1.0 } else { power_heuristic(light.pdf, f) };
+                                    // Without phase sampling after it (photons), in full.
+                                    let w = if light.delta || self.photons.is_some() {
+                                        1.0
+                                    } else {
+                                        power_heuristic(light.pdf, f)
+                                    };
                                     radiance += throughput * light.radiance * tr * (f * w / light.pdf);
                                 }
                             }
+                        }
+                        if let Some(photons) = &self.photons {
+                            // The rest of the light scattered here, from the photons: their
+                            // estimate is σ_t ∫ p L dω', and the throughput holds σ_s.
+                            let sigma_t = sigma_s + sigma_a;
+                            let in_scattered = photons.in_scattered(point, ray.direction, &m.phase);
+                            let per_unit = |c: usize| if sigma_t[c] > 0.0 { in_scattered[c] / sigma_t[c] } else { 0.0 };
+                            radiance += throughput * Rgb::new(per_unit(0), per_unit(1), per_unit(2));
+                            break;
                         }
                         let (_, u) = BounceDraws::scatter(&mut context.sampler);
                         let sample = m.phase.sample(ray.direction, u);

@@ -168,6 +168,27 @@ impl Scene {
         self.camera_medium
     }
 
+    /// The medium at `origin`, found by following the ray `origin + t·direction` to the first
+    /// surface that bounds media: the medium on the side the ray arrives from. Surfaces that
+    /// bound none are passed; a ray that meets none is in the camera's medium (the medium
+    /// that fills the world when no surface bounds it). For particles leaving lights, which
+    /// do not say which medium they are in.
+    pub fn medium_at(&self, origin: glam::Vec3, direction: glam::Vec3) -> Option<u32> {
+        if self.media.is_empty() {
+            return None;
+        }
+        let mut ray = crate::geometry::Ray::new(origin, direction);
+        for _ in 0..256 {
+            let Some(hit) = self.intersect(&ray) else { break };
+            let interface = self.medium_interface(hit.object);
+            if interface != MediumInterface::default() {
+                return interface.toward(-direction, hit.geometry.geometric_normal);
+            }
+            ray = hit.spawn_ray(direction);
+        }
+        self.camera_medium
+    }
+
     pub fn camera(&self) -> &Camera {
         &self.camera
     }
