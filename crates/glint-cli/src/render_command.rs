@@ -824,6 +824,7 @@ fn memory_needed(kind: IntegratorKind, settings: &IntegratorSettings, width: u32
             let photons = u64::from(settings.photon.global_photons) + u64::from(settings.photon.caustic_photons);
             photons * 96
         }
+        IntegratorKind::VolPhoton => u64::from(settings.photon.global_photons) * 96,
         _ => 0,
     };
     bytes

@@ -478,6 +478,20 @@ material = "floor"
     }
 }
 
+/// The medium at a point, as particles leaving lights find it: the side of the first
+/// media-bounding surface along a ray, or along the opposite ray when the first meets none.
+#[test]
+fn the_medium_at_a_point_is_found_from_the_surfaces_around_it() {
+    let path = scene("medium-at", &slab("[media.fog]\ntype = \"homogeneous\"\nsigma_a = [1, 1, 1]"), &[]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let at = |p: [f32; 3], d: [f32; 3]| loaded.scene.medium_at(p.into(), glint_core::Vec3::from(d).normalize());
+    assert_eq!(at([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), Some(0));
+    assert_eq!(at([1.0, -1.0, 0.2], [0.3, 0.1, -1.0]), Some(0));
+    // Outside the box, looking away from it (the opposite ray finds its outside) and at it.
+    assert_eq!(at([0.0, 0.0, 3.0], [0.0, 0.0, 1.0]), None);
+    assert_eq!(at([0.0, 0.0, 3.0], [0.0, 0.0, -1.0]), None);
+}
+
 #[test]
 fn media_errors_name_what_is_wrong() {
     let bad = |name: &str, medium: &str, expected: &str| {

@@ -507,6 +507,12 @@ fn errors_name_the_file_line_and_what_was_expected() {
     assert!(e.contains("homogeneous-grid.xml:5:") && e.contains("is a constant, not a grid volume"), "{e}");
     let e = medium("side", "<medium type=\"homogeneous\" name=\"inside\"/>");
     assert!(e.contains("side.xml:5:") && e.contains("`interior` or `exterior`"), "{e}");
+    // Mitsuba's flip_normals would swap the medium's sides: refused.
+    let e = medium(
+        "flipped",
+        "<boolean name=\"flip_normals\" value=\"true\"/>\n<medium type=\"homogeneous\" name=\"interior\"/>",
+    );
+    assert!(e.contains("flipped.xml:3:") && e.contains("medium's boundary"), "{e}");
     // Not Mitsuba 3.
     let e = error_of("version", "<scene version=\"0.6.0\">\n</scene>\n");
     assert!(e.contains("version 0.6.0"), "{e}");

@@ -113,12 +113,10 @@ impl Integrator for VolPathTracer {
                             }
                         }
                         if let Some(photons) = &self.photons {
-                            // The rest of the light scattered here, from the photons: their
-                            // estimate is σ_t ∫ p L dω', and the throughput holds σ_s.
-                            let sigma_t = sigma_s + sigma_a;
-                            let in_scattered = photons.in_scattered(point, ray.direction, &m.phase);
-                            let per_unit = |c: usize| if sigma_t[c] > 0.0 { in_scattered[c] / sigma_t[c] } else { 0.0 };
-                            radiance += throughput * Rgb::new(per_unit(0), per_unit(1), per_unit(2));
+                            // The rest of the light scattered here, ∫ p L dω', from the
+                            // medium's photons (the throughput holds σ_s).
+                            let in_medium = medium.expect("a flight happens in a medium");
+                            radiance += throughput * photons.in_scattered(in_medium, point, ray.direction, &m.phase);
                             break;
                         }
                         let (_, u) = BounceDraws::scatter(&mut context.sampler);
@@ -190,9 +188,6 @@ impl Integrator for VolPathTracer {
             if last && !passable {
                 break;
             }
-            if !passable {
-                crossings = 0;
-            }
             let interface = scene.medium_interface(hit.object);
             let has_interface = interface != MediumInterface::default();
             let medium_toward = |w: Vec3| if has_interface { interface.toward(w, geometric) } else { medium };
@@ -235,6 +230,7 @@ impl Integrator for VolPathTracer {
                 ray = hit.spawn_ray(sample.wi);
                 continue;
             }
+            crossings = 0;
             if last {
                 break;
             }
@@ -309,7 +305,11 @@ fn transmittance(scene: &Scene, ray: Ray, mut medium: Option<u32>, rng: &mut Rng
             }
         }
         let Some(hit) = hit else { return tr };
-        if !scene.materials()[hit.material as usize].is_null() {
+        let material = &scene.materials()[hit.material as usize];
+        if !material.is_null() {
+            if !material.may_pass_straight() {
+                return Rgb::ZERO;
+            }
             // A thin sheet lets light through, straight, with its transmittance.
             let vertex = Vertex::at(scene, &ray, hit);
             tr *= vertex.bsdf().null_transmission(vertex.wo);

@@ -5,14 +5,15 @@
 //! First pass: photons leave the lights in proportion to their power and are traced through
 //! media (free flights, the phase function at real collisions) and surfaces (the BSDFs, null
 //! surfaces and thin sheets crossed as `volpath` crosses them), with Russian roulette. At
-//! every real collision in a medium after its first scattering event, a photon is stored with
-//! the power it brings there (over the collision's density, times σ_t): the map's density of
-//! stored power is then σ_t times the fluence of light scattered at least once.
+//! every real collision in a medium after its first scattering event, a photon is stored in
+//! that medium's map with the power it brings there over the collision's density (the
+//! collision estimator of fluence): a map's density of stored power is the fluence of light
+//! scattered at least once, whatever the medium's density.
 //!
 //! Second pass (`volpath` with this map): a camera path that first scatters in a medium at x
 //! stops there. What x scatters toward the camera is σ_s ∫ p(ω, ω') L(x, ω') dω', taken in two
 //! parts: the light arriving straight from the lights by next-event estimation, and the rest,
-//! Σ p(ω, ω_p) Φ_p / (σ_t V) over the k nearest photons in the sphere V that holds them. The
+//! Σ p(ω, ω_p) Φ_p / V over the medium's k nearest photons in the sphere V that holds them. The
 //! estimate is a point estimate at a collision drawn by the same free flights as `volpath`'s
 //! (not a beam estimate along the ray). Surfaces are path traced as in `volpath`.
 //!
@@ -45,12 +46,13 @@ const EFFORT: u64 = 32;
 /// Null surfaces and thin sheets a particle may cross in a row.
 const MAX_CROSSINGS: usize = 256;
 
-/// The volume photon map and how it is searched.
+/// The volume photon maps (one per medium, so that an estimate never gathers another
+/// medium's photons) and how they are searched.
 pub struct VolumePhotons {
-    map: PhotonMap,
+    maps: Vec<PhotonMap>,
     nearest: usize,
     max_radius: f32,
-    /// Rays traced to build the map.
+    /// Rays traced to build the maps.
     pub photon_rays: RayCounts,
 }
 
@@ -61,7 +63,8 @@ thread_local! {
 impl VolumePhotons {
     /// Shoots photons until `wanted` are stored (or `wanted × EFFORT` particles are
     /// emitted), each path at most `max_depth` scattering events long. An estimate gathers
-    /// the `nearest` photons within `max_radius` (0: 5 % of the scene's diagonal).
+    /// the `nearest` photons (at least 2: the density of one photon has no finite mean)
+    /// within `max_radius` (0: 5 % of the scene's diagonal).
     pub fn shoot(
         scene: &Scene,
         max_depth: u32,
@@ -75,12 +78,13 @@ impl VolumePhotons {
         if scene.media().iter().any(|m| m.emission != Rgb::ZERO) {
             return Err(RenderError::EmittingMedium);
         }
-        let (mut photons, mut emitted, mut rays, mut next) = (Vec::new(), 0u64, RayCounts::default(), 0u64);
+        let (mut photons, mut emitted, mut rays, mut next) =
+            (Vec::<(u32, Photon)>::new(), 0u64, RayCounts::default(), 0u64);
         while (photons.len() as u64) < wanted && emitted < wanted.saturating_mul(EFFORT) {
             if stop.load(Ordering::Relaxed) {
                 return Err(RenderError::Interrupted);
             }
-            let round: Vec<(Vec<Photon>, RayCounts)> = (next..next + 64)
+            let round: Vec<(Vec<(u32, Photon)>, RayCounts)> = (next..next + 64)
                 .into_par_iter()
                 .map(|batch| {
                     let mut rng = Rng::for_sample(seed ^ STREAM, batch, 0);
@@ -98,14 +102,14 @@ impl VolumePhotons {
                 .collect();
             next += 64;
             emitted += 64 * BATCH;
-            let before = photons.len();
             for (p, r) in round {
                 photons.extend(p);
                 rays.add(&r);
             }
-            if photons.len() == before {
-                break; // a whole round stored none: no light reaches a medium after scattering
-            }
+        }
+        let mut by_medium: Vec<Vec<Photon>> = vec![Vec::new(); scene.media().len()];
+        for (medium, photon) in photons {
+            by_medium[medium as usize].push(photon);
         }
         let bounds = scene.geometry().bounds();
         let max_radius = if max_radius > 0.0 {
@@ -115,26 +119,26 @@ impl VolumePhotons {
         } else {
             0.05 * bounds.extent().length()
         };
-        Ok(Self { map: PhotonMap::build(photons, emitted), nearest: nearest.max(1), max_radius, photon_rays: rays })
+        let maps = by_medium.into_iter().map(|photons| PhotonMap::build(photons, emitted)).collect();
+        Ok(Self { maps, nearest: nearest.max(2), max_radius, photon_rays: rays })
     }
 
+    /// Photons stored, in all media.
     pub fn len(&self) -> usize {
-        self.map.len()
+        self.maps.iter().map(PhotonMap::len).sum()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.map.is_empty()
+        self.len() == 0
     }
 
-    /// ∫ p(ω, ω') L_s(x, ω') dω' × σ_t at `point` for a ray travelling along `direction`,
-    /// where L_s is the light that has scattered at least once: Σ p Φ / V over the nearest
-    /// photons (the caller divides by σ_t).
-    pub fn in_scattered(&self, point: Vec3, direction: Vec3, phase: &PhaseFunction) -> Rgb {
-        if self.map.is_empty() {
-            return Rgb::ZERO;
-        }
+    /// ∫ p(ω, ω') L_s(x, ω') dω' at `point` of medium `medium`, for a ray travelling along
+    /// `direction`, where L_s is the light that has scattered at least once: Σ p Φ / V over
+    /// the medium's nearest photons.
+    pub fn in_scattered(&self, medium: u32, point: Vec3, direction: Vec3, phase: &PhaseFunction) -> Rgb {
+        let Some(map) = self.maps.get(medium as usize).filter(|m| !m.is_empty()) else { return Rgb::ZERO };
         NEAREST.with_borrow_mut(|nearest| {
-            self.map.k_nearest(point, self.nearest, self.max_radius, nearest);
+            map.k_nearest(point, self.nearest, self.max_radius, nearest);
             if nearest.is_empty() {
                 return Rgb::ZERO;
             }
@@ -143,13 +147,16 @@ impl VolumePhotons {
             } else {
                 nearest.max_distance_squared()
             };
+            let volume = 4.0 / 3.0 * std::f32::consts::PI * radius2 * radius2.sqrt();
+            if volume.is_nan() || volume <= 0.0 {
+                return Rgb::ZERO; // photons all at the point itself: no density to speak of
+            }
             let mut sum = Rgb::ZERO;
             for (_, i) in nearest.iter() {
-                let photon = self.map.photon(i);
+                let photon = map.photon(i);
                 sum += photon.power * phase.eval(direction, photon.incoming());
             }
-            let volume = 4.0 / 3.0 * std::f32::consts::PI * radius2 * radius2.sqrt();
-            sum / (volume * self.map.emitted() as f32)
+            sum / (volume * map.emitted() as f32)
         })
     }
 }
@@ -173,7 +180,7 @@ fn trace(
     max_depth: u32,
     rng: &mut Rng,
     rays: &mut RayCounts,
-    stored: &mut Vec<Photon>,
+    stored: &mut Vec<(u32, Photon)>,
 ) {
     let direction = particle.ray.direction.normalize();
     let mut ray = Ray::new(particle.ray.origin, direction);
@@ -184,16 +191,15 @@ fn trace(
         rays.light += 1;
         let hit = scene.intersect(&ray);
         let t_max = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
-        if let Some(m) = medium.map(|i| &scene.media()[i as usize]) {
+        if let Some((index, m)) = medium.map(|i| (i, &scene.media()[i as usize])) {
             match m.flight(ray.origin, ray.direction, t_max, rng) {
                 Flight::Scattered { t, weight } => {
                     let point = ray.origin + t * ray.direction;
-                    let (sigma_s, sigma_a) = m.coefficients(point);
+                    let (sigma_s, _) = m.coefficients(point);
                     if events > 0 {
-                        // The power arriving here over the collision's density, times σ_t:
-                        // stored power's density is σ_t × the fluence.
-                        let arriving = power * weight * (sigma_s + sigma_a);
-                        stored.push(Photon::new(point, -ray.direction, -ray.direction, arriving));
+                        // The power arriving here over the collision's density: stored
+                        // power's density is the fluence.
+                        stored.push((index, Photon::new(point, -ray.direction, -ray.direction, power * weight)));
                     }
                     if events + 1 >= max_depth || !roulette(&mut power, weight * sigma_s, rng) {
                         return;

@@ -281,7 +281,7 @@ fn beckmann_visible_slope(cos_theta: f32, u: Vec2) -> (f32, f32) {
         let derivative = normalization * (1.0 - x * tan_theta);
         b -= value / derivative;
     }
-    (erf_inv(b), erf_inv(2.0 * u.y.max(1e-6) - 1.0))
+    (erf_inv(b.clamp(low, high)), erf_inv(2.0 * u.y.max(1e-6) - 1.0))
 }
 
 /// The error function (Abramowitz & Stegun 7.1.26, absolute error below 1.5·10⁻⁷).
@@ -293,7 +293,9 @@ fn erf(x: f32) -> f32 {
 
 /// The inverse error function on (−1, 1) (Giles' single-precision polynomials, 2010).
 fn erf_inv(x: f32) -> f32 {
-    let w = -((1.0 - x) * (1.0 + x)).max(f32::MIN_POSITIVE).ln();
+    // Within the polynomials' range: ±1 itself saturates at the largest finite answer.
+    let x = x.clamp(-0.999_999_9, 0.999_999_9);
+    let w = -((1.0 - x) * (1.0 + x)).ln();
     let p = if w < 5.0 {
         let w = w - 2.5;
         [
@@ -404,6 +406,8 @@ mod tests {
             let tolerance = if x.abs() <= 2.0 { 2e-4 } else { 2e-2 };
             assert!((back - x).abs() < tolerance, "erfinv(erf({x})) = {back}");
         }
+        // Saturated at ±1, with the sign kept.
+        assert!(erf_inv(1.0) > 3.5 && erf_inv(1.0).is_finite() && erf_inv(-1.0) < -3.5);
         let m = Microfacet::separable(0.5, 0.2).with(Distribution::Beckmann);
         let mut rng = crate::sampling::Rng::new(9, 9);
         for _ in 0..20_000 {

@@ -340,6 +340,25 @@ impl Material {
         matches!(self, Material::Mask(m) if m.opacity.max_value() == Rgb::ZERO)
     }
 
+    /// Whether light may pass the material straight through, unbent (a thin sheet, a mask,
+    /// or a wrapper or blend that may hold one): a cheap test before building its BSDF.
+    pub fn may_pass_straight(&self) -> bool {
+        !matches!(
+            self,
+            Material::Phong(_)
+                | Material::Diffuse(_)
+                | Material::DiffuseTransmission(_)
+                | Material::Conductor(_)
+                | Material::RoughConductor(_)
+                | Material::Dielectric(_)
+                | Material::RoughDielectric(_)
+                | Material::Plastic(_)
+                | Material::RoughPlastic(_)
+                | Material::Principled(_)
+                | Material::PrincipledThin(_)
+        )
+    }
+
     /// Lambert's reflectance when the material is a Lambert reflector and nothing else (what
     /// the wavefront's lanes model), and whether it is one-sided (black from behind).
     pub fn lambert(&self) -> Option<(&Texture, bool)> {

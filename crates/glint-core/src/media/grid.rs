@@ -69,10 +69,13 @@ impl GridMedium {
         self.majorant
     }
 
-    /// A tentative collision after `t` against the majorant (`None` past `t_max`).
+    /// A tentative collision after `t` against the majorant (`None` past `t_max`). A step
+    /// below the precision of `t` (a dense grid far from the ray's origin) still advances, by
+    /// one ulp: rounding must not end a walk as if it had left the grid.
     fn next_collision(&self, t: f32, t_max: f32, rng: &mut Rng) -> Option<f32> {
         let next = t - (1.0 - rng.next_f32()).max(f32::MIN_POSITIVE).ln() / self.majorant;
-        (next < t_max && next > t).then_some(next)
+        let next = next.max(t.next_up());
+        (next < t_max).then_some(next)
     }
 
     /// A free flight along `origin + t·direction` (unit direction) for t < `t_max`, by delta
@@ -240,6 +243,26 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A dense grid far from the ray's origin: its steps (1/σ̄ = 10⁻³) are below the precision
+    /// of t there (ulp(1000) ≈ 6·10⁻⁵ on some steps' scale), and rounding must not end a walk
+    /// as if it had left the grid. Optical depth 1000: nothing gets through.
+    #[test]
+    fn tracking_far_away_through_a_dense_grid_does_not_leak() {
+        let density = VoxelField::constant(Rgb::ONE, box_to_world(Vec3::splat(1000.0), Vec3::splat(1001.0))).unwrap();
+        let grid = GridMedium::new(density, 1000.0, Albedo::Constant(Rgb::splat(0.5))).unwrap();
+        let origin = Vec3::new(0.0, 1000.5, 1000.5);
+        let mut rng = Rng::new(1, 2);
+        let (mut passed, mut transmitted) = (0, Rgb::ZERO);
+        for _ in 0..2000 {
+            if matches!(grid.flight(origin, Vec3::X, 2000.0, &mut rng), Flight::Passed { .. }) {
+                passed += 1;
+            }
+            transmitted += grid.ratio_track(origin, Vec3::X, 2000.0, &mut rng);
+        }
+        assert_eq!(passed, 0, "flights leaked through");
+        assert_eq!(transmitted, Rgb::ZERO, "ratio tracking leaked");
     }
 
     /// Delta tracking's scattering events are unbiased too: E[weight · 1(scattered)] is the

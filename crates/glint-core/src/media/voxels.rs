@@ -87,12 +87,19 @@ impl VoxelField {
     /// `None` if the ray misses the box or the part is not finite.
     pub fn span(&self, origin: Vec3, direction: Vec3, t_max: f32) -> Option<(f32, f32)> {
         let (o, d) = (self.to_local.transform_point3(origin), self.to_local.transform_vector3(direction));
-        let inverse = d.recip();
-        let (a, b) = (-o * inverse, (Vec3::ONE - o) * inverse);
-        let (near, far) = (a.min(b), a.max(b));
-        // NaN (a zero direction component on a face) reads as unbounded on that axis.
-        let enter = [near.x, near.y, near.z].into_iter().filter(|t| !t.is_nan()).fold(0.0f32, f32::max);
-        let exit = [far.x, far.y, far.z].into_iter().filter(|t| !t.is_nan()).fold(t_max, f32::min);
+        let (mut enter, mut exit) = (0.0f32, t_max);
+        for axis in 0..3 {
+            if d[axis] == 0.0 {
+                // Parallel to this axis's faces: inside the slab (faces included) or a miss.
+                if !(0.0..=1.0).contains(&o[axis]) {
+                    return None;
+                }
+                continue;
+            }
+            let (a, b) = (-o[axis] / d[axis], (1.0 - o[axis]) / d[axis]);
+            enter = enter.max(a.min(b));
+            exit = exit.min(a.max(b));
+        }
         (enter < exit && exit.is_finite()).then_some((enter, exit))
     }
 }
@@ -140,6 +147,13 @@ mod tests {
         // Clipped by t_max, and missed.
         assert_eq!(field.span(Vec3::new(-5.0, 0.0, 0.0), Vec3::X, 4.0).map(|s| s.1), Some(4.0));
         assert_eq!(field.span(Vec3::new(-5.0, 3.0, 0.0), Vec3::X, 100.0), None);
+        // Along a face: both faces of a slab count as inside it.
+        let unit = VoxelField::constant(Rgb::ONE, box_to_world(Vec3::splat(-1.0), Vec3::ONE)).unwrap();
+        for x in [-1.0f32, 1.0] {
+            let span = unit.span(Vec3::new(x, 0.0, -5.0), Vec3::Z, 100.0);
+            assert!(span.is_some_and(|(a, b)| (a - 4.0).abs() < 1e-5 && (b - 6.0).abs() < 1e-5), "x = {x}: {span:?}");
+        }
+        assert_eq!(unit.span(Vec3::new(1.5, 0.0, -5.0), Vec3::Z, 100.0), None);
     }
 
     #[test]

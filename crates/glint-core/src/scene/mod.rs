@@ -168,23 +168,26 @@ impl Scene {
         self.camera_medium
     }
 
-    /// The medium at `origin`, found by following the ray `origin + t·direction` to the first
-    /// surface that bounds media: the medium on the side the ray arrives from. Surfaces that
-    /// bound none are passed; a ray that meets none is in the camera's medium (the medium
-    /// that fills the world when no surface bounds it). For particles leaving lights, which
-    /// do not say which medium they are in.
+    /// The medium at `origin`, found by following the ray `origin + t·direction`, then the
+    /// opposite ray, to the first surface that bounds media: the medium on `origin`'s side of
+    /// it. Surfaces that bound none are passed. A point from which neither ray meets one is
+    /// in the camera's medium (the medium that fills the world when no surface bounds it).
+    /// For particles leaving lights, which do not say which medium they are in.
     pub fn medium_at(&self, origin: glam::Vec3, direction: glam::Vec3) -> Option<u32> {
         if self.media.is_empty() {
             return None;
         }
-        let mut ray = crate::geometry::Ray::new(origin, direction);
-        for _ in 0..256 {
-            let Some(hit) = self.intersect(&ray) else { break };
-            let interface = self.medium_interface(hit.object);
-            if interface != MediumInterface::default() {
-                return interface.toward(-direction, hit.geometry.geometric_normal);
+        for way in [direction, -direction] {
+            let mut ray = crate::geometry::Ray::new(origin, way);
+            for _ in 0..256 {
+                let Some(hit) = self.intersect(&ray) else { break };
+                let interface = self.medium_interface(hit.object);
+                if interface != MediumInterface::default() {
+                    // `origin` lies on the side the ray arrives from.
+                    return interface.toward(-way, hit.geometry.geometric_normal);
+                }
+                ray = hit.spawn_ray(way);
             }
-            ray = hit.spawn_ray(direction);
         }
         self.camera_medium
     }

@@ -174,7 +174,8 @@ impl<'a> Translator<'a> {
                     height = h;
                 }
                 "sampler" => self.sampler(child)?,
-                "medium" | "ref" => {
+                // The sensor's medium, nested or by reference (other references are not read).
+                "medium" | "ref" if child.attribute("name") == Some("medium") || child.tag == "medium" => {
                     medium = Some(self.medium_child(child)?);
                     p.used.borrow_mut().insert("medium".into());
                 }
@@ -441,10 +442,10 @@ impl<'a> Translator<'a> {
             }
         }
         let has_media = interior.is_some() || exterior.is_some();
-        if flip_normals && (emission.is_some() || bsdf.is_some_and(|b| self.is_dielectric(b))) {
+        if flip_normals && (emission.is_some() || has_media || bsdf.is_some_and(|b| self.is_dielectric(b))) {
             return Err(self.error(
                 &shape.position,
-                "`flip_normals` on an emitter or a dielectric is not supported (it would swap the emitting side or the inside)",
+                "`flip_normals` on an emitter, a dielectric or a medium's boundary is not supported (it would swap the emitting side or the inside)",
             ));
         }
         let material = self.material_for(bsdf, emission, &shape.position)?;

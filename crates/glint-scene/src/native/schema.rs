@@ -855,16 +855,10 @@ impl ShapeDesc {
                 material,
                 transform,
                 name,
-                ..
+                interior,
+                exterior,
             } => (
-                ShapeDesc::Instance {
-                    interior: None,
-                    exterior: None,
-                    mesh: mesh.to_string(),
-                    material,
-                    transform,
-                    name,
-                },
+                ShapeDesc::Instance { interior, exterior, mesh: mesh.to_string(), material, transform, name },
                 Some(MeshDesc { file, data, shape_index, smooth, flip_v, compute_normals }),
             ),
             other => (other, None),
