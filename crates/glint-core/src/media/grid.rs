@@ -93,8 +93,10 @@ impl GridMedium {
         }
         let Some((mut t, t_max)) = self.density.span(origin, direction, t_max) else { return passed };
         let channel = ((rng.next_f32() * 3.0) as usize).min(2);
-        // The contribution and each channel's probability, both over σ̄ per collision.
-        let (mut contribution, mut probability) = (Rgb::ONE, Rgb::ONE);
+        // Π (1 − σ_t/σ̄) over the null collisions so far, per channel: both the flight's
+        // contribution and each channel's probability of the same decisions (before the
+        // last one), so the weights below are ratios of it alone.
+        let mut nulls = Rgb::ONE;
         for _ in 0..MAX_STEPS {
             let Some(next) = self.next_collision(t, t_max, rng) else { break };
             t = next;
@@ -103,20 +105,17 @@ impl GridMedium {
             if rng.next_f32() < real[channel] {
                 // Over σ̄ once more: the contribution's coefficient at the collision (σ_s, σ_t
                 // or the emission, over σ̄) is the caller's.
-                let mean = (probability * real).element_sum() / 3.0;
-                return Flight::Scattered { t, weight: contribution / (mean * self.majorant) };
+                let mean = (nulls * real).element_sum() / 3.0;
+                return Flight::Scattered { t, weight: nulls / (mean * self.majorant) };
             }
-            let null = Rgb::ONE - real;
-            contribution *= null;
-            probability *= null;
-            // Kept in range: only their ratio matters.
-            let mean = probability.element_sum() / 3.0;
+            nulls *= Rgb::ONE - real;
+            // Kept in range: only ratios of it matter.
+            let mean = nulls.element_sum() / 3.0;
             if mean < 1e-20 {
-                contribution /= mean;
-                probability /= mean;
+                nulls /= mean;
             }
         }
-        Flight::Passed { weight: contribution / (probability.element_sum() / 3.0) }
+        Flight::Passed { weight: nulls / (nulls.element_sum() / 3.0) }
     }
 
     /// Ratio tracking's estimate of the transmittance from `origin` over `t_max`: the product
