@@ -66,6 +66,38 @@ interior = "fog"
     )
 }
 
+/// A camera at the centre of a null sphere of `radius` filled with the medium `fog` (defined
+/// by `medium`), under a white sky or in the dark.
+fn inside_a_sphere_of(medium: &str, radius: f32, white_sky: bool) -> String {
+    let sky = if white_sky { "[environment]\nbackground = [1, 1, 1]\n" } else { "" };
+    format!(
+        r#"[camera]
+position = [0, 0, 0]
+look_at = [0, 0, 1]
+fov = 90
+resolution = [12, 12]
+medium = "fog"
+
+[render]
+integrator = "volpath"
+max_depth = -1
+sampler = "independent"
+
+{sky}
+[materials.boundary]
+type = "null"
+
+{medium}
+
+[[shapes]]
+type = "sphere"
+radius = {radius}
+material = "boundary"
+interior = "fog"
+"#
+    )
+}
+
 #[test]
 fn beer_lambert_through_a_slab_of_homogeneous_medium() {
     let path = scene(
@@ -152,34 +184,7 @@ fn a_lossless_medium_under_a_uniform_sky_conserves_radiance() {
             "[media.fog]\ntype = \"grid\"\nfile = \"density.vol\"\nscale = 1.5\nalbedo = { file = \"albedo.vol\", min = [-3, -3, -3], max = [3, 3, 3] }\nmin = [-3, -3, -3]\nmax = [3, 3, 3]",
         ),
     ] {
-        let text = format!(
-            r#"[camera]
-position = [0, 0, 0]
-look_at = [0, 0, 1]
-fov = 90
-resolution = [12, 12]
-medium = "fog"
-
-[render]
-integrator = "volpath"
-max_depth = -1
-sampler = "independent"
-
-[environment]
-background = [1, 1, 1]
-
-[materials.boundary]
-type = "null"
-
-{medium}
-
-[[shapes]]
-type = "sphere"
-radius = 3
-material = "boundary"
-interior = "fog"
-"#
-        );
+        let text = inside_a_sphere_of(medium, 3.0, true);
         let density: Vec<f32> = (0..27).flat_map(|i| [(i % 4) as f32 * 0.3, (i % 3) as f32 * 0.5 + 0.1, 1.0 - (i % 5) as f32 * 0.2]).collect();
         let files = [
             ("density.vol", vol_channels([3, 3, 3], 3, &density, [0.0; 3], [1.0; 3])),
@@ -257,37 +262,10 @@ material = "floor"
 /// emission σ_a L_e balances the absorption σ_a L), for a homogeneous medium and a grid alike.
 #[test]
 fn an_emitting_medium_glows_as_the_transfer_equation_says() {
-    let sphere = |name: &str, medium: &str, radius: f32| {
-        let text = format!(
-            r#"[camera]
-position = [0, 0, 0]
-look_at = [0, 0, 1]
-fov = 90
-resolution = [12, 12]
-medium = "glow"
-
-[render]
-integrator = "volpath"
-max_depth = -1
-sampler = "independent"
-
-[materials.boundary]
-type = "null"
-
-{medium}
-
-[[shapes]]
-type = "sphere"
-radius = {radius}
-material = "boundary"
-interior = "glow"
-"#
-        );
-        scene(name, &text, &[])
-    };
+    let sphere = |name: &str, medium: &str, radius: f32| scene(name, &inside_a_sphere_of(medium, radius, false), &[]);
     let absorbing = sphere(
         "glow-absorbing",
-        "[media.glow]\ntype = \"homogeneous\"\nsigma_a = [0.2, 0.5, 1.0]\nemission = [1, 2, 3]",
+        "[media.fog]\ntype = \"homogeneous\"\nsigma_a = [0.2, 0.5, 1.0]\nemission = [1, 2, 3]",
         2.0,
     );
     let (mean, error) = render_mean(&absorbing, 64, 7);
@@ -299,8 +277,8 @@ interior = "glow"
         );
     }
     for (name, medium) in [
-        ("glow-homogeneous", "[media.glow]\ntype = \"homogeneous\"\nsigma_t = [1, 1, 1]\nalbedo = [0.7, 0.5, 0.3]\nemission = [1, 2, 3]"),
-        ("glow-grid", "[media.glow]\ntype = \"grid\"\nvalue = [1, 1.5, 2]\nmin = [-30, -30, -30]\nmax = [30, 30, 30]\nalbedo = [0.7, 0.5, 0.3]\nemission = [1, 2, 3]"),
+        ("glow-homogeneous", "[media.fog]\ntype = \"homogeneous\"\nsigma_t = [1, 1, 1]\nalbedo = [0.7, 0.5, 0.3]\nemission = [1, 2, 3]"),
+        ("glow-grid", "[media.fog]\ntype = \"grid\"\nvalue = [1, 1.5, 2]\nmin = [-30, -30, -30]\nmax = [30, 30, 30]\nalbedo = [0.7, 0.5, 0.3]\nemission = [1, 2, 3]"),
     ] {
         let path = sphere(name, medium, 25.0);
         let (mean, error) = render_mean(&path, 32, 8);
