@@ -44,16 +44,20 @@ fn every_element_maps_onto_glint() {
     let vertical = 2.0 * ((30f32).to_radians().tan() / 2.0).atan().to_degrees();
     assert!((scene.camera().fov_degrees - vertical).abs() < 1e-3, "{}", scene.camera().fov_degrees);
     assert_eq!(scene.camera().position, Vec3::new(0.0, 2.0, -8.0));
-    // Shapes: obj, ply, rectangle, cube, two spheres, a 128-triangle disk, a 256-triangle cylinder.
-    assert_eq!(scene.objects().len(), 6 + 128 + 256);
+    // Shapes: obj, ply, rectangle, cube, two spheres, a disk and a cylinder (the last three
+    // meshes).
+    assert_eq!(scene.objects().len(), 8);
     // The cube: scaled by ½, turned 30° about y, then moved by (2, 0.5, 0) (Mitsuba's order).
-    let cube = scene.objects().iter().find(|o| o.name == "unit-cube").expect("the cube keeps its id");
-    let centre = cube.transform.as_ref().unwrap().point(Vec3::ZERO);
+    // Mitsuba's cube is a mesh, stored in world space.
+    let cube = scene.objects().iter().find(|o| o.name.contains("`unit-cube`")).expect("the cube keeps its id");
+    let glint_core::shapes::Shape::Mesh(mesh) = &cube.shape else { panic!("{:?}", cube.shape) };
+    let centre = mesh.positions.iter().sum::<Vec3>() / mesh.positions.len() as f32;
     assert!((centre - Vec3::new(2.0, 0.5, 0.0)).length() < 1e-6);
-    let corner = cube.transform.as_ref().unwrap().point(Vec3::ONE);
-    assert!(((corner - centre).length() - 0.5 * 3f32.sqrt()).abs() < 1e-5);
+    for corner in &mesh.positions {
+        assert!(((*corner - centre).length() - 0.5 * 3f32.sqrt()).abs() < 1e-5);
+    }
     // Lights: point, spot, directional; the constant emitter is the background; the disk
-    // emits (an area light of 128 triangles).
+    // emits (an area light of its mesh's triangles).
     let kinds: Vec<&str> = scene.listed_lights().map(Light::kind).collect();
     assert_eq!(kinds, ["point", "spot", "directional"]);
     assert_eq!(scene.environment().background, Rgb::new(0.1, 0.2, 0.3));
@@ -884,6 +888,64 @@ fn textures_see_mitsubas_uv() {
     let Light::Spot(spot) = scene.listed_lights().next().unwrap() else { panic!() };
     let seen = |x: f32, y: f32| (spot.illuminate(Vec3::new(x, y, 1.0)).intensity.x * 10.0).round() / 10.0;
     assert_eq!([seen(0.05, 0.05), seen(-0.05, 0.05), seen(0.05, -0.05), seen(-0.05, -0.05)], [0.7, 0.5, 0.3, 0.1]);
+}
+
+/// Each shape's texture coordinates where Mitsuba 3.9 puts them (the expected values were read
+/// from Mitsuba itself with these rays on this scene): a PLY file's v as it is (not turned
+/// over, unlike an OBJ's), the sphere's poles on its local z, the cube's faces each mapped its
+/// own way, the disk's (r, φ/2π) and the cylinder's (φ/2π, height). The disk and cylinder are
+/// fine meshes, so their uv may stray by the chords' sag.
+#[test]
+fn shapes_carry_mitsubas_texture_coordinates() {
+    let path = scene_file(
+        "shape-uvs",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<shape type="ply"><string name="filename" value="quad.ply"/><transform name="to_world"><translate x="-10"/></transform></shape>
+<shape type="sphere"><point name="center" x="-5" y="0" z="0"/><float name="radius" value="1.5"/></shape>
+<shape type="cube"><transform name="to_world"><scale x="2" y="1" z="0.5"/></transform></shape>
+<shape type="disk"><transform name="to_world"><scale value="2"/><translate x="5"/></transform></shape>
+<shape type="cylinder"><float name="radius" value="0.5"/><point name="p1" x="0" y="0" z="2"/><transform name="to_world"><translate x="10"/></transform></shape>
+</scene>
+"#
+        ),
+    );
+    let ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float u\nproperty float v\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n-1 -1 0 0 0 1 0 0\n1 -1 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n-1 1 0 0 0 1 0 1\n3 0 1 2\n3 0 2 3\n";
+    std::fs::write(path.with_file_name("quad.ply"), ply).unwrap();
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let (a, s) = (0.5f32.to_radians().cos(), 0.5f32.to_radians().sin());
+    #[rustfmt::skip]
+    let rays: [(&str, [f32; 3], [f32; 3], [f32; 2]); 18] = [
+        ("ply", [-9.5, -0.5, 5.0], [0.0, 0.0, -1.0], [0.75, 0.25]),
+        ("ply", [-10.8, 0.6, 5.0], [0.0, 0.0, -1.0], [0.1, 0.8]),
+        ("sphere", [-4.7, 0.4, 5.0], [0.0, 0.0, -1.0], [0.147584, 0.108173]),
+        ("sphere", [-5.5, -0.6, -5.0], [0.0, 0.0, 1.0], [0.639429, 0.825677]),
+        ("sphere", [-10.0, 0.2, 0.9], [1.0, 0.0, 0.0], [0.473350, 0.295167]),
+        ("cube", [0.6, -0.5, 5.0], [0.0, 0.0, -1.0], [0.25, 0.65]),
+        ("cube", [0.6, -0.5, -5.0], [0.0, 0.0, 1.0], [0.75, 0.65]),
+        ("cube", [5.0, 0.3, -0.25], [-1.0, 0.0, 0.0], [0.65, 0.75]),
+        ("cube", [-3.5, 0.3, -0.25], [1.0, 0.0, 0.0], [0.65, 0.25]),
+        ("cube", [0.6, 5.0, -0.25], [0.0, -1.0, 0.0], [0.35, 0.75]),
+        ("cube", [0.6, -5.0, -0.25], [0.0, 1.0, 0.0], [0.25, 0.65]),
+        ("cube", [-1.2, 0.7, 5.0], [0.0, 0.0, -1.0], [0.85, 0.2]),
+        ("disk", [5.6, -0.8, 5.0], [0.0, 0.0, -1.0], [0.5, 0.852416]),
+        ("disk", [4.0, 0.02, 5.0], [0.0, 0.0, -1.0], [0.5001, 0.496817]),
+        ("disk", [5.1, 1.5, 5.0], [0.0, 0.0, -1.0], [0.751665, 0.239405]),
+        ("cylinder", [10.0 - 3.0 * a, -3.0 * s, 1.5], [1.0, 0.0, 0.0], [0.508337, 0.75]),
+        ("cylinder", [10.0, -3.0, 0.5], [0.0, 1.0, 0.0], [0.75, 0.25]),
+        ("cylinder", [10.3, 3.0, 1.0], [0.0, -1.0, 0.0], [0.147583, 0.5]),
+    ];
+    for (shape, origin, direction, expected) in rays {
+        let ray = glint_core::geometry::Ray::new(Vec3::from(origin), Vec3::from(direction));
+        let hit = loaded.scene.intersect(&ray).unwrap_or_else(|| panic!("{shape} from {origin:?}"));
+        let tolerance = if matches!(shape, "disk" | "cylinder") { 1e-3 } else { 1e-5 };
+        let uv = hit.geometry.uv;
+        assert!(
+            (uv - glam::Vec2::from(expected)).abs().max_element() < tolerance,
+            "{shape} from {origin:?}: glint {uv}, Mitsuba {expected:?}"
+        );
+    }
 }
 
 /// `rawconstant`: the value as it is (a vector or a float, nothing clamped or converted),

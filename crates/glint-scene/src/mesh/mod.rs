@@ -3,6 +3,7 @@
 //! caller adds the scene location.
 
 mod obj;
+pub(crate) mod parametric;
 mod ply;
 mod serialized;
 

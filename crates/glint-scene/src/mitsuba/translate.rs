@@ -15,6 +15,7 @@ use super::spectrum::{parse_sampled, sampled_to_rgb, SpectrumRole};
 use super::xml::{Element, Files, Position};
 use crate::error::SceneError;
 use crate::located::Located;
+use crate::mesh::parametric::grid;
 use crate::native::schema::*;
 
 type Result<T> = std::result::Result<T, SceneError>;
@@ -404,8 +405,6 @@ impl<'a> Translator<'a> {
             transform_matrix.map(|m| vec![TransformOp::Matrix(m.transpose().to_cols_array_2d())]).unwrap_or_default();
         let face_normals = p.boolean(self, "face_normals")?.unwrap_or(false);
         let flip_normals = p.boolean(self, "flip_normals")?.unwrap_or(false);
-        // Mitsuba's mesh loaders turn v over (v ← 1 − v) unless told not to.
-        let flip_v = p.boolean(self, "flip_tex_coords")?.unwrap_or(true);
 
         let mut bsdf = None;
         let mut emission = None;
@@ -450,6 +449,20 @@ impl<'a> Translator<'a> {
         }
         let material = self.material_for(bsdf, emission, &shape.position)?;
         let span = shape.position.span.clone();
+        // A shape Mitsuba parametrizes analytically, as a mesh carrying Mitsuba's uv.
+        let parametric = |data: MeshData, smooth: bool| ShapeDesc::Mesh {
+            interior: interior.clone(),
+            exterior: exterior.clone(),
+            file: None,
+            data: Some(data),
+            shape_index: 0,
+            smooth,
+            flip_v: false,
+            compute_normals: false,
+            material: material.clone(),
+            transform: transform.clone(),
+            name: name.clone(),
+        };
         let desc = match kind {
             "obj" | "ply" | "serialized" => {
                 let file = p.string(self, "filename")?.ok_or_else(|| {
@@ -464,8 +477,9 @@ impl<'a> Translator<'a> {
                         return Err(self.error(&shape.position, "`shape_index` belongs to serialized meshes"))
                     }
                 };
-                // Mitsuba turns v over in obj and ply files, not in serialized ones.
-                let flip_v = flip_v && kind != "serialized";
+                // Mitsuba's OBJ loader turns v over (v ← 1 − v) unless told not to; its PLY
+                // and serialized loaders keep v as it is (checked against Mitsuba 3.9).
+                let flip_v = kind == "obj" && p.boolean(self, "flip_tex_coords")?.unwrap_or(true);
                 // Mitsuba makes smooth normals for a file without them.
                 ShapeDesc::Mesh {
                     interior,
@@ -489,11 +503,27 @@ impl<'a> Translator<'a> {
                 transform,
                 name,
             },
-            "cube" => ShapeDesc::Box { interior, exterior, min: [-1.0; 3], max: [1.0; 3], material, transform, name },
+            "cube" => parametric(mitsuba_cube(), false),
             "sphere" => {
                 let center = p.point(self, "center")?.unwrap_or(Vec3::ZERO);
                 let radius = p.float(self, "radius")?.unwrap_or(1.0);
-                ShapeDesc::Sphere { interior, exterior, center: center.to_array(), radius, material, transform, name }
+                // Mitsuba's sphere has its poles on its local z axis (u = φ/2π from +x toward
+                // +y, v = θ/π from +z); glint's on y (v = 1 at +y). Turning the sphere by −90°
+                // about x first maps glint's parametrization onto Mitsuba's.
+                let mut placed = vec![
+                    TransformOp::Rotate(RotateDesc { axis: [1.0, 0.0, 0.0], angle: -90.0 }),
+                    TransformOp::Translate(center.to_array()),
+                ];
+                placed.extend(transform);
+                ShapeDesc::Sphere {
+                    interior,
+                    exterior,
+                    center: [0.0; 3],
+                    radius,
+                    material,
+                    transform: placed,
+                    name,
+                }
             }
             "disk" | "cylinder" if has_media => {
                 return Err(self.error(
@@ -501,13 +531,7 @@ impl<'a> Translator<'a> {
                     format!("media on a <shape type=\"{kind}\"> are not supported: bound a medium by a closed mesh, cube or sphere"),
                 ))
             }
-            "disk" => {
-                for t in disk_triangles() {
-                    self.push_triangle(t, None, &material, &transform, &name, &span);
-                }
-                self.unused(&p);
-                return Ok(());
-            }
+            "disk" => parametric(mitsuba_disk(), false),
             "cylinder" => {
                 let p0 = p.point(self, "p0")?.unwrap_or(Vec3::ZERO);
                 let p1 = p.point(self, "p1")?.unwrap_or(Vec3::Z);
@@ -515,11 +539,7 @@ impl<'a> Translator<'a> {
                 if (p1 - p0).length() <= 0.0 || radius <= 0.0 {
                     return Err(self.error(&shape.position, "a cylinder needs p0 ≠ p1 and a radius > 0"));
                 }
-                for (t, n) in cylinder_triangles(p0, p1, radius) {
-                    self.push_triangle(t, if face_normals { None } else { Some(n) }, &material, &transform, &name, &span);
-                }
-                self.unused(&p);
-                return Ok(());
+                parametric(mitsuba_cylinder(p0, p1, radius), !face_normals)
             }
             _ => {
                 return Err(self.error(
@@ -593,28 +613,6 @@ impl<'a> Translator<'a> {
         self.scene.shapes.extend(placed);
         self.unused(&p);
         Ok(())
-    }
-
-    fn push_triangle(
-        &mut self,
-        vertices: [Vec3; 3],
-        normals: Option<[Vec3; 3]>,
-        material: &str,
-        transform: &[TransformOp],
-        name: &Option<String>,
-        span: &Option<std::ops::Range<usize>>,
-    ) {
-        self.scene.shapes.push(Located {
-            value: ShapeDesc::Triangle {
-                vertices: vertices.map(|v| v.to_array()),
-                normals: normals.map(|n| n.map(|v| v.to_array())),
-                uvs: None,
-                material: material.to_string(),
-                transform: transform.to_vec(),
-                name: name.clone(),
-            },
-            span: span.clone(),
-        });
     }
 
     /// The material of a shape: its BSDF (Mitsuba's default: diffuse 0.5) plus its emission.
@@ -1383,38 +1381,72 @@ fn named_ior(name: &str) -> Option<f32> {
     })
 }
 
+/// Segments of a full turn of Mitsuba's disk and cylinder: the chord's sag is 0.03 % of the
+/// radius.
 const SEGMENTS: usize = 128;
+/// Rings of the disk: its uv's angle is exact along the rings' edges and interpolated across
+/// the centre's fan only, inside radius 1/16.
+const DISK_RINGS: usize = 16;
 
-/// Mitsuba's disk: radius 1 in the z = 0 plane, facing +z; a fan of `SEGMENTS` triangles.
-fn disk_triangles() -> Vec<[Vec3; 3]> {
-    (0..SEGMENTS)
-        .map(|i| {
-            let a = |j: usize| {
-                let t = std::f32::consts::TAU * j as f32 / SEGMENTS as f32;
-                Vec3::new(t.cos(), t.sin(), 0.0)
-            };
-            [Vec3::ZERO, a(i), a(i + 1)]
-        })
-        .collect()
+/// Mitsuba's disk: radius 1 in the z = 0 plane, facing +z, with its uv (r, φ/2π), φ from +x
+/// toward +y.
+fn mitsuba_disk() -> MeshData {
+    let mut data = grid(SEGMENTS, DISK_RINGS, |s, r| {
+        let phi = std::f32::consts::TAU * s;
+        (Vec3::new(r * phi.cos(), r * phi.sin(), 0.0), Vec3::Z)
+    });
+    data.normals = None; // flat
+    if let Some(uvs) = &mut data.uvs {
+        uvs.iter_mut().for_each(|uv| uv.swap(0, 1));
+    }
+    data
 }
 
-/// Mitsuba's cylinder from `p0` to `p1` (open, no caps): `SEGMENTS` quads as triangles with
-/// smooth outward normals.
-fn cylinder_triangles(p0: Vec3, p1: Vec3, radius: f32) -> Vec<([Vec3; 3], [Vec3; 3])> {
-    let axis = (p1 - p0).normalize();
-    let (u, v) = glint_core::geometry::orthonormal_basis(axis);
-    let n = |j: usize| {
-        let t = std::f32::consts::TAU * j as f32 / SEGMENTS as f32;
-        t.cos() * u + t.sin() * v
-    };
-    let mut out = Vec::with_capacity(2 * SEGMENTS);
-    for i in 0..SEGMENTS {
-        let (n0, n1) = (n(i), n(i + 1));
-        let (a, b, c, d) = (p0 + radius * n0, p0 + radius * n1, p1 + radius * n1, p1 + radius * n0);
-        out.push(([a, b, c], [n0, n1, n1]));
-        out.push(([a, c, d], [n0, n1, n0]));
+/// Mitsuba's cylinder from `p0` to `p1` (open, no caps) with smooth outward normals and its
+/// uv (φ/2π, the fraction of the way from p0 to p1), φ measured in the frame Mitsuba builds
+/// around the axis (from +x toward +y for an axis along +z).
+fn mitsuba_cylinder(p0: Vec3, p1: Vec3, radius: f32) -> MeshData {
+    let axis = p1 - p0;
+    let (x, y) = glint_core::geometry::orthonormal_basis(axis.normalize());
+    grid(SEGMENTS, 1, |s, h| {
+        let phi = std::f32::consts::TAU * s;
+        let n = phi.cos() * x + phi.sin() * y;
+        (p0 + h * axis + radius * n, n)
+    })
+}
+
+/// Mitsuba's cube: [−1, 1]³ as 12 flat triangles, each face with the uv Mitsuba's own mesh
+/// gives it (read off Mitsuba 3.9: each face's uv is its two other coordinates mapped to
+/// [0, 1], swapped or turned over face by face).
+fn mitsuba_cube() -> MeshData {
+    let mut data = MeshData::default();
+    let mut uvs = Vec::new();
+    // (axis, side, uv of the face's point l ∈ [0, 1]³)
+    let faces: [(usize, f32, fn(Vec3) -> [f32; 2]); 6] = [
+        (2, 1.0, |l| [l.y, l.x]),
+        (2, -1.0, |l| [1.0 - l.y, l.x]),
+        (0, 1.0, |l| [l.y, 1.0 - l.z]),
+        (0, -1.0, |l| [l.y, l.z]),
+        (1, 1.0, |l| [1.0 - l.x, 1.0 - l.z]),
+        (1, -1.0, |l| [l.z, l.x]),
+    ];
+    for (axis, side, uv) in faces {
+        let first = data.positions.len() as u32;
+        let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
+        for (i, j) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+            let mut l = Vec3::splat(0.0);
+            l[axis] = 0.5 + 0.5 * side;
+            (l[a], l[b]) = (i, j);
+            data.positions.push((2.0 * l - Vec3::ONE).to_array());
+            uvs.push(uv(l));
+        }
+        // Corners go counter-clockwise about +axis (a, b, axis is right-handed): flip the
+        // winding on the face looking down −axis.
+        let [v0, v1, v2, v3] = [first, first + 1, first + 2, first + 3];
+        data.indices.extend(if side > 0.0 { [[v0, v1, v2], [v0, v2, v3]] } else { [[v0, v2, v1], [v0, v3, v2]] });
     }
-    out
+    data.uvs = Some(uvs);
+    data
 }
 
 /// x, y, z attributes (each defaulting to `default`), or a `value` of one or three numbers.
@@ -1762,18 +1794,64 @@ mod tests {
         assert!((m.transform_vector3(Vec3::X) - Vec3::X).length() < 1e-6);
     }
 
+    /// Each triangle of `data` with its corners, normal (unnormalized) and corner uvs.
+    fn triangles(data: &MeshData) -> Vec<([Vec3; 3], Vec3, [[f32; 2]; 3])> {
+        let uvs = data.uvs.as_ref().unwrap();
+        data.indices
+            .iter()
+            .map(|t| {
+                let p = t.map(|i| Vec3::from(data.positions[i as usize]));
+                (p, (p[1] - p[0]).cross(p[2] - p[0]), t.map(|i| uvs[i as usize]))
+            })
+            .collect()
+    }
+
     #[test]
-    fn disk_and_cylinder_tessellations() {
-        let area: f32 = disk_triangles().iter().map(|[a, b, c]| 0.5 * (*b - *a).cross(*c - *a).length()).sum();
-        assert!((area / std::f32::consts::PI - 1.0).abs() < 1e-3);
-        for [a, b, c] in disk_triangles() {
-            assert!((b - a).cross(c - a).z > 0.0, "the disk faces +z");
+    fn the_disk_faces_up_with_uv_radius_and_angle() {
+        let disk = mitsuba_disk();
+        let area: f32 = triangles(&disk).iter().map(|(_, n, _)| 0.5 * n.length()).sum();
+        assert!((area / std::f32::consts::PI - 1.0).abs() < 1e-3, "{area}");
+        for (p, n, uv) in triangles(&disk) {
+            assert!(n.z > 0.0, "the disk faces +z");
+            for (p, uv) in p.iter().zip(uv) {
+                // u = r exactly; v = φ/2π wherever φ is defined (v = 1 closes the seam).
+                assert!((uv[0] - p.length()).abs() < 1e-6, "{p} {uv:?}");
+                let phi = p.y.atan2(p.x).rem_euclid(std::f32::consts::TAU) / std::f32::consts::TAU;
+                assert!(p.length() < 1e-6 || (uv[1] - phi).abs() < 1e-5 || (uv[1] - 1.0).abs() < 1e-6, "{p} {uv:?}");
+            }
         }
-        let tris = cylinder_triangles(Vec3::ZERO, Vec3::new(0.0, 0.0, 2.0), 0.5);
-        for (t, n) in &tris {
-            let centroid = (t[0] + t[1] + t[2]) / 3.0;
-            let outward = Vec3::new(centroid.x, centroid.y, 0.0);
-            assert!(n[0].dot(outward) > 0.0 && (t[1] - t[0]).cross(t[2] - t[0]).dot(outward) > 0.0);
+    }
+
+    #[test]
+    fn the_cylinder_faces_out_with_uv_angle_and_height() {
+        let cylinder = mitsuba_cylinder(Vec3::ZERO, Vec3::new(0.0, 0.0, 2.0), 0.5);
+        let area: f32 = triangles(&cylinder).iter().map(|(_, n, _)| 0.5 * n.length()).sum();
+        assert!((area / (2.0 * std::f32::consts::PI) - 1.0).abs() < 1e-3, "{area}");
+        for (p, n, uv) in triangles(&cylinder) {
+            let centroid = (p[0] + p[1] + p[2]) / 3.0;
+            assert!(n.dot(Vec3::new(centroid.x, centroid.y, 0.0)) > 0.0, "outward");
+            for (p, uv) in p.iter().zip(uv) {
+                assert!((uv[1] - p.z / 2.0).abs() < 1e-6, "{p} {uv:?}");
+                let phi = p.y.atan2(p.x).rem_euclid(std::f32::consts::TAU) / std::f32::consts::TAU;
+                assert!((uv[0] - phi).abs() < 1e-5 || (uv[0] - 1.0).abs() < 1e-6, "{p} {uv:?}");
+            }
+        }
+        let normals = cylinder.normals.unwrap();
+        assert!(normals.iter().all(|n| Vec3::from(*n).z == 0.0 && (Vec3::from(*n).length() - 1.0).abs() < 1e-6));
+    }
+
+    #[test]
+    fn the_cube_is_closed_faces_out_and_maps_each_face_onto_the_unit_square() {
+        let cube = mitsuba_cube();
+        let found = triangles(&cube);
+        assert_eq!(found.len(), 12);
+        // The divergence theorem: Σ (centroid · n) / 3 over the faces is the volume, 8.
+        let volume: f32 = found.iter().map(|(p, n, _)| (p[0] + p[1] + p[2]).dot(*n) / 18.0).sum();
+        assert!((volume - 8.0).abs() < 1e-5, "{volume}");
+        for (p, n, uv) in found {
+            assert!(n.dot(p[0] + p[1] + p[2]) > 0.0, "outward");
+            let corners = uv.iter().flatten().all(|&x| x == 0.0 || x == 1.0);
+            assert!(corners, "{uv:?}");
         }
     }
 
