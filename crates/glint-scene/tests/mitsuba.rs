@@ -915,8 +915,10 @@ fn shapes_carry_mitsubas_texture_coordinates() {
     std::fs::write(path.with_file_name("quad.ply"), ply).unwrap();
     let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
     let (a, s) = (0.5f32.to_radians().cos(), 0.5f32.to_radians().sin());
+    // (shape, origin, direction, Mitsuba's uv)
+    type Probe = (&'static str, [f32; 3], [f32; 3], [f32; 2]);
     #[rustfmt::skip]
-    let rays: [(&str, [f32; 3], [f32; 3], [f32; 2]); 18] = [
+    let rays: [Probe; 18] = [
         ("ply", [-9.5, -0.5, 5.0], [0.0, 0.0, -1.0], [0.75, 0.25]),
         ("ply", [-10.8, 0.6, 5.0], [0.0, 0.0, -1.0], [0.1, 0.8]),
         ("sphere", [-4.7, 0.4, 5.0], [0.0, 0.0, -1.0], [0.147584, 0.108173]),
@@ -946,6 +948,77 @@ fn shapes_carry_mitsubas_texture_coordinates() {
             "{shape} from {origin:?}: glint {uv}, Mitsuba {expected:?}"
         );
     }
+}
+
+/// A Mitsuba `.vol` file of `n`³ samples of `f` over the unit cube, `channels` copies of each.
+fn vol_file(n: usize, channels: usize, f: impl Fn(Vec3) -> f32) -> Vec<u8> {
+    let mut bytes = b"VOL\x03".to_vec();
+    for k in [1, n, n, n, channels] {
+        bytes.extend_from_slice(&(k as i32).to_le_bytes());
+    }
+    // A box of its own, which Mitsuba (and glint) ignore for an sdfgrid.
+    for b in [-3.0f32, -3.0, -3.0, 5.0, 5.0, 5.0] {
+        bytes.extend_from_slice(&b.to_le_bytes());
+    }
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                let v = f(Vec3::new(x as f32, y as f32, z as f32) / (n - 1) as f32);
+                (0..channels).for_each(|_| bytes.extend_from_slice(&v.to_le_bytes()));
+            }
+        }
+    }
+    bytes
+}
+
+/// An `sdfgrid` placed as the suite's `various_shapes` places its torus: in a shapegroup,
+/// through an instance's `to_world`. The grid spans the unit cube whatever box its file
+/// names; here it samples a sphere of radius 0.3 about the cube's centre, so the instance
+/// (scaled by 2, moved by (3, 0, 0)) shows a sphere of radius 0.6 about (4, 1, 1).
+#[test]
+fn an_sdfgrid_is_the_zero_set_of_its_grid_placed_by_an_instance() {
+    let scene_with = |name: &str, file: &str, shape_extra: &str| {
+        let path = scene_file(
+            name,
+            &format!(
+                r#"<scene version="3.0.0">
+{SENSOR}
+<shape type="shapegroup" id="group">
+  <shape type="sdfgrid"><string name="filename" value="{file}"/>{shape_extra}</shape>
+</shape>
+<shape type="instance"><ref id="group"/><transform name="to_world"><scale value="2"/><translate x="3"/></transform></shape>
+</scene>
+"#
+            ),
+        );
+        std::fs::write(path.with_file_name("ball.vol"), vol_file(17, 1, |p| (p - Vec3::splat(0.5)).length() - 0.3))
+            .unwrap();
+        std::fs::write(path.with_file_name("ball3.vol"), vol_file(5, 3, |p| p.x - 0.5)).unwrap();
+        load_scene(&path)
+    };
+    let loaded = scene_with("sdfgrid", "ball.vol", "").unwrap_or_else(|e| panic!("{e}"));
+    let centre = Vec3::new(4.0, 1.0, 1.0);
+    for direction in [Vec3::X, -Vec3::Y, Vec3::new(1.0, 1.0, -1.0).normalize()] {
+        let ray = glint_core::geometry::Ray::new(centre - 5.0 * direction, direction);
+        let hit = loaded.scene.intersect(&ray).expect("the sdfgrid's sphere");
+        let radius = (hit.geometry.point - centre).length();
+        // Trilinear interpolation of a sphere's distances: within a tenth of a voxel (0.125).
+        assert!((radius - 0.6).abs() < 0.0125, "{direction}: radius {radius}");
+        // The geometric normal is one voxel's gradient (these rays run along voxel faces, where
+        // the two sides' differ); the smooth shading normal blends them.
+        assert!(hit.geometry.geometric_normal.dot(-direction) > 0.98, "{:?}", hit.geometry);
+        assert!(hit.geometry.shading_normal.dot(-direction) > 0.999, "{:?}", hit.geometry);
+    }
+    // What glint cannot do with it is refused at the shape's line.
+    let e = scene_with("sdfgrid-normals", "ball.vol", r#"<string name="normals" value="flat"/>"#)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("sdfgrid-normals.xml:4:") && e.contains("`smooth` or `analytic`"), "{e}");
+    let e = scene_with("sdfgrid-emitter", "ball.vol", r#"<emitter type="area"/>"#).err().unwrap().to_string();
+    assert!(e.contains("sdfgrid-emitter.xml:4:") && e.contains("an emitter inside a shapegroup"), "{e}");
+    let e = scene_with("sdfgrid-rgb", "ball3.vol", "").err().unwrap().to_string();
+    assert!(e.contains("3 channels; an SDF grid has one"), "{e}");
 }
 
 /// `rawconstant`: the value as it is (a vector or a float, nothing clamped or converted),

@@ -17,6 +17,7 @@ mod instance;
 mod mesh;
 mod plane;
 mod polygon;
+mod sdf_grid;
 mod sphere;
 mod triangle;
 
@@ -26,6 +27,7 @@ pub use instance::{Instance, InstancedGeometry};
 pub use mesh::{Mesh, MeshAttribute};
 pub use plane::Plane;
 pub use polygon::{inverse_bilinear, Polygon, PolygonTest, PolygonUvError};
+pub use sdf_grid::{SdfGrid, SdfNormals};
 pub(crate) use sphere::{sample_sphere, sample_sphere_seen_from, sphere_solid_angle_from, Ellipsoid};
 pub use sphere::{Sphere, SphereMethod};
 pub(crate) use triangle::{barycentric_point8, barycentrics, sample_triangle, triangle_point_along, TriangleSurface};
@@ -111,6 +113,9 @@ pub enum Shape {
     /// Closed solids combined by union, intersection and difference (boxed: a shape stays
     /// small).
     Csg(Box<Csg>),
+    /// The zero set of a grid of signed distances, one primitive per voxel it crosses
+    /// (shared: the grid can be large).
+    SdfGrid(std::sync::Arc<SdfGrid>),
 }
 
 impl Shape {
@@ -118,6 +123,7 @@ impl Shape {
     pub fn primitive_count(&self) -> u32 {
         match self {
             Shape::Mesh(m) => m.triangle_count() as u32,
+            Shape::SdfGrid(g) => g.primitive_count(),
             _ => 1,
         }
     }
@@ -133,6 +139,7 @@ impl Shape {
             Shape::Mesh(m) => Some(m.triangle_bounds(prim as usize)),
             Shape::Instance(i) => Some(i.bounds()),
             Shape::Csg(c) => Some(c.bounds()),
+            Shape::SdfGrid(g) => Some(g.bounds(prim)),
         }
     }
 
@@ -147,6 +154,7 @@ impl Shape {
             Shape::Mesh(m) => m.intersect(prim as usize, ray, methods.triangle),
             Shape::Instance(i) => i.intersect(ray),
             Shape::Csg(c) => c.intersect(ray, methods),
+            Shape::SdfGrid(g) => g.intersect(prim, ray),
         }
     }
 
@@ -162,7 +170,7 @@ impl Shape {
             Shape::Polygon(p) => p.tangents(),
             Shape::AaBox(b) => b.tangents(normal),
             Shape::Mesh(m) => m.tangents(prim as usize),
-            Shape::Instance(_) => (Vec3::ZERO, Vec3::ZERO),
+            Shape::Instance(_) | Shape::SdfGrid(_) => (Vec3::ZERO, Vec3::ZERO),
             // `prim` is the solid (a hit's `inner`).
             Shape::Csg(c) => c.tangents(prim, point, normal),
         }
@@ -181,13 +189,14 @@ impl Shape {
             Shape::Mesh(m) => m.surface(prim as usize, hit),
             Shape::Instance(i) => i.surface(ray, hit),
             Shape::Csg(c) => c.surface(ray, hit),
+            Shape::SdfGrid(g) => g.surface(prim, ray, hit),
         }
     }
 
     /// The surface at `point` (in the shape's space) of primitive `prim`, a triangle's point
     /// read from `hit`'s barycentric coordinates instead: what a hit there finds, for a point
     /// no ray found (one sampled on a light). `None` for an instance and a CSG object, whose
-    /// surfaces need the ray.
+    /// surfaces need the ray, and for an SDF grid, which has no sampling routine.
     #[inline]
     pub fn surface_at(&self, prim: u32, point: Vec3, hit: &PrimHit) -> Option<SurfaceGeometry> {
         Some(match self {
@@ -197,7 +206,7 @@ impl Shape {
             Shape::Polygon(p) => p.surface(point),
             Shape::AaBox(b) => b.surface(point),
             Shape::Mesh(m) => m.surface(prim as usize, hit),
-            Shape::Instance(_) | Shape::Csg(_) => return None,
+            Shape::Instance(_) | Shape::Csg(_) | Shape::SdfGrid(_) => return None,
         })
     }
 
@@ -212,6 +221,7 @@ impl Shape {
             Shape::Mesh(_) => "mesh",
             Shape::Instance(_) => "instance",
             Shape::Csg(_) => "csg",
+            Shape::SdfGrid(_) => "sdfgrid",
         }
     }
 }

@@ -447,6 +447,7 @@ impl<'a> Translator<'a> {
                 "`flip_normals` on an emitter, a dielectric or a medium's boundary is not supported (it would swap the emitting side or the inside)",
             ));
         }
+        let emits = emission.is_some();
         let material = self.material_for(bsdf, emission, &shape.position)?;
         let span = shape.position.span.clone();
         // A shape Mitsuba parametrizes analytically, as a mesh carrying Mitsuba's uv.
@@ -541,11 +542,30 @@ impl<'a> Translator<'a> {
                 }
                 parametric(mitsuba_cylinder(p0, p1, radius), !face_normals)
             }
+            "sdfgrid" => {
+                if emits || has_media || flip_normals {
+                    return Err(self.error(
+                        &shape.position,
+                        "an sdfgrid can be neither an emitter (it has no sampling routine, in Mitsuba either) nor a medium's boundary, nor have its normals flipped",
+                    ));
+                }
+                let file = p.string(self, "filename")?.ok_or_else(|| {
+                    self.error(&shape.position, "<shape type=\"sdfgrid\"> needs a `filename` (a .vol file of one channel)")
+                })?;
+                let normals = p.string(self, "normals")?;
+                if let Some(n) = normals.as_deref().filter(|n| !matches!(*n, "smooth" | "analytic")) {
+                    return Err(self.error(
+                        &shape.position,
+                        format!("an sdfgrid's `normals` is `smooth` or `analytic`, not `{n}`"),
+                    ));
+                }
+                ShapeDesc::SdfGrid { file, normals, material, transform, name }
+            }
             _ => {
                 return Err(self.error(
                     &shape.position,
                     format!(
-                        "<shape type=\"{kind}\"> is not supported; glint reads obj, ply, rectangle, cube, sphere, disk and cylinder"
+                        "<shape type=\"{kind}\"> is not supported; glint reads obj, ply, serialized, rectangle, cube, sphere, disk, cylinder and sdfgrid"
                     ),
                 ))
             }
@@ -1422,7 +1442,8 @@ fn mitsuba_cube() -> MeshData {
     let mut data = MeshData::default();
     let mut uvs = Vec::new();
     // (axis, side, uv of the face's point l ∈ [0, 1]³)
-    let faces: [(usize, f32, fn(Vec3) -> [f32; 2]); 6] = [
+    type FaceUv = fn(Vec3) -> [f32; 2];
+    let faces: [(usize, f32, FaceUv); 6] = [
         (2, 1.0, |l| [l.y, l.x]),
         (2, -1.0, |l| [1.0 - l.y, l.x]),
         (0, 1.0, |l| [l.y, 1.0 - l.z]),

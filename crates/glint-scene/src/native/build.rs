@@ -21,8 +21,8 @@ use glint_core::media::{
 use glint_core::sampling::SamplerKind;
 use glint_core::scene::{Geometry, Object, SceneBuilder};
 use glint_core::shapes::{
-    AaBox, Csg, CsgOperation, CsgSolid, CsgTree, Instance, IntersectMethods, Mesh, Plane, Polygon, Shape, Sphere,
-    Triangle,
+    AaBox, Csg, CsgOperation, CsgSolid, CsgTree, Instance, IntersectMethods, Mesh, Plane, Polygon, SdfGrid, SdfNormals,
+    Shape, Sphere, Triangle,
 };
 use glint_core::textures::{
     AttributeTexture, Checker, ImageTexture, Marble, SolidChecker, TexelFilter, Texture, Wood, Wrap,
@@ -864,6 +864,22 @@ fn build_object(
             let mut oc = OperandContext { cx, materials, library, source, warnings, label: &label };
             let tree = csg_tree(&mut oc, &entry.span, operation, operands, None, None, "")?;
             Shape::Csg(Box::new(Csg::new(tree).map_err(|e| at("operands", e.to_string()))?))
+        }
+        ShapeDesc::SdfGrid { file, normals, .. } => {
+            let normals = match normals.as_deref() {
+                None => SdfNormals::default(),
+                Some(name) => SdfNormals::from_name(name).ok_or_else(|| {
+                    at("normals", format!("unknown normals `{name}`: expected {}", SdfNormals::names()))
+                })?,
+            };
+            let bytes = source.read(file).map_err(|m| at("file", format!("SDF grid file: {m}")))?;
+            let grid = crate::volume::read_vol(&bytes).map_err(|m| at("file", format!("`{file}`: {m}")))?;
+            if grid.channels != 1 {
+                return Err(at("file", format!("`{file}` has {} channels; an SDF grid has one", grid.channels)));
+            }
+            let sdf = SdfGrid::new(grid.resolution, grid.values, normals)
+                .map_err(|m| at("file", format!("`{file}`: {m}")))?;
+            Shape::SdfGrid(std::sync::Arc::new(sdf))
         }
         ShapeDesc::Mesh { file, data, shape_index, smooth, flip_v, compute_normals, .. } => {
             let (mut mesh, origin) =

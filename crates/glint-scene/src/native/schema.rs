@@ -757,6 +757,17 @@ pub enum ShapeDesc {
         transform: Vec<TransformOp>,
         name: Option<String>,
     },
+    /// The surface where a grid of signed distances over the unit cube changes sign (a
+    /// Mitsuba `.vol` file of one channel, its own box ignored: the grid spans [0, 1]³, placed
+    /// by `transform`); `normals` `smooth` (default) or `analytic`.
+    SdfGrid {
+        file: String,
+        normals: Option<String>,
+        material: String,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        name: Option<String>,
+    },
     /// Constructive solid geometry: `operation` (`union`, `intersection`, or `difference`: the
     /// first operand less the others) over two or more closed `operands`.
     Csg {
@@ -821,7 +832,8 @@ impl ShapeDesc {
             | ShapeDesc::Mesh { material, transform, name, .. }
             | ShapeDesc::Quad { material, transform, name, .. }
             | ShapeDesc::Instance { material, transform, name, .. }
-            | ShapeDesc::Csg { material, transform, name, .. } => (material, transform, name.as_deref()),
+            | ShapeDesc::Csg { material, transform, name, .. }
+            | ShapeDesc::SdfGrid { material, transform, name, .. } => (material, transform, name.as_deref()),
         }
     }
 
@@ -836,7 +848,8 @@ impl ShapeDesc {
             | ShapeDesc::Mesh { transform, name, .. }
             | ShapeDesc::Quad { transform, name, .. }
             | ShapeDesc::Instance { transform, name, .. }
-            | ShapeDesc::Csg { transform, name, .. } => (transform, name),
+            | ShapeDesc::Csg { transform, name, .. }
+            | ShapeDesc::SdfGrid { transform, name, .. } => (transform, name),
         }
     }
 
@@ -888,6 +901,7 @@ impl ShapeDesc {
             ShapeDesc::Quad { .. } => "quad",
             ShapeDesc::Instance { .. } => "instance",
             ShapeDesc::Csg { .. } => "csg",
+            ShapeDesc::SdfGrid { .. } => "sdf-grid",
         }
     }
 }
