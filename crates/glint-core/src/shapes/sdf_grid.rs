@@ -153,20 +153,50 @@ impl SdfGrid {
     }
 
     /// The first sign change of F along `ray` within voxel `prim` and `(t_min, t_max)`.
+    ///
+    /// F at the voxel's entry and exit is read on the face the ray crosses, that coordinate
+    /// set exactly to 0 or 1: the neighbour across the face computes the same point (the
+    /// planes and their t are shared bit for bit) and, with lerps exact at 0 and 1, the same
+    /// value. Read off each voxel's own cubic instead, the two could differ in sign where the
+    /// surface meets the face, and a ray would slip between them.
     pub fn intersect(&self, prim: u32, ray: &Ray) -> Option<PrimHit> {
         let v = self.voxel(prim);
-        let (t0, t1) = self.voxel_box(v).slab_interval(ray.origin, ray.direction.recip());
-        let (t0, t1) = (t0.max(ray.t_min), t1.min(ray.t_max));
+        let bounds = self.voxel_box(v);
+        let inv = ray.direction.recip();
+        let (to_min, to_max) = ((bounds.min - ray.origin) * inv, (bounds.max - ray.origin) * inv);
+        let undefined = to_min.is_nan_mask() | to_max.is_nan_mask();
+        let near = Vec3::select(undefined, Vec3::NEG_INFINITY, to_min.min(to_max));
+        let far = Vec3::select(undefined, Vec3::INFINITY, to_min.max(to_max));
+        let (entry_axis, exit_axis) = (arg_max(near), arg_min(far));
+        let (mut t0, mut t1) = (near[entry_axis], far[exit_axis]);
+        // The face crossed on entry and exit (none where the ray's own ends cut the voxel).
+        let (mut entry_face, mut exit_face) = (Some(entry_axis), Some(exit_axis));
+        if t0 <= ray.t_min {
+            (t0, entry_face) = (ray.t_min, None);
+        }
+        if t1 >= ray.t_max {
+            (t1, exit_face) = (ray.t_max, None);
+        }
         if t0.is_nan() || t1.is_nan() || t0 > t1 {
             return None;
         }
-        // Voxel coordinates along the ray from its entry: q(s) = a + s·b, s = t − t0.
         let scale = self.scale();
         let corner = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
-        let a = (ray.origin + t0 * ray.direction) * scale - corner;
-        let b = ray.direction * scale;
-        let cubic = along_ray(&self.corners(v), a, b);
-        let s = first_sign_change(&cubic, t1 - t0)?;
+        let corners = self.corners(v);
+        let local = |t: f32, face: Option<usize>, side_of: fn(f32) -> bool| {
+            let mut q = ((ray.origin + t * ray.direction) * scale - corner).clamp(Vec3::ZERO, Vec3::ONE);
+            if let Some(axis) = face {
+                // The face the ray crosses: 1 on the voxel's far side along the axis.
+                q[axis] = if side_of(ray.direction[axis]) { 1.0 } else { 0.0 };
+            }
+            q
+        };
+        let a = local(t0, entry_face, |d| d < 0.0);
+        let exit = local(t1, exit_face, |d| d > 0.0);
+        // Voxel coordinates along the ray from its entry: q(s) = a + s·b, s = t − t0.
+        let cubic = along_ray(&corners, a, ray.direction * scale);
+        let ends = (trilinear(&corners, a), trilinear(&corners, exit));
+        let s = first_sign_change(&cubic, t1 - t0, ends)?;
         let t = t0 + s;
         (t > ray.t_min && t < ray.t_max).then_some(PrimHit::at(t))
     }
@@ -236,14 +266,17 @@ impl SdfGrid {
         let corners = self.corners(v);
         let size: f32 = corners.iter().map(|c| c.abs()).sum();
         let along = gamma(8) * size / gradient.length().max(f32::MIN_POSITIVE);
-        let error = gamma(4) * (ray.origin.abs() + (hit.t * ray.direction).abs()) + Vec3::splat(along.min(1.0));
+        // (At most a voxel: where the gradient vanishes, the root says nothing finer.)
+        let voxel = 1.0 / self.scale().max_element();
+        let error = gamma(4) * (ray.origin.abs() + (hit.t * ray.direction).abs()) + Vec3::splat(along.min(voxel));
         SurfaceGeometry { point, geometric_normal, shading_normal, uv: Vec2::ZERO, error }
     }
 }
 
 /// Trilinear interpolation of corners (index dx + 2·dy + 4·dz) at `f` ∈ [0, 1]³.
 fn trilinear(c: &[f32; 8], f: Vec3) -> f32 {
-    let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+    // (1 − t)·a + t·b: exactly a at t = 0 and b at t = 1, so voxels sharing a face agree on it.
+    let lerp = |a: f32, b: f32, t: f32| (1.0 - t) * a + t * b;
     let x: [f32; 4] = std::array::from_fn(|i| lerp(c[2 * i], c[2 * i + 1], f.x));
     let y = [lerp(x[0], x[1], f.y), lerp(x[2], x[3], f.y)];
     lerp(y[0], y[1], f.z)
@@ -282,14 +315,29 @@ fn along_ray(c: &[f32; 8], a: Vec3, b: Vec3) -> [f32; 4] {
     [f0[0] + d[0] * a.z, f0[1] + d[0] * b.z + d[1] * a.z, f0[2] + d[1] * b.z + d[2] * a.z, d[2] * b.z]
 }
 
+fn arg_max(v: Vec3) -> usize {
+    if v.x >= v.y && v.x >= v.z {
+        0
+    } else if v.y >= v.z {
+        1
+    } else {
+        2
+    }
+}
+
+fn arg_min(v: Vec3) -> usize {
+    arg_max(-v)
+}
+
 fn cubic_at(c: &[f32; 4], s: f32) -> f32 {
     ((c[3] * s + c[2]) * s + c[1]) * s + c[0]
 }
 
 /// The first s ∈ [0, length] where the cubic changes sign (or is zero), if any: the roots of
 /// its derivative split [0, length] into pieces where it is monotonic, and the first piece
-/// whose ends differ in sign holds the root, found by bisection to the last bit.
-fn first_sign_change(c: &[f32; 4], length: f32) -> Option<f32> {
+/// whose ends differ in sign holds the root, found by bisection to the last bit. `ends` are
+/// F at s = 0 and s = `length` as read directly, which decide the signs there.
+fn first_sign_change(c: &[f32; 4], length: f32, ends_f: (f32, f32)) -> Option<f32> {
     let mut ends = [0.0, length, length, length];
     let mut count = 1;
     // F'(s) = c1 + 2 c2 s + 3 c3 s².
@@ -311,9 +359,9 @@ fn first_sign_change(c: &[f32; 4], length: f32) -> Option<f32> {
     }
     ends[count] = length;
     let mut near = 0.0;
-    let mut f_near = cubic_at(c, near);
-    for &far in &ends[1..=count] {
-        let f_far = cubic_at(c, far);
+    let mut f_near = ends_f.0;
+    for (i, &far) in ends[1..=count].iter().enumerate() {
+        let f_far = if i + 1 == count { ends_f.1 } else { cubic_at(c, far) };
         if f_near == 0.0 {
             return Some(near);
         }
@@ -428,16 +476,18 @@ mod tests {
     #[test]
     fn the_first_sign_change_is_found_even_with_three_roots() {
         // (s − 0.2)(s − 0.5)(s − 0.8): the first root, not a later one.
+        let ends = |c: &[f32; 4], length: f32| (cubic_at(c, 0.0), cubic_at(c, length));
         let c = [-0.08, 0.66, -1.5, 1.0];
-        assert!((first_sign_change(&c, 1.0).unwrap() - 0.2).abs() < 1e-6);
+        assert!((first_sign_change(&c, 1.0, ends(&c, 1.0)).unwrap() - 0.2).abs() < 1e-6);
         // Past the first root: the second.
         let shifted = [cubic_at(&c, 0.3), 3.0 * 0.09 - 3.0 * 0.3 + 0.66, 3.0 * 0.3 - 1.5, 1.0];
-        assert!((first_sign_change(&shifted, 0.7).unwrap() - 0.2).abs() < 1e-5);
+        assert!((first_sign_change(&shifted, 0.7, ends(&shifted, 0.7)).unwrap() - 0.2).abs() < 1e-5);
         // A double root that does not cross: (s − 0.5)² + 0.01 never changes sign.
-        assert_eq!(first_sign_change(&[0.26, -1.0, 1.0, 0.0], 1.0), None);
+        let never = [0.26, -1.0, 1.0, 0.0];
+        assert_eq!(first_sign_change(&never, 1.0, ends(&never, 1.0)), None);
         // Two close crossings either side of the minimum that splits them: (s − 0.49)(s − 0.51).
         let close = [0.49 * 0.51, -1.0, 1.0, 0.0];
-        assert!((first_sign_change(&close, 1.0).unwrap() - 0.49).abs() < 1e-6);
+        assert!((first_sign_change(&close, 1.0, ends(&close, 1.0)).unwrap() - 0.49).abs() < 1e-6);
     }
 
     #[test]
@@ -485,6 +535,44 @@ mod tests {
             let (prim, hit) = closest(&grid, &inside).expect("the wall from inside");
             assert!((hit.t - 0.3).abs() < 2e-3);
             assert!(grid.surface(prim, &inside, &hit).geometric_normal.dot(d) > 0.99);
+        }
+    }
+
+    /// Where the surface meets a voxel face, the two voxels must agree on F's sign there, or
+    /// a ray slips between them; far-off origins (a small grid scaled down in a big scene)
+    /// round the two voxels' entry and exit points apart. Each ray comes from outside toward a
+    /// point of the surface lying on a face, so its first hit is that point.
+    #[test]
+    fn rays_meeting_the_surface_on_a_voxel_face_do_not_slip_through() {
+        let grid = sphere_grid(33, SdfNormals::Smooth);
+        let centre = Vec3::splat(0.5);
+        let mut rng = TestRng(21);
+        for i in 0..1200 {
+            // The face z = k/32 through the ball, and the surface on it by bisection on F
+            // along a line from the ball's axis outward.
+            let z = rng.range(10.0, 23.0).floor() / 32.0;
+            let angle = rng.range(0.0, std::f32::consts::TAU);
+            let (mut inside, mut outside) = (0.0f32, 0.45f32);
+            let on_face = |r: f32| Vec3::new(0.5 + r * angle.cos(), 0.5 + r * angle.sin(), z);
+            for _ in 0..60 {
+                let mid = 0.5 * (inside + outside);
+                if grid.eval(on_face(mid)) < 0.0 {
+                    inside = mid;
+                } else {
+                    outside = mid;
+                }
+            }
+            let p = on_face(outside);
+            let outward = (p - centre).normalize();
+            let d = -(outward + 0.4 * rng.unit_vector()).normalize();
+            if d.dot(outward) > -0.5 {
+                continue;
+            }
+            let distance = [30.0, 300.0, 1000.0][i % 3];
+            let ray = Ray::new(p - distance * d, d);
+            let hit = closest(&grid, &ray).map(|(_, h)| h.t);
+            // Slipping through would hit the far side, some 0.2 further on, or nothing.
+            assert!(hit.is_some_and(|t| (t - distance).abs() < 1e-3 * distance.max(1.0)), "{hit:?} vs {distance}");
         }
     }
 

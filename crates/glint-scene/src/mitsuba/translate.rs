@@ -479,8 +479,13 @@ impl<'a> Translator<'a> {
                     }
                 };
                 // Mitsuba's OBJ loader turns v over (v ← 1 − v) unless told not to; its PLY
-                // and serialized loaders keep v as it is (checked against Mitsuba 3.9).
-                let flip_v = kind == "obj" && p.boolean(self, "flip_tex_coords")?.unwrap_or(true);
+                // loader only when told to, its serialized loader never (checked against
+                // Mitsuba 3.9).
+                let flip_v = match kind {
+                    "obj" => p.boolean(self, "flip_tex_coords")?.unwrap_or(true),
+                    "ply" => p.boolean(self, "flip_tex_coords")?.unwrap_or(false),
+                    _ => false,
+                };
                 // Mitsuba makes smooth normals for a file without them.
                 ShapeDesc::Mesh {
                     interior,
