@@ -6,7 +6,7 @@
 //! Each voxel whose eight corners do not all share a sign is one primitive, so the scene's
 //! BVH culls voxels as it culls triangles. Within a voxel F along the ray is a cubic in t;
 //! its first sign change is isolated between the roots of its derivative and then narrowed by
-//! bisection (Marmitt et al. 2004, "Fast and accurate ray-voxel intersection techniques for
+//! Newton's method kept in the bracket (Marmitt et al. 2004, "Fast and accurate ray-voxel intersection techniques for
 //! iso-surface ray tracing"). A ray that grazes the surface without crossing it misses, as in
 //! Mitsuba. The grid's faces are not a surface: a solid cut by the cube's boundary is open
 //! there.
@@ -195,7 +195,12 @@ impl SdfGrid {
         let exit = local(t1, exit_face, |d| d > 0.0);
         // Voxel coordinates along the ray from its entry: q(s) = a + s·b, s = t − t0.
         let cubic = along_ray(&corners, a, ray.direction * scale);
-        let ends = (trilinear(&corners, a), trilinear(&corners, exit));
+        let mut ends = (trilinear(&corners, a), trilinear(&corners, exit));
+        if ends.0 == 0.0 && entry_face.is_none() {
+            // The ray starts on the surface (t_min excludes that crossing): the sign just
+            // after it decides the next.
+            ends.0 = cubic_at(&cubic, (t1 - t0) * 1e-6);
+        }
         let s = first_sign_change(&cubic, t1 - t0, ends)?;
         let t = t0 + s;
         (t > ray.t_min && t < ray.t_max).then_some(PrimHit::at(t))
@@ -212,6 +217,10 @@ impl SdfGrid {
     /// around the nearest grid vertex (each read at `s`'s other coordinates on its two faces
     /// along an axis, clamped to the grid), blended trilinearly; voxels before the grid's start
     /// count as zero and the blend gives the inner ones full weight there.
+    ///
+    /// A voxel's gradient along an axis depends on its index along that axis only (F is one
+    /// continuous function, read on the voxel's two faces at `s`'s other coordinates), so the
+    /// eight gradients come from F on three planes per axis: nine reads, not forty-eight.
     fn smooth_normal(&self, s: Vec3) -> Vec3 {
         let rounded = s.round();
         let first = rounded - Vec3::ONE;
@@ -222,21 +231,24 @@ impl SdfGrid {
             }
         }
         let scale = self.scale();
+        // slope[a][i]: ∂F/∂a in the voxel first[a] + i along a.
+        let slope: [[f32; 2]; 3] = std::array::from_fn(|a| {
+            let plane = |k: f32| {
+                let mut q = s;
+                q[a] = k;
+                self.eval(q / scale)
+            };
+            let f = [plane(first[a]), plane(first[a] + 1.0), plane(first[a] + 2.0)];
+            [(f[1] - f[0]) * scale[a], (f[2] - f[1]) * scale[a]]
+        });
         let mut blend = Vec3::ZERO;
         for i in 0..8 {
-            let offset = Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, (i >> 2) as f32);
-            let voxel = first + offset;
-            if voxel.cmplt(Vec3::ZERO).any() {
+            let offset = [i & 1, (i >> 1) & 1, i >> 2];
+            if (0..3).any(|a| first[a] + (offset[a] as f32) < 0.0) {
                 continue;
             }
-            let mut g = Vec3::ZERO;
-            for a in 0..3 {
-                let (mut near, mut far) = (s, s);
-                near[a] = voxel[a];
-                far[a] = voxel[a] + 1.0;
-                g[a] = (self.eval(far / scale) - self.eval(near / scale)) * scale[a];
-            }
-            let weight: f32 = (0..3).map(|a| if offset[a] == 0.0 { 1.0 - w[a] } else { w[a] }).product();
+            let g = Vec3::new(slope[0][offset[0]], slope[1][offset[1]], slope[2][offset[2]]);
+            let weight: f32 = (0..3).map(|a| if offset[a] == 0 { 1.0 - w[a] } else { w[a] }).product();
             blend += weight * g.normalize_or_zero();
         }
         blend
@@ -335,7 +347,7 @@ fn cubic_at(c: &[f32; 4], s: f32) -> f32 {
 
 /// The first s ∈ [0, length] where the cubic changes sign (or is zero), if any: the roots of
 /// its derivative split [0, length] into pieces where it is monotonic, and the first piece
-/// whose ends differ in sign holds the root, found by bisection to the last bit. `ends` are
+/// whose ends differ in sign holds the root, narrowed by `refine`. `ends` are
 /// F at s = 0 and s = `length` as read directly, which decide the signs there.
 fn first_sign_change(c: &[f32; 4], length: f32, ends_f: (f32, f32)) -> Option<f32> {
     let mut ends = [0.0, length, length, length];
@@ -366,7 +378,7 @@ fn first_sign_change(c: &[f32; 4], length: f32, ends_f: (f32, f32)) -> Option<f3
             return Some(near);
         }
         if f_near * f_far <= 0.0 {
-            return Some(bisect(c, near, far, f_near));
+            return Some(refine(c, near, far, f_near));
         }
         (near, f_near) = (far, f_far);
     }
@@ -374,24 +386,33 @@ fn first_sign_change(c: &[f32; 4], length: f32, ends_f: (f32, f32)) -> Option<f3
 }
 
 /// The sign change of the cubic in [lo, hi] (F(lo) = `f_lo` ≠ 0 and F(hi) of the other sign
-/// or zero), to where the interval cannot be halved further.
-fn bisect(c: &[f32; 4], mut lo: f32, mut hi: f32, f_lo: f32) -> f32 {
+/// or zero, F monotonic between): Newton's steps, kept inside the shrinking bracket by
+/// bisection where a step would leave it, until a step moves less than 2⁻²² of the bracket
+/// it started from (a few steps: the cubic is smooth and monotonic there).
+fn refine(c: &[f32; 4], mut lo: f32, mut hi: f32, f_lo: f32) -> f32 {
+    let tolerance = (hi - lo) * 2f32.powi(-22);
+    let mut s = 0.5 * (lo + hi);
     for _ in 0..64 {
-        let mid = 0.5 * (lo + hi);
-        if mid <= lo || mid >= hi {
-            break;
+        let f = cubic_at(c, s);
+        if f == 0.0 {
+            return s;
         }
-        let f_mid = cubic_at(c, mid);
-        if f_mid == 0.0 {
-            return mid;
-        }
-        if (f_mid > 0.0) == (f_lo > 0.0) {
-            lo = mid;
+        if (f > 0.0) == (f_lo > 0.0) {
+            lo = s;
         } else {
-            hi = mid;
+            hi = s;
         }
+        let slope = (3.0 * c[3] * s + 2.0 * c[2]) * s + c[1];
+        let mut next = s - f / slope;
+        if !(next > lo && next < hi) {
+            next = 0.5 * (lo + hi);
+        }
+        if (next - s).abs() <= tolerance || next <= lo || next >= hi {
+            return next;
+        }
+        s = next;
     }
-    0.5 * (lo + hi)
+    s
 }
 
 #[cfg(test)]
@@ -401,15 +422,21 @@ mod tests {
 
     /// A grid of `n`³ samples of `f` over the unit cube.
     fn sampled(n: usize, normals: SdfNormals, f: impl Fn(Vec3) -> f32) -> SdfGrid {
-        let mut values = Vec::with_capacity(n * n * n);
-        for z in 0..n {
-            for y in 0..n {
-                for x in 0..n {
-                    values.push(f(Vec3::new(x as f32, y as f32, z as f32) / (n - 1) as f32));
+        sampled_sized([n; 3], normals, f)
+    }
+
+    /// A grid of `size` samples of `f` over the unit cube.
+    fn sampled_sized(size: [usize; 3], normals: SdfNormals, f: impl Fn(Vec3) -> f32) -> SdfGrid {
+        let mut values = Vec::with_capacity(size.iter().product());
+        let step = Vec3::new(size[0] as f32 - 1.0, size[1] as f32 - 1.0, size[2] as f32 - 1.0);
+        for z in 0..size[2] {
+            for y in 0..size[1] {
+                for x in 0..size[0] {
+                    values.push(f(Vec3::new(x as f32, y as f32, z as f32) / step));
                 }
             }
         }
-        SdfGrid::new([n; 3], values, normals).unwrap()
+        SdfGrid::new(size, values, normals).unwrap()
     }
 
     fn sphere_grid(n: usize, normals: SdfNormals) -> SdfGrid {
@@ -490,9 +517,11 @@ mod tests {
         assert!((first_sign_change(&close, 1.0, ends(&close, 1.0)).unwrap() - 0.49).abs() < 1e-6);
     }
 
+    /// On a grid whose sides differ (9 × 11 × 7), so that a voxel decoded along the wrong axis
+    /// shows.
     #[test]
     fn hits_agree_with_marching_the_interpolant() {
-        let grid = sampled(9, SdfNormals::Analytic, |p| {
+        let grid = sampled_sized([9, 11, 7], SdfNormals::Analytic, |p| {
             // A torus about z: major radius 0.28, minor 0.1, centred in the cube.
             let q = p - Vec3::splat(0.5);
             Vec2::new(Vec2::new(q.x, q.y).length() - 0.28, q.z).length() - 0.1
@@ -613,6 +642,73 @@ mod tests {
                 // Only a genuine far-side hit of the convex sphere is impossible here.
                 panic!("self-hit at t = {} from {origin}", again.t);
             }
+        }
+    }
+
+    /// A ray starting exactly on the surface (F = 0 at its origin, which `t_min` excludes)
+    /// finds the next crossing in the same voxel, not none: F = 4(x − ½)(y − ½) − ¼ is zero at
+    /// (¼, ¼) and (¾, ¾) along the diagonal.
+    #[test]
+    fn a_ray_starting_on_the_surface_finds_the_next_crossing_in_its_voxel() {
+        let corners = [0.75, -1.25, -1.25, 0.75];
+        let values = [corners, corners].concat();
+        let grid = SdfGrid::new([2, 2, 2], values, SdfNormals::Analytic).unwrap();
+        let ray = Ray::new(Vec3::new(0.25, 0.25, 0.5), Vec3::new(1.0, 1.0, 0.0));
+        assert_eq!(grid.eval(ray.origin), 0.0);
+        let hit = grid.intersect(0, &ray).expect("the crossing at (¾, ¾)");
+        assert!((hit.t - 0.5).abs() < 1e-6, "{}", hit.t);
+    }
+
+    /// The smooth normal as Mitsuba states it, voxel by voxel: each of the eight voxels'
+    /// gradient read on its own faces (48 reads of F).
+    fn smooth_normal_by_voxels(grid: &SdfGrid, s: Vec3) -> Vec3 {
+        let rounded = s.round();
+        let first = rounded - Vec3::ONE;
+        let w = Vec3::select(first.cmplt(Vec3::ZERO), Vec3::ONE, s - rounded + Vec3::splat(0.5));
+        let scale = grid.scale();
+        let mut blend = Vec3::ZERO;
+        for i in 0..8 {
+            let offset = Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, (i >> 2) as f32);
+            let voxel = first + offset;
+            if voxel.cmplt(Vec3::ZERO).any() {
+                continue;
+            }
+            let g = Vec3::from_array(std::array::from_fn(|a| {
+                let (mut near, mut far) = (s, s);
+                near[a] = voxel[a];
+                far[a] = voxel[a] + 1.0;
+                (grid.eval(far / scale) - grid.eval(near / scale)) * scale[a]
+            }));
+            let weight: f32 = (0..3).map(|a| if offset[a] == 0.0 { 1.0 - w[a] } else { w[a] }).product();
+            blend += weight * g.normalize_or_zero();
+        }
+        blend
+    }
+
+    /// The nine-read smooth normal is the voxel-by-voxel one, on a grid whose sides differ
+    /// (so an axis mixed up anywhere shows), at points anywhere, the grid's faces included.
+    #[test]
+    fn smooth_normals_read_by_planes_are_mitsubas_voxel_by_voxel_blend() {
+        let size = [7, 9, 5];
+        let mut values = Vec::new();
+        for z in 0..size[2] {
+            for y in 0..size[1] {
+                for x in 0..size[0] {
+                    let p = Vec3::new(x as f32 / 6.0, y as f32 / 8.0, z as f32 / 4.0);
+                    values.push((p - Vec3::new(0.4, 0.55, 0.5)).length() - 0.3 + 0.05 * (7.0 * p.x).sin());
+                }
+            }
+        }
+        let grid = SdfGrid::new(size, values, SdfNormals::Smooth).unwrap();
+        let mut rng = TestRng(9);
+        for i in 0..2000 {
+            let mut p = rng.vec3(0.0, 1.0);
+            if i % 4 == 0 {
+                p[i % 3] = if i % 8 == 0 { 0.0 } else { 1.0 };
+            }
+            let s = p * grid.scale();
+            let (fast, slow) = (grid.smooth_normal(s), smooth_normal_by_voxels(&grid, s));
+            assert!((fast - slow).length() <= 1e-6 * (1.0 + slow.length()), "{p}: {fast} vs {slow}");
         }
     }
 

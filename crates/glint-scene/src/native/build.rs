@@ -92,7 +92,7 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
     let lights =
         file.lights.iter().enumerate().map(|(i, l)| build_light(&cx, i, l, &textures)).collect::<Result<_, _>>()?;
 
-    let mut library = MeshLibrary { descs: &file.meshes, built: Vec::new() };
+    let mut library = MeshLibrary { descs: &file.meshes, built: Vec::new(), sdf_grids: Vec::new() };
     let mut objects = Vec::new();
     for (i, entry) in file.shapes.iter().enumerate() {
         objects.push(build_object(&cx, i, entry, &materials, &mut library, source, &mut warnings)?);
@@ -571,10 +571,12 @@ fn falloff_of(f: FalloffDesc) -> Falloff {
     }
 }
 
-/// Named meshes for instancing, each loaded and given its BVH on first use, then shared.
+/// Named meshes for instancing, each loaded and given its BVH on first use, then shared; and
+/// SDF grids, each file read once however many shapes place it (a shapegroup's instances).
 struct MeshLibrary<'a> {
     descs: &'a std::collections::BTreeMap<String, Located<MeshDesc>>,
     built: Vec<(String, Arc<Geometry>)>,
+    sdf_grids: Vec<((String, SdfNormals), Arc<SdfGrid>)>,
 }
 
 impl MeshLibrary<'_> {
@@ -872,14 +874,25 @@ fn build_object(
                     at("normals", format!("unknown normals `{name}`: expected {}", SdfNormals::names()))
                 })?,
             };
-            let bytes = source.read(file).map_err(|m| at("file", format!("SDF grid file: {m}")))?;
-            let grid = crate::volume::read_vol(&bytes).map_err(|m| at("file", format!("`{file}`: {m}")))?;
-            if grid.channels != 1 {
-                return Err(at("file", format!("`{file}` has {} channels; an SDF grid has one", grid.channels)));
+            let key = (file.clone(), normals);
+            match library.sdf_grids.iter().find(|(k, _)| *k == key) {
+                Some((_, grid)) => Shape::SdfGrid(grid.clone()),
+                None => {
+                    let bytes = source.read(file).map_err(|m| at("file", format!("SDF grid file: {m}")))?;
+                    let grid = crate::volume::read_vol(&bytes).map_err(|m| at("file", format!("`{file}`: {m}")))?;
+                    if grid.channels != 1 {
+                        return Err(at(
+                            "file",
+                            format!("`{file}` has {} channels; an SDF grid has one", grid.channels),
+                        ));
+                    }
+                    let sdf = SdfGrid::new(grid.resolution, grid.values, normals)
+                        .map_err(|m| at("file", format!("`{file}`: {m}")))?;
+                    let sdf = Arc::new(sdf);
+                    library.sdf_grids.push((key, sdf.clone()));
+                    Shape::SdfGrid(sdf)
+                }
             }
-            let sdf = SdfGrid::new(grid.resolution, grid.values, normals)
-                .map_err(|m| at("file", format!("`{file}`: {m}")))?;
-            Shape::SdfGrid(std::sync::Arc::new(sdf))
         }
         ShapeDesc::Mesh { file, data, shape_index, smooth, flip_v, compute_normals, .. } => {
             let (mut mesh, origin) =
