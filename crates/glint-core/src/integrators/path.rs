@@ -116,6 +116,16 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
     a2 / (a2 + b2)
 }
 
+/// The MIS weight of emission at `hit`, reached by a direction sampled at `from` (shading
+/// normal `normal`, `None` in a medium) with density `pdf` per solid angle, against next-event
+/// estimation's density for the same point: what `path` and `volpath` add emission with.
+pub(crate) fn emission_weight(scene: &Scene, from: Vec3, normal: Option<Vec3>, pdf: f32, hit: &SurfaceHit) -> f32 {
+    let geometry = &hit.geometry;
+    let light_pdf =
+        scene.lights().pdf_area(from, normal, hit.object, hit.prim, geometry.point, geometry.geometric_normal);
+    power_heuristic(pdf, light_pdf)
+}
+
 /// `power_heuristic` in lanes.
 #[inline(always)]
 pub(crate) fn power_heuristic8(a: f32x8, b: f32x8) -> f32x8 {
@@ -200,20 +210,12 @@ impl PathTracer {
     ) -> Option<Ray> {
         recorder.vertex(path.depth, hit, path.throughput);
         let vertex = Vertex::at(scene, ray, *hit);
-        let (wo, geometric) = (vertex.wo, hit.geometry.geometric_normal);
+        let wo = vertex.wo;
         let emitted = vertex.emitted();
         if emitted != Rgb::ZERO {
             let weight = match path.previous {
                 Some(from) if !from.delta => {
-                    let light_pdf = scene.lights().pdf_area(
-                        from.point,
-                        Some(from.shading_normal),
-                        hit.object,
-                        hit.prim,
-                        hit.geometry.point,
-                        geometric,
-                    );
-                    power_heuristic(from.pdf, light_pdf)
+                    emission_weight(scene, from.point, Some(from.shading_normal), from.pdf, hit)
                 }
                 _ => 1.0,
             };

@@ -22,7 +22,7 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::path::{power_heuristic, BounceDraws};
+use super::path::{emission_weight, power_heuristic, BounceDraws};
 use super::vertex::Vertex;
 use super::volume_photons::VolumePhotons;
 use super::{Integrator, IntegratorSettings, SampleContext};
@@ -165,17 +165,7 @@ impl Integrator for VolPathTracer {
             let emitted = vertex.emitted();
             if emitted != Rgb::ZERO {
                 let weight = match previous {
-                    Some(from) if !from.delta => {
-                        let light_pdf = scene.lights().pdf_area(
-                            from.point,
-                            from.normal,
-                            hit.object,
-                            hit.prim,
-                            hit.geometry.point,
-                            geometric,
-                        );
-                        power_heuristic(from.pdf, light_pdf)
-                    }
+                    Some(from) if !from.delta => emission_weight(scene, from.point, from.normal, from.pdf, &hit),
                     _ => 1.0,
                 };
                 radiance += throughput * emitted * weight;
