@@ -12,8 +12,9 @@ use glint_core::integrators::recorder::{RayRecord, RayTree};
 use glint_core::integrators::whitted::{DEPTH_CEILING, TREE_RAY_LIMIT};
 use glint_core::integrators::{
     IntegratorKind, IntegratorSettings, LightTracer, NaivePathTracer, ParticleExplanation, PathTracer, PhotonMapper,
-    SampleContext, Sppm, SppmExplanation, Whitted,
+    SampleContext, Sppm, SppmExplanation, VolPathTracer, Whitted,
 };
+use glint_core::media::MediumKind;
 use glint_core::photons::NearestPhotons;
 use glint_core::sampling::Rng;
 use glint_core::scene::Scene;
@@ -46,12 +47,12 @@ pub struct ExplainArgs {
     #[arg(long)]
     transparent_shadows: bool,
     /// Which integrator's path to show: `whitted` (the default: the ray tree), `path`,
-    /// `path-naive` or `photon` (the path of the pixel's first sample: each vertex, its
-    /// emission, light sample or photon-map estimate, BSDF sample and roulette, and what each
-    /// adds to the pixel), `light` (the particles of the first pass that land in the pixel,
+    /// `path-naive`, `photon` or `volpath` (the path of the pixel's first sample: each vertex,
+    /// in a medium too, its emission, light sample or photon-map estimate, BSDF or phase sample
+    /// and roulette, and what each adds to the pixel), `light` (the particles of the first pass that land in the pixel,
     /// their paths and splats) or `sppm` (the first pass's camera path to its visible point,
     /// and the photons gathered there).
-    #[arg(long, default_value = "whitted", value_parser = ["whitted", "path", "path-naive", "photon", "light", "sppm"])]
+    #[arg(long, default_value = "whitted", value_parser = ["whitted", "path", "path-naive", "photon", "volpath", "volphoton", "light", "sppm"])]
     integrator: String,
     /// The seed of the sample streams (default: the scene's), as for `render`.
     #[arg(long)]
@@ -150,11 +151,10 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
         }
         return Ok(());
     }
-    if matches!(args.integrator.as_str(), "volpath" | "volphoton") {
-        return Err(CliError::Setting(format!(
-            "explain does not follow {}'s paths yet (its media events are not recorded); explain the surfaces with `--integrator path`",
-            args.integrator
-        )));
+    if args.integrator == "volphoton" {
+        return Err(CliError::Setting(
+            "explain does not follow volphoton's paths yet (its photon estimates in media are not recorded); `--integrator volpath` explains the same scene's paths".into(),
+        ));
     }
     if args.integrator != "whitted" {
         let pass = Pass {
@@ -212,6 +212,7 @@ pub fn explain_path(
         match kind {
             IntegratorKind::PathNaive => "naive path tracer's (light found only by hitting it)",
             IntegratorKind::Photon => "photon mapper's (through delta bounces, estimated at each diffuse surface)",
+            IntegratorKind::VolPath => "volume path tracer's (scattering in media and at surfaces)",
             _ => "path tracer's",
         },
         pass.seed,
@@ -267,6 +268,18 @@ fn write_events(out: &mut String, scene: &Scene, log: &PathLog, kind: Integrator
                 v(*direction),
                 v(*weight),
                 v(*throughput)
+            ),
+            PathEvent::Medium { depth, point, medium, throughput } => writeln!(
+                out,
+                "vertex {depth}: scattered in medium {medium} ({}) at {}, throughput {} (σ_s and the flight's weight included)",
+                medium_kind(scene, *medium),
+                v(*point),
+                v(*throughput)
+            ),
+            PathEvent::Phase { direction, pdf } => writeln!(
+                out,
+                "  phase-function sample toward {}, pdf {pdf:.6}, weight 1 (sampled exactly)",
+                v(*direction)
             ),
             PathEvent::Roulette { survival, survived } => writeln!(
                 out,
@@ -519,6 +532,7 @@ fn trace_path(
                 &mut context,
             )
         }
+        IntegratorKind::VolPath => VolPathTracer::new(settings).explain(scene, &ray, &mut context),
         _ => PathTracer::new(settings).explain(scene, &ray, &mut context),
     };
     Ok((ray, radiance, log))
@@ -526,7 +540,8 @@ fn trace_path(
 
 /// `explain_path` as JSON: `{"pixel", "integrator", "seed", "camera_ray": {"origin",
 /// "direction"}, "events": [{"event": "vertex" | "emission" | "light_sample" | "scatter" |
-/// "roulette" | "escape" | "end", …}], "value"}`, colours and vectors as [x, y, z].
+/// "medium" | "phase" | "roulette" | "escape" | "end", …}], "value"}`, colours and vectors as
+/// [x, y, z].
 pub fn path_json(
     scene: &Scene,
     (ray, radiance, log): &(Ray, Rgb, PathLog),
@@ -565,6 +580,11 @@ pub fn path_json(
             PathEvent::Roulette { survival, survived } => {
                 json!({ "event": "roulette", "survival": survival, "survived": survived })
             }
+            PathEvent::Medium { depth, point, medium, throughput } => json!({
+                "event": "medium", "depth": depth, "point": a(*point),
+                "medium": medium, "medium_kind": medium_kind(scene, *medium), "throughput": a(*throughput),
+            }),
+            PathEvent::Phase { direction, pdf } => json!({ "event": "phase", "direction": a(*direction), "pdf": pdf }),
             PathEvent::Escape { radiance, mis_weight, added } => json!({
                 "event": "escape", "radiance": a(*radiance), "mis_weight": mis_weight, "added": a(*added),
             }),
@@ -593,7 +613,7 @@ pub fn path_ply(scene: &Scene, (ray, _, log): &(Ray, Rgb, PathLog), x: u32, y: u
     let reach = if bounds.is_empty() { 1.0 } else { bounds.extent().length().clamp(1.0, 1e6) };
     for event in &log.events {
         match event {
-            PathEvent::Vertex { point, .. } => {
+            PathEvent::Vertex { point, .. } | PathEvent::Medium { point, .. } => {
                 points.push(*point);
                 edges.push((previous, points.len() - 1));
                 previous = points.len() - 1;
@@ -602,7 +622,7 @@ pub fn path_ply(scene: &Scene, (ray, _, log): &(Ray, Rgb, PathLog), x: u32, y: u
                 points.push(l.point.unwrap_or(points[previous] + l.direction));
                 edges.push((previous, points.len() - 1));
             }
-            PathEvent::Scatter { direction, .. } => last_direction = *direction,
+            PathEvent::Scatter { direction, .. } | PathEvent::Phase { direction, .. } => last_direction = *direction,
             PathEvent::Escape { .. } => {
                 points.push(points[previous] + last_direction * reach);
                 edges.push((previous, points.len() - 1));
@@ -627,6 +647,15 @@ fn line_set(points: &[Vec3], edges: &[(usize, usize)], comment: &str) -> String 
         let _ = writeln!(out, "{a} {b}");
     }
     out
+}
+
+/// What kind of medium the scene's medium `index` is.
+fn medium_kind(scene: &Scene, index: u32) -> &'static str {
+    match scene.media().get(index as usize).map(|m| &m.kind) {
+        Some(MediumKind::Homogeneous(_)) => "homogeneous",
+        Some(MediumKind::Grid(_)) => "grid",
+        None => "?",
+    }
 }
 
 /// A colour printed so that it reads back to the same bits.

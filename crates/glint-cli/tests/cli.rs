@@ -368,8 +368,9 @@ fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// `glint explain` for every Monte Carlo integrator on a second scene (glass on a floor), and
-/// for light tracing and SPPM on the Cornell box too: the last line is the pixel `render --spp
+/// `glint explain` for every Monte Carlo integrator on a second scene (glass on a floor), for
+/// light tracing and SPPM on the Cornell box too, and for volume path tracing on two fog
+/// scenes (its paths scatter in the media): the last line is the pixel `render --spp
 /// 1` computes, bit for bit, and the lines that add sum to it: light tracing's splats into the
 /// pixel; SPPM's light samples to its direct light, which the gather's estimate completes.
 #[test]
@@ -392,8 +393,10 @@ fn explain_of_every_integrator_adds_up_on_two_scenes() {
         ("caustic-glass.toml", "sppm", [(24, 30), (22, 36)]),
         ("cornell-box.toml", "light", [(24, 30), (30, 44)]),
         ("cornell-box.toml", "sppm", [(24, 30), (10, 20)]),
+        ("fog-box.toml", "volpath", [(30, 30), (24, 20)]),
+        ("fog.toml", "volpath", [(24, 15), (10, 20)]),
     ];
-    let (mut particles, mut gathered) = (0, 0);
+    let (mut particles, mut gathered, mut in_media) = (0, 0, 0);
     for (file, kind, pixels) in runs {
         let scene = scenes.join(file);
         let out = dir.join(format!("{kind}.pfm"));
@@ -434,9 +437,11 @@ fn explain_of_every_integrator_adds_up_on_two_scenes() {
                 }
                 _ => assert!(close(sum_after(&text, "→ adds"), total), "{what}: {text}"),
             }
+            in_media += text.lines().filter(|l| l.contains(": scattered in medium ")).count();
         }
     }
     assert!(particles >= 3 && gathered >= 4, "{particles} particles, {gathered} gathers shown");
+    assert!(in_media >= 2, "{in_media} scattering events in media shown");
     // As JSON and as a PLY line set.
     let scene = scenes.join("cornell-box.toml");
     let scene = scene.to_str().unwrap();

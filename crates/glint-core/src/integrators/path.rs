@@ -18,7 +18,6 @@ use super::path_record::{LightSampleRecord, PathEnd, PathRecorder, TracesPaths};
 use super::vertex::Vertex;
 use super::{Integrator, IntegratorSettings, SampleContext};
 use crate::geometry::Ray;
-use crate::lights::LightEnd;
 use crate::materials::Bsdf;
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceHit};
@@ -359,18 +358,7 @@ fn next_event(
         return none;
     }
     context.rays.shadow += 1;
-    let point = match light.end {
-        LightEnd::Surface { point, .. } | LightEnd::Point(point) => Some(point),
-        LightEnd::Infinite => None,
-    };
-    let record = |mis_weight: f32, occluded: bool| LightSampleRecord {
-        direction: light.direction,
-        point,
-        pdf: light.pdf,
-        mis_weight,
-        occluded,
-        added: Rgb::ZERO,
-    };
+    let record = |mis_weight: f32, occluded: bool| LightSampleRecord::new(&light, mis_weight, occluded, Rgb::ZERO);
     if scene.occluded(&hit.spawn_shadow_ray(&light)) {
         return NextEvent { contribution: Rgb::ZERO, sample: Some(record(0.0, true)) };
     }

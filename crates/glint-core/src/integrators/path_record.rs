@@ -1,5 +1,6 @@
-//! What the path tracer reports about each vertex of a path, so one code path both renders and
-//! explains (`glint explain --integrator path`). `()` records nothing and compiles away;
+//! What the path tracers (`path`, `path-naive`, `volpath`, photon mapping's camera paths)
+//! report about each vertex of a path, so one code path both renders and explains
+//! (`glint explain --integrator path`). `()` records nothing and compiles away;
 //! `PathLog` keeps every event of one path, and the radiance each adds to the pixel, so the
 //! explanation adds up to the value the render computes.
 
@@ -7,6 +8,7 @@ use glam::Vec3;
 
 use super::SampleContext;
 use crate::geometry::Ray;
+use crate::lights::{LightEnd, LightSample};
 use crate::materials::BsdfSample;
 use crate::scene::{Scene, SurfaceHit};
 use crate::Rgb;
@@ -47,6 +49,16 @@ pub struct LightSampleRecord {
     pub added: Rgb,
 }
 
+impl LightSampleRecord {
+    pub(crate) fn new(light: &LightSample, mis_weight: f32, occluded: bool, added: Rgb) -> Self {
+        let point = match light.end {
+            LightEnd::Surface { point, .. } | LightEnd::Point(point) => Some(point),
+            LightEnd::Infinite => None,
+        };
+        Self { direction: light.direction, point, pdf: light.pdf, mis_weight, occluded, added }
+    }
+}
+
 /// Photon mapping's estimate at a diffuse vertex: direct light by light sampling, caustics from
 /// the caustic map, indirect light by final gathering (none at the last bounce), and what
 /// their sum adds to the pixel (the path's throughput included).
@@ -82,6 +94,12 @@ pub trait PathRecorder {
     fn scatter(&mut self, _sample: &BsdfSample, _throughput: Rgb) {}
     /// Russian roulette's survival probability and verdict.
     fn roulette(&mut self, _survival: f32, _survived: bool) {}
+    /// A real scattering collision in medium `medium` at `point`, the `depth`-th scattering of
+    /// the path (volume path tracing), the path's throughput after it (σ_s and the flight's
+    /// weight included).
+    fn medium(&mut self, _depth: u32, _point: Vec3, _medium: u32, _throughput: Rgb) {}
+    /// The phase function's sample (its weight is 1: sampled exactly) and its density.
+    fn phase(&mut self, _direction: Vec3, _pdf: f32) {}
     /// The environment found by a ray that left the scene, its MIS weight, what it adds.
     fn escape(&mut self, _radiance: Rgb, _mis_weight: f32, _added: Rgb) {}
     fn end(&mut self, _why: PathEnd) {}
@@ -99,6 +117,8 @@ pub enum PathEvent {
     Gather(GatherRecord),
     Scatter { direction: Vec3, weight: Rgb, pdf: f32, delta: bool, throughput: Rgb },
     Roulette { survival: f32, survived: bool },
+    Medium { depth: u32, point: Vec3, medium: u32, throughput: Rgb },
+    Phase { direction: Vec3, pdf: f32 },
     Escape { radiance: Rgb, mis_weight: f32, added: Rgb },
     End(PathEnd),
 }
@@ -141,6 +161,12 @@ impl PathRecorder for PathLog {
     }
     fn roulette(&mut self, survival: f32, survived: bool) {
         self.events.push(PathEvent::Roulette { survival, survived });
+    }
+    fn medium(&mut self, depth: u32, point: Vec3, medium: u32, throughput: Rgb) {
+        self.events.push(PathEvent::Medium { depth, point, medium, throughput });
+    }
+    fn phase(&mut self, direction: Vec3, pdf: f32) {
+        self.events.push(PathEvent::Phase { direction, pdf });
     }
     fn escape(&mut self, radiance: Rgb, mis_weight: f32, added: Rgb) {
         self.events.push(PathEvent::Escape { radiance, mis_weight, added });

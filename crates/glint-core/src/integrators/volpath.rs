@@ -23,6 +23,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::path::{emission_weight, power_heuristic, BounceDraws};
+use super::path_record::{LightSampleRecord, PathEnd, PathRecorder, TracesPaths};
 use super::vertex::Vertex;
 use super::volume_photons::VolumePhotons;
 use super::{Integrator, IntegratorSettings, SampleContext};
@@ -64,6 +65,18 @@ const MAX_CROSSINGS: usize = 256;
 
 impl Integrator for VolPathTracer {
     fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
+        self.trace(scene, camera_ray, context, &mut ())
+    }
+}
+
+impl TracesPaths for VolPathTracer {
+    fn trace(
+        &self,
+        scene: &Scene,
+        camera_ray: &Ray,
+        context: &mut SampleContext,
+        recorder: &mut impl PathRecorder,
+    ) -> Rgb {
         // The media's tracking draws many numbers: an independent stream per sample, seeded
         // by the sampler (deterministic for the seed, at any thread count).
         let seed = ((context.sampler.next_f32() as f64 * 4294967296.0) as u64) << 32
@@ -75,11 +88,11 @@ impl Integrator for VolPathTracer {
         let mut depth = 0u32;
         let mut ray = Ray::new(camera_ray.origin, camera_ray.direction.normalize());
         let mut crossings = 0usize;
-        loop {
+        let end = loop {
             context.rays.reflection += 1;
             let hit = scene.intersect(&ray);
             let t_max = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
-            if let Some(m) = medium.map(|i| &scene.media()[i as usize]) {
+            if let Some((index, m)) = medium.map(|i| (i, &scene.media()[i as usize])) {
                 match m.flight(ray.origin, ray.direction, t_max, &mut rng) {
                     Flight::Scattered { t, weight } => {
                         let point = ray.origin + t * ray.direction;
@@ -87,11 +100,17 @@ impl Integrator for VolPathTracer {
                         // An emitting medium's light along the flight, estimated at its
                         // collision (no light sampling finds it, so it counts in full).
                         if m.emission != Rgb::ZERO {
-                            radiance += throughput * weight * sigma_a * m.emission;
+                            let added = throughput * weight * sigma_a * m.emission;
+                            radiance += added;
+                            recorder.emission(weight * sigma_a * m.emission, 1.0, added);
                         }
                         throughput *= weight * sigma_s;
-                        if depth >= self.max_depth || throughput == Rgb::ZERO {
-                            break;
+                        recorder.medium(depth, point, index, throughput);
+                        if depth >= self.max_depth {
+                            break PathEnd::Depth;
+                        }
+                        if throughput == Rgb::ZERO {
+                            break PathEnd::Absorbed;
                         }
                         // Light sampling from the medium, against phase sampling.
                         let (u_select, u) = BounceDraws::light(&mut context.sampler);
@@ -101,32 +120,36 @@ impl Integrator for VolPathTracer {
                                 context.rays.shadow += 1;
                                 let shadow = shadow_ray_from(point, &light);
                                 let tr = transmittance(scene, shadow, medium, &mut rng);
-                                if tr != Rgb::ZERO {
-                                    // Without phase sampling after it (photons), in full.
-                                    let w = if light.delta || self.photons.is_some() {
-                                        1.0
-                                    } else {
-                                        power_heuristic(light.pdf, f)
-                                    };
-                                    radiance += throughput * light.radiance * tr * (f * w / light.pdf);
-                                }
+                                // Without phase sampling after it (photons), in full.
+                                let w = if light.delta || self.photons.is_some() {
+                                    1.0
+                                } else {
+                                    power_heuristic(light.pdf, f)
+                                };
+                                let added = if tr != Rgb::ZERO {
+                                    throughput * light.radiance * tr * (f * w / light.pdf)
+                                } else {
+                                    Rgb::ZERO
+                                };
+                                radiance += added;
+                                recorder.light_sample(LightSampleRecord::new(&light, w, tr == Rgb::ZERO, added));
                             }
                         }
                         if let Some(photons) = &self.photons {
                             // The rest of the light scattered here, ∫ p L dω', from the
                             // medium's photons (the throughput holds σ_s).
-                            let in_medium = medium.expect("a flight happens in a medium");
-                            radiance += throughput * photons.in_scattered(in_medium, point, ray.direction, &m.phase);
-                            break;
+                            radiance += throughput * photons.in_scattered(index, point, ray.direction, &m.phase);
+                            break PathEnd::Absorbed;
                         }
                         let (_, u) = BounceDraws::scatter(&mut context.sampler);
                         let sample = m.phase.sample(ray.direction, u);
+                        recorder.phase(sample.outgoing, sample.pdf);
                         previous = Some(Previous { point, normal: None, pdf: sample.pdf, delta: false });
                         ray = Ray::new(point, sample.outgoing);
                         depth += 1;
                         crossings = 0;
-                        if depth > self.rr_depth && !roulette(&mut throughput, eta_scale, context) {
-                            break;
+                        if depth > self.rr_depth && !roulette(&mut throughput, eta_scale, context, recorder) {
+                            break PathEnd::Roulette;
                         }
                         continue;
                     }
@@ -142,15 +165,17 @@ impl Integrator for VolPathTracer {
                     _ => None,
                 };
                 let (background, weight) = seen.unwrap_or_else(|| (scene.environment().radiance(ray.direction), 1.0));
-                radiance += throughput * background * weight;
-                break;
+                let added = throughput * background * weight;
+                radiance += added;
+                recorder.escape(background, weight, added);
+                break PathEnd::Escaped;
             };
             let material = &scene.materials()[hit.material as usize];
             if material.is_null() {
                 // A medium's boundary: cross it, the path unchanged but for its medium.
                 crossings += 1;
                 if crossings > MAX_CROSSINGS {
-                    break;
+                    break PathEnd::Absorbed;
                 }
                 // An object without an interface keeps the path's medium.
                 let interface = scene.medium_interface(hit.object);
@@ -160,6 +185,7 @@ impl Integrator for VolPathTracer {
                 ray = hit.spawn_ray(ray.direction);
                 continue;
             }
+            recorder.vertex(depth, &hit, throughput);
             let vertex = Vertex::at(scene, &ray, hit);
             let (wo, geometric) = (vertex.wo, hit.geometry.geometric_normal);
             let emitted = vertex.emitted();
@@ -168,7 +194,9 @@ impl Integrator for VolPathTracer {
                     Some(from) if !from.delta => emission_weight(scene, from.point, from.normal, from.pdf, &hit),
                     _ => 1.0,
                 };
-                radiance += throughput * emitted * weight;
+                let added = throughput * emitted * weight;
+                radiance += added;
+                recorder.emission(emitted, weight, added);
             }
             let bsdf = vertex.bsdf();
             let passable = bsdf.null_transmission(wo) != Rgb::ZERO;
@@ -176,7 +204,7 @@ impl Integrator for VolPathTracer {
             // is no bounce (as in Mitsuba), and the light beyond still counts.
             let last = depth >= self.max_depth;
             if last && !passable {
-                break;
+                break PathEnd::Depth;
             }
             let interface = scene.medium_interface(hit.object);
             let has_interface = interface != MediumInterface::default();
@@ -195,26 +223,28 @@ impl Integrator for VolPathTracer {
                             medium_toward(light.direction),
                             &mut rng,
                         );
-                        if tr != Rgb::ZERO {
-                            let w = if light.delta {
-                                1.0
-                            } else {
-                                power_heuristic(light.pdf, bsdf.pdf(wo, light.direction))
-                            };
-                            radiance += throughput * f * light.radiance * tr * (w / light.pdf);
-                        }
+                        let w =
+                            if light.delta { 1.0 } else { power_heuristic(light.pdf, bsdf.pdf(wo, light.direction)) };
+                        let added = if tr != Rgb::ZERO {
+                            throughput * f * light.radiance * tr * (w / light.pdf)
+                        } else {
+                            Rgb::ZERO
+                        };
+                        radiance += added;
+                        recorder.light_sample(LightSampleRecord::new(&light, w, tr == Rgb::ZERO, added));
                     }
                 }
             }
             let (u_lobe, u) = BounceDraws::scatter(&mut context.sampler);
-            let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break };
+            let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break PathEnd::Absorbed };
             throughput *= sample.weight;
+            recorder.scatter(&sample, throughput);
             if bsdf.is_null_event(wo, &sample) {
                 // Straight through a thin sheet: a boundary crossed, as a null surface is (no
                 // bounce; emission beyond is weighed against the last real scattering).
                 crossings += 1;
                 if crossings > MAX_CROSSINGS || throughput == Rgb::ZERO {
-                    break;
+                    break PathEnd::Absorbed;
                 }
                 medium = medium_toward(sample.wi);
                 ray = hit.spawn_ray(sample.wi);
@@ -222,7 +252,7 @@ impl Integrator for VolPathTracer {
             }
             crossings = 0;
             if last {
-                break;
+                break PathEnd::Depth;
             }
             eta_scale *= sample.eta_squared;
             previous = Some(Previous {
@@ -233,23 +263,35 @@ impl Integrator for VolPathTracer {
             });
             medium = medium_toward(sample.wi);
             depth += 1;
-            if depth > self.rr_depth && !roulette(&mut throughput, eta_scale, context) {
-                break;
+            if depth > self.rr_depth && !roulette(&mut throughput, eta_scale, context, recorder) {
+                break PathEnd::Roulette;
             }
             if throughput == Rgb::ZERO {
-                break;
+                break PathEnd::Absorbed;
             }
             ray = hit.spawn_ray(sample.wi.normalize());
-        }
+        };
+        recorder.end(end);
         radiance
     }
 }
 
 /// Russian roulette as the path tracer plays it (Mitsuba's rule), once a path has scattered
 /// more than `rr_depth` times (Mitsuba's `volpath` starts one bounce later than its `path`).
-fn roulette(throughput: &mut Rgb, eta_scale: f32, context: &mut SampleContext) -> bool {
+fn roulette(
+    throughput: &mut Rgb,
+    eta_scale: f32,
+    context: &mut SampleContext,
+    recorder: &mut impl PathRecorder,
+) -> bool {
     let survival = (throughput.max_element() * eta_scale).min(0.95);
-    if survival <= 0.0 || BounceDraws::roulette(&mut context.sampler) >= survival {
+    if survival <= 0.0 {
+        recorder.roulette(survival, false);
+        return false;
+    }
+    let survived = BounceDraws::roulette(&mut context.sampler) < survival;
+    recorder.roulette(survival, survived);
+    if !survived {
         return false;
     }
     *throughput /= survival;
