@@ -12,7 +12,7 @@ use glint_core::integrators::recorder::{RayRecord, RayTree};
 use glint_core::integrators::whitted::{DEPTH_CEILING, TREE_RAY_LIMIT};
 use glint_core::integrators::{
     IntegratorKind, IntegratorSettings, LightTracer, NaivePathTracer, ParticleExplanation, PathTracer, PhotonMapper,
-    SampleContext, Sppm, SppmExplanation, VolPathTracer, Whitted,
+    SampleContext, Sppm, SppmExplanation, VolPathTracer, VolumePhotons, Whitted,
 };
 use glint_core::media::MediumKind;
 use glint_core::photons::NearestPhotons;
@@ -47,8 +47,8 @@ pub struct ExplainArgs {
     #[arg(long)]
     transparent_shadows: bool,
     /// Which integrator's path to show: `whitted` (the default: the ray tree), `path`,
-    /// `path-naive`, `photon` or `volpath` (the path of the pixel's first sample: each vertex,
-    /// in a medium too, its emission, light sample or photon-map estimate, BSDF or phase sample
+    /// `path-naive`, `photon`, `volpath` or `volphoton` (the path of the pixel's first sample:
+    /// each vertex, in a medium too, its emission, light sample or photon-map estimate, BSDF or phase sample
     /// and roulette, and what each adds to the pixel), `light` (the particles of the first pass that land in the pixel,
     /// their paths and splats) or `sppm` (the first pass's camera path to its visible point,
     /// and the photons gathered there).
@@ -151,11 +151,6 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
         }
         return Ok(());
     }
-    if args.integrator == "volphoton" {
-        return Err(CliError::Setting(
-            "explain does not follow volphoton's paths yet (its photon estimates in media are not recorded); `--integrator volpath` explains the same scene's paths".into(),
-        ));
-    }
     if args.integrator != "whitted" {
         let pass = Pass {
             seed: args.seed.unwrap_or(loaded.render.seed),
@@ -213,6 +208,9 @@ pub fn explain_path(
             IntegratorKind::PathNaive => "naive path tracer's (light found only by hitting it)",
             IntegratorKind::Photon => "photon mapper's (through delta bounces, estimated at each diffuse surface)",
             IntegratorKind::VolPath => "volume path tracer's (scattering in media and at surfaces)",
+            IntegratorKind::VolPhoton => {
+                "volumetric photon mapper's (its photons shot first; the path stops at its first scattering in a medium)"
+            }
             _ => "path tracer's",
         },
         pass.seed,
@@ -281,6 +279,12 @@ fn write_events(out: &mut String, scene: &Scene, log: &PathLog, kind: Integrator
                 "  phase-function sample toward {}, pdf {pdf:.6}, weight 1 (sampled exactly)",
                 v(*direction)
             ),
+            PathEvent::MediumPhotons { in_scattered, added } => writeln!(
+                out,
+                "  the medium's photons here: the light scattered toward the camera ray (∫ p L dω', from the nearest photons) {} → adds {}",
+                v(*in_scattered),
+                full(*added)
+            ),
             PathEvent::Roulette { survival, survived } => writeln!(
                 out,
                 "  Russian roulette: survives with probability {survival:.6}: {}",
@@ -303,6 +307,12 @@ fn write_events(out: &mut String, scene: &Scene, log: &PathLog, kind: Integrator
                     }
                     PathEnd::Absorbed if kind == IntegratorKind::Sppm => {
                         "the camera path stops here (its visible point, if photons can be gathered here)"
+                    }
+                    PathEnd::Absorbed if kind == IntegratorKind::VolPhoton => {
+                        "the BSDF gave no direction, or, after a scattering in a medium, the photons estimate the rest"
+                    }
+                    PathEnd::Absorbed if kind == IntegratorKind::VolPhoton => {
+                        "the BSDF gave no direction, or, after a scattering in a medium, the photons estimate the rest"
                     }
                     PathEnd::Absorbed => "the BSDF gave no direction",
                     PathEnd::Roulette => "Russian roulette",
@@ -533,6 +543,15 @@ fn trace_path(
             )
         }
         IntegratorKind::VolPath => VolPathTracer::new(settings).explain(scene, &ray, &mut context),
+        IntegratorKind::VolPhoton => {
+            let photon = &settings.photon;
+            let (wanted, nearest) = (photon.global_photons as u64, photon.nearest as usize);
+            let never = std::sync::atomic::AtomicBool::new(false);
+            let photons =
+                VolumePhotons::shoot(scene, settings.max_depth, wanted, nearest, photon.max_radius, pass.seed, &never)?;
+            let tracer = VolPathTracer { photons: Some(std::sync::Arc::new(photons)), ..VolPathTracer::new(settings) };
+            tracer.explain(scene, &ray, &mut context)
+        }
         _ => PathTracer::new(settings).explain(scene, &ray, &mut context),
     };
     Ok((ray, radiance, log))
@@ -540,7 +559,7 @@ fn trace_path(
 
 /// `explain_path` as JSON: `{"pixel", "integrator", "seed", "camera_ray": {"origin",
 /// "direction"}, "events": [{"event": "vertex" | "emission" | "light_sample" | "scatter" |
-/// "medium" | "phase" | "roulette" | "escape" | "end", …}], "value"}`, colours and vectors as
+/// "medium" | "phase" | "medium_photons" | "roulette" | "escape" | "end", …}], "value"}`, colours and vectors as
 /// [x, y, z].
 pub fn path_json(
     scene: &Scene,
@@ -585,6 +604,9 @@ pub fn path_json(
                 "medium": medium, "medium_kind": medium_kind(scene, *medium), "throughput": a(*throughput),
             }),
             PathEvent::Phase { direction, pdf } => json!({ "event": "phase", "direction": a(*direction), "pdf": pdf }),
+            PathEvent::MediumPhotons { in_scattered, added } => {
+                json!({ "event": "medium_photons", "in_scattered": a(*in_scattered), "added": a(*added) })
+            }
             PathEvent::Escape { radiance, mis_weight, added } => json!({
                 "event": "escape", "radiance": a(*radiance), "mis_weight": mis_weight, "added": a(*added),
             }),

@@ -370,7 +370,7 @@ fn explain_of_a_path_adds_up_to_the_rendered_pixel() {
 
 /// `glint explain` for every Monte Carlo integrator on a second scene (glass on a floor), for
 /// light tracing and SPPM on the Cornell box too, and for volume path tracing on two fog
-/// scenes (its paths scatter in the media): the last line is the pixel `render --spp
+/// scenes and volumetric photon mapping on one (their paths scatter in the media): the last line is the pixel `render --spp
 /// 1` computes, bit for bit, and the lines that add sum to it: light tracing's splats into the
 /// pixel; SPPM's light samples to its direct light, which the gather's estimate completes.
 #[test]
@@ -395,6 +395,7 @@ fn explain_of_every_integrator_adds_up_on_two_scenes() {
         ("cornell-box.toml", "sppm", [(24, 30), (10, 20)]),
         ("fog-box.toml", "volpath", [(30, 30), (24, 20)]),
         ("fog.toml", "volpath", [(24, 15), (10, 20)]),
+        ("fog-box.toml", "volphoton", [(30, 30), (20, 26)]),
     ];
     let (mut particles, mut gathered, mut in_media) = (0, 0, 0);
     for (file, kind, pixels) in runs {
@@ -441,7 +442,7 @@ fn explain_of_every_integrator_adds_up_on_two_scenes() {
         }
     }
     assert!(particles >= 3 && gathered >= 4, "{particles} particles, {gathered} gathers shown");
-    assert!(in_media >= 2, "{in_media} scattering events in media shown");
+    assert!(in_media >= 3, "{in_media} scattering events in media shown");
     // As JSON and as a PLY line set.
     let scene = scenes.join("cornell-box.toml");
     let scene = scene.to_str().unwrap();

@@ -1,4 +1,4 @@
-//! What the path tracers (`path`, `path-naive`, `volpath`, photon mapping's camera paths)
+//! What the path tracers (`path`, `path-naive`, `volpath`, the photon mappers' camera paths)
 //! report about each vertex of a path, so one code path both renders and explains
 //! (`glint explain --integrator path`). `()` records nothing and compiles away;
 //! `PathLog` keeps every event of one path, and the radiance each adds to the pixel, so the
@@ -100,6 +100,9 @@ pub trait PathRecorder {
     fn medium(&mut self, _depth: u32, _point: Vec3, _medium: u32, _throughput: Rgb) {}
     /// The phase function's sample (its weight is 1: sampled exactly) and its density.
     fn phase(&mut self, _direction: Vec3, _pdf: f32) {}
+    /// Volumetric photon mapping's estimate at a medium collision: the light scattered there
+    /// (∫ p L dω', from the medium's nearest photons) and what it adds.
+    fn medium_photons(&mut self, _in_scattered: Rgb, _added: Rgb) {}
     /// The environment found by a ray that left the scene, its MIS weight, what it adds.
     fn escape(&mut self, _radiance: Rgb, _mis_weight: f32, _added: Rgb) {}
     fn end(&mut self, _why: PathEnd) {}
@@ -119,6 +122,7 @@ pub enum PathEvent {
     Roulette { survival: f32, survived: bool },
     Medium { depth: u32, point: Vec3, medium: u32, throughput: Rgb },
     Phase { direction: Vec3, pdf: f32 },
+    MediumPhotons { in_scattered: Rgb, added: Rgb },
     Escape { radiance: Rgb, mis_weight: f32, added: Rgb },
     End(PathEnd),
 }
@@ -133,7 +137,9 @@ impl PathLog {
     /// The sum of what the events add to the pixel, in the order the path tracer adds them.
     pub fn total(&self) -> Rgb {
         self.events.iter().fold(Rgb::ZERO, |sum, event| match event {
-            PathEvent::Emission { added, .. } | PathEvent::Escape { added, .. } => sum + *added,
+            PathEvent::Emission { added, .. }
+            | PathEvent::Escape { added, .. }
+            | PathEvent::MediumPhotons { added, .. } => sum + *added,
             PathEvent::Light(record) => sum + record.added,
             PathEvent::Gather(record) => sum + record.added,
             _ => sum,
@@ -167,6 +173,9 @@ impl PathRecorder for PathLog {
     }
     fn phase(&mut self, direction: Vec3, pdf: f32) {
         self.events.push(PathEvent::Phase { direction, pdf });
+    }
+    fn medium_photons(&mut self, in_scattered: Rgb, added: Rgb) {
+        self.events.push(PathEvent::MediumPhotons { in_scattered, added });
     }
     fn escape(&mut self, radiance: Rgb, mis_weight: f32, added: Rgb) {
         self.events.push(PathEvent::Escape { radiance, mis_weight, added });

@@ -138,7 +138,10 @@ impl TracesPaths for VolPathTracer {
                         if let Some(photons) = &self.photons {
                             // The rest of the light scattered here, ∫ p L dω', from the
                             // medium's photons (the throughput holds σ_s).
-                            radiance += throughput * photons.in_scattered(index, point, ray.direction, &m.phase);
+                            let in_scattered = photons.in_scattered(index, point, ray.direction, &m.phase);
+                            let added = throughput * in_scattered;
+                            radiance += added;
+                            recorder.medium_photons(in_scattered, added);
                             break PathEnd::Absorbed;
                         }
                         let (_, u) = BounceDraws::scatter(&mut context.sampler);
