@@ -104,7 +104,7 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
     settings.transparent_shadows |= args.transparent_shadows;
     if args.integrator == "whitted" && (args.json || args.ply.is_some()) {
         return Err(CliError::Setting(
-            "--json and --ply write a Monte Carlo integrator's paths: give --integrator path, path-naive, photon, light or sppm".into(),
+            "--json and --ply write a Monte Carlo integrator's paths: give --integrator path, path-naive, photon, volpath, volphoton, light or sppm".into(),
         ));
     }
     if args.integrator == "light" || args.integrator == "sppm" {
@@ -309,10 +309,10 @@ fn write_events(out: &mut String, scene: &Scene, log: &PathLog, kind: Integrator
                         "the camera path stops here (its visible point, if photons can be gathered here)"
                     }
                     PathEnd::Absorbed if kind == IntegratorKind::VolPhoton => {
-                        "the BSDF gave no direction, or, after a scattering in a medium, the photons estimate the rest"
+                        "the photons estimate the rest (after a scattering in a medium), or the BSDF gave no direction, or the throughput fell to zero"
                     }
-                    PathEnd::Absorbed if kind == IntegratorKind::VolPhoton => {
-                        "the BSDF gave no direction, or, after a scattering in a medium, the photons estimate the rest"
+                    PathEnd::Absorbed if kind == IntegratorKind::VolPath => {
+                        "the BSDF gave no direction, or the throughput fell to zero, or the path crossed more than 256 boundaries in a row"
                     }
                     PathEnd::Absorbed => "the BSDF gave no direction",
                     PathEnd::Roulette => "Russian roulette",
@@ -521,8 +521,8 @@ fn sppm_json(scene: &Scene, traced: &(Ray, Rgb, PathLog), e: &SppmExplanation, p
 }
 
 /// The camera ray of pixel (x, y)'s sample `pass.index`, the radiance along it, and the log of
-/// its path, by the path tracer, the naive one, or photon mapping (its maps shot first with
-/// the pass's seed, as a render shoots them).
+/// its path, by the path tracer, the naive one, the volume path tracer, or photon mapping on
+/// surfaces or in media (its photons shot first with the pass's seed, as a render shoots them).
 fn trace_path(
     scene: &Scene,
     settings: &IntegratorSettings,

@@ -99,13 +99,14 @@ impl TracesPaths for VolPathTracer {
                         let (sigma_s, sigma_a) = m.coefficients(point);
                         // An emitting medium's light along the flight, estimated at its
                         // collision (no light sampling finds it, so it counts in full).
+                        let scattered = throughput * (weight * sigma_s);
+                        recorder.medium(depth, point, index, scattered);
                         if m.emission != Rgb::ZERO {
                             let added = throughput * weight * sigma_a * m.emission;
                             radiance += added;
                             recorder.emission(weight * sigma_a * m.emission, 1.0, added);
                         }
-                        throughput *= weight * sigma_s;
-                        recorder.medium(depth, point, index, throughput);
+                        throughput = scattered;
                         if depth >= self.max_depth {
                             break PathEnd::Depth;
                         }
@@ -132,7 +133,13 @@ impl TracesPaths for VolPathTracer {
                                     Rgb::ZERO
                                 };
                                 radiance += added;
-                                recorder.light_sample(LightSampleRecord::new(&light, w, tr == Rgb::ZERO, added));
+                                let occluded = tr == Rgb::ZERO;
+                                recorder.light_sample(LightSampleRecord::new(
+                                    &light,
+                                    if occluded { 0.0 } else { w },
+                                    occluded,
+                                    added,
+                                ));
                             }
                         }
                         if let Some(photons) = &self.photons {
@@ -234,7 +241,13 @@ impl TracesPaths for VolPathTracer {
                             Rgb::ZERO
                         };
                         radiance += added;
-                        recorder.light_sample(LightSampleRecord::new(&light, w, tr == Rgb::ZERO, added));
+                        let occluded = tr == Rgb::ZERO;
+                        recorder.light_sample(LightSampleRecord::new(
+                            &light,
+                            if occluded { 0.0 } else { w },
+                            occluded,
+                            added,
+                        ));
                     }
                 }
             }
