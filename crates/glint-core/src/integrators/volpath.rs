@@ -127,19 +127,8 @@ impl TracesPaths for VolPathTracer {
                                 } else {
                                     power_heuristic(light.pdf, f)
                                 };
-                                let added = if tr != Rgb::ZERO {
-                                    throughput * light.radiance * tr * (f * w / light.pdf)
-                                } else {
-                                    Rgb::ZERO
-                                };
-                                radiance += added;
-                                let occluded = tr == Rgb::ZERO;
-                                recorder.light_sample(LightSampleRecord::new(
-                                    &light,
-                                    if occluded { 0.0 } else { w },
-                                    occluded,
-                                    added,
-                                ));
+                                let lit = || throughput * light.radiance * tr * (f * w / light.pdf);
+                                add_light_sample(&mut radiance, recorder, &light, w, tr, lit);
                             }
                         }
                         if let Some(photons) = &self.photons {
@@ -235,19 +224,8 @@ impl TracesPaths for VolPathTracer {
                         );
                         let w =
                             if light.delta { 1.0 } else { power_heuristic(light.pdf, bsdf.pdf(wo, light.direction)) };
-                        let added = if tr != Rgb::ZERO {
-                            throughput * f * light.radiance * tr * (w / light.pdf)
-                        } else {
-                            Rgb::ZERO
-                        };
-                        radiance += added;
-                        let occluded = tr == Rgb::ZERO;
-                        recorder.light_sample(LightSampleRecord::new(
-                            &light,
-                            if occluded { 0.0 } else { w },
-                            occluded,
-                            added,
-                        ));
+                        let lit = || throughput * f * light.radiance * tr * (w / light.pdf);
+                        add_light_sample(&mut radiance, recorder, &light, w, tr, lit);
                     }
                 }
             }
@@ -290,6 +268,23 @@ impl TracesPaths for VolPathTracer {
         recorder.end(end);
         radiance
     }
+}
+
+/// Adds what a light sample brings (`lit`, asked only if light came through the shadow ray:
+/// transmittance `tr` ≠ 0) to `radiance`, and tells the recorder (MIS weight `w`; 0 when
+/// occluded, as `path` records it).
+fn add_light_sample(
+    radiance: &mut Rgb,
+    recorder: &mut impl PathRecorder,
+    light: &LightSample,
+    w: f32,
+    tr: Rgb,
+    lit: impl FnOnce() -> Rgb,
+) {
+    let occluded = tr == Rgb::ZERO;
+    let added = if occluded { Rgb::ZERO } else { lit() };
+    *radiance += added;
+    recorder.light_sample(LightSampleRecord::new(light, if occluded { 0.0 } else { w }, occluded, added));
 }
 
 /// Russian roulette as the path tracer plays it (Mitsuba's rule), once a path has scattered
