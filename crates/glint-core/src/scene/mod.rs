@@ -1,8 +1,10 @@
 //! The scene and its query interface: closest hit and any hit. Integrators reach geometry only
 //! through these, so every integrator runs on every scene whichever reader built it.
 
+mod darkness;
 mod hit;
 
+pub use darkness::Darkness;
 pub use hit::SurfaceHit;
 pub(crate) use hit::{Spawn, SHADOW_EPSILON};
 
