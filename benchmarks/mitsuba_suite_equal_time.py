@@ -22,13 +22,13 @@ import argparse
 import json
 import os
 import re
-import shutil
 import statistics
 import subprocess
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SUITE = os.path.normpath(os.path.join(ROOT, "..", "shared", "mitsuba-suite"))
+# mitsuba-data's layout: each scene's `<path value="../../../common"/>` resolves in place.
+SUITE = os.path.normpath(os.path.join(ROOT, "..", "shared", "mitsuba-data", "tests"))
 
 # (group, scene file, samples per pixel): a glossy sphere under three kinds of light, shape
 # groups placed three times, and a hall of mirrors (long specular paths).
@@ -75,19 +75,6 @@ def relmse(image, reference):
     return float(np.mean((a - b) ** 2 / (b * b + 1e-2)))
 
 
-def stage(scratch, group):
-    """The group's scenes copied where their `<path value="../../../common"/>` finds the
-    suite's common folder (the shared copy sits one folder higher than that path assumes)."""
-    target = os.path.join(scratch, "a", "b", group)
-    if not os.path.exists(target):
-        shutil.copytree(os.path.join(SUITE, "scenes", group), target,
-                        ignore=shutil.ignore_patterns("refs"))
-        common = os.path.join(scratch, "common")
-        if not os.path.exists(common):
-            os.symlink(os.path.join(SUITE, "common"), common)
-    return target
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--mitsuba-python", required=True)
@@ -100,8 +87,7 @@ def main():
     rows = []
     with tempfile.TemporaryDirectory() as scratch:
         for group, name, spp in SCENES:
-            folder = stage(scratch, group)
-            path = os.path.join(folder, name)
+            path = os.path.join(SUITE, "scenes", group, name)
             stem = name[:-4]
             integrator = stem[stem.rfind("_") + 1:]
             base = stem[:stem.rfind("_")]

@@ -187,18 +187,17 @@ fn bonferroni_critical_values() {
     assert!((z_critical(768) - 4.36).abs() < 0.01, "{}", z_critical(768));
 }
 
-/// The Mitsuba reference and its variance at 64², or `None` (saying so) without ../shared.
-fn reference() -> Option<(Vec<Rgb>, Vec<Rgb>)> {
-    if !reference_dir().join("cbox_256.exr").exists() {
-        eprintln!("skipped: ../shared/references/cbox_256.exr not found");
-        return None;
-    }
-    Some((read_downsampled("cbox_256.exr", false), read_downsampled("cbox_256_var.exr", true)))
+/// The Mitsuba reference and its variance at 64². ../shared is part of the test set-up: a
+/// missing reference fails the test rather than skipping it.
+fn reference() -> (Vec<Rgb>, Vec<Rgb>) {
+    let file = reference_dir().join("cbox_256.exr");
+    assert!(file.exists(), "the Mitsuba reference must be at {} (../shared/references)", file.display());
+    (read_downsampled("cbox_256.exr", false), read_downsampled("cbox_256_var.exr", true))
 }
 
 #[test]
 fn path_tracer_matches_the_mitsuba_reference_and_the_naive_path_tracer() {
-    let Some(reference) = reference() else { return };
+    let reference = reference();
     let path = render_with_variance(IntegratorKind::Path, 1, SPP);
     check_against("path vs Mitsuba", &path, &reference, 4, true);
     // The naive tracer finds the small light only by chance: it needs more samples.
@@ -210,7 +209,7 @@ fn path_tracer_matches_the_mitsuba_reference_and_the_naive_path_tracer() {
 /// The light sampled by solid angle (spherical triangles) instead of by area: the same image.
 #[test]
 fn solid_angle_light_sampling_matches_the_mitsuba_reference() {
-    let Some(reference) = reference() else { return };
+    let reference = reference();
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
     let path = render_configured_with_variance(&scene, IntegratorKind::Path, 3, SPP, |s| {
         s.set_triangle_sampling(TriangleSampling::SolidAngle);
@@ -223,11 +222,8 @@ fn solid_angle_light_sampling_matches_the_mitsuba_reference() {
 #[test]
 fn mitsuba_xml_cornell_box_matches_the_mitsuba_reference() {
     let xml = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes/cbox.xml");
-    if !xml.exists() {
-        eprintln!("skipped: ../shared/scenes/cbox.xml not found");
-        return;
-    }
-    let Some(reference) = reference() else { return };
+    assert!(xml.exists(), "Mitsuba's Cornell box must be at {} (../shared/scenes)", xml.display());
+    let reference = reference();
     let loaded = glint_scene::load_scene(&xml).expect("cbox.xml loads");
     assert_eq!(loaded.render.integrator, IntegratorKind::Path);
     assert_eq!(loaded.render.integrator_settings.max_depth, u32::MAX, "max_depth -1 is unbounded");
@@ -239,7 +235,7 @@ fn mitsuba_xml_cornell_box_matches_the_mitsuba_reference() {
 /// in pbrt's format (left-handed, mirrored back by `Scale -1 1 1`).
 #[test]
 fn pbrt_cornell_box_matches_the_mitsuba_reference() {
-    let Some(reference) = reference() else { return };
+    let reference = reference();
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cbox.pbrt");
     let loaded = glint_scene::load_scene(&file).expect("cbox.pbrt loads");
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);

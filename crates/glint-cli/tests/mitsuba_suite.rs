@@ -1,4 +1,5 @@
-//! Mitsuba 3's own render regression suite (../shared/mitsuba-suite), judged the way Mitsuba's
+//! Mitsuba 3's own render regression suite (../shared/mitsuba-data, in mitsuba-data's own
+//! layout, so every path a scene names resolves with no search-path flag), judged the way Mitsuba's
 //! `src/render/tests/test_renders.py` judges its own variants: each scene rendered by the
 //! `glint` binary as Mitsuba's test calls it (`-D spp=2,000,000 / pixels`, `-D integrator=`
 //! the file name's suffix, seed 0), both images and the reference's per-sample variance in
@@ -6,9 +7,10 @@
 //! 99.75 % of the channels pass (`glint_cli::compare::z_test`, which `glint compare` runs).
 //!
 //! Every scene is rendered and scored, and the pass count printed (`cargo test --release
-//! --test mitsuba_suite -- --nocapture`). The test fails if a scene in `PASSING` no longer
-//! passes, if a scene passes that `PASSING` leaves out (so the list stays the truth), or if a
-//! scene glint cannot render does not say so in a clear message.
+//! --test mitsuba_suite -- --nocapture`). The test fails if the suite is not there (CI must
+//! never pass by skipping it), if a scene in `PASSING` no longer passes, if a scene passes that
+//! `PASSING` leaves out (so the list stays the truth), or if a scene glint cannot render does
+//! not say so in a clear message.
 
 mod common;
 
@@ -46,6 +48,7 @@ const PASSING: &[&str] = &[
     "test_mesh_attributes_1_face_direct",
     "test_mesh_attributes_3_face_direct",
     "test_mesh_attributes_3_vertex_direct",
+    "test_various_shapes_path",
     // The media group (its first scene has surfaces only).
     "test_surf_area_light_volpath",
     "test_homo_null_envmap_volpath",
@@ -64,14 +67,19 @@ const PASSING: &[&str] = &[
 /// Mitsuba's budget: samples per image, divided among its pixels.
 const SAMPLES_PER_IMAGE: u64 = 2_000_000;
 
+/// mitsuba-data's `tests/` folder: `scenes/<group>/…` beside the `obj/`, `ply/` and
+/// `serialized/` meshes that `various_shapes` names relative to its own folder.
 fn suite_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/mitsuba-suite")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/mitsuba-data/tests")
 }
 
 /// The suite's scenes (`scenes/<group>/<name>_<integrator>.xml`), by name, media included.
 fn scenes() -> Vec<PathBuf> {
+    let folder = suite_dir().join("scenes");
+    let groups = std::fs::read_dir(&folder)
+        .unwrap_or_else(|e| panic!("Mitsuba's suite must be at {} (../shared/mitsuba-data): {e}", folder.display()));
     let mut found = Vec::new();
-    for group in std::fs::read_dir(suite_dir().join("scenes")).expect("the suite's scenes folder").flatten() {
+    for group in groups.flatten() {
         for file in std::fs::read_dir(group.path()).into_iter().flatten().flatten() {
             let path = file.path();
             if path.extension().is_some_and(|e| e == "xml") {
@@ -116,12 +124,9 @@ fn run(scene: &Path, out: &Path) -> Outcome {
     let spp = (SAMPLES_PER_IMAGE / (reference.width as u64 * reference.height as u64)).max(1);
     let stem = name(scene);
     let integrator = &stem[stem.rfind('_').unwrap() + 1..];
-    let common = suite_dir().join("common");
     let output = common::glint(&[
         "render",
         scene.to_str().unwrap(),
-        "-a",
-        common.to_str().unwrap(),
         "-D",
         &format!("spp={spp}"),
         "-D",
@@ -145,20 +150,18 @@ fn run(scene: &Path, out: &Path) -> Outcome {
 
 #[test]
 fn the_mitsuba_suite() {
-    if !suite_dir().join("scenes").exists() {
-        eprintln!("skipped: ../shared/mitsuba-suite not found");
-        return;
-    }
+    let all = scenes();
+    assert_eq!(all.len(), 41, "Mitsuba's suite has 41 scenes with RGB references");
     let scratch = common::temp_dir("mitsuba-suite");
     let (mut passed, mut surface, mut surface_passed, mut problems) = (Vec::new(), 0, 0, Vec::new());
-    for scene in scenes() {
-        let stem = name(&scene);
-        surface += usize::from(!needs_media(&scene));
-        match run(&scene, &scratch.join(format!("{stem}.exr"))) {
+    for scene in &all {
+        let stem = name(scene);
+        surface += usize::from(!needs_media(scene));
+        match run(scene, &scratch.join(format!("{stem}.exr"))) {
             Outcome::Passed(fraction) => {
                 eprintln!("pass     {stem}: {:.2} % of pixel channels pass", 100.0 * fraction);
                 passed.push(stem.clone());
-                surface_passed += usize::from(!needs_media(&scene));
+                surface_passed += usize::from(!needs_media(scene));
                 if !PASSING.contains(&stem.as_str()) {
                     problems.push(format!("{stem} passes: add it to PASSING"));
                 }
@@ -179,7 +182,7 @@ fn the_mitsuba_suite() {
         }
     }
     let _ = std::fs::remove_dir_all(&scratch);
-    let all = scenes().len();
+    let all = all.len();
     eprintln!(
         "Mitsuba suite: {surface_passed} of {surface} surface scenes pass; {} of the {} media-group scenes",
         passed.len() - surface_passed,
