@@ -54,6 +54,19 @@ fn time_limit_ends_the_render_and_the_exr_records_spp_and_seed() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// A time limit shorter than one pass (10 µs; the scene's loading alone takes longer) still
+/// renders one pass and writes its image, rather than stopping "before its first pass".
+#[test]
+fn a_time_limit_shorter_than_a_pass_renders_one_pass() {
+    let dir = temp_dir("short-time");
+    let out = dir.join("t.exr");
+    let o = run(&["render", &cornell_box(), "--width", "16", "--time", "1e-5", "-o", out.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert_eq!(exr_attribute(&out, "glint:spp").as_deref(), Some("1"), "{err}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 /// SIGINT (Ctrl-C), SIGTERM (a render farm's stop) and SIGHUP (a closed terminal) each finish
 /// the passes under way, write the image and the checkpoint, and exit with status 3; the
 /// checkpoint resumes to the image an uninterrupted render gives.

@@ -143,7 +143,8 @@ pub fn render_progressive(
             stopped_early = Some(StopReason::Interrupted);
             break;
         }
-        if progressive.time_limit.is_some_and(|limit| start.elapsed() >= limit) {
+        // A time limit shorter than one pass still gets one: an image, not nothing.
+        if samples > 0 && progressive.time_limit.is_some_and(|limit| start.elapsed() >= limit) {
             stopped_early = Some(StopReason::TimeLimit);
             break;
         }
