@@ -23,7 +23,7 @@ pub use limits::{describe as describe_bytes, memory_limit, set_memory_limit, RAI
 pub use native::{
     load_scene, load_scene_with, load_scene_with_options, parse_scene, LoadOptions, LoadedScene, RenderOptions,
 };
-pub use source::Source;
+pub use source::{read_file, Source};
 
 /// The scene `glint render` shows when given no scene file: spheres, a polygon, a box and a
 /// mesh under two lights. Its files are compiled into the binary.

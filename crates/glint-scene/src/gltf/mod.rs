@@ -29,8 +29,8 @@ const READ_EXTENSIONS: [&str; 7] = [
 /// Reads a glTF 2.0 scene; `search_path` is searched after its directory for the files it
 /// names.
 pub fn load_gltf(path: &Path, search_path: &[PathBuf]) -> Result<LoadedScene, SceneError> {
-    let bytes =
-        std::fs::read(path).map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+    let bytes = crate::source::read_file(path, u64::MAX)
+        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
     let mut directories = vec![path.parent().map(Path::to_path_buf).unwrap_or_default()];
     directories.extend(search_path.iter().cloned());
     parse_gltf(&bytes, path, Source::search_path(directories))
@@ -119,8 +119,10 @@ fn read_buffers(gltf: &::gltf::Gltf, source: &Source) -> Result<Vec<Vec<u8>>, St
             ::gltf::buffer::Source::Bin => gltf.blob.clone().ok_or_else(|| {
                 format!("buffer {} refers to the binary chunk, which the file does not have", buffer.index())
             })?,
+            // Only its `byteLength` is read: a longer file (or one that never ends) is not
+            // read whole.
             ::gltf::buffer::Source::Uri(uri) => {
-                read_uri(uri, source).map_err(|m| format!("buffer {}: {m}", buffer.index()))?
+                read_uri(uri, source, buffer.length() as u64).map_err(|m| format!("buffer {}: {m}", buffer.index()))?
             }
         };
         if bytes.len() < buffer.length() {
@@ -136,8 +138,9 @@ fn read_buffers(gltf: &::gltf::Gltf, source: &Source) -> Result<Vec<Vec<u8>>, St
     Ok(buffers)
 }
 
-/// A `data:` URI's bytes, or a file's (percent-decoded, relative to the scene).
-fn read_uri(uri: &str, source: &Source) -> Result<Vec<u8>, String> {
+/// A `data:` URI's bytes, or the first `at_most` of a file's (percent-decoded, relative to the
+/// scene).
+fn read_uri(uri: &str, source: &Source, at_most: u64) -> Result<Vec<u8>, String> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (header, data) = rest.split_once(',').ok_or("a data URI without a comma")?;
         if !header.ends_with(";base64") {
@@ -145,7 +148,7 @@ fn read_uri(uri: &str, source: &Source) -> Result<Vec<u8>, String> {
         }
         return base64::engine::general_purpose::STANDARD.decode(data).map_err(|e| format!("bad base64 data: {e}"));
     }
-    source.read(&percent_decode(uri))
+    source.read_at_most(&percent_decode(uri), at_most)
 }
 
 fn percent_decode(uri: &str) -> String {
@@ -190,7 +193,7 @@ fn read_images(
                 (bytes.to_vec(), Some(mime_type))
             }
             ::gltf::image::Source::Uri { uri, mime_type } => {
-                (read_uri(uri, source).map_err(|m| format!("image {}: {m}", image.index()))?, mime_type)
+                (read_uri(uri, source, u64::MAX).map_err(|m| format!("image {}: {m}", image.index()))?, mime_type)
             }
         };
         let extension = match mime {

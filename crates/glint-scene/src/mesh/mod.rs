@@ -92,7 +92,8 @@ pub fn from_data(data: &crate::native::schema::MeshData) -> Result<Mesh, String>
 
 /// Reads a mesh file from disk.
 pub fn load_mesh(path: &Path) -> Result<Mesh, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
+    let bytes =
+        crate::source::read_file(path, u64::MAX).map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
     read_mesh(&path.to_string_lossy(), &bytes)
 }
 

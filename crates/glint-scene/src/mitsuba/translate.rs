@@ -1605,9 +1605,10 @@ impl<'e> Properties<'e> {
             return Err(t.error(&e.position, format!("`{name}`: a <spectrum> needs a `value` or a `filename`")));
         };
         let path = crate::source::resolve(&t.files.search_path, std::path::Path::new(filename));
-        let text = std::fs::read_to_string(&path).map_err(|err| {
+        let bytes = crate::source::read_file(&path, u64::MAX).map_err(|err| {
             t.error(&e.position, format!("`{name}`: spectrum file `{filename}` ({}): {err}", path.display()))
         })?;
+        let text = String::from_utf8_lossy(&bytes);
         let mut samples = Vec::new();
         for (number, line) in text.lines().enumerate() {
             let line = line.split('#').next().unwrap_or_default().trim();

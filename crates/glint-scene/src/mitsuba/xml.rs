@@ -78,7 +78,10 @@ pub(super) fn read_scene(
     files.search_path.push(path.parent().map(Path::to_path_buf).unwrap_or_default());
     files.search_path.extend(search_path.iter().cloned());
     let mut parameters: HashMap<String, String> = defines.iter().cloned().collect();
-    let root = read_file(path, &mut files, &mut parameters, 0)?;
+    let bytes = crate::source::read_file(path, u64::MAX)
+        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+    let text = crate::source::utf8_text(path, bytes)?;
+    let root = parse_file(path, text, &mut files, &mut parameters, 0)?;
     if root.tag != "scene" {
         return Err(files.error(&root.position, format!("expected a <scene> root element, found <{}>", root.tag)));
     }
@@ -100,14 +103,14 @@ const MAX_INCLUDE_DEPTH: u32 = 16;
 /// readers' recursion (and the tree's drop) far from the stack's end, which 10,000 levels hit.
 const MAX_NESTING: u32 = 256;
 
-fn read_file(
+/// The elements of `text`, read from `path`, with its includes.
+fn parse_file(
     path: &Path,
+    text: String,
     files: &mut Files,
     parameters: &mut HashMap<String, String>,
     depth: u32,
 ) -> Result<Element, SceneError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
     let index = files.files.len();
     files.files.push((path.to_path_buf(), text));
     let text = files.files[index].1.clone();
@@ -196,7 +199,11 @@ impl Reader<'_, '_> {
                             format!("included file `{filename}` not found ({})", path.display()),
                         ));
                     }
-                    let included = read_file(&path, files, parameters, depth + 1)?;
+                    let bytes = crate::source::read_file(&path, u64::MAX).map_err(|m| {
+                        files.error(&child_position, format!("cannot read `{filename}` ({}): {m}", path.display()))
+                    })?;
+                    let text = crate::source::utf8_text(&path, bytes)?;
+                    let included = parse_file(&path, text, files, parameters, depth + 1)?;
                     // An included <scene>'s children stand where the <include> was.
                     if included.tag == "scene" {
                         element.children.extend(included.children);

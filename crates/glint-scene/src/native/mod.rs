@@ -99,8 +99,9 @@ pub fn load_scene_with_options(path: &Path, options: &LoadOptions) -> Result<Loa
             format!("-D {name}=…: parameters are for Mitsuba scenes (.xml); this is a native scene"),
         ));
     }
-    let text = std::fs::read_to_string(path)
+    let bytes = crate::source::read_file(path, u64::MAX)
         .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+    let text = crate::source::utf8_text(path, bytes)?;
     let format = match path.extension().and_then(|e| e.to_str()) {
         Some(ext) if ext.eq_ignore_ascii_case("json") => Format::Json,
         _ => Format::Toml,
