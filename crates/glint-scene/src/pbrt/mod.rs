@@ -22,12 +22,12 @@ use crate::source::Source;
 /// Reads a pbrt-v4 scene; `search_path` is searched after the scene's directory for the
 /// files it names.
 pub fn load_pbrt(path: &Path, search_path: &[PathBuf]) -> Result<LoadedScene, SceneError> {
-    let text = std::fs::read_to_string(path)
+    let bytes = crate::source::read_file(path, u64::MAX)
         .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
     let mut directories = vec![path.parent().map(Path::to_path_buf).unwrap_or_default()];
     directories.extend(search_path.iter().cloned());
     let source = Source::search_path(directories);
-    let (file, made, mut warnings) = translate::translate(path, text, &source)?;
+    let (file, made, mut warnings) = translate::translate(path, bytes, &source)?;
     let source = source.with_made_files(made);
     let mut loaded = crate::native::build_file(file, "", path, &source)?;
     warnings.append(&mut loaded.warnings);
@@ -37,7 +37,7 @@ pub fn load_pbrt(path: &Path, search_path: &[PathBuf]) -> Result<LoadedScene, Sc
 
 /// Reads pbrt-v4 scene text; `name` is used in messages, `source` resolves what it names.
 pub fn parse_pbrt(text: &str, name: &Path, source: Source<'_>) -> Result<LoadedScene, SceneError> {
-    let (file, made, mut warnings) = translate::translate(name, text.to_string(), &source)?;
+    let (file, made, mut warnings) = translate::translate(name, text.as_bytes().to_vec(), &source)?;
     let source = source.with_made_files(made);
     let mut loaded = crate::native::build_file(file, "", name, &source)?;
     warnings.append(&mut loaded.warnings);

@@ -6,7 +6,7 @@
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
 
-use super::tokens::{tokenize, Kind, Token};
+use super::tokens::{decode, Kind, Token};
 use crate::error::{Location, SceneError};
 use crate::source::Source;
 
@@ -96,15 +96,16 @@ enum Arguments {
 }
 
 impl<'s> Parser<'s> {
-    pub fn new(path: &Path, text: String, source: &'s Source<'s>) -> Result<Self, SceneError> {
+    /// A parser of the scene file at `path`, whose bytes are `bytes`.
+    pub fn new(path: &Path, bytes: Vec<u8>, source: &'s Source<'s>) -> Result<Self, SceneError> {
         let mut parser = Self { files: Vec::new(), stack: Vec::new(), source };
-        parser.push_file(path.to_path_buf(), text)?;
+        parser.push_file(path.to_path_buf(), bytes)?;
         Ok(parser)
     }
 
-    fn push_file(&mut self, path: PathBuf, text: String) -> Result<(), SceneError> {
-        let tokens = tokenize(&text)
-            .map_err(|(offset, m)| SceneError::new(&path, Some(Location::from_offset(&text, offset)), m))?;
+    fn push_file(&mut self, path: PathBuf, bytes: Vec<u8>) -> Result<(), SceneError> {
+        let (text, tokens) = decode(bytes)
+            .map_err(|(text, offset, m)| SceneError::new(&path, Some(Location::from_offset(&text, offset)), m))?;
         self.files.push(File { path, text, tokens });
         self.stack.push((self.files.len() - 1, 0));
         Ok(())
@@ -195,14 +196,13 @@ impl<'s> Parser<'s> {
             return Err(self.error(at, "includes nest more than 64 deep (does a file include itself?)"));
         }
         let bytes = self.source.read(path).map_err(|m| self.error(at, m))?;
-        let text = String::from_utf8(bytes).map_err(|_| self.error(at, format!("`{path}` is not UTF-8 text")))?;
         // Where the source found it (nested includes are relative to the main scene's
         // directory, as in pbrt); a built-in file by its name.
         let full = match self.source.files_read().last() {
             Some(found) if found.ends_with(path) => found.clone(),
             _ => self.files[0].path.parent().map_or_else(|| PathBuf::from(path), |d| d.join(path)),
         };
-        self.push_file(full, text)
+        self.push_file(full, bytes)
     }
 
     fn arguments(&mut self, at: At, name: &str, arguments: Arguments) -> Result<Vec<String>, SceneError> {

@@ -29,10 +29,51 @@ impl Token {
     }
 }
 
-/// The tokens of `text`, or the offset and reason of the first that is not one.
-pub fn tokenize(text: &str) -> Result<Vec<Token>, (usize, String)> {
+/// A pbrt file's bytes as text and its tokens, or the offset and reason of the first thing
+/// that is not a token, with the text to find its line in.
+///
+/// A leading UTF-8 byte-order mark is dropped (editors on Windows write one). Bytes that are
+/// not UTF-8 are accepted inside comments, as pbrt-v4 accepts them (its tokenizer reads bytes
+/// and skips a comment unread; files exported with Latin-1 comments exist), and replaced
+/// there by `?` so the text stays UTF-8 with every offset unchanged; inside a token they are
+/// refused at their place, since names, strings and file names are text.
+pub fn decode(mut bytes: Vec<u8>) -> Result<(String, Vec<Token>), (String, usize, String)> {
+    if bytes.starts_with(BYTE_ORDER_MARK) {
+        bytes.drain(..BYTE_ORDER_MARK.len());
+    }
+    let lossy = |bytes: &[u8]| String::from_utf8_lossy(bytes).into_owned();
+    let tokens = match tokenize(&bytes) {
+        Ok(tokens) => tokens,
+        Err((offset, message)) => return Err((lossy(&bytes), offset, message)),
+    };
+    let mut start = 0;
+    while let Err(e) = std::str::from_utf8(&bytes[start..]) {
+        let bad = start + e.valid_up_to();
+        let end = e.error_len().map_or(bytes.len(), |n| bad + n);
+        // Tokens are in order of their offsets; the last one starting at or before `bad`.
+        let before = tokens.partition_point(|t| t.offset <= bad);
+        if before > 0 && bad < tokens[before - 1].end {
+            let message = format!(
+                "byte 0x{:02X} is not UTF-8 text (pbrt files are UTF-8; other bytes may only be in comments)",
+                bytes[bad]
+            );
+            return Err((lossy(&bytes), bad, message));
+        }
+        bytes[bad..end].fill(b'?');
+        start = end;
+    }
+    match String::from_utf8(bytes) {
+        Ok(text) => Ok((text, tokens)),
+        // Not reached: every byte that was not UTF-8 was replaced or refused above.
+        Err(e) => Err((lossy(e.as_bytes()), e.utf8_error().valid_up_to(), "not UTF-8 text".into())),
+    }
+}
+
+const BYTE_ORDER_MARK: &[u8] = "\u{feff}".as_bytes();
+
+/// The tokens of `bytes`, or the offset and reason of the first that is not one.
+fn tokenize(bytes: &[u8]) -> Result<Vec<Token>, (usize, String)> {
     let mut tokens = Vec::new();
-    let bytes = text.as_bytes();
     let mut i = 0usize;
     while i < bytes.len() {
         let token = |kind, start: usize, end: usize, offset| Token { kind, offset, start, end };
@@ -84,7 +125,7 @@ mod tests {
     #[test]
     fn tokens_keep_their_kind_and_place() {
         let text = "Shape \"sphere\" # a ball\n  \"float radius\" [ 2.5 ]";
-        let tokens = tokenize(text).unwrap();
+        let tokens = tokenize(text.as_bytes()).unwrap();
         let seen: Vec<_> = tokens.iter().map(|t| (t.kind, t.text(text), t.offset)).collect();
         assert_eq!(
             seen,
@@ -100,7 +141,32 @@ mod tests {
     }
 
     #[test]
+    fn a_byte_order_mark_is_not_part_of_the_first_directive() {
+        let (text, tokens) = decode(b"\xef\xbb\xbfLookAt 0 0 0".to_vec()).unwrap();
+        assert_eq!(tokens[0].text(&text), "LookAt");
+        assert_eq!(tokens[0].offset, 0);
+    }
+
+    #[test]
+    fn bytes_that_are_not_utf8_are_read_in_comments_only() {
+        // Latin-1 `é` (0xE9) in a comment, and a cut UTF-8 sequence at the end of the file.
+        let bytes = b"# caf\xe9\nShape \"sphere\" # \xe2\x82";
+        let (text, tokens) = decode(bytes.to_vec()).unwrap();
+        let seen: Vec<_> = tokens.iter().map(|t| t.text(&text)).collect();
+        assert_eq!(seen, ["Shape", "sphere"]);
+        assert_eq!(text.len(), bytes.len(), "offsets are kept");
+        // In a quoted string, a word, and a string that holds a `#`.
+        for (bytes, offset) in
+            [(&b"Shape \"sph\xe9re\""[..], 10), (b"# fine\nSh\xe9pe", 9), (b"Shape \"a#\xe9\" # \xe9", 9)]
+        {
+            let (_, at, message) = decode(bytes.to_vec()).unwrap_err();
+            assert_eq!(at, offset, "{message}");
+            assert!(message.contains("0xE9"), "{message}");
+        }
+    }
+
+    #[test]
     fn an_open_string_is_refused_at_its_start() {
-        assert_eq!(tokenize("Shape\n  \"sphere").unwrap_err().0, 8);
+        assert_eq!(tokenize(b"Shape\n  \"sphere").unwrap_err().0, 8);
     }
 }

@@ -23,8 +23,8 @@ type Result<T> = std::result::Result<T, SceneError>;
 pub type MadeFiles = Vec<(String, Vec<u8>)>;
 
 /// The scene description, the files made in memory (resampled maps), and warnings.
-pub fn translate(path: &Path, text: String, source: &Source) -> Result<(SceneFile, MadeFiles, Vec<String>)> {
-    let parser = Parser::new(path, text, source)?;
+pub fn translate(path: &Path, bytes: Vec<u8>, source: &Source) -> Result<(SceneFile, MadeFiles, Vec<String>)> {
+    let parser = Parser::new(path, bytes, source)?;
     let mut t = Translator::new(parser, source);
     while let Some(directive) = t.parser.next()? {
         t.directive(&directive)?;
