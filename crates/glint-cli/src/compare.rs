@@ -14,6 +14,10 @@
 //!   each pixel channel in CIE XYZ passes when |x − r| √(n / σ²) has a two-sided p-value above
 //!   α = 1 − 0.99^(1/pixels) (Šidák's correction for 1 % overall); the image passes when at
 //!   least 99.75 % of channels pass. This is Mitsuba 3's own test of its variants.
+//!
+//! A pixel with a NaN or infinite channel in either image has no error to measure: the metrics
+//! and ꟻLIP leave it out and count it (`NonFinite`), and `warnings` says so; the Z-test counts
+//! its channels as failing, since a render that makes them is wrong there.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -73,7 +77,8 @@ fn read_exr(path: &Path) -> Result<Image, String> {
     Ok(self::Image { width, height, pixels: layer.channel_data.pixels.1.clone(), attributes })
 }
 
-/// Per-channel error metrics (R, G, B) and their means over the channels.
+/// Per-channel error metrics (R, G, B) and their means over the channels, over the pixels
+/// finite in both images.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Metrics {
     pub mse: [f64; 3],
@@ -81,6 +86,72 @@ pub struct Metrics {
     pub mae: [f64; 3],
     /// mean x / mean r, per channel (NaN where the reference's mean is 0).
     pub mean_ratio: [f64; 3],
+    /// The pixels left out.
+    pub non_finite: NonFinite,
+}
+
+/// Pixels with a NaN or infinite channel: in the image, in the reference, and in either (the
+/// ones the metrics and ꟻLIP leave out).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct NonFinite {
+    pub image: usize,
+    pub reference: usize,
+    pub either: usize,
+}
+
+fn is_finite(p: &Rgb) -> bool {
+    p.is_finite()
+}
+
+impl NonFinite {
+    pub fn count(image: &Image, reference: &Image) -> Self {
+        let mut counts = NonFinite::default();
+        for (x, r) in image.pixels.iter().zip(&reference.pixels) {
+            counts.image += usize::from(!is_finite(x));
+            counts.reference += usize::from(!is_finite(r));
+            counts.either += usize::from(!is_finite(x) || !is_finite(r));
+        }
+        counts
+    }
+}
+
+/// 8-bit formats, whose values stop at 1.
+pub fn is_low_dynamic_range(path: &Path) -> bool {
+    let lower = path.to_string_lossy().to_ascii_lowercase();
+    [".png", ".jpg", ".jpeg", ".bmp", ".tga"].iter().any(|e| lower.ends_with(e))
+}
+
+/// What a reader of the metrics should know: pixels left out for being NaN or infinite, and an
+/// 8-bit image compared with one whose values go past 1 (its clipped highlights look like a
+/// bias).
+pub fn warnings(image_path: &Path, image: &Image, reference_path: &Path, reference: &Image) -> Vec<String> {
+    let mut said = Vec::new();
+    let non_finite = NonFinite::count(image, reference);
+    for (count, path) in [(non_finite.image, image_path), (non_finite.reference, reference_path)] {
+        if count > 0 {
+            said.push(format!(
+                "`{}` has {count} pixel{} with a NaN or infinite value: the metrics and ꟻLIP leave {} out, the Z-test fails {}",
+                path.display(),
+                if count == 1 { "" } else { "s" },
+                if count == 1 { "it" } else { "them" },
+                if count == 1 { "it" } else { "them" },
+            ));
+        }
+    }
+    let brightest =
+        |image: &Image| image.pixels.iter().filter(|p| is_finite(p)).map(|p| p.max_element()).fold(0.0f32, f32::max);
+    for (ldr_path, other_path, other) in [(image_path, reference_path, reference), (reference_path, image_path, image)]
+    {
+        let peak = brightest(other);
+        if is_low_dynamic_range(ldr_path) && !is_low_dynamic_range(other_path) && peak > 1.0 {
+            said.push(format!(
+                "`{}` is an 8-bit image, its values clipped at 1, and `{}` reaches {peak}: where it is brighter than 1 the difference is the clipping, not the render",
+                ldr_path.display(),
+                other_path.display()
+            ));
+        }
+    }
+    said
 }
 
 impl Metrics {
@@ -102,10 +173,15 @@ fn same_size(image: &Image, reference: &Image) -> Result<(), String> {
 
 pub fn metrics(image: &Image, reference: &Image) -> Result<Metrics, String> {
     same_size(image, reference)?;
-    let n = image.pixels.len().max(1) as f64;
+    let non_finite = NonFinite::count(image, reference);
+    let compared = image.pixels.len() - non_finite.either;
+    if compared == 0 && !image.pixels.is_empty() {
+        return Err("no pixel is finite in both images: there is nothing to compare".into());
+    }
+    let n = compared.max(1) as f64;
     let (mut mse, mut rel_mse, mut mae, mut sum_x, mut sum_r) =
         ([0.0f64; 3], [0.0f64; 3], [0.0f64; 3], [0.0; 3], [0.0; 3]);
-    for (x, r) in image.pixels.iter().zip(&reference.pixels) {
+    for (x, r) in image.pixels.iter().zip(&reference.pixels).filter(|(x, r)| is_finite(x) && is_finite(r)) {
         let (x, r) = (x.to_array(), r.to_array());
         for c in 0..3 {
             let (x, r) = (x[c] as f64, r[c] as f64);
@@ -122,6 +198,7 @@ pub fn metrics(image: &Image, reference: &Image) -> Result<Metrics, String> {
         rel_mse: rel_mse.map(|v| v / n),
         mae: mae.map(|v| v / n),
         mean_ratio: [0, 1, 2].map(|c| sum_x[c] / sum_r[c]),
+        non_finite,
     })
 }
 
@@ -182,9 +259,22 @@ pub struct Flip {
 /// LDR-ꟻLIP of the images as 8-bit sRGB at `exposure` stops (clamped to [0, 1]).
 pub fn flip(image: &Image, reference: &Image, exposure: f32) -> Result<Flip, String> {
     same_size(image, reference)?;
+    let (image, reference, kept) = finite_only(image, reference);
     let scale = exposure.exp2();
-    let error = ldr_flip(image, reference, |c| c * scale);
-    Ok(finish(&error, vec![exposure]))
+    let error = ldr_flip(&image, &reference, |c| c * scale);
+    Ok(finish(&error, &kept, vec![exposure]))
+}
+
+/// The images with every pixel that is not finite in both set to black in both (no error
+/// there), and which pixels are kept.
+fn finite_only(image: &Image, reference: &Image) -> (Image, Image, Vec<bool>) {
+    let kept: Vec<bool> =
+        image.pixels.iter().zip(&reference.pixels).map(|(x, r)| is_finite(x) && is_finite(r)).collect();
+    let clean = |source: &Image| Image {
+        pixels: source.pixels.iter().zip(&kept).map(|(p, &k)| if k { *p } else { Rgb::ZERO }).collect(),
+        ..source.clone()
+    };
+    (clean(image), clean(reference), kept)
 }
 
 /// HDR-ꟻLIP (Andersson et al., "Visualizing errors in rendered high dynamic range images",
@@ -194,6 +284,8 @@ pub fn flip(image: &Image, reference: &Image, exposure: f32) -> Result<Flip, Str
 /// the largest over them. Computed on 8-bit sRGB images, as `nv-flip` takes them.
 pub fn hdr_flip(image: &Image, reference: &Image) -> Result<Flip, String> {
     same_size(image, reference)?;
+    let (image, reference, kept) = finite_only(image, reference);
+    let (image, reference) = (&image, &reference);
     let (start, stop) = exposure_range(reference);
     let count = ((stop - start).ceil() as usize).max(2);
     let step = (stop - start) / (count - 1) as f32;
@@ -209,7 +301,7 @@ pub fn hdr_flip(image: &Image, reference: &Image) -> Result<Flip, String> {
         }
     }
     let error = nv_flip::FlipImageFloat::with_data(reference.width, reference.height, &worst);
-    Ok(finish(&error, exposures))
+    Ok(finish(&error, &kept, exposures))
 }
 
 /// ACES filmic tone mapping (Narkowicz 2016) with its 0.6 pre-exposure, clamped to [0, 1].
@@ -251,8 +343,15 @@ fn ldr_flip(image: &Image, reference: &Image, map: impl Fn(f32) -> f32) -> nv_fl
     nv_flip::flip(encode(reference), encode(image), FLIP_PIXELS_PER_DEGREE)
 }
 
-fn finish(error: &nv_flip::FlipImageFloat, exposures: Vec<f32>) -> Flip {
-    let mean = nv_flip::FlipPool::from_image(error).mean() as f64;
+/// ꟻLIP's mean over the kept pixels, and its map.
+fn finish(error: &nv_flip::FlipImageFloat, kept: &[bool], exposures: Vec<f32>) -> Flip {
+    let values = error.to_vec();
+    let (sum, count) = values
+        .iter()
+        .zip(kept)
+        .filter(|(_, &k)| k)
+        .fold((0.0f64, 0usize), |(sum, count), (&e, _)| (sum + e as f64, count + 1));
+    let mean = if count > 0 { sum / count as f64 } else { 0.0 };
     Flip { mean, map: error.apply_color_lut(&nv_flip::magma_lut()).to_vec(), exposures }
 }
 
@@ -352,6 +451,50 @@ mod tests {
         assert!(close(m.mean_ratio[0], 2.0) && close(m.mean_ratio[1], 2.0) && m.mean_ratio[2].is_infinite());
         let smaller = flat(&[Rgb::ZERO], 1);
         assert!(metrics(&smaller, &reference).unwrap_err().contains("differ in size"));
+    }
+
+    /// A +inf pixel in the reference made HDR-ꟻLIP's exposure range infinite (a panic: capacity
+    /// overflow), and a NaN made it NaN (ꟻLIP 0 where every pixel differs by 0.5). Such pixels
+    /// are left out of the metrics and ꟻLIP, and counted.
+    #[test]
+    fn non_finite_pixels_are_left_out_and_counted() {
+        let pattern: Vec<Rgb> = (0..32 * 32).map(|i| Rgb::splat(((i % 32) / 4) as f32 / 8.0 + 0.1)).collect();
+        let image = flat(&pattern.iter().map(|p| *p + Rgb::splat(0.5)).collect::<Vec<_>>(), 32);
+        let mut reference = flat(&pattern, 32);
+        reference.pixels[3] = Rgb::splat(f32::INFINITY);
+        let with_infinity = hdr_flip(&image, &reference).unwrap();
+        assert!(with_infinity.exposures.iter().all(|e| e.is_finite()), "{:?}", with_infinity.exposures);
+        let clean = hdr_flip(&image, &flat(&pattern, 32)).unwrap();
+        assert_eq!(with_infinity.exposures, clean.exposures);
+        assert!(with_infinity.mean > 0.05, "{}", with_infinity.mean);
+        reference.pixels[5] = Rgb::new(f32::NAN, 0.0, 0.0);
+        let with_nan = hdr_flip(&image, &reference).unwrap();
+        assert!(with_nan.mean > 0.05 && with_nan.exposures.iter().all(|e| e.is_finite()), "{with_nan:?}");
+        assert!(flip(&image, &reference, 0.0).unwrap().mean > 0.05);
+        let m = metrics(&image, &reference).unwrap();
+        assert_eq!(m.non_finite, NonFinite { image: 0, reference: 2, either: 2 });
+        assert!(m.mae.iter().all(|&e| (e - 0.5).abs() < 1e-6), "{m:?}");
+        assert!(m.mse.iter().all(|&e| (e - 0.25).abs() < 1e-6), "{m:?}");
+        let said = warnings(Path::new("a.exr"), &image, Path::new("ref.exr"), &reference);
+        assert_eq!(said.len(), 1, "{said:?}");
+        assert!(said[0].contains("`ref.exr` has 2 pixels with a NaN or infinite value"), "{said:?}");
+        let nothing = flat(&[Rgb::splat(f32::NAN)], 1);
+        assert!(metrics(&nothing, &nothing).unwrap_err().contains("no pixel is finite"));
+    }
+
+    /// An 8-bit image against a reference brighter than 1 is compared, with a warning that
+    /// names the clipping; against a reference within [0, 1], none.
+    #[test]
+    fn an_8_bit_image_against_hdr_is_flagged_as_clipped() {
+        let bright = flat(&[Rgb::splat(0.5), Rgb::splat(3.0)], 2);
+        let clipped = flat(&[Rgb::splat(0.5), Rgb::splat(1.0)], 2);
+        let said = warnings(Path::new("render.PNG"), &clipped, Path::new("ref.exr"), &bright);
+        assert_eq!(said.len(), 1);
+        assert!(said[0].contains("`render.PNG` is an 8-bit image") && said[0].contains("reaches 3"), "{said:?}");
+        let said = warnings(Path::new("ref.exr"), &bright, Path::new("render.jpg"), &clipped);
+        assert!(said[0].contains("`render.jpg` is an 8-bit image"), "{said:?}");
+        assert!(warnings(Path::new("a.png"), &clipped, Path::new("b.exr"), &clipped).is_empty());
+        assert!(warnings(Path::new("a.png"), &clipped, Path::new("b.png"), &bright).is_empty());
     }
 
     /// The Z-test against its corrected significance: 400 pixels, α = 2.5·10⁻⁵ (z* ≈ 4.21); at

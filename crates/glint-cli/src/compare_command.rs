@@ -38,6 +38,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
     glint_scene::set_memory_limit(crate::render_command::memory_limit_bytes(None)?);
     let read = |path: &PathBuf| compare::read_image(path).map_err(CliError::Input);
     let (image, reference) = (read(&args.image)?, read(&args.reference)?);
+    let warnings = compare::warnings(&args.image, &image, &args.reference, &reference);
     let metrics = compare::metrics(&image, &reference).map_err(CliError::Input)?;
     let flip = match args.exposure {
         Some(exposure) => compare::flip(&image, &reference, exposure),
@@ -84,15 +85,33 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
                 "pixels_per_degree": compare::FLIP_PIXELS_PER_DEGREE,
             },
             "z_test": z,
+            "non_finite_pixels": {
+                "image": metrics.non_finite.image, "reference": metrics.non_finite.reference,
+                "left_out": metrics.non_finite.either,
+            },
+            "warnings": warnings,
         });
         println!("{}", serde_json::to_string_pretty(&document).unwrap_or_default());
         return Ok(());
+    }
+    for warning in &warnings {
+        eprintln!("warning: {warning}");
     }
     let row = |name: &str, v: [f64; 3], mean: Option<f64>| {
         let mean = mean.map_or(String::new(), |m| format!("   mean {m:.6e}"));
         println!("{name:<11} R {:.6e}   G {:.6e}   B {:.6e}{mean}", v[0], v[1], v[2]);
     };
-    println!("{} against {} ({}x{}):", args.image.display(), args.reference.display(), image.width, image.height);
+    let left_out = match metrics.non_finite.either {
+        0 => String::new(),
+        n => format!(", {n} non-finite pixels left out"),
+    };
+    println!(
+        "{} against {} ({}x{}{left_out}):",
+        args.image.display(),
+        args.reference.display(),
+        image.width,
+        image.height
+    );
     row("MSE", metrics.mse, Some(Metrics::mean(metrics.mse)));
     row("relMSE", metrics.rel_mse, Some(Metrics::mean(metrics.rel_mse)));
     row("MAE", metrics.mae, Some(Metrics::mean(metrics.mae)));

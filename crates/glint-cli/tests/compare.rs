@@ -46,6 +46,41 @@ fn compare_reports_the_metrics_of_hand_made_images_as_json() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// A reference with a +inf and a NaN pixel (a panic before, and a ꟻLIP of 0 where every pixel
+/// differs): compared over the finite pixels, the others counted in the JSON and named in a
+/// warning. An 8-bit PNG against an HDR reference is compared with a warning that it is clipped.
+#[test]
+fn compare_leaves_out_non_finite_pixels_and_flags_a_clipped_png() {
+    let dir = temp_dir("compare-hostile");
+    let (image, reference) = (dir.join("i.pfm"), dir.join("r.pfm"));
+    let values: Vec<Rgb> = (0..64).map(|i| Rgb::splat(0.1 + (i % 8) as f32 / 10.0)).collect();
+    let mut broken = values.clone();
+    broken[3] = Rgb::splat(f32::INFINITY);
+    broken[9] = Rgb::new(f32::NAN, 0.5, 0.5);
+    write(&reference, 8, &broken);
+    write(&image, 8, &values.iter().map(|p| *p + Rgb::splat(0.5)).collect::<Vec<_>>());
+    let (i, r) = (image.to_str().unwrap(), reference.to_str().unwrap());
+    let o = glint(&["compare", i, r, "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let d: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    assert_eq!(d["non_finite_pixels"]["reference"], 2);
+    assert_eq!(d["non_finite_pixels"]["left_out"], 2);
+    assert!((d["mae_mean"].as_f64().unwrap() - 0.5).abs() < 1e-6, "{d}");
+    assert!(d["flip"]["mean"].as_f64().unwrap() > 0.05, "{d}");
+    assert!(d["warnings"][0].as_str().unwrap().contains("2 pixels with a NaN or infinite value"), "{d}");
+    let o = glint(&["compare", i, r]);
+    assert!(o.status.success() && stderr(&o).contains("warning:"), "{}", stderr(&o));
+
+    let (png, hdr) = (dir.join("clipped.png"), dir.join("bright.exr"));
+    let bright: Vec<Rgb> = (0..64).map(|i| Rgb::splat(if i < 8 { 4.0 } else { 0.5 })).collect();
+    write(&hdr, 8, &bright);
+    write(&png, 8, &bright);
+    let o = glint(&["compare", png.to_str().unwrap(), hdr.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("is an 8-bit image, its values clipped at 1"), "{}", stderr(&o));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 /// `render --reference` logs the error after each group of passes: a CSV whose relMSE falls
 /// as samples accumulate, and its plot.
 #[test]
