@@ -1,8 +1,10 @@
-//! The pieces of the `glint` command that tests and other tools (the fuzzer) reuse: image
-//! output, checkpoints, partial renders and their merge, and the command's errors.
+//! The pieces of the `glint` command that tests and other tools (the fuzzer, the Python
+//! module) reuse: image output, checkpoints, partial renders and their merge, the limits every
+//! render is held to, and the command's errors.
 
 pub mod checkpoint;
 pub mod compare;
 pub mod error;
+pub mod limits;
 pub mod output;
 pub mod partial;

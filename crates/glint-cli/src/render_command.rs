@@ -12,7 +12,7 @@ use glint_cli::checkpoint;
 use glint_cli::error::CliError;
 use glint_cli::output::write_file_atomically;
 use glint_cli::output::{check_writable, check_writable_file, layer, write_image, ImageFormat, OutputError};
-use glint_cli::{compare, partial};
+use glint_cli::{compare, limits, partial};
 use glint_core::film::Film;
 use glint_core::filter::Filter;
 use glint_core::integrators::aov::{render_aovs, Aovs};
@@ -73,9 +73,9 @@ pub struct RenderArgs {
     /// Seed of the random sample streams; the same seed gives the same image at any --threads.
     #[arg(long)]
     seed: Option<u64>,
-    /// Worker threads (default: all cores).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    threads: Option<u32>,
+    /// Worker threads, 1 to 1024 (default: all cores).
+    #[arg(long, value_parser = glint_cli::limits::parse_thread_count)]
+    threads: Option<usize>,
     /// Pixel reconstruction filter (default: the scene's, else box).
     #[arg(long, value_parser = named::<Filter>())]
     filter: Option<Filter>,
@@ -201,7 +201,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, CliError> {
     let stop = stop_on_signals(args.quiet);
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(n) = args.threads {
-        pool = pool.num_threads(n as usize);
+        pool = pool.num_threads(n);
     }
     let pool = pool.build()?;
 
@@ -474,19 +474,11 @@ struct RenderIdentity<'a> {
     triangle_sampling: TriangleSampling,
 }
 
-/// Refuses a render whose own buffers would not fit the memory limit.
+/// Refuses a render whose own buffers would not fit the memory limit (the check the Python
+/// module makes too).
 fn check_memory(plan: &Plan, scene: &Scene, memory_limit: u64) -> Result<(), CliError> {
     let (width, height) = (scene.camera().width, scene.camera().height);
-    let needed = memory_needed(plan.kind, &plan.integrator, width, height);
-    if needed > memory_limit {
-        return Err(CliError::TooLarge(format!(
-            "this render needs about {:.1} GiB ({width}x{height} pixels{}), more than the memory limit of {:.1} GiB; raise it with --memory-limit GIB (or GLINT_MEMORY_LIMIT), or render smaller",
-            needed as f64 / GIB,
-            if plan.kind == IntegratorKind::Photon { " and the photon maps" } else { "" },
-            memory_limit as f64 / GIB
-        )));
-    }
-    Ok(())
+    limits::check_memory(plan.kind, &plan.integrator, width, height, memory_limit)
 }
 
 /// The checkpoint `--resume` names, checked against this render.
@@ -785,50 +777,9 @@ pub enum Outcome {
 /// The exit status of a render that was interrupted but wrote its image (and checkpoint).
 pub const EXIT_INTERRUPTED: u8 = 3;
 
-const GIB: f64 = (1u64 << 30) as f64;
-/// The memory limit when neither --memory-limit nor GLINT_MEMORY_LIMIT sets one.
-const DEFAULT_MEMORY_LIMIT_GIB: f64 = 8.0;
-
-/// The memory limit in bytes: `--memory-limit`, else GLINT_MEMORY_LIMIT, else the default
-/// (all in GiB).
-pub(crate) fn memory_limit_bytes(flag: Option<f64>) -> Result<u64, CliError> {
-    let (value, from) = match (flag, std::env::var("GLINT_MEMORY_LIMIT")) {
-        (Some(v), _) => (v, "--memory-limit"),
-        (None, Ok(text)) => (
-            text.trim()
-                .parse::<f64>()
-                .map_err(|_| CliError::Setting(format!("GLINT_MEMORY_LIMIT must be a number of GiB, got `{text}`")))?,
-            "GLINT_MEMORY_LIMIT",
-        ),
-        (None, Err(_)) => (DEFAULT_MEMORY_LIMIT_GIB, "the default"),
-    };
-    if !(value.is_finite() && value > 0.0) {
-        return Err(CliError::Setting(format!("{from} must be a positive number of GiB, got {value}")));
-    }
-    Ok((value * GIB).min(u64::MAX as f64) as u64)
-}
-
-/// About how much memory a render's own buffers take: the film (sums, weights) and the image
-/// made from it, the per-pixel state of SPPM and light tracing, and photon maps.
-fn memory_needed(kind: IntegratorKind, settings: &IntegratorSettings, width: u32, height: u32) -> u64 {
-    let pixels = u64::from(width) * u64::from(height);
-    // Film sums and weights (16 bytes), the RGB image (12) and its encoded file (up to 12).
-    let mut bytes = pixels * 40;
-    bytes += match kind {
-        // Each pass: a visible point (~200 bytes with its BSDF) and state (32) per pixel, and
-        // as many photons (32 bytes, with the kd-tree's copy).
-        IntegratorKind::Sppm => pixels * 300 + u64::from(settings.photons_per_pass) * 96,
-        // A pass's splats: a few per pixel.
-        IntegratorKind::Light => pixels * 64,
-        IntegratorKind::Photon => {
-            let photons = u64::from(settings.photon.global_photons) + u64::from(settings.photon.caustic_photons);
-            photons * 96
-        }
-        IntegratorKind::VolPhoton => u64::from(settings.photon.global_photons) * 96,
-        _ => 0,
-    };
-    bytes
-}
+/// The memory limit (`--memory-limit`, GLINT_MEMORY_LIMIT, the default): `glint compare`
+/// and `glint merge` hold what they read to it too.
+pub(crate) use glint_cli::limits::memory_limit_bytes;
 
 /// A fingerprint of each file a scene was read from, in order: its contents' FNV-1a hash (a
 /// file that cannot be read now counts as empty).
