@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::ValueEnum;
 use glint_cli::checkpoint::{self, Expected, WeightRule};
+use glint_cli::description::Description;
 use glint_scene::native::Format;
 use glint_scene::Source;
 
@@ -28,6 +29,9 @@ pub enum Target {
     Image,
     /// Partial renders (`render --samples`), as `glint merge` reads them.
     Partial,
+    /// The Python module's `load_dict`: a dict (mutated JSON objects) made a description and
+    /// read as the module reads it (`glint_cli::description`).
+    Dict,
 }
 
 /// A quad that the pbrt seed scenes' `plymesh` resolves to.
@@ -49,6 +53,7 @@ impl Target {
             Target::Checkpoint => "checkpoint",
             Target::Image => "image",
             Target::Partial => "partial",
+            Target::Dict => "dict",
         }
     }
 
@@ -73,6 +78,10 @@ impl Target {
                 "= nan",
             ],
             Target::Json => &["{", "}", "[", "]", "\"", ":", ",", "\"type\"", "null", "1e400", "\"shapes\": ["],
+            // A Python dict holds any key and any number: big, negative, nested.
+            Target::Dict => {
+                &["{", "}", "[", "]", "\"", ":", ",", "\"type\"", "null", "-1", "1e30", "{\"a\": [[[[", "\"\": "]
+            }
             Target::Xml => &[
                 "<",
                 ">",
@@ -240,6 +249,15 @@ impl Runner {
             Target::Partial => {
                 glint_cli::partial::decode(input, Path::new("fuzz.exr")).map(|_| ()).map_err(|e| e.to_string())
             }
+            Target::Dict => {
+                let description = Description::from_json(input).map_err(|e| e.to_string())?;
+                if !matches!(description, Description::Table(_)) {
+                    return Err("load_dict takes a dict".into());
+                }
+                let files = [("meshes/torus.obj", TRIANGLE_OBJ), ("meshes/ring.obj", TRIANGLE_OBJ)];
+                let json = description.to_json().map_err(|e| e.to_string())?;
+                json.load(&Source::embedded(&files)).map(|_| ()).map_err(|e| e.to_string())
+            }
         }
     }
 }
@@ -261,7 +279,11 @@ fn corpus_files(name: &str) -> Vec<(String, Vec<u8>)> {
     files
 }
 
-/// The seed inputs of `target`, in name order.
+/// The seed inputs of `target`, in name order (the dict target's after the JSON scenes).
 pub fn seeds(target: Target) -> Vec<Vec<u8>> {
-    corpus_files(target.name()).into_iter().map(|(_, bytes)| bytes).collect()
+    let mut names = vec![target.name()];
+    if target == Target::Dict {
+        names.insert(0, Target::Json.name());
+    }
+    names.into_iter().flat_map(corpus_files).map(|(_, bytes)| bytes).collect()
 }
