@@ -101,16 +101,15 @@ mod tests {
         assert!(read_vol(&vol([1 << 30, 1 << 30, 4], 3, &[])).unwrap_err().contains("memory limit"));
     }
 
-    /// The suite's own grids, when ../shared is there: 16³, σ_t one channel, albedo three.
+    /// The suite's own grids (../shared/mitsuba-data): 16³, σ_t one channel, albedo three.
     #[test]
     fn the_mitsuba_suites_grids_read() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../../shared/mitsuba-suite/scenes/participating_media/textures");
+            .join("../../../shared/mitsuba-data/tests/scenes/participating_media/textures");
         for (name, channels) in [("sigmat.vol", 1), ("albedo.vol", 3)] {
-            let Ok(bytes) = std::fs::read(dir.join(name)) else {
-                eprintln!("skipped: {name} not found");
-                continue;
-            };
+            let file = dir.join(name);
+            let bytes =
+                std::fs::read(&file).unwrap_or_else(|e| panic!("{} (../shared/mitsuba-data): {e}", file.display()));
             let grid = read_vol(&bytes).unwrap();
             assert_eq!((grid.resolution, grid.channels), ([16, 16, 16], channels), "{name}");
             assert!(grid.values.iter().all(|v| *v >= 0.0));

@@ -73,10 +73,11 @@ fn unknown_mesh_name_is_an_error_with_a_suggestion() {
 #[test]
 fn a_thousand_dragons_share_one_bvh_and_render() {
     let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/meshes");
-    if !shared.join("stanford_dragon.ply.gz").exists() {
-        eprintln!("skipped: ../shared/meshes/stanford_dragon.ply.gz not found");
-        return;
-    }
+    assert!(
+        shared.join("stanford_dragon.ply.gz").exists(),
+        "the dragon must be in {} (../shared/meshes)",
+        shared.display()
+    );
     let mut text = format!("{HEADER}\n[meshes.dragon]\nfile = \"stanford_dragon.ply.gz\"\n");
     text = text
         .replace("position = [0, 2, -6]", "position = [0, 4, -7]")
