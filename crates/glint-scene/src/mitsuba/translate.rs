@@ -9,7 +9,7 @@ mod media;
 use std::cell::RefCell;
 use std::collections::{HashMap, HashSet};
 
-use glam::{Affine2, Mat4, Vec2, Vec3};
+use glam::{Affine2, Mat3, Mat4, Vec2, Vec3};
 
 use super::spectrum::{parse_sampled, sampled_to_rgb, SpectrumRole};
 use super::xml::{Element, Files, Position};
@@ -1175,10 +1175,21 @@ impl<'a> Translator<'a> {
             }
             "envmap" => {
                 let file = p.string(self, "filename")?.ok_or_else(|| self.error(at, "an envmap needs a `filename`"))?;
-                let matrix = p.transform(self, "to_world")?;
+                // Mitsuba turns directions by to_world's linear part alone (`Transform *
+                // Vector`), so a translation changes nothing; the documentation's scenes place
+                // their maps with one. A scale stays an error: Mitsuba would look the map up by
+                // an unnormalised direction, which its own sampling does not match.
+                let matrix = p.transform(self, "to_world")?.map(|m| Mat4::from_mat3(Mat3::from_mat4(m)));
                 let ops: Vec<TransformOp> =
                     matrix.map(|m| vec![TransformOp::Matrix(m.transpose().to_cols_array_2d())]).unwrap_or_default();
-                crate::native::environment_rotation(&ops).map_err(|m| self.error(at, format!("envmap `to_world`: {m}")))?;
+                crate::native::environment_rotation(&ops).map_err(|m| {
+                    let message = if m.contains("must be a rotation") {
+                        "must be a rotation (a scale or a mirror is not supported; a translation is ignored, as in Mitsuba)"
+                    } else {
+                        &m
+                    };
+                    self.error(at, format!("envmap `to_world`: {message}"))
+                })?;
                 self.scene.environment.map = Some(file);
                 self.scene.environment.map_scale = p.float(self, "scale")?;
                 self.scene.environment.map_transform = ops;
