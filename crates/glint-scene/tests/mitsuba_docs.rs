@@ -17,6 +17,13 @@ fn scene_file(name: &str, text: &str) -> PathBuf {
     path
 }
 
+fn error_of(name: &str, text: &str) -> String {
+    match load_scene(&scene_file(name, text)) {
+        Ok(_) => panic!("{name}: expected an error"),
+        Err(e) => e.to_string(),
+    }
+}
+
 const SENSOR: &str = r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
 
 /// An equirectangular EXR: a warm upper half, a dark lower half.
@@ -62,4 +69,56 @@ fn an_environment_maps_translation_is_ignored_as_mitsuba_ignores_it() {
     let scaled = envmap_scene("envmap-scaled", r#"<scale value="2"/><translate y="1"/>"#);
     let e = load_scene(&scaled).err().unwrap().to_string();
     assert!(e.contains("envmap-scaled.xml:3:") && e.contains("rotation"), "{e}");
+}
+
+/// Mitsuba attaches an area emitter declared at the top level with an id to the one shape
+/// that refers to it (the documentation's Cornell boxes declare theirs after the shape); a
+/// second shape referring to it is an error in Mitsuba ("can be only be attached to a single
+/// shape"), and so is one no shape refers to.
+#[test]
+fn a_shape_takes_a_top_level_area_emitter_by_reference() {
+    let path = scene_file(
+        "area-by-ref",
+        &format!(
+            r#"<scene version="3.0.0">
+{SENSOR}
+<bsdf type="diffuse" id="white"/>
+<shape type="rectangle">
+    <ref id="white"/>
+    <ref id="lamp"/>
+</shape>
+<shape type="sphere"><ref id="white"/></shape>
+<emitter type="area" id="lamp">
+    <rgb name="radiance" value="3, 2, 1"/>
+</emitter>
+</scene>
+"#
+        ),
+    );
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = &loaded.scene;
+    assert_eq!(scene.lights().area_count(), 2, "the rectangle's two triangles, not the sphere");
+    let emissions: Vec<Rgb> =
+        scene.materials().iter().map(|m| m.emission().0).filter(|e| *e != Rgb::splat(0.0)).collect();
+    assert_eq!(emissions, [Rgb::new(3.0, 2.0, 1.0)]);
+
+    let twice = error_of(
+        "area-twice",
+        &format!(
+            "<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"area\" id=\"lamp\"/>\n<shape type=\"sphere\"><ref id=\"lamp\"/></shape>\n<shape type=\"rectangle\">\n<ref id=\"lamp\"/>\n</shape>\n</scene>\n"
+        ),
+    );
+    assert!(twice.contains("area-twice.xml:6:") && twice.contains("single shape"), "{twice}");
+    let both = error_of(
+        "area-both",
+        &format!(
+            "<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"area\" id=\"lamp\"/>\n<shape type=\"sphere\">\n<emitter type=\"area\"/>\n<ref id=\"lamp\"/>\n</shape>\n</scene>\n"
+        ),
+    );
+    assert!(both.contains("area-both.xml:6:") && both.contains("one emitter"), "{both}");
+    let alone = error_of(
+        "area-alone",
+        &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<emitter type=\"area\" id=\"lamp\"/>\n</scene>\n"),
+    );
+    assert!(alone.contains("area-alone.xml:3:") && alone.contains("not attached to any shape"), "{alone}");
 }

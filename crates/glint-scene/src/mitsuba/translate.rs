@@ -36,6 +36,8 @@ pub(super) struct Translator<'a> {
     groups: HashMap<String, Vec<Located<ShapeDesc>>>,
     /// Media already made for a `<medium>` element (by its position), so references share them.
     media_by_element: HashMap<(usize, u32, u32), String>,
+    /// Top-level area emitters attached to a shape by `<ref>`: each to one shape, as in Mitsuba.
+    attached_emitters: HashSet<String>,
 }
 
 /// The properties of one plugin element, recording which ones were read.
@@ -80,6 +82,7 @@ impl<'a> Translator<'a> {
             materials_by_element: HashMap::new(),
             groups: HashMap::new(),
             media_by_element: HashMap::new(),
+            attached_emitters: HashSet::new(),
         })
     }
 
@@ -95,6 +98,7 @@ impl<'a> Translator<'a> {
     pub fn translate(mut self, root: &'a Element) -> Result<(SceneFile, Vec<String>)> {
         let mut sensors = 0;
         let mut integrator = None;
+        let mut area_emitters = Vec::new();
         for child in &root.children {
             match child.tag.as_str() {
                 "sensor" => {
@@ -107,6 +111,10 @@ impl<'a> Translator<'a> {
                 }
                 "integrator" => integrator = Some(child),
                 "shape" => self.shape(child)?,
+                // An area emitter with an id, for the shape that refers to it.
+                "emitter" if child.attribute("type") == Some("area") && child.attribute("id").is_some() => {
+                    area_emitters.push(child)
+                }
                 "emitter" => self.emitter(child)?,
                 // Declared for <ref>; used where referenced.
                 "bsdf" | "texture" | "medium" | "phase" | "volume" => {}
@@ -117,6 +125,16 @@ impl<'a> Translator<'a> {
         }
         if sensors == 0 {
             return Err(self.error(&root.position, "the scene has no <sensor>: glint needs a camera"));
+        }
+        // Mitsuba refuses a surface emitter no shape took (it would emit from nowhere).
+        for emitter in area_emitters {
+            let id = emitter.attribute("id").unwrap_or("");
+            if !self.attached_emitters.contains(id) {
+                return Err(self.error(
+                    &emitter.position,
+                    format!("the area emitter `{id}` is not attached to any shape: refer to it from one <shape> with <ref id=\"{id}\"/>"),
+                ));
+            }
         }
         if let Some(i) = integrator {
             self.integrator(i)?;
@@ -412,13 +430,25 @@ impl<'a> Translator<'a> {
         for child in &shape.children {
             let target = match child.tag.as_str() {
                 "ref" => self.resolve(child)?,
-                "emitter" => {
-                    emission = Some(self.area_emitter(child)?);
-                    continue;
-                }
                 _ => child,
             };
             match (target.tag.as_str(), child.attribute("name")) {
+                ("emitter", _) => {
+                    if emission.is_some() {
+                        return Err(self.error(&child.position, "a shape can have only one emitter"));
+                    }
+                    // An emitter with an id (a top-level one by reference): Mitsuba attaches it
+                    // to one shape.
+                    if let Some(id) = target.attribute("id") {
+                        if !self.attached_emitters.insert(id.to_string()) {
+                            return Err(self.error(
+                                &child.position,
+                                format!("the area emitter `{id}` is already attached to another shape; Mitsuba attaches an emitter to a single shape"),
+                            ));
+                        }
+                    }
+                    emission = Some(self.area_emitter(target)?);
+                }
                 ("bsdf", _) => bsdf = Some(target),
                 ("medium", Some(side @ ("interior" | "exterior"))) => {
                     let medium = Some(self.medium(target)?);
@@ -591,7 +621,12 @@ impl<'a> Translator<'a> {
             if matches!(child.attribute("type"), Some("shapegroup" | "instance")) {
                 return Err(self.error(&child.position, "a shapegroup holds plain shapes, not groups or instances"));
             }
-            if let Some(emitter) = child.children.iter().find(|c| c.tag == "emitter") {
+            let is_emitter = |c: &Element| {
+                c.tag == "emitter"
+                    || (c.tag == "ref"
+                        && c.attribute("id").and_then(|id| self.ids.get(id)).is_some_and(|t| t.tag == "emitter"))
+            };
+            if let Some(emitter) = child.children.iter().find(|c| is_emitter(c)) {
                 return Err(self.error(&emitter.position, "an emitter inside a shapegroup is not supported"));
             }
             self.shape(child)?;
@@ -1198,7 +1233,7 @@ impl<'a> Translator<'a> {
                 return Ok(());
             }
             "area" => {
-                return Err(self.error(at, "an area emitter must be nested inside the <shape> that emits"));
+                return Err(self.error(at, "an area emitter must be nested inside the <shape> that emits, or have an `id` that one <shape> refers to"));
             }
             _ => {
                 return Err(self.error(
