@@ -3,9 +3,18 @@
 //!
 //! colour = k_a I_a + Σ_lights visible [k_d (N·L) + k_s (R·V)^n] I + k_r·trace(R) + k_t·trace(T)
 //!
+//! - the terms are the material's at the hit, with the child rays' weights at the angle of
+//!   incidence (`Material::whitted_at`): the course's material by its `fresnel` rule; each
+//!   member of the BSDF set by its own BSDF (a dielectric's F and 1 − F, a conductor's Fresnel
+//!   reflectance, a plastic's coat, a principled material's blended Fresnel term), its rough
+//!   lobes as their smooth limit, and light a thin sheet or a mask passes unbent as a third,
+//!   straight child ray; a diffuse transmitter is lit through by lights behind it. k_d is an
+//!   albedo, so a light's share here is π times the path tracers' ρ/π·(N·L)·I, for every
+//!   material alike; what the child rays carry agrees with them (tests/whitted_bsdf_set.rs);
 //! - shadow rays test each light with an any-hit query; with `transparent_shadows` the light
 //!   is instead multiplied by the transmission k_t of every occluder along the shadow ray
-//!   (the course's approximation: no refraction of the shadow ray, opaque occluders block);
+//!   (the course's approximation: no refraction of the shadow ray, opaque occluders block;
+//!   for a member of the BSDF set, what it passes on at the shadow ray's angle);
 //! - R = I − 2(I·N)N; T by Snell's law, entering when I·N < 0 against the outward geometric
 //!   normal; on total internal reflection the transmitted weight goes to reflection;
 //! - recursion ends at `max_depth` bounces (0 = local shading with shadows only), when the
@@ -138,9 +147,15 @@ impl Whitted {
     ) -> Rgb {
         let incident = ray.direction.normalize();
         let entering = incident.dot(hit.geometry.geometric_normal) < 0.0;
-        let material = scene.materials()[hit.material as usize].whitted(&hit.texture_query(scene.geometry()), entering);
         let normal = hit.facing(incident);
         let wo = -incident;
+        let cos_incident = -incident.dot(normal);
+        // The local model, and the child rays' weights at this angle (every Fresnel factor in).
+        let material = scene.materials()[hit.material as usize].whitted_at(
+            &hit.texture_query(scene.geometry()),
+            entering,
+            cos_incident,
+        );
 
         let ambient = material.ambient * scene.environment().ambient_light;
         let mut radiance = ambient;
@@ -149,8 +164,9 @@ impl Whitted {
             // The course's local shading reads the delta lights alone.
             let Some(illumination) = light.illuminate(hit.geometry.point) else { continue };
             let wi = illumination.direction;
-            // A light behind the surface (as seen from the viewer's side) cannot light it.
-            if normal.dot(wi) <= 0.0 {
+            // A light behind the surface (as seen from the viewer's side) cannot light it, but
+            // through a translucent one (diffuse transmission).
+            if normal.dot(wi) <= 0.0 && material.translucency == Rgb::ZERO {
                 recorder.light(LightRecord {
                     index,
                     direction: wi,
@@ -178,9 +194,8 @@ impl Whitted {
             budget.cut = true;
             return radiance;
         }
-        let cos_incident = -incident.dot(normal);
         let eta = if entering { 1.0 / material.ior } else { material.ior };
-        let (mut reflection_weight, mut transmission_weight) = material.ray_weights(cos_incident, eta);
+        let (mut reflection_weight, mut transmission_weight) = (material.reflection, material.transmission);
         let refracted = if transmission_weight != Rgb::ZERO { refract(incident, normal, eta) } else { None };
         if refracted.is_none() {
             // Total internal reflection (or nothing transmitted): the energy is reflected.
@@ -198,6 +213,12 @@ impl Whitted {
                 radiance += transmission_weight
                     * self.trace(scene, &transmitted, RayKind::Refraction, depth + 1, w, context, recorder, budget);
             }
+        }
+        // Light that goes on unbent (a thin sheet, a mask's clear part): a transmitted ray too.
+        if let Some(w) = self.worth_tracing(weight, material.straight, budget) {
+            let through = hit.spawn_ray(incident);
+            radiance += material.straight
+                * self.trace(scene, &through, RayKind::Refraction, depth + 1, w, context, recorder, budget);
         }
         radiance
     }
@@ -234,9 +255,12 @@ impl Whitted {
                 return visibility;
             };
             let outside = ray.direction.dot(hit.geometry.geometric_normal) < 0.0;
-            let transmission = scene.materials()[hit.material as usize]
-                .whitted(&hit.texture_query(scene.geometry()), outside)
-                .transmission;
+            let cos = ray.direction.normalize().dot(hit.geometry.shading_normal).abs();
+            let transmission = scene.materials()[hit.material as usize].shadow_transmission(
+                &hit.texture_query(scene.geometry()),
+                outside,
+                cos,
+            );
             visibility *= transmission;
             if visibility == Rgb::ZERO {
                 break;

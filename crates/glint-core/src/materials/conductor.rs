@@ -19,7 +19,7 @@
 use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
-use super::{Fresnel, PhongPoint};
+use super::PhongPoint;
 use crate::geometry::reflect;
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
@@ -36,10 +36,15 @@ impl Conductor {
         Leaf::Conductor(ConductorBsdf { frame, eta: self.eta, k: self.k, specular: self.specular.evaluate(query) })
     }
 
-    /// Whitted's view: the mirror ray weighted by the conductor's Fresnel reflectance.
-    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
-        let fresnel = Fresnel::Conductor { eta: self.eta, k: self.k };
-        PhongPoint { reflection: self.specular.evaluate(query), fresnel, ..PhongPoint::BLACK }
+    /// Whitted's view: the mirror ray, weighted as the BSDF weighs it: the specular factor
+    /// times the conductor's Fresnel reflectance at the viewer's angle (cosine `cos`). Black
+    /// from behind, as the BSDF.
+    pub(super) fn whitted(&self, query: &TextureQuery, outside: bool, cos: f32) -> PhongPoint {
+        if !outside {
+            return PhongPoint::BLACK;
+        }
+        let reflection = self.specular.evaluate(query) * fresnel_conductor(cos, self.eta, self.k);
+        PhongPoint { reflection, ..PhongPoint::BLACK }
     }
 }
 
@@ -219,5 +224,22 @@ mod tests {
             assert!(named_metal(name).is_some());
         }
         assert!(named_metal("unobtainium").is_none());
+    }
+
+    /// Whitted's mirror carries the conductor's Fresnel reflectance at the angle (gold's
+    /// colour head-on, white toward grazing), as the BSDF's delta lobe; nothing from behind.
+    #[test]
+    fn whitted_reads_the_bsdf() {
+        let (eta, k) = named_metal("Au").unwrap();
+        let gold = crate::materials::Material::Conductor(Conductor {
+            eta,
+            k,
+            specular: Texture::Constant(Rgb::new(1.0, 0.9, 0.8)),
+        });
+        for degrees in [0.0, 45.0, 80.0] {
+            crate::materials::testing::check_whitted(&gold, true, degrees, 3);
+        }
+        let q = TextureQuery::default();
+        assert_eq!(gold.whitted_at(&q, false, 0.5), PhongPoint::BLACK);
     }
 }

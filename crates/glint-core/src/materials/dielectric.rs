@@ -16,7 +16,7 @@
 use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
-use super::{fresnel_dielectric, Fresnel, PhongPoint};
+use super::{fresnel_dielectric, PhongPoint};
 use crate::geometry::{reflect, refract};
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
@@ -39,12 +39,16 @@ impl Dielectric {
         })
     }
 
-    /// Whitted's view: the course's refracting material with exact Fresnel.
-    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
+    /// Whitted's view: the mirror and the refraction, weighted as the BSDF weighs them at the
+    /// viewer's angle (cosine `cos`): specular_reflectance·F and specular_transmittance·(1 − F),
+    /// F the exact Fresnel reflectance from the viewer's side (1 past the critical angle, where
+    /// everything is reflected). Both sides.
+    pub(super) fn whitted(&self, query: &TextureQuery, outside: bool, cos: f32) -> PhongPoint {
+        let f = fresnel_dielectric(cos, if outside { 1.0 / self.eta } else { self.eta });
         PhongPoint {
-            transmission: self.specular_transmittance.evaluate(query),
+            reflection: self.specular_reflectance.evaluate(query) * f,
+            transmission: self.specular_transmittance.evaluate(query) * (1.0 - f),
             ior: self.eta,
-            fresnel: Fresnel::Exact,
             ..PhongPoint::BLACK
         }
     }
@@ -92,7 +96,7 @@ impl Lobes for DielectricBsdf {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::materials::testing::{albedo, at, frame_toward};
+    use crate::materials::testing::{albedo, at, check_whitted, frame_toward};
 
     fn glass() -> Dielectric {
         Dielectric {
@@ -129,6 +133,22 @@ mod tests {
             let bsdf = at(&glass().bsdf(&Default::default(), frame_toward(wo, Vec3::Z)));
             let a = albedo(&bsdf, wo, 10_000, 8);
             assert!((a.mean - 1.0).abs() < 1e-6, "{a:?}");
+        }
+    }
+
+    /// Whitted's mirror and refraction carry specular_reflectance·F and
+    /// specular_transmittance·(1 − F) at the angle, from either side (all reflected past the
+    /// critical angle inside), as the BSDF's two delta lobes.
+    #[test]
+    fn whitted_reads_the_bsdf() {
+        let tinted = crate::materials::Material::Dielectric(Dielectric {
+            specular_reflectance: Texture::Constant(Rgb::new(0.9, 0.7, 0.5)),
+            specular_transmittance: Texture::Constant(Rgb::new(0.5, 0.8, 1.0)),
+            ..glass()
+        });
+        for (outside, degrees) in [(true, 0.0), (true, 50.0), (true, 85.0), (false, 20.0), (false, 40.0), (false, 60.0)]
+        {
+            check_whitted(&tinted, outside, degrees, 5);
         }
     }
 }

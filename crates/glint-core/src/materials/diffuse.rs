@@ -27,8 +27,15 @@ impl Diffuse {
         Leaf::Diffuse(DiffuseBsdf { frame, reflectance: self.reflectance.evaluate(query) })
     }
 
-    /// Whitted's view: the course's Lambert term with k_a = k_d.
-    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
+    /// Whitted's view: the course's Lambert term with k_a = k_d = the reflectance, the albedo.
+    /// So a point or directional light gives k_d·(N·L)·I, π times the BSDF's ρ/π·(N·L)·I under
+    /// the path tracers (the course's convention, the same for its own material), and an
+    /// ambient light I_a, a uniform radiance, comes back as ρ·I_a, as the BSDF returns it.
+    /// Black from behind, as the BSDF.
+    pub(super) fn whitted(&self, query: &TextureQuery, outside: bool) -> PhongPoint {
+        if !outside {
+            return PhongPoint::BLACK;
+        }
         let k_d = self.reflectance.evaluate(query);
         PhongPoint { ambient: k_d, diffuse: k_d, ..PhongPoint::BLACK }
     }
@@ -97,7 +104,7 @@ impl Lobes for DiffuseBsdf {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::materials::testing::{albedo, at, check_sampling, frame_toward};
+    use crate::materials::testing::{albedo, at, check_sampling, check_whitted_local, frame_toward};
 
     fn diffuse(r: f32) -> Diffuse {
         Diffuse { reflectance: Texture::Constant(Rgb::splat(r)) }
@@ -124,5 +131,17 @@ mod tests {
         check_sampling(&bsdf, wo, n, 31);
         let a = albedo(&bsdf, wo, 20_000, 3);
         assert!((a.mean - 1.0).abs() < 1e-5, "a white Lambertian reflects everything: {a:?}");
+    }
+
+    /// Whitted reads Lambert's term with k_d the albedo (π·f·cos for each light), k_a the
+    /// same, and nothing from behind, as the BSDF.
+    #[test]
+    fn whitted_reads_the_bsdf() {
+        let m = crate::materials::Material::Diffuse(diffuse(0.6));
+        let wo = Vec3::new(0.4, -0.2, 0.9).normalize();
+        check_whitted_local(&m, wo, &[Vec3::Z, Vec3::new(-0.7, 0.1, 0.3).normalize(), -wo]);
+        let q = TextureQuery::default();
+        assert_eq!(m.whitted_at(&q, true, 0.5).ambient, Rgb::splat(0.6));
+        assert_eq!(m.whitted_at(&q, false, 0.5), PhongPoint::BLACK);
     }
 }

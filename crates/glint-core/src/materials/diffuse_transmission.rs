@@ -42,16 +42,17 @@ impl DiffuseTransmission {
         })
     }
 
-    /// Whitted's view: Lambert's term with k_a = k_d = reflectance, and the transmittance as
-    /// a straight-through child ray (index 1): the nearest the course's model comes to light
-    /// scattered through the sheet.
+    /// Whitted's view: the BSDF's two Lambert lobes as the course's Lambert term, k_d = the
+    /// reflectance for lights on the viewer's side and `translucency` = the transmittance for
+    /// lights on the far side (each an albedo, as `diffuse` reads its own); ambient light
+    /// arrives on both sides, k_a = reflectance + transmittance. No child ray: light through
+    /// the sheet is scattered, never seen through.
     pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
-        let k_d = self.reflectance.evaluate(query);
+        let (reflectance, transmittance) = (self.reflectance.evaluate(query), self.transmittance.evaluate(query));
         PhongPoint {
-            ambient: k_d,
-            diffuse: k_d,
-            transmission: self.transmittance.evaluate(query),
-            ior: 1.0,
+            ambient: reflectance + transmittance,
+            diffuse: reflectance,
+            translucency: transmittance,
             ..PhongPoint::BLACK
         }
     }
@@ -140,7 +141,7 @@ impl Lobes for DiffuseTransmissionBsdf {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::materials::testing::{at, check_sampling, frame_toward, furnace};
+    use crate::materials::testing::{at, check_sampling, check_whitted_local, frame_toward, furnace};
 
     fn sheet(r: f32, t: f32) -> DiffuseTransmission {
         DiffuseTransmission {
@@ -178,5 +179,17 @@ mod tests {
             let a = furnace(&bsdf, wo, 5);
             assert!((a.mean - 1.0).abs() < 1e-5, "r + t = 1 passes all light on: {a:?}");
         }
+    }
+
+    /// Whitted's Lambert terms are π times the BSDF's on both sides: the reflectance for lights
+    /// on the viewer's side, the transmittance (the translucency) for lights behind; no child
+    /// ray.
+    #[test]
+    fn whitted_reads_the_bsdf() {
+        let paper = crate::materials::Material::DiffuseTransmission(sheet(0.6, 0.3));
+        let wo = Vec3::new(0.3, 0.2, 0.9).normalize();
+        check_whitted_local(&paper, wo, &[Vec3::Z, Vec3::new(0.6, -0.3, 0.2).normalize(), -Vec3::Z, -wo]);
+        let w = paper.whitted_at(&TextureQuery::default(), true, wo.z);
+        assert_eq!((w.reflection, w.transmission, w.straight), (Rgb::ZERO, Rgb::ZERO, Rgb::ZERO));
     }
 }

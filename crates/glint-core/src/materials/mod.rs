@@ -252,42 +252,78 @@ impl Material {
     }
 
     /// The material's Whitted terms at a point seen from its `outside` (the side its geometric
-    /// normal points to) or not: the course's local model and the weights of its child rays.
-    /// Members that are not the course's material give their nearest course reading, which
-    /// each file documents (rough lobes as their smooth limit: Whitted traces no glossy rays).
-    pub fn whitted(&self, query: &TextureQuery, outside: bool) -> PhongPoint {
+    /// normal points to) or not, by a viewer at cosine `cos_incident` to the shading normal
+    /// turned toward it: the course's local model, and the weights of the child rays at that
+    /// angle with every Fresnel factor applied (the point's `fresnel` is `None`). The course's
+    /// material applies its own rule (`PhongPoint::ray_weights`). Each member of the BSDF set
+    /// gives its nearest course reading, documented in its file: its smooth lobes as mirror,
+    /// refracted and straight-through rays weighted as the BSDF weighs them at this angle,
+    /// rough lobes as their smooth limit (Whitted traces no glossy rays), its diffuse part as
+    /// Lambert's term with k_d = k_a = its albedo. So Whitted's direct light from a point or
+    /// directional light is π times the path tracers' (k_d·cos·I against ρ/π·cos·I) for every
+    /// material alike, the course's convention, while what the child rays carry agrees.
+    pub fn whitted_at(&self, query: &TextureQuery, outside: bool, cos_incident: f32) -> PhongPoint {
+        let cos = cos_incident;
         match self {
-            Material::Phong(p) => p.evaluate(query),
-            Material::Diffuse(m) => m.whitted(query),
+            Material::Phong(p) => {
+                let point = p.evaluate(query);
+                let eta = if outside { 1.0 / point.ior } else { point.ior };
+                let (reflection, transmission) = point.ray_weights(cos, eta);
+                PhongPoint { reflection, transmission, fresnel: Fresnel::None, ..point }
+            }
+            Material::Diffuse(m) => m.whitted(query, outside),
             Material::DiffuseTransmission(m) => m.whitted(query),
-            Material::Conductor(m) => m.whitted(query),
-            Material::RoughConductor(m) => m.whitted(query),
-            Material::Dielectric(m) => m.whitted(query),
-            Material::RoughDielectric(m) => m.whitted(query),
-            Material::ThinDielectric(m) => m.whitted(query),
-            Material::Plastic(m) => m.whitted(query),
-            Material::RoughPlastic(m) => m.whitted(query),
-            Material::Principled(m) => m.whitted(query),
-            Material::PrincipledThin(m) => m.whitted(query),
+            Material::Conductor(m) => m.whitted(query, outside, cos),
+            Material::RoughConductor(m) => m.whitted(query, outside, cos),
+            Material::Dielectric(m) => m.whitted(query, outside, cos),
+            Material::RoughDielectric(m) => m.whitted(query, outside, cos),
+            Material::ThinDielectric(m) => m.whitted(query, cos),
+            Material::Plastic(m) => m.whitted(query, outside, cos),
+            Material::RoughPlastic(m) => m.whitted(query, outside, cos),
+            Material::Principled(m) => m.whitted(query, outside, cos),
+            Material::PrincipledThin(m) => m.whitted(query, cos),
             Material::Blend(b) => {
                 let w = fraction(&b.weight, query);
-                let (first, second) = (b.first.whitted(query, outside), b.second.whitted(query, outside));
-                first.blend(&second, w)
+                let first = b.first.whitted_at(query, outside, cos);
+                first.blend(&b.second.whitted_at(query, outside, cos), w)
             }
             Material::Mask(m) => {
-                let opacity = fraction(&m.opacity, query);
-                let inner = m.material.whitted(query, outside);
-                let clear = PhongPoint { transmission: Rgb::ONE, ior: 1.0, ..PhongPoint::BLACK };
-                clear.blend(&inner, opacity)
+                let inner = m.material.whitted_at(query, outside, cos);
+                // Where the surface is absent, light goes on unbent; the inner material keeps
+                // its index and coat whichever part is larger.
+                let clear = PhongPoint { straight: Rgb::ONE, ..PhongPoint::BLACK };
+                let mixed = clear.blend(&inner, fraction(&m.opacity, query));
+                PhongPoint { ior: inner.ior, coat_ior: inner.coat_ior, shininess: inner.shininess, ..mixed }
             }
-            Material::TwoSided(t) => if outside { &t.front } else { &t.back }.whitted(query, true),
-            Material::NormalMap(m) => m.material.whitted(query, outside),
-            Material::BumpMap(m) => m.material.whitted(query, outside),
+            Material::TwoSided(t) => if outside { &t.front } else { &t.back }.whitted_at(query, true, cos),
+            Material::NormalMap(m) => m.material.whitted_at(query, outside, cos),
+            Material::BumpMap(m) => m.material.whitted_at(query, outside, cos),
             Material::Emitter(e) => PhongPoint {
                 emission: e.radiance.evaluate(query),
                 two_sided_emission: e.two_sided,
-                ..e.surface.whitted(query, outside)
+                ..e.surface.whitted_at(query, outside, cos)
             },
+        }
+    }
+
+    /// `whitted_at` seen head-on (cos θ = 1): the local model's terms (which do not depend on
+    /// the viewer's angle but for a coat's transmittance), as ray casting reads them.
+    pub fn whitted(&self, query: &TextureQuery, outside: bool) -> PhongPoint {
+        self.whitted_at(query, outside, 1.0)
+    }
+
+    /// What a shadow ray crossing the surface at cosine `cos_incident` lets through, for
+    /// Whitted's transparent shadows (the course's approximation: no refraction): the course's
+    /// material its k_t as given; any other what its Whitted terms pass on at that angle,
+    /// refracted or straight (a dielectric's (1 − F)·transmittance, a mask's clear part).
+    pub fn shadow_transmission(&self, query: &TextureQuery, outside: bool, cos_incident: f32) -> Rgb {
+        match self {
+            Material::Phong(p) => p.transmission.evaluate(query),
+            Material::Emitter(e) => e.surface.shadow_transmission(query, outside, cos_incident),
+            _ => {
+                let point = self.whitted_at(query, outside, cos_incident);
+                point.transmission + point.straight
+            }
         }
     }
 
@@ -471,7 +507,7 @@ impl Material {
 mod tests {
     use glam::Vec2;
 
-    use super::testing::{albedo, check_sampling};
+    use super::testing::{albedo, check_sampling, check_whitted};
     use super::*;
 
     fn diffuse(r: f32) -> Material {
@@ -590,5 +626,36 @@ mod tests {
         assert_eq!(lamp.emitted(-N, N, at(0.75, 0.25)), Rgb::splat(3.0), "two-sided");
         assert_eq!(lamp.emission(), (Rgb::splat(2.0), true));
         assert!(lamp.emission_texture().is_some());
+    }
+
+    /// Whitted reads the wrappers as their BSDFs combine members: a blend's child rays are
+    /// the members' weighed by the blend (each with its own Fresnel factor: a metal and glass,
+    /// not glass's rule applied to the metal's colour), a mask's clear part goes on unbent
+    /// beside its glass's refraction, and each side of a two-sided material is its own.
+    #[test]
+    fn whitted_reads_the_wrappers_as_their_bsdfs() {
+        let (eta, k) = named_metal("Au").unwrap();
+        let gold = || Material::Conductor(Conductor { eta, k, specular: Texture::Constant(Rgb::ONE) });
+        let glass = || {
+            Material::Dielectric(Dielectric {
+                eta: 1.5,
+                specular_reflectance: Texture::Constant(Rgb::ONE),
+                specular_transmittance: Texture::Constant(Rgb::new(0.6, 0.9, 1.0)),
+            })
+        };
+        let blend =
+            |w: f32| Material::Blend(Box::new(Blend { weight: Texture::from(w), first: gold(), second: glass() }));
+        let mask = Material::Mask(Box::new(Mask { opacity: Texture::from(0.7), material: glass() }));
+        let card = Material::TwoSided(Box::new(TwoSided { front: diffuse(0.5), back: gold() }));
+        for degrees in [0.0, 50.0, 80.0] {
+            check_whitted(&blend(0.3), true, degrees, 21);
+            check_whitted(&blend(0.8), true, degrees, 22);
+            check_whitted(&mask, true, degrees, 23);
+            check_whitted(&card, false, degrees, 24);
+        }
+        // Inside the masked glass: its own index, whatever the clear part's share.
+        let thin = Material::Mask(Box::new(Mask { opacity: Texture::from(0.3), material: glass() }));
+        check_whitted(&thin, false, 30.0, 25);
+        assert_eq!(thin.whitted_at(&TextureQuery::default(), false, 0.8).ior, 1.5);
     }
 }

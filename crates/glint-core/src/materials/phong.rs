@@ -96,11 +96,16 @@ impl Phong {
             roughness: self.roughness,
             emission: self.emission,
             two_sided_emission: self.two_sided_emission,
+            straight: Rgb::ZERO,
+            translucency: Rgb::ZERO,
+            coat_ior: 1.0,
         }
     }
 }
 
-/// A Phong material evaluated at a point: plain colours on the stack.
+/// A Phong material evaluated at a point: plain colours on the stack. The last three fields
+/// are not the course's: they let Whitted read members of the BSDF set faithfully (`Material::
+/// whitted_at`), and are zero (the coat's index 1) for the course's material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PhongPoint {
     pub ambient: Rgb,
@@ -114,6 +119,15 @@ pub struct PhongPoint {
     pub roughness: f32,
     pub emission: Rgb,
     pub two_sided_emission: bool,
+    /// Weight of a child ray that goes on unbent, whatever `ior` says: light through a thin
+    /// sheet or a mask's clear part.
+    pub straight: Rgb,
+    /// Lambert's term through the surface (diffuse transmission): a light on the far side
+    /// adds translucency·|N·L|·I.
+    pub translucency: Rgb,
+    /// Index of a smooth dielectric coat over the Lambert term (a plastic): light reaches the
+    /// base through it, so k_d is weighed by the coat's transmittance 1 − F(N·L). 1: no coat.
+    pub coat_ior: f32,
 }
 
 impl PhongPoint {
@@ -131,10 +145,15 @@ impl PhongPoint {
         roughness: 0.0,
         emission: Rgb::ZERO,
         two_sided_emission: false,
+        straight: Rgb::ZERO,
+        translucency: Rgb::ZERO,
+        coat_ior: 1.0,
     };
 
-    /// (1 − w)·self + w·other for the colours; the index, Fresnel rule and exponent of the one
-    /// weighed more (Whitted's reading of a blend).
+    /// (1 − w)·self + w·other for the colours; the index, Fresnel rule, coat and exponent of
+    /// the one weighed more (Whitted's reading of a blend). Exact for the child rays' weights
+    /// when both points' Fresnel factors are already applied (`Fresnel::None`, as
+    /// `Material::whitted_at` gives them): a blend of BSDFs is linear in its members.
     pub fn blend(&self, other: &Self, w: f32) -> Self {
         let mix = |a: Rgb, b: Rgb| a * (1.0 - w) + b * w;
         let major = if w > 0.5 { other } else { self };
@@ -145,6 +164,8 @@ impl PhongPoint {
             reflection: mix(self.reflection, other.reflection),
             transmission: mix(self.transmission, other.transmission),
             emission: mix(self.emission, other.emission),
+            straight: mix(self.straight, other.straight),
+            translucency: mix(self.translucency, other.translucency),
             ..*major
         }
     }
@@ -158,13 +179,20 @@ impl PhongPoint {
         }
     }
 
-    /// k_d (N·L) + k_s (R·V)^n times the light's intensity; `normal` faces the viewer.
+    /// k_d (N·L) + k_s (R·V)^n times the light's intensity; `normal` faces the viewer. A light
+    /// behind the surface adds only the translucency's |N·L|.
     pub fn local(&self, normal: Vec3, wo: Vec3, wi: Vec3, intensity: Rgb) -> Rgb {
         let cos_light = normal.dot(wi);
         if cos_light <= 0.0 {
-            return Rgb::ZERO;
+            if self.translucency == Rgb::ZERO {
+                return Rgb::ZERO;
+            }
+            return intensity * self.translucency * -cos_light;
         }
         let mut reflectance = self.diffuse * cos_light;
+        if self.coat_ior != 1.0 {
+            reflectance *= 1.0 - fresnel_dielectric(cos_light, 1.0 / self.coat_ior);
+        }
         if self.specular != Rgb::ZERO {
             let mirror = reflect(-wi, normal);
             let cos_view = mirror.dot(wo).max(0.0);

@@ -78,12 +78,29 @@ impl Plastic {
         Leaf::Plastic(PlasticBsdf { frame, coat, fresnel_o, p_diffuse })
     }
 
-    /// Whitted's view: the base as Lambert's term, the coat as a mirror of its normal-incidence
-    /// reflectance.
-    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
-        let k_d = self.diffuse.evaluate(query);
-        let reflection = self.specular.evaluate(query) * fresnel_dielectric(1.0, 1.0 / self.eta);
-        PhongPoint { ambient: k_d, diffuse: k_d, reflection, ..PhongPoint::BLACK }
+    /// Whitted's view, the BSDF's at the viewer's angle θ_o (cosine `cos`): the coat as a
+    /// mirror of weight specular·F(θ_o); the base as Lambert's term under the coat, k_d = the
+    /// base's albedo after its internal scattering times (1 − F(θ_o))/η², each light's share
+    /// further weighed by the coat's transmittance toward it, 1 − F(θ_i) (`coat_ior`), so that
+    /// a light gives π times the BSDF's f·cos θ_i·I, as for `diffuse`; ambient light, uniform,
+    /// comes back as k_d·(1 − F_dr), F_dr the coat's hemispherical reflectance from outside.
+    /// Black from behind, as the BSDF.
+    pub(super) fn whitted(&self, query: &TextureQuery, outside: bool, cos: f32) -> PhongPoint {
+        if !outside {
+            return PhongPoint::BLACK;
+        }
+        let internal = fresnel_diffuse_reflectance(1.0 / self.eta);
+        let coat =
+            Coat::new(self.diffuse.evaluate(query), self.specular.evaluate(query), self.eta, self.nonlinear, internal);
+        let f = fresnel_dielectric(cos, 1.0 / self.eta);
+        let k_d = coat.diffuse * ((1.0 - f) / (self.eta * self.eta));
+        PhongPoint {
+            ambient: k_d * (1.0 - fresnel_diffuse_reflectance(self.eta)),
+            diffuse: k_d,
+            reflection: coat.specular * f,
+            coat_ior: self.eta,
+            ..PhongPoint::BLACK
+        }
     }
 }
 
@@ -155,7 +172,7 @@ impl Lobes for PlasticBsdf {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::materials::testing::{albedo, at, check_sampling, frame_toward};
+    use crate::materials::testing::{albedo, at, check_sampling, check_whitted, check_whitted_local, frame_toward};
 
     fn plastic(diffuse: f32, nonlinear: bool) -> Plastic {
         Plastic {
@@ -208,5 +225,22 @@ mod tests {
         let white = at(&plastic(1.0, true).bsdf(&Default::default(), wo, frame_toward(wo, Vec3::Z)));
         let a = albedo(&white, wo, 200_000, 13);
         assert!(a.mean > 0.9 && a.mean < 1.02, "{a:?}");
+    }
+
+    /// Whitted's mirror carries the coat's specular·F(θ_o), and its Lambert term under the coat
+    /// is π times the BSDF's diffuse part for each light (the coat crossed both ways).
+    #[test]
+    fn whitted_reads_the_bsdf() {
+        let red = crate::materials::Material::Plastic(Plastic {
+            diffuse: Texture::Constant(Rgb::new(0.6, 0.1, 0.1)),
+            specular: Texture::Constant(Rgb::splat(0.9)),
+            eta: 1.49,
+            nonlinear: true,
+        });
+        for degrees in [0.0, 45.0, 80.0] {
+            check_whitted(&red, true, degrees, 9);
+        }
+        let wo = Vec3::new(0.5, 0.3, 0.6).normalize();
+        check_whitted_local(&red, wo, &[Vec3::Z, Vec3::new(-0.7, 0.1, 0.3).normalize(), Vec3::new(0.1, 0.99, 0.05)]);
     }
 }

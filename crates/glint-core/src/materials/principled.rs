@@ -38,7 +38,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
-use super::{fresnel_dielectric, Distribution, Fresnel, Microfacet, PhongPoint};
+use super::{fresnel_dielectric, Distribution, Microfacet, PhongPoint};
 use crate::geometry::{reflect, refract};
 use crate::sampling::warp::square_to_cosine_hemisphere;
 use crate::textures::{Texture, TextureQuery};
@@ -89,11 +89,15 @@ impl Principled {
     }
 
     pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
+        Leaf::Principled(self.evaluate(query, frame))
+    }
+
+    fn evaluate(&self, query: &TextureQuery, frame: Frame) -> PrincipledBsdf {
         let scalar = |t: &Texture| t.evaluate(query).dot(LUMINANCE);
         let (roughness, anisotropic) = (scalar(&self.roughness), scalar(&self.anisotropic));
         let microfacet = disney_microfacet(roughness, anisotropic);
         let gloss = scalar(&self.clearcoat_gloss);
-        Leaf::Principled(PrincipledBsdf {
+        PrincipledBsdf {
             // Anisotropic widths lie along the surface's ∂p/∂u.
             frame: if microfacet.alpha_x != microfacet.alpha_y { frame.along(query.dpdu) } else { frame },
             base: self.base_color.evaluate(query),
@@ -108,25 +112,49 @@ impl Principled {
             microfacet,
             clearcoat_alpha: 0.1 + gloss * (0.001 - 0.1),
             eta: self.eta,
-        })
+        }
     }
 
-    /// Whitted's view: the dielectric part (diffuse base·brdf, a Fresnel mirror, refraction of
-    /// √base·spec_trans) blended with the metallic part (a mirror of the base colour).
-    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
-        let scalar = |t: &Texture| t.evaluate(query).dot(LUMINANCE).clamp(0.0, 1.0);
-        let base = self.base_color.evaluate(query);
-        let (metallic, spec_trans) = (scalar(&self.metallic), scalar(&self.spec_trans));
-        let dielectric = PhongPoint {
-            diffuse: base * (1.0 - spec_trans),
-            reflection: Rgb::ONE,
-            transmission: base.max(Rgb::ZERO).powf(0.5) * spec_trans,
+    /// Whitted's view: the BSDF's lobes in their smooth limit (Whitted traces no glossy rays),
+    /// at the viewer's angle θ (cosine `cos`), each weighed as the BSDF weighs it:
+    /// * the mirror: the specular lobe's Fresnel term, the dielectric F(θ) at η blended with
+    ///   Schlick's for the metallic and tinted parts, (1 − metallic)(1 − spec_tint)·F(θ) +
+    ///   metallic·Schlick(base, θ) + (1 − metallic)·spec_tint·Schlick(tint·r₀, θ), plus the
+    ///   clearcoat's albedo as its lobe narrows, clearcoat·Schlick(0.04, θ)·cos²θ;
+    /// * the refraction, at index η: bsdf·√base·(1 − F(θ));
+    /// * Burley's diffuse as Lambert's term, k_d = k_a = base·brdf (exact head-on, where
+    ///   Burley's lobe is Lambert's; its retro-reflection, fake subsurface and the sheen, which
+    ///   lean toward grazing angles, are left out).
+    ///
+    /// From behind (inside a transmitting principled material): bsdf·F reflected and
+    /// bsdf·√base·(1 − F) refracted; black where it does not transmit. So a glTF material
+    /// (metallic 0) is a diffuse base under a Fresnel mirror of 4 % head-on, not a mirror.
+    pub(super) fn whitted(&self, query: &TextureQuery, outside: bool, cos: f32) -> PhongPoint {
+        let cos = cos.clamp(0.0, 1.0);
+        // The frame only tells the evaluated BSDF which side the viewer is on.
+        let frame = Frame::new(Vec3::Z, Vec3::Z, if outside { Vec3::Z } else { -Vec3::Z });
+        let b = self.evaluate(query, frame);
+        if b.inactive() {
+            return PhongPoint::BLACK;
+        }
+        let f = b.fresnel(cos);
+        let mut reflection = b.principled_fresnel(f, cos);
+        let refracted = b.base.max(Rgb::ZERO).powf(0.5) * (b.bsdf_weight() * (1.0 - f));
+        if !outside {
+            return PhongPoint { reflection, transmission: refracted, ior: self.eta, ..PhongPoint::BLACK };
+        }
+        if b.clearcoat > 0.0 {
+            reflection += Rgb::splat(b.clearcoat * schlick(Rgb::splat(0.04), cos, b.eta).x * cos * cos);
+        }
+        let diffuse = b.base * b.brdf();
+        PhongPoint {
+            ambient: diffuse,
+            diffuse,
+            reflection,
+            transmission: refracted,
             ior: self.eta,
-            fresnel: Fresnel::Exact,
             ..PhongPoint::BLACK
-        };
-        let metal = PhongPoint { reflection: base, ..PhongPoint::BLACK };
-        dielectric.blend(&metal, metallic)
+        }
     }
 }
 
@@ -462,8 +490,8 @@ impl Lobes for PrincipledBsdf {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::materials::testing::{albedo, albedo_by_quadrature, at, check_sampling, frame_toward};
-    use crate::materials::{Dielectric, RoughDielectric};
+    use crate::materials::testing::{albedo, albedo_by_quadrature, at, check_sampling, check_whitted, frame_toward};
+    use crate::materials::{Dielectric, Material, RoughDielectric};
 
     fn grey(v: f32) -> Texture {
         Texture::Constant(Rgb::splat(v))
@@ -662,5 +690,68 @@ mod tests {
                 assert!(r.p_value > 0.01, "alpha {alpha}: p = {}", r.p_value);
             }
         }
+    }
+
+    /// Whitted reads the BSDF's smooth limit (roughness 0): the mirror with the specular lobe's
+    /// blended Fresnel term, the refraction with bsdf·√base·(1 − F), from outside and inside.
+    /// With metallic 0 and no transmission (glTF's default material) the mirror carries the
+    /// dielectric F(θ), 4 % head-on: not 1.
+    #[test]
+    fn whitted_reads_the_bsdfs_smooth_limit() {
+        let smooth = |p: Principled| Material::Principled(Box::new(Principled { roughness: grey(0.0), ..p }));
+        let cases = [
+            // glTF's default material, its base black to leave the mirror alone.
+            smooth(Principled { base_color: grey(0.0), ..Default::default() }),
+            smooth(Principled {
+                base_color: Texture::Constant(Rgb::new(0.9, 0.6, 0.3)),
+                metallic: grey(1.0),
+                ..Default::default()
+            }),
+            // Tinted, part metal, part glass.
+            smooth(Principled {
+                base_color: Texture::Constant(Rgb::new(0.2, 0.5, 0.9)),
+                metallic: grey(0.4),
+                spec_tint: grey(0.7),
+                spec_trans: grey(1.0),
+                ..Default::default()
+            }),
+            smooth(Principled {
+                base_color: Texture::Constant(Rgb::new(0.9, 1.0, 0.8)),
+                spec_trans: grey(1.0),
+                ..Default::default()
+            }),
+        ];
+        for m in &cases {
+            for degrees in [0.0, 40.0, 75.0] {
+                check_whitted(m, true, degrees, 11);
+            }
+            // From inside, past the critical angle too (41.8°).
+            for degrees in [0.0, 30.0, 60.0] {
+                check_whitted(m, false, degrees, 12);
+            }
+        }
+        // The clearcoat's GTR1 lobe narrows only logarithmically (at the glossiest, α = 10⁻³,
+        // half its light leaves beyond 3°): its mirror weight, clearcoat·F(θ)·cos²θ, is the
+        // limit its albedo approaches from below, 87 % of it reached at that gloss.
+        for degrees in [0.0f32, 30.0, 60.0] {
+            let wo = Vec3::new(degrees.to_radians().sin(), 0.0, degrees.to_radians().cos());
+            let coated = |clearcoat: f32| Principled {
+                base_color: grey(0.0),
+                roughness: grey(0.0),
+                clearcoat: grey(clearcoat),
+                clearcoat_gloss: grey(1.0),
+                ..Default::default()
+            };
+            let q = TextureQuery::default();
+            let albedo_of = |p: &Principled| albedo(&at(&p.bsdf(&q, frame_toward(wo, Vec3::Z))), wo, 200_000, 14).mean;
+            let lobe = albedo_of(&coated(1.0)) - albedo_of(&coated(0.0));
+            let whitted = |p: Principled| p.whitted(&q, true, wo.z).reflection.x as f64;
+            let mirror = whitted(coated(1.0)) - whitted(coated(0.0));
+            assert!(lobe < mirror && lobe > 0.8 * mirror, "at {degrees}°: albedo {lobe}, Whitted's mirror {mirror}");
+        }
+        let coat = Material::Principled(Box::new(Principled { roughness: grey(1.0), ..Default::default() }));
+        let w = coat.whitted_at(&TextureQuery::default(), true, 1.0);
+        assert!((w.reflection - Rgb::splat(0.04)).abs().max_element() < 1e-6, "{w:?}");
+        assert_eq!((w.diffuse, w.ambient), (Rgb::splat(0.5), Rgb::splat(0.5)));
     }
 }

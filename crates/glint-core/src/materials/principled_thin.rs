@@ -41,7 +41,7 @@ use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
 use super::principled::{burley_diffuse, disney_microfacet, schlick, sheen, tint, LUMINANCE};
-use super::{fresnel_dielectric, Fresnel, Microfacet, PhongPoint};
+use super::{fresnel_dielectric, Microfacet, PhongPoint};
 use crate::geometry::reflect;
 use crate::sampling::warp::square_to_cosine_hemisphere;
 use crate::textures::{Texture, TextureQuery};
@@ -107,6 +107,10 @@ impl Default for PrincipledThin {
 
 impl PrincipledThin {
     pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
+        Leaf::PrincipledThin(self.evaluate(query, frame))
+    }
+
+    fn evaluate(&self, query: &TextureQuery, frame: Frame) -> PrincipledThinBsdf {
         let scalar = |t: &Texture| t.evaluate(query).dot(LUMINANCE);
         let (roughness, anisotropic) = (scalar(&self.roughness), scalar(&self.anisotropic));
         let eta = scalar(&self.eta);
@@ -124,7 +128,7 @@ impl PrincipledThin {
         for p in &mut probabilities {
             *p /= total;
         }
-        Leaf::PrincipledThin(PrincipledThinBsdf {
+        PrincipledThinBsdf {
             // Anisotropic widths lie along the surface's ∂p/∂u.
             frame: if reflection.alpha_x != reflection.alpha_y { frame.along(query.dpdu) } else { frame },
             base: self.base_color.evaluate(query),
@@ -139,24 +143,32 @@ impl PrincipledThin {
             reflection,
             transmission,
             probabilities,
-        })
+        }
     }
 
-    /// Whitted's view: the diffuse reflection, a mirror of the specular share's Fresnel
-    /// reflectance seen head-on, and the rest of it passed straight through (index 1: the sheet
-    /// does not bend light). Diffuse transmission has no Whitted reading and is left out.
-    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
-        let scalar = |t: &Texture| t.evaluate(query).dot(LUMINANCE);
-        let base = self.base_color.evaluate(query);
-        let spec_trans = scalar(&self.spec_trans).clamp(0.0, 1.0);
-        let diff_trans = (0.5 * scalar(&self.diff_trans)).clamp(0.0, 1.0);
-        let f = fresnel_dielectric(1.0, 1.0 / scalar(&self.eta));
+    /// Whitted's view: the sheet's lobes in their smooth limit (Whitted traces no glossy
+    /// rays) at the viewer's angle θ (cosine `cos`), each weighed as the BSDF weighs it, the
+    /// same from both sides:
+    /// * the mirror: spec_trans·F'(θ), F' the dielectric Fresnel reflectance at η leaning by
+    ///   spec_tint toward Schlick's tinted by the base colour;
+    /// * straight through, unbent (the sheet's transmission is the mirror image of its
+    ///   reflection): spec_trans·base·(1 − F(θ));
+    /// * Burley's diffuse as Lambert's term, k_d = base·(1 − spec_trans)(1 − dt) (exact head-on;
+    ///   retro-reflection and sheen, which lean toward grazing angles, left out);
+    /// * Lambert's transmission as the translucency, base·(1 − spec_trans)·dt, lit by lights
+    ///   on the far side; ambient light arrives on both sides, k_a = k_d + translucency.
+    pub(super) fn whitted(&self, query: &TextureQuery, cos: f32) -> PhongPoint {
+        // The frame only tells the evaluated BSDF which side the viewer is on: its own.
+        let b = self.evaluate(query, Frame::new(Vec3::Z, Vec3::Z, Vec3::Z));
+        let (st, dt) = (b.spec_trans, b.diff_trans);
+        let f = fresnel_dielectric(cos, 1.0 / b.eta);
+        let (diffuse, translucency) = (b.base * ((1.0 - st) * (1.0 - dt)), b.base * ((1.0 - st) * dt));
         PhongPoint {
-            diffuse: base * ((1.0 - spec_trans) * (1.0 - diff_trans)),
-            reflection: Rgb::splat(spec_trans * f),
-            transmission: base * (spec_trans * (1.0 - f)),
-            ior: 1.0,
-            fresnel: Fresnel::None,
+            ambient: diffuse + translucency,
+            diffuse,
+            translucency,
+            reflection: b.reflectance(cos) * st,
+            straight: b.base * (st * (1.0 - f)),
             ..PhongPoint::BLACK
         }
     }
@@ -307,7 +319,7 @@ impl Lobes for PrincipledThinBsdf {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::materials::testing::{at, check_sampling, frame_toward, furnace};
+    use crate::materials::testing::{at, check_sampling, check_whitted, check_whitted_local, frame_toward, furnace};
 
     /// A leaf with every lobe, a brushed sheet (anisotropic, tinted, skewed sampling rates),
     /// and a mostly transmitting film.
@@ -455,5 +467,30 @@ mod tests {
             let (a, b) = (front.pdf(wo, wi), back.pdf(through(wo), through(wi)));
             assert!((a - b).abs() < 1e-6, "{a} vs {b}");
         }
+    }
+
+    /// Whitted reads the sheet's smooth limit (roughness 0): the mirror spec_trans·F', straight
+    /// through spec_trans·base·(1 − F), the same from both sides; and head-on, where Burley's
+    /// diffuse is Lambert's, its Lambert terms are π times the BSDF's on both sides.
+    #[test]
+    fn whitted_reads_the_bsdfs_smooth_limit() {
+        let film = crate::materials::Material::PrincipledThin(Box::new(PrincipledThin {
+            base_color: Texture::Constant(Rgb::new(0.3, 0.8, 0.5)),
+            roughness: Texture::from(0.0),
+            spec_trans: Texture::from(0.7),
+            spec_tint: Texture::from(0.4),
+            eta: Texture::from(1.4),
+            ..Default::default()
+        }));
+        for (outside, degrees) in [(true, 0.0), (true, 50.0), (false, 75.0)] {
+            check_whitted(&film, outside, degrees, 13);
+        }
+        // No glossy lobe (spec_trans 0) to light the straight-through direction.
+        let leaf = crate::materials::Material::PrincipledThin(Box::new(PrincipledThin {
+            base_color: Texture::Constant(Rgb::new(0.2, 0.7, 0.1)),
+            diff_trans: Texture::from(0.8),
+            ..Default::default()
+        }));
+        check_whitted_local(&leaf, Vec3::Z, &[Vec3::Z, -Vec3::Z, Vec3::new(0.5, 0.2, -0.8).normalize()]);
     }
 }

@@ -49,10 +49,10 @@ impl RoughConductor {
         })
     }
 
-    /// Whitted's view: the mirror, weighted by the conductor's Fresnel reflectance (Whitted
-    /// traces no glossy lobes).
-    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
-        self.conductor.whitted(query)
+    /// Whitted's view: the lobe's smooth limit, the smooth conductor's mirror weighted by the
+    /// Fresnel reflectance at the viewer's angle (Whitted traces no glossy rays).
+    pub(super) fn whitted(&self, query: &TextureQuery, outside: bool, cos: f32) -> PhongPoint {
+        self.conductor.whitted(query, outside, cos)
     }
 }
 

@@ -47,9 +47,10 @@ impl RoughDielectric {
         })
     }
 
-    /// Whitted's view: smooth glass of the same index.
-    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
-        self.dielectric.whitted(query)
+    /// Whitted's view: the lobes' smooth limit, smooth glass of the same index (Whitted traces
+    /// no glossy rays): each microfacet lobe's weight goes to the mirror or the refraction.
+    pub(super) fn whitted(&self, query: &TextureQuery, outside: bool, cos: f32) -> PhongPoint {
+        self.dielectric.whitted(query, outside, cos)
     }
 }
 

@@ -75,9 +75,10 @@ impl RoughPlastic {
         })
     }
 
-    /// Whitted's view: smooth plastic's.
-    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
-        self.plastic.whitted(query)
+    /// Whitted's view: the coat's smooth limit, smooth plastic's (`plastic.rs`; Whitted traces
+    /// no glossy rays).
+    pub(super) fn whitted(&self, query: &TextureQuery, outside: bool, cos: f32) -> PhongPoint {
+        self.plastic.whitted(query, outside, cos)
     }
 }
 

@@ -1,12 +1,17 @@
 //! The checks every BSDF file runs (tests only): sampling against the pdf by chi-square over the
-//! whole sphere, each sample's weight against eval / pdf, and the directional albedo (the white
-//! furnace: the mean sample weight, ≤ 1 for a material that conserves energy).
+//! whole sphere, each sample's weight against eval / pdf, the directional albedo (the white
+//! furnace: the mean sample weight, ≤ 1 for a material that conserves energy), and Whitted's
+//! reading of a member against its BSDF.
 
 use glam::{Vec2, Vec3};
 
 use super::bsdf::{Bsdf, Frame, Leaf};
+use super::Material;
+use crate::geometry::{reflect, refract};
 use crate::sampling::chi2::chi2_test_with_resolution;
 use crate::sampling::Rng;
+use crate::textures::TextureQuery;
+use crate::Rgb;
 
 /// The frame a BSDF seen from `wo` gets on a surface of normal `n` (both normals `n`).
 pub(super) fn frame_toward(wo: Vec3, n: Vec3) -> Frame {
@@ -98,4 +103,79 @@ pub(super) fn furnace(bsdf: &Bsdf, wo: Vec3, seed: u64) -> Albedo {
     // A lossless lobe sums to 1 within rounding (with no spread at all: Lambert transmission).
     assert!(a.mean <= 1.0 + 1e-5 + 5.0 * a.standard_error, "gains energy: {a:?}");
     a
+}
+
+/// The mean weight of `samples` BSDF samples from `wo`, counting only those that leave within
+/// 3° of `toward` (a delta lobe's weight; a narrow lobe's albedo in that direction), and the
+/// mean's standard error, per channel.
+fn albedo_toward(bsdf: &Bsdf, wo: Vec3, toward: Vec3, samples: usize, seed: u64) -> (Rgb, Rgb) {
+    let cone = 3f32.to_radians().cos();
+    let mut rng = Rng::new(seed, 4);
+    // Summed in f64: 200 000 weights near 1 would lose a part in 10³ in f32.
+    let (mut sum, mut sum2) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
+    for _ in 0..samples {
+        let u = Vec2::new(rng.next_f32(), rng.next_f32());
+        if let Some(s) = bsdf.sample(wo, rng.next_f32(), u) {
+            if s.wi.dot(toward) >= cone {
+                let w = s.weight.as_dvec3();
+                sum += w;
+                sum2 += w * w;
+            }
+        }
+    }
+    let n = samples as f64;
+    let mean = sum / n;
+    let error = ((sum2 / n - mean * mean).max(glam::DVec3::ZERO) / n).powf(0.5);
+    (mean.as_vec3(), error.as_vec3())
+}
+
+/// Whitted's reading of `material` (`Material::whitted_at`) against its BSDF, seen at `degrees`
+/// from the normal from the outside (the side the geometric normal points to) or not: the
+/// weight of each child ray, mirror, refraction (at the reading's index) and straight on, is
+/// the mean weight of the BSDF's samples that leave that way (within 5 standard errors, and
+/// 2·10⁻³ for a smooth limit's tails), the refraction's going to the mirror where Snell's law
+/// has no solution, as Whitted's integrator moves it.
+pub(super) fn check_whitted(material: &Material, outside: bool, degrees: f32, seed: u64) {
+    let n = Vec3::Z;
+    let theta = degrees.to_radians();
+    let wo = Vec3::new(theta.sin(), 0.0, theta.cos());
+    let q = TextureQuery::default();
+    let geometric = if outside { n } else { -n };
+    let bsdf = material.bsdf(&q, wo, geometric, geometric);
+    let w = material.whitted_at(&q, outside, wo.z);
+    let eta = if outside { 1.0 / w.ior } else { w.ior };
+    let refracted = refract(-wo, n, eta);
+    let (mirror, transmission) =
+        if refracted.is_some() { (w.reflection, w.transmission) } else { (w.reflection + w.transmission, Rgb::ZERO) };
+    let mut expected = vec![("mirror", reflect(-wo, n), mirror), ("straight", -wo, w.straight)];
+    if let Some(direction) = refracted {
+        // Straight on and refracted coincide head-on: one expectation for both.
+        if direction.dot(-wo) < 0.999 {
+            expected.push(("refraction", direction, transmission));
+        } else {
+            expected[1].2 += transmission;
+        }
+    }
+    for (name, direction, weight) in expected {
+        let (mean, error) = albedo_toward(&bsdf, wo, direction, 200_000, seed);
+        let tolerance = error * 5.0 + Rgb::splat(2e-3);
+        assert!(
+            (mean - weight).abs().cmple(tolerance).all(),
+            "{name} at {degrees}° ({}): Whitted {weight}, BSDF {mean} ± {error}",
+            if outside { "outside" } else { "inside" }
+        );
+    }
+}
+
+/// Whitted's local term for a light of intensity 1 from each of `lights` is π times the
+/// BSDF's f·|cos θ_i| (the course's convention: k_d is the albedo), seen from `wo` on the side
+/// the normal z points to.
+pub(super) fn check_whitted_local(material: &Material, wo: Vec3, lights: &[Vec3]) {
+    let q = TextureQuery::default();
+    let bsdf = material.bsdf(&q, wo, Vec3::Z, Vec3::Z);
+    let w = material.whitted_at(&q, true, wo.z);
+    for &wi in lights {
+        let (whitted, path) = (w.local(Vec3::Z, wo, wi, Rgb::ONE), bsdf.eval(wo, wi) * std::f32::consts::PI);
+        assert!((whitted - path).abs().max_element() < 1e-5, "light from {wi}: Whitted {whitted}, π·f·cos {path}");
+    }
 }

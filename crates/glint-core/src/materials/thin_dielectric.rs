@@ -32,14 +32,14 @@ impl ThinDielectric {
         })
     }
 
-    /// Whitted's view: the sheet's reflectance at normal incidence as a mirror weight, the rest
-    /// passed straight on (index 1).
-    pub(super) fn whitted(&self, query: &TextureQuery) -> PhongPoint {
-        let r = sheet_reflectance(1.0, 1.0 / self.sheet.eta);
+    /// Whitted's view, the BSDF's: the sheet's reflectance R' at the viewer's angle (cosine
+    /// `cos`) as the mirror's weight, specular_reflectance·R', and the rest passed straight on
+    /// (unbent), specular_transmittance·(1 − R'). Both sides.
+    pub(super) fn whitted(&self, query: &TextureQuery, cos: f32) -> PhongPoint {
+        let r = sheet_reflectance(cos, 1.0 / self.sheet.eta);
         PhongPoint {
             reflection: self.sheet.specular_reflectance.evaluate(query) * r,
-            transmission: self.sheet.specular_transmittance.evaluate(query) * (1.0 - r),
-            ior: 1.0,
+            straight: self.sheet.specular_transmittance.evaluate(query) * (1.0 - r),
             ..PhongPoint::BLACK
         }
     }
@@ -109,5 +109,21 @@ mod tests {
         assert!(through.delta && through.wi == -wo && through.eta_squared == 1.0);
         let a = albedo(&bsdf, wo, 10_000, 2);
         assert!((a.mean - 1.0).abs() < 1e-6, "white furnace: {a:?}");
+    }
+
+    /// Whitted's mirror carries the sheet's reflectance R' at the angle and the straight ray
+    /// the rest, as the BSDF's two delta lobes.
+    #[test]
+    fn whitted_reads_the_bsdf() {
+        let pane = crate::materials::Material::ThinDielectric(ThinDielectric {
+            sheet: Dielectric {
+                eta: 1.5,
+                specular_reflectance: Texture::Constant(Rgb::new(1.0, 0.8, 0.6)),
+                specular_transmittance: Texture::Constant(Rgb::new(0.6, 0.9, 1.0)),
+            },
+        });
+        for (outside, degrees) in [(true, 0.0), (true, 60.0), (false, 80.0)] {
+            crate::materials::testing::check_whitted(&pane, outside, degrees, 7);
+        }
     }
 }
