@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use glint_core::film::{ExactPixel, Film};
 use thiserror::Error;
 
-use crate::output::{write_file_atomically, OutputError};
+use crate::output::{check_writable, write_file_atomically, write_image, ImageFormat, OutputError};
 
 /// The header attributes that must agree for parts to be merged: the render's identity (a
 /// hash of the scene's files by content, the flags that change the image, the resolution) and,
@@ -119,6 +119,16 @@ pub fn write(path: &Path, film: &Film, attributes: &[(&str, String)]) -> Result<
     let bytes =
         encode(film, attributes).map_err(|reason| OutputError::Unencodable { path: path.to_path_buf(), reason })?;
     write_file_atomically(path, &bytes, "output")
+}
+
+/// Writes a partial render in the format `path`'s extension names: an EXR is a partial render
+/// (its exact sums and header, to merge further); PNG, PFM and HDR hold the image alone. Any
+/// other extension is refused before anything is written.
+pub fn write_as_named(path: &Path, film: &Film, attributes: &[(&str, String)]) -> Result<(), OutputError> {
+    match check_writable(path)? {
+        ImageFormat::Exr => write(path, film, attributes),
+        _ => write_image(path, film.width, film.height, &film.to_rgb(), 0.0, &[], &[]),
+    }
 }
 
 /// Reads a partial render back.

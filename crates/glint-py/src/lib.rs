@@ -4,13 +4,20 @@
 //! released and stopped by Ctrl-C; a render of a sample range comes back as a `Partial`,
 //! which pickles (for Ray) and merges bit for bit; `compare` judges an image against a
 //! reference.
+//!
+//! The checks a render is held to are the command's own (`glint_cli::limits`: the memory
+//! limit, GLINT_MEMORY_LIMIT, the thread bound), with the same words; the readers' warnings
+//! arrive as `glint.GlintWarning`s.
 
+use std::ffi::CString;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};
 use std::time::Duration;
 
 use glint_cli::compare as judge;
+use glint_cli::description::{self, Description, DescriptionError};
+use glint_cli::limits;
 use glint_cli::partial::{self, Partial as PartialFile};
 use glint_core::film::Film;
 use glint_core::integrators::aov::render_aovs;
@@ -21,14 +28,82 @@ use glint_core::{Named, Rgb};
 use glint_scene::{LoadedScene, RenderOptions};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyException, PyValueError};
+use pyo3::exceptions::{PyException, PyTypeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBytes, PyDict};
+use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
-create_exception!(_glint, GlintError, PyException, "A scene, render or file glint refuses; the message says why.");
+// Named `glint.…`, where the package exports them, so that they pickle (a worker process's
+// error reaches its parent).
+create_exception!(glint, GlintError, PyException, "A scene, render or file glint refuses; the message says why.");
+create_exception!(
+    glint,
+    GlintWarning,
+    PyUserWarning,
+    "Something worth knowing about a scene or render that does not stop it (the warnings `glint render` prints)."
+);
 
 fn glint_error(e: impl std::fmt::Display) -> PyErr {
     GlintError::new_err(e.to_string())
+}
+
+/// Each message as a `GlintWarning`, attributed to the caller's line.
+fn warn_all(py: Python<'_>, messages: &[String]) -> PyResult<()> {
+    let category = py.get_type::<GlintWarning>();
+    for message in messages {
+        let text = CString::new(message.replace('\0', " ")).unwrap_or_default();
+        PyErr::warn(py, category.as_any(), &text, 1)?;
+    }
+    Ok(())
+}
+
+/// A path argument: a str, bytes or path-like object (as `open` takes).
+fn path_argument(value: &Bound<'_, PyAny>) -> PyResult<PathBuf> {
+    value.py().import("os")?.call_method1("fsdecode", (value,))?.extract()
+}
+
+/// The memory limit (GLINT_MEMORY_LIMIT, else the default), read at each call as the command
+/// reads it at each run, and handed to the scene readers.
+fn memory_limit() -> PyResult<u64> {
+    let limit = limits::memory_limit_bytes(None).map_err(glint_error)?;
+    glint_scene::set_memory_limit(limit);
+    Ok(limit)
+}
+
+/// An integer argument (a Python int, a numpy integer: anything with `__index__`) as its
+/// value, if it fits, and its decimal text.
+fn integer_argument(value: &Bound<'_, PyAny>, name: &str) -> PyResult<(Option<i128>, String)> {
+    let index = value.py().import("operator")?.call_method1("index", (value,)).map_err(|_| {
+        let kind = value.get_type().name().map(|n| n.to_string()).unwrap_or_default();
+        let shown = value.repr().map(|r| r.to_string()).unwrap_or_default();
+        PyTypeError::new_err(format!("{name} must be a whole number, got {shown} (of type `{kind}`)"))
+    })?;
+    Ok((index.extract::<i128>().ok(), index.str()?.to_string()))
+}
+
+/// An integer argument from `min` to `max`.
+fn ranged_argument(value: &Bound<'_, PyAny>, name: &str, min: u64, max: u64) -> PyResult<u64> {
+    match integer_argument(value, name)? {
+        (Some(n), _) if (i128::from(min)..=i128::from(max)).contains(&n) => Ok(n as u64),
+        (_, shown) => {
+            Err(PyValueError::new_err(format!("{name} must be a whole number from {min} to {max}, got {shown}")))
+        }
+    }
+}
+
+/// `samples`: any pair of sample indices (a tuple, a list, a numpy array).
+fn samples_argument(value: &Bound<'_, PyAny>) -> PyResult<(u32, u32)> {
+    let shown = || value.repr().map(|r| r.to_string()).unwrap_or_default();
+    let not_a_pair =
+        || PyValueError::new_err(format!("samples must be a pair (a, b) of sample indices, got {}", shown()));
+    if value.is_instance_of::<PyString>() || value.is_instance_of::<PyBytes>() {
+        return Err(not_a_pair());
+    }
+    // At most three items: enough to tell a pair, and an endless iterator ends.
+    let items = value.try_iter().map_err(|_| not_a_pair())?.take(3).collect::<PyResult<Vec<_>>>()?;
+    let [a, b] = items.as_slice() else { return Err(not_a_pair()) };
+    let a = ranged_argument(a, "samples: a", 0, u64::from(u32::MAX))? as u32;
+    let b = ranged_argument(b, "samples: b", 0, u64::from(u32::MAX))? as u32;
+    Ok((a, b))
 }
 
 /// A loaded scene and the render settings it asks for.
@@ -39,6 +114,20 @@ struct Scene {
     /// What makes a render of this scene what it is (the sources' contents, the parameters):
     /// parts of one render merge only with each other.
     source_fingerprint: u64,
+    /// Where it was read from, to read it again when unpickled.
+    origin: Origin,
+}
+
+enum Origin {
+    File {
+        path: PathBuf,
+        params: Vec<(String, String)>,
+    },
+    /// The description's JSON text and the directory its files are found from.
+    Dict {
+        json: String,
+        directory: PathBuf,
+    },
 }
 
 /// An image as a (height, width, 3) float32 array.
@@ -53,9 +142,9 @@ fn scalar_array<'py>(py: Python<'py>, width: u32, height: u32, values: Vec<f32>)
 }
 
 impl Scene {
-    fn new(loaded: LoadedScene, sources: &[u8], params: &[(String, String)]) -> Self {
+    fn new(loaded: LoadedScene, sources: &[u8], params: &[(String, String)], origin: Origin) -> Self {
         let fingerprint = glint_cli::checkpoint::fingerprint_of(&(sources, params));
-        Self { scene: Arc::new(loaded.scene), options: loaded.render, source_fingerprint: fingerprint }
+        Self { scene: Arc::new(loaded.scene), options: loaded.render, source_fingerprint: fingerprint, origin }
     }
 }
 
@@ -85,20 +174,33 @@ impl Scene {
 
     /// Renders the camera's view. Without `samples`: the image as a (height, width, 3)
     /// float32 array (with `aovs=True`, a dict of it and the AOVs). With `samples=(a, b)`:
-    /// samples a to b − 1 of every pixel, as a `Partial` to merge with the others. The GIL is
-    /// released while rendering; Ctrl-C stops the render and raises KeyboardInterrupt.
+    /// samples a to b − 1 of every pixel, as a `Partial` to merge with the others. `threads`:
+    /// 1 to 1024 worker threads (default: all cores). A render whose buffers would exceed the
+    /// memory limit (GLINT_MEMORY_LIMIT GiB, default 8) is refused, as `glint render` refuses
+    /// it. The GIL is released while rendering; Ctrl-C stops the render and raises
+    /// KeyboardInterrupt.
     #[pyo3(signature = (spp=None, seed=None, samples=None, integrator=None, threads=None, aovs=false))]
     #[allow(clippy::too_many_arguments)] // Python's keyword arguments, as Mitsuba's `render` has them
     fn render<'py>(
         &self,
         py: Python<'py>,
-        spp: Option<u32>,
-        seed: Option<u64>,
-        samples: Option<(u32, u32)>,
+        spp: Option<&Bound<'py, PyAny>>,
+        seed: Option<&Bound<'py, PyAny>>,
+        samples: Option<&Bound<'py, PyAny>>,
         integrator: Option<&str>,
-        threads: Option<usize>,
+        threads: Option<&Bound<'py, PyAny>>,
         aovs: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let spp = spp.map(|v| ranged_argument(v, "spp", 1, u64::from(u32::MAX))).transpose()?.map(|v| v as u32);
+        let seed = seed.map(|v| ranged_argument(v, "seed", 0, u64::MAX)).transpose()?;
+        let samples = samples.map(samples_argument).transpose()?;
+        let threads = match threads {
+            Some(value) => {
+                let (_, shown) = integer_argument(value, "threads")?;
+                Some(limits::parse_thread_count(&shown).map_err(PyValueError::new_err)?)
+            }
+            None => None,
+        };
         let kind = match integrator {
             None => self.options.integrator,
             Some(name) => IntegratorKind::from_name(name).ok_or_else(|| {
@@ -129,9 +231,9 @@ impl Scene {
                 ));
             }
         }
-        if spp == Some(0) {
-            return Err(PyValueError::new_err("spp must be at least 1"));
-        }
+        let (width, height) = (self.width(), self.height());
+        limits::check_memory(kind, &self.options.integrator_settings, width, height, memory_limit()?)
+            .map_err(glint_error)?;
         let settings = RenderSettings {
             spp: spp.unwrap_or(self.options.spp),
             seed: seed.unwrap_or(self.options.seed),
@@ -139,8 +241,8 @@ impl Scene {
             sampler: self.options.sampler,
         };
         let progressive = Progressive { settings, time_limit: None, second_moment: false, sample_range: samples };
-        let output = run_interruptibly(py, self.scene.clone(), kind, self.options, progressive, threads)?;
-        let (width, height) = (self.width(), self.height());
+        let (output, warnings) = run_interruptibly(py, self.scene.clone(), kind, self.options, progressive, threads)?;
+        warn_all(py, &warnings)?;
         if let Some((a, _)) = samples {
             let identity = glint_cli::checkpoint::fingerprint_of(&(
                 self.source_fingerprint,
@@ -178,6 +280,32 @@ impl Scene {
         d.set_item("depth", scalar_array(py, width, height, aov.depth)?)?;
         Ok(d.into_any())
     }
+
+    /// Pickles as where the scene came from: unpickling reads the file (at the same path) or
+    /// the description again, and refuses one whose files have changed since.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let restore = py.import("glint._glint")?.getattr("_restore_scene")?;
+        let fingerprint = self.source_fingerprint;
+        let state = match &self.origin {
+            Origin::File { path, params } => {
+                ("file", path.clone(), params.clone(), None::<String>, fingerprint).into_pyobject(py)?
+            }
+            Origin::Dict { json, directory } => {
+                ("dict", directory.clone(), Vec::<(String, String)>::new(), Some(json.clone()), fingerprint)
+                    .into_pyobject(py)?
+            }
+        };
+        Ok((restore, state))
+    }
+
+    /// A scene never changes: a copy is the scene itself.
+    fn __copy__(slf: Bound<'_, Self>) -> Bound<'_, Self> {
+        slf
+    }
+
+    fn __deepcopy__<'py>(slf: Bound<'py, Self>, _memo: &Bound<'py, PyAny>) -> Bound<'py, Self> {
+        slf
+    }
 }
 
 fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, rayon::ThreadPoolBuildError> {
@@ -186,7 +314,8 @@ fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, rayon::ThreadPoolBu
 
 /// Renders on a thread of its own while this one, without the GIL, waits for it, taking the
 /// GIL back every 50 ms to let Python handle signals: Ctrl-C raises the stop flag (the render
-/// ends after the pass under way) and becomes KeyboardInterrupt.
+/// ends after the pass under way) and becomes KeyboardInterrupt. Returns the render and the
+/// warnings `glint render` prints about it.
 fn run_interruptibly(
     py: Python<'_>,
     scene: Arc<CoreScene>,
@@ -194,7 +323,7 @@ fn run_interruptibly(
     options: RenderOptions,
     progressive: Progressive,
     threads: Option<usize>,
-) -> PyResult<RenderOutput> {
+) -> PyResult<(RenderOutput, Vec<String>)> {
     let stop = Arc::new(AtomicBool::new(false));
     let (sender, receiver) = mpsc::channel();
     // Behind a mutex: the waits below hand it to code without the GIL, which must be Sync.
@@ -208,7 +337,12 @@ fn run_interruptibly(
                     let mut renderer = kind
                         .renderer_until(&options.integrator_settings, &scene, seed, &stop)
                         .map_err(|e| e.to_string())?;
-                    Ok(render_progressive(
+                    let mut warnings = Vec::new();
+                    if kind.is_monte_carlo() {
+                        let materials = scene.material_names().iter().zip(scene.materials());
+                        warnings.extend(materials.filter_map(|(name, material)| material.highlight_warning(name)));
+                    }
+                    let output = render_progressive(
                         &scene,
                         renderer.as_mut(),
                         &progressive,
@@ -216,15 +350,18 @@ fn run_interruptibly(
                         &stop,
                         &|| {},
                         &mut |_, _, _| {},
-                    ))
+                    );
+                    warnings.extend(renderer.warnings());
+                    Ok((output, warnings))
                 })
             });
             let _ = sender.send(result);
         })
     };
     loop {
-        let received =
-            py.allow_threads(|| receiver.lock().expect("one waiter").recv_timeout(Duration::from_millis(50)));
+        let received = py.allow_threads(|| {
+            receiver.lock().unwrap_or_else(|e| e.into_inner()).recv_timeout(Duration::from_millis(50))
+        });
         match received {
             Ok(result) => {
                 let _ = worker.join();
@@ -237,7 +374,7 @@ fn run_interruptibly(
                     stop.store(true, Ordering::Relaxed);
                     loop {
                         let done = py.allow_threads(|| {
-                            receiver.lock().expect("one waiter").recv_timeout(Duration::from_millis(50))
+                            receiver.lock().unwrap_or_else(|e| e.into_inner()).recv_timeout(Duration::from_millis(50))
                         });
                         if !matches!(done, Err(mpsc::RecvTimeoutError::Timeout)) {
                             let _ = worker.join();
@@ -268,19 +405,24 @@ struct Partial {
 }
 
 impl Partial {
-    fn encode(&self) -> PyResult<Vec<u8>> {
+    /// The header attributes, with the sample ranges held.
+    fn header(&self) -> Vec<(&str, String)> {
         let mut attributes: Vec<(&str, String)> =
             self.attributes.iter().map(|(k, v)| (k.as_str(), v.clone())).collect();
-        let ranges = partial::format_ranges(&self.ranges);
         attributes.retain(|(k, _)| *k != partial::SAMPLES_KEY);
-        attributes.push((partial::SAMPLES_KEY, ranges));
-        partial::encode(&self.film, &attributes).map_err(glint_error)
+        attributes.push((partial::SAMPLES_KEY, partial::format_ranges(&self.ranges)));
+        attributes
     }
 
-    fn from_file(file: PartialFile) -> Self {
-        let film = Film::from_exact_sums(file.width, file.height, file.sums).expect("sizes read together");
+    fn encode(&self) -> PyResult<Vec<u8>> {
+        partial::encode(&self.film, &self.header()).map_err(glint_error)
+    }
+
+    fn from_file(file: PartialFile) -> PyResult<Self> {
+        let film = Film::from_exact_sums(file.width, file.height, file.sums)
+            .ok_or_else(|| glint_error("a part whose sums do not fill its image (a bug in glint)"))?;
         let attributes = file.attributes.into_iter().filter(|(k, _)| k != partial::SAMPLES_KEY).collect();
-        Self { film, attributes, ranges: file.ranges }
+        Ok(Self { film, attributes, ranges: file.ranges })
     }
 }
 
@@ -298,10 +440,12 @@ impl Partial {
         self.ranges.clone()
     }
 
-    /// Writes the part as a partial EXR (`glint merge` reads it).
-    fn save(&self, path: PathBuf) -> PyResult<()> {
-        let bytes = self.encode()?;
-        glint_cli::output::write_file_atomically(&path, &bytes, "output").map_err(glint_error)
+    /// Writes the part in the format the extension names, as `glint merge` writes: `.exr` a
+    /// partial EXR (its exact sums and samples, which `glint merge` reads); `.png`, `.pfm`,
+    /// `.hdr` the image alone. Other extensions are refused.
+    fn save(&self, path: &Bound<'_, PyAny>) -> PyResult<()> {
+        let path = path_argument(path)?;
+        partial::write_as_named(&path, &self.film, &self.header()).map_err(glint_error)
     }
 
     fn __getstate__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
@@ -309,7 +453,7 @@ impl Partial {
     }
 
     fn __setstate__(&mut self, state: &[u8]) -> PyResult<()> {
-        *self = Partial::from_file(partial::decode(state, Path::new("<pickled part>")).map_err(glint_error)?);
+        *self = Partial::from_file(partial::decode(state, Path::new("<pickled part>")).map_err(glint_error)?)?;
         Ok(())
     }
 
@@ -324,36 +468,149 @@ impl Partial {
     }
 }
 
-/// Loads a scene file (.toml, .json, or a Mitsuba .xml); `params` set a Mitsuba scene's
-/// `<default>`s, as `-D name=value` does.
+/// Loads a scene file (.toml, .json, or a Mitsuba .xml; a str, bytes or path-like path);
+/// `params` set a Mitsuba scene's `<default>`s, as `-D name=value` does.
 #[pyfunction]
 #[pyo3(signature = (path, **params))]
-fn load_file(path: PathBuf, params: Option<&Bound<'_, PyDict>>) -> PyResult<Scene> {
+fn load_file(py: Python<'_>, path: &Bound<'_, PyAny>, params: Option<&Bound<'_, PyDict>>) -> PyResult<Scene> {
+    let path = path_argument(path)?;
     let mut defines = Vec::new();
     if let Some(params) = params {
         for (k, v) in params.iter() {
             defines.push((k.extract::<String>()?, v.str()?.to_string()));
         }
     }
+    read_file(py, path, defines)
+}
+
+fn read_file(py: Python<'_>, path: PathBuf, defines: Vec<(String, String)>) -> PyResult<Scene> {
+    memory_limit()?;
     let options = glint_scene::LoadOptions { defines: defines.clone(), search_path: Vec::new() };
     let loaded = glint_scene::load_scene_with_options(&path, &options).map_err(glint_error)?;
+    warn_all(py, &loaded.warnings)?;
     let mut sources = Vec::new();
     for input in &loaded.inputs {
         sources.extend(std::fs::read(input).unwrap_or_default());
     }
-    Ok(Scene::new(loaded, &sources, &defines))
+    Ok(Scene::new(loaded, &sources, &defines, Origin::File { path, params: defines.clone() }))
 }
 
 /// Loads a scene from a dict with the native format's schema (the TOML file's tables as
-/// dicts, its arrays as lists); files it names are found from the working directory.
+/// dicts, its arrays as lists, tuples or numpy arrays, its numbers Python's or numpy's); files
+/// it names are found from the working directory. Errors name the key path
+/// (`shapes[0].radius`).
 #[pyfunction]
 fn load_dict(py: Python<'_>, description: &Bound<'_, PyDict>) -> PyResult<Scene> {
-    let json = py.import("json")?.call_method1("dumps", (description,))?.extract::<String>()?;
-    let cwd = std::env::current_dir().map_err(glint_error)?;
-    let source = glint_scene::Source::directory(cwd);
-    let loaded =
-        glint_scene::parse_scene(&json, glint_scene::native::Format::Json, "<dict>", &source).map_err(glint_error)?;
-    Ok(Scene::new(loaded, json.as_bytes(), &[]))
+    let directory = std::env::current_dir().map_err(glint_error)?;
+    read_dict(py, description.as_any(), directory)
+}
+
+fn read_dict(py: Python<'_>, description: &Bound<'_, PyAny>, directory: PathBuf) -> PyResult<Scene> {
+    memory_limit()?;
+    let json = describe(description, "", 0)?.to_json().map_err(glint_error)?;
+    let loaded = json.load(&glint_scene::Source::directory(directory.clone())).map_err(glint_error)?;
+    warn_all(py, &loaded.warnings)?;
+    let sources = json.text.as_bytes().to_vec();
+    Ok(Scene::new(loaded, &sources, &[], Origin::Dict { json: json.text, directory }))
+}
+
+/// A Python value as a scene description: dicts with str keys, lists and tuples, str, int,
+/// float, bool, None, path-like objects (as their str) and numpy arrays and scalars (as
+/// their `tolist()`).
+fn describe(value: &Bound<'_, PyAny>, path: &str, depth: usize) -> PyResult<Description> {
+    let refuse = |message: String| glint_error(DescriptionError::new(path, message));
+    if depth > description::MAX_DEPTH {
+        return Err(refuse(format!(
+            "nested more than {} levels deep (a dict or list that contains itself?)",
+            description::MAX_DEPTH
+        )));
+    }
+    if value.is_none() {
+        return Ok(Description::Null);
+    }
+    if let Ok(b) = value.downcast::<PyBool>() {
+        return Ok(Description::Bool(b.is_true()));
+    }
+    if value.is_instance_of::<PyInt>() {
+        return match value.extract::<i128>() {
+            Ok(i) => Ok(Description::Integer(i)),
+            Err(_) => Err(refuse(format!("{} is too large a number", value.str()?))),
+        };
+    }
+    if let Ok(f) = value.downcast::<PyFloat>() {
+        return Ok(Description::Float(f.value()));
+    }
+    if let Ok(s) = value.downcast::<PyString>() {
+        return Ok(Description::Text(s.to_str().map_err(|e| refuse(e.to_string()))?.to_string()));
+    }
+    if let Ok(d) = value.downcast::<PyDict>() {
+        let mut entries = Vec::with_capacity(d.len());
+        for (k, v) in d.iter() {
+            let Ok(key) = k.downcast::<PyString>() else {
+                let kind = k.get_type().name()?.to_string();
+                return Err(refuse(format!("the key {} is of type `{kind}`: keys must be strings", k.repr()?)));
+            };
+            let key = key.to_str().map_err(|e| refuse(e.to_string()))?.to_string();
+            let item = describe(&v, &description::key_path(path, &key), depth + 1)?;
+            entries.push((key, item));
+        }
+        return Ok(Description::Table(entries));
+    }
+    if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
+        let mut items = Vec::new();
+        for (k, item) in value.try_iter()?.enumerate() {
+            items.push(describe(&item?, &description::index_path(path, k), depth + 1)?);
+        }
+        return Ok(Description::List(items));
+    }
+    if value.hasattr("__fspath__")? {
+        return describe(&value.py().import("os")?.call_method1("fsdecode", (value,))?, path, depth + 1);
+    }
+    if value.hasattr("tolist")? {
+        return describe(&value.call_method0("tolist")?, path, depth + 1);
+    }
+    let kind = value.get_type().name()?.to_string();
+    Err(refuse(format!(
+        "a value of type `{kind}`, which a scene description cannot hold (a dict, list, tuple, str, number, bool, None or numpy array)"
+    )))
+}
+
+/// Reads a pickled scene again (`Scene.__reduce__`): `origin` "file" (`place` the path,
+/// `params` its parameters) or "dict" (`place` the directory its files are found from, `json`
+/// the description).
+#[pyfunction]
+#[pyo3(name = "_restore_scene")]
+fn restore_scene(
+    py: Python<'_>,
+    origin: &str,
+    place: PathBuf,
+    params: Vec<(String, String)>,
+    json: Option<String>,
+    fingerprint: u64,
+) -> PyResult<Scene> {
+    let scene = match (origin, json) {
+        ("file", _) => read_file(py, place.clone(), params)?,
+        ("dict", Some(json)) => {
+            let description = py.import("json")?.call_method1("loads", (json,))?;
+            read_dict(py, &description, place.clone())?
+        }
+        _ => return Err(glint_error(format!("a pickled scene of an unknown origin `{origin}`"))),
+    };
+    if scene.source_fingerprint != fingerprint {
+        return Err(glint_error(format!(
+            "the scene's files changed since it was pickled (read again from `{}`): a render of it would not be the pickled scene's",
+            place.display()
+        )));
+    }
+    Ok(scene)
+}
+
+/// Refuses, before any work, an output that cannot be written or whose extension names no
+/// image format (`python -m glint.distributed -o`).
+#[pyfunction]
+#[pyo3(name = "_check_output")]
+fn check_output(path: &Bound<'_, PyAny>) -> PyResult<()> {
+    glint_cli::output::check_writable(&path_argument(path)?).map(|_| ()).map_err(glint_error)
 }
 
 /// Parts of one render (from `render(samples=…)` or earlier merges) added into the part that
@@ -376,8 +633,8 @@ fn merge(parts: Vec<PyRef<'_, Partial>>) -> PyResult<Partial> {
 
 /// An image argument: a path, or a (height, width, 3) array.
 fn image_argument(value: &Bound<'_, PyAny>, what: &str) -> PyResult<judge::Image> {
-    if let Ok(path) = value.extract::<PathBuf>() {
-        return judge::read_image(&path).map_err(glint_error);
+    if value.is_instance_of::<PyString>() || value.is_instance_of::<PyBytes>() || value.hasattr("__fspath__")? {
+        return judge::read_image(&path_argument(value)?).map_err(glint_error);
     }
     let not_an_image = |_| PyValueError::new_err(format!("{what}: expected a path or a numpy array"));
     let array: PyReadonlyArrayDyn<'_, f32> =
@@ -444,6 +701,9 @@ fn _glint(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_dict, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(restore_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(check_output, m)?)?;
     m.add("GlintError", m.py().get_type::<GlintError>())?;
+    m.add("GlintWarning", m.py().get_type::<GlintWarning>())?;
     Ok(())
 }

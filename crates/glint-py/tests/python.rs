@@ -1,7 +1,8 @@
 //! The Python package's own tests (`test_glint.py`, pytest), run by `cargo test`: a virtual
 //! environment under target/ gets maturin, numpy, pytest and Ray from the Python registry
 //! (once; later runs find them), the package is built as a wheel by maturin (reusing the
-//! workspace's build) and installed into it, and pytest runs the tests against it.
+//! workspace's build) and installed into it, the `glint` command is built (tests compare the
+//! two front ends' refusals), and pytest runs the tests against them.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -66,10 +67,20 @@ fn the_python_package_passes_its_tests() {
         Command::new(&python).args(["-m", "pip", "install", "-q", "--force-reinstall", "--no-deps"]).arg(&wheel),
         "installing the wheel",
     );
+    // The command, for the tests that check Python and the command refuse alike.
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    run(
+        Command::new(cargo)
+            .args(["build", "--release", "--quiet", "-p", "glint-cli", "--bin", "glint"])
+            .current_dir(&root),
+        "building the glint command",
+    );
+    let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
     run(
         Command::new(&python)
             .args(["-m", "pytest", "-q", "-p", "no:cacheprovider"])
             .arg(root.join("crates/glint-py/tests"))
+            .env("GLINT_CLI", target.join("release/glint"))
             .current_dir(&root),
         "the Python tests",
     );

@@ -1,7 +1,11 @@
 """The Python module: loading, rendering to numpy, sample ranges and their merge, compare,
 the GIL and Ctrl-C, and rendering on a local two-CPU Ray."""
 
+import copy
+import json
+import multiprocessing
 import os
+import pathlib
 import pickle
 import signal
 import subprocess
@@ -36,8 +40,18 @@ def small_scene(width=24):
     }
 
 
+def glint_cli(*args, env=None):
+    """Runs the `glint` command (built beside the wheel by tests/python.rs); its stderr."""
+    cli = os.environ.get("GLINT_CLI") or os.path.join(ROOT, "target", "release", "glint")
+    if not os.path.exists(cli):
+        pytest.skip("the glint command is not built (tests/python.rs builds it and sets GLINT_CLI)")
+    out = subprocess.run([cli, *args], capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode != 0, out.stderr
+    return out.stderr
+
+
 def test_load_dict_errors_say_what_is_wrong():
-    with pytest.raises(glint.GlintError, match="missing field `look_at`"):
+    with pytest.raises(glint.GlintError, match="^camera: missing field `look_at`"):
         glint.load_dict({"camera": {"position": [0, 0, -5], "resolution": [8, 8]}})
     broken = small_scene()
     broken["shapes"][0]["material"] = "whit"
@@ -181,3 +195,179 @@ print("equal" if np.array_equal(merged.image, single.image) else "different", me
         assert "equal [(0, 4)]" in out.stdout, out.stdout + out.stderr
     finally:
         subprocess.run([ray_cli, "stop", "--force"], capture_output=True, env=env, timeout=120)
+
+
+def test_the_memory_limit_holds_in_python_as_on_the_command_line(tmp_path, monkeypatch):
+    """GLINT_MEMORY_LIMIT (GiB) is read as the command reads it, and a render whose buffers
+    exceed it is refused with the command's own words."""
+    description = small_scene(width=256)
+    scene_file = tmp_path / "scene.json"
+    scene_file.write_text(json.dumps(description))
+    monkeypatch.setenv("GLINT_MEMORY_LIMIT", "0.001")
+    scene = glint.load_dict(description)
+    with pytest.raises(glint.GlintError, match="memory limit of 1 MiB") as refused:
+        scene.render(spp=1)
+    message = str(refused.value)
+    assert message.startswith("this render needs about 2 MiB (256x256 pixels)"), message
+    stderr = glint_cli("render", str(scene_file), "--spp", "1", "-o", str(tmp_path / "x.pfm"), env=dict(os.environ))
+    assert f"error: {message}" in stderr.splitlines(), stderr
+    # The scene readers hold what they read to it too.
+    monkeypatch.setenv("GLINT_MEMORY_LIMIT", "0.00001")
+    with pytest.raises(glint.GlintError, match="more than the memory limit"):
+        glint.load_file(CORNELL)
+    monkeypatch.setenv("GLINT_MEMORY_LIMIT", "lots")
+    with pytest.raises(glint.GlintError, match="GLINT_MEMORY_LIMIT must be a number of GiB, got `lots`"):
+        scene.render(spp=1)
+
+
+def test_thread_counts_are_bounded_as_on_the_command_line():
+    scene = glint.load_dict(small_scene(width=16))
+    for threads in (0, -1, 1025):
+        with pytest.raises(ValueError, match=f"worker threads must be from 1 to 1024, got {threads}$"):
+            scene.render(spp=1, threads=threads)
+    # A hundred thousand threads ran until the machine gave out: in a process of its own.
+    script = f"""
+import glint
+scene = glint.load_dict({small_scene(width=16)!r})
+try:
+    scene.render(spp=1, threads=100000)
+    print("rendered")
+except ValueError as e:
+    print(e)
+"""
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    message = out.stdout.strip()
+    assert message == "the number of worker threads must be from 1 to 1024, got 100000", out.stdout + out.stderr
+    assert message in glint_cli("render", "--spp", "1", "--threads", "100000", "-o", "never.pfm")
+
+
+def test_a_part_is_saved_in_the_format_its_extension_names(tmp_path):
+    part = glint.load_dict(small_scene(width=8)).render(samples=(0, 2), seed=1)
+    part.save(str(tmp_path / "part.png"))
+    assert (tmp_path / "part.png").read_bytes()[:4] == b"\x89PNG"
+    part.save(tmp_path / "part.pfm")
+    assert (tmp_path / "part.pfm").read_bytes()[:2] == b"PF"
+    part.save(tmp_path / "part.exr")
+    assert (tmp_path / "part.exr").read_bytes()[:4] == b"\x76\x2f\x31\x01"
+    with pytest.raises(glint.GlintError, match=r"must end in \.png, \.exr, \.hdr or \.pfm"):
+        part.save(tmp_path / "part.jpg")
+    assert not (tmp_path / "part.jpg").exists()
+
+
+def test_the_distributed_command_writes_the_format_its_output_names(tmp_path, monkeypatch):
+    scene = glint.load_dict(small_scene(width=8))
+    calls = []
+
+    def render(scene_path, spp, **options):
+        calls.append(scene_path)
+        return scene.render(samples=(0, spp), seed=1)
+
+    monkeypatch.setattr(glint.distributed, "render", render)
+    glint.distributed.main([CORNELL, "--spp", "2", "-o", str(tmp_path / "dist.png")])
+    assert (tmp_path / "dist.png").read_bytes()[:4] == b"\x89PNG"
+    # An output it cannot write is refused before any rendering.
+    with pytest.raises(glint.GlintError, match="must end in"):
+        glint.distributed.main([CORNELL, "--spp", "2", "-o", str(tmp_path / "dist.jpg")])
+    assert len(calls) == 1
+
+
+def test_render_arguments_out_of_range_say_which_and_why():
+    scene = glint.load_dict(small_scene(width=8))
+    for spp in (-1, 0, 2**32):
+        with pytest.raises(ValueError, match=f"^spp must be a whole number from 1 to 4294967295, got {spp}$"):
+            scene.render(spp=spp)
+    with pytest.raises(ValueError, match="^seed must be a whole number from 0 to 18446744073709551615, got -1$"):
+        scene.render(spp=1, seed=-1)
+    with pytest.raises(TypeError, match="^spp must be a whole number, got 2.5"):
+        scene.render(spp=2.5)
+    assert np.array_equal(scene.render(spp=np.int64(2), seed=np.uint64(4)), scene.render(spp=2, seed=4))
+    whole = scene.render(samples=(0, 2), seed=1).image
+    assert np.array_equal(scene.render(samples=[0, 2], seed=1).image, whole)
+    assert np.array_equal(scene.render(samples=np.array([0, 2]), seed=1).image, whole)
+    with pytest.raises(ValueError, match=r"^samples must be a pair \(a, b\) of sample indices, got \[0, 1, 2\]"):
+        scene.render(samples=[0, 1, 2])
+    with pytest.raises(ValueError, match="^samples: a must be a whole number from 0 to 4294967295, got -1"):
+        scene.render(samples=(-1, 2))
+
+
+def test_load_file_takes_str_bytes_and_path_like_paths():
+    image = glint.load_file(CORNELL).render(spp=1, seed=1)
+    assert np.array_equal(glint.load_file(os.fsencode(CORNELL)).render(spp=1, seed=1), image)
+    assert np.array_equal(glint.load_file(pathlib.Path(CORNELL)).render(spp=1, seed=1), image)
+    with pytest.raises(TypeError, match="expected str, bytes or os.PathLike"):
+        glint.load_file(3)
+
+
+def test_load_dict_takes_numpy_values_and_names_key_paths_in_errors():
+    plain = small_scene(width=12)
+    typed = small_scene(width=12)
+    typed["camera"]["resolution"] = np.array([12, 12])
+    typed["camera"]["fov"] = np.float64(40)
+    typed["shapes"][0]["center"] = np.array([0, 0.6, 0])
+    typed["shapes"][0]["radius"] = np.float64(0.6)
+    typed["render"]["spp"] = np.int32(4)
+    typed["materials"]["white"]["reflectance"] = [np.float32(0.8)] * 3
+    rendered = glint.load_dict(typed).render(spp=1, seed=1)
+    assert rendered.shape == (12, 12, 3)
+    plain["materials"]["white"]["reflectance"] = [float(np.float32(0.8))] * 3
+    assert np.array_equal(rendered, glint.load_dict(plain).render(spp=1, seed=1))
+    wrong = small_scene()
+    wrong["shapes"][0]["radius"] = "big"
+    with pytest.raises(glint.GlintError, match=r'^shapes\[0\]\.radius: invalid type: string "big", expected'):
+        glint.load_dict(wrong)
+    typo = small_scene()
+    typo["shapes"][1]["nromal"] = typo["shapes"][1].pop("normal")
+    with pytest.raises(glint.GlintError, match=r"^shapes\[1\]\.nromal: unknown field `nromal`.*did you mean `normal`"):
+        glint.load_dict(typo)
+    unknown = small_scene()
+    unknown["shapes"][2]["material"] = "lmap"
+    with pytest.raises(glint.GlintError, match=r"^shapes\[2\]\.material: .*unknown material `lmap`.*did you mean `lamp`") as e:
+        glint.load_dict(unknown)
+    assert "<dict>" not in str(e.value)
+    not_finite = small_scene()
+    not_finite["shapes"][0]["radius"] = float("nan")
+    with pytest.raises(glint.GlintError, match=r"^shapes\[0\]\.radius: NaN is not a number a scene description can hold"):
+        glint.load_dict(not_finite)
+    odd = small_scene()
+    odd["shapes"][0]["radius"] = object()
+    with pytest.raises(glint.GlintError, match=r"^shapes\[0\]\.radius: a value of type `object`, which a scene description cannot hold"):
+        glint.load_dict(odd)
+    looped = small_scene()
+    looped["render"]["loop"] = looped
+    with pytest.raises(glint.GlintError, match="levels deep"):
+        glint.load_dict(looped)
+
+
+def test_errors_pickle_so_a_worker_process_reports_them():
+    with pytest.raises(glint.GlintError) as e:
+        glint.load_file(os.path.join(ROOT, "scenes", "no-such-scene.toml"))
+    copied = pickle.loads(pickle.dumps(e.value))
+    assert type(copied) is glint.GlintError and str(copied) == str(e.value)
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        with pytest.raises(glint.GlintError, match="no-such-scene.toml"):
+            pool.apply(glint.load_file, (os.path.join(ROOT, "scenes", "no-such-scene.toml"),))
+
+
+def test_scenes_pickle_and_copy(tmp_path):
+    for scene in (glint.load_dict(small_scene(width=10)), glint.load_file(CORNELL)):
+        image = scene.render(spp=1, seed=2)
+        for other in (pickle.loads(pickle.dumps(scene)), copy.copy(scene), copy.deepcopy(scene)):
+            assert (other.width, other.height, other.settings) == (scene.width, scene.height, scene.settings)
+            assert np.array_equal(other.render(spp=1, seed=2), image)
+        # Parts of a scene and of its unpickled copy are parts of one render.
+        merged = glint.merge([scene.render(samples=(0, 1)), pickle.loads(pickle.dumps(scene)).render(samples=(1, 2))])
+        assert merged.samples == [(0, 2)]
+    # A scene pickles as where it came from: one whose file changed since is refused.
+    scene_file = tmp_path / "scene.json"
+    scene_file.write_text(json.dumps(small_scene(width=10)))
+    pickled = pickle.dumps(glint.load_file(scene_file))
+    scene_file.write_text(json.dumps(small_scene(width=12)))
+    with pytest.raises(glint.GlintError, match="changed since it was pickled"):
+        pickle.loads(pickled)
+
+
+def test_load_warnings_reach_python_as_warnings():
+    bright = small_scene(width=8)
+    bright["materials"]["white"]["reflectance"] = [1.5, 1.5, 1.5]
+    with pytest.warns(glint.GlintWarning, match="material `white` reflects or transmits more light than it receives"):
+        glint.load_dict(bright)

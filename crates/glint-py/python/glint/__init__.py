@@ -10,9 +10,11 @@ schema (``load_dict``). ``Scene.render`` releases the GIL while it renders and h
 ``Scene.render(samples=(a, b))`` renders samples a to b - 1 of every pixel as a ``Partial``;
 ``merge`` adds parts of one render into the image one render of their union gives, bit for
 bit; ``glint.distributed.render`` spreads the parts over Ray tasks. ``compare`` judges an
-image against a reference. docs/python.md has the details.
+image against a reference. A render is held to the command's limits (GLINT_MEMORY_LIMIT, 1 to
+1024 threads) and refused in its words (``GlintError``); what the command warns about arrives
+as a ``GlintWarning``. docs/python.md has the details.
 """
 
-from ._glint import GlintError, Partial, Scene, compare, load_dict, load_file, merge
+from ._glint import GlintError, GlintWarning, Partial, Scene, compare, load_dict, load_file, merge
 
-__all__ = ["GlintError", "Partial", "Scene", "compare", "load_dict", "load_file", "merge"]
+__all__ = ["GlintError", "GlintWarning", "Partial", "Scene", "compare", "load_dict", "load_file", "merge"]

@@ -8,6 +8,9 @@ the image one render gives, bit for bit.
 From the command line (a local Ray, or a cluster's address):
 
     python -m glint.distributed scenes/cornell-box.toml --spp 256 --tasks 8 -o cornell.exr
+
+The output's extension names its format, as for ``glint merge``: an EXR keeps the exact sums
+(a partial render, to merge further); PNG, PFM and HDR hold the image alone.
 """
 
 import argparse
@@ -59,8 +62,17 @@ def main(argv=None):
     parser.add_argument("--integrator")
     parser.add_argument("--threads-per-task", type=int, default=1)
     parser.add_argument("--address", help="a Ray cluster's address (default: start a local Ray)")
-    parser.add_argument("-o", "--output", required=True, help="the merged image, a partial EXR")
+    parser.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        help="the merged image: .exr a partial EXR (exact sums, to merge further); .png, .pfm, .hdr the image alone",
+    )
     args = parser.parse_args(argv)
+    # An output that cannot be written is refused before any rendering.
+    from glint._glint import _check_output
+
+    _check_output(args.output)
     merged = render(
         args.scene,
         args.spp,
