@@ -130,7 +130,8 @@ pub struct RenderArgs {
     #[arg(long)]
     stats: bool,
     /// Render passes until this many seconds are spent (then --spp is only an upper bound).
-    #[arg(long)]
+    /// Negative values reach the check that names them (not clap's "use -- -1" hint).
+    #[arg(long, allow_hyphen_values = true)]
     time: Option<f64>,
     /// Compare the image with this reference (the same size) after every group of passes, and
     /// write the error against render time: OUTPUT.error.csv (seconds, spp, MSE, relMSE, MAE)
@@ -262,6 +263,9 @@ pub fn run(args: RenderArgs) -> Result<Outcome, CliError> {
         });
         progress.finish_and_clear();
         for w in renderer.warnings() {
+            say!("warning: {w}");
+        }
+        if let Some(w) = glint_core::scene::black_image_warning(&scene, plan.kind, &result.film) {
             say!("warning: {w}");
         }
         if let Some(e) = saver.error {
@@ -784,9 +788,16 @@ pub(crate) use glint_cli::limits::memory_limit_bytes;
 /// A fingerprint of each file a scene was read from, in order: its contents' FNV-1a hash (a
 /// file that cannot be read now counts as empty).
 fn inputs_fingerprint(inputs: &[PathBuf]) -> Vec<u8> {
+    // Through the scene readers' bounded reader: a file past the memory limit (a glTF buffer
+    // far longer than its byteLength, of which the reader took only that) is not read whole
+    // again here; its length still counts.
     inputs
         .iter()
-        .flat_map(|path| checkpoint::fingerprint(&[&std::fs::read(path).unwrap_or_default()]).to_le_bytes())
+        .flat_map(|path| {
+            let length = std::fs::metadata(path).map(|m| m.len()).unwrap_or_default().to_le_bytes();
+            let bytes = glint_scene::read_file(path, u64::MAX).unwrap_or_default();
+            checkpoint::fingerprint(&[&bytes, &length]).to_le_bytes()
+        })
         .collect()
 }
 

@@ -95,6 +95,41 @@ fn nan_settings_are_refused() {
     }
 }
 
+/// `--time -1` reaches glint's own check (clap's hint before was to write `-- -1`, which
+/// would make −1 a scene path).
+#[test]
+fn a_negative_time_limit_is_refused_by_name() {
+    let err = assert_clean_failure(&glint(&["render", "--spp", "1", "--width", "8", "--time", "-1", "-o", "x.png"]));
+    assert!(err.contains("--time must be a positive number of seconds, got -1"), "{err}");
+}
+
+/// A render whose every pixel is black says why: Whitted on the Cornell box (lit by an area
+/// light, which the course's local model does not read), and a scene with no light at all.
+#[test]
+fn a_black_image_says_why() {
+    let dir = std::env::temp_dir().join(format!("glint-black-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("black.png");
+    let o = glint(&["render", &cornell_box(), "--integrator", "whitted", "--width", "16", "-o", out.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("the image is black in every pixel") && err.contains("--integrator path"), "{err}");
+    let unlit = dir.join("unlit.toml");
+    std::fs::write(
+        &unlit,
+        "[camera]\nposition = [0, 0, -5]\nlook_at = [0, 0, 0]\nresolution = [16, 16]\n[render]\nintegrator = \"path\"\nspp = 2\n[materials.grey]\ntype = \"diffuse\"\n[[shapes]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"grey\"\n",
+    )
+    .unwrap();
+    let o = glint(&["render", unlit.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("black in every pixel: the scene has no light"), "{err}");
+    // A lit render says nothing of the kind.
+    let o = glint(&["render", &cornell_box(), "--width", "16", "--spp", "4", "-o", out.to_str().unwrap()]);
+    assert!(!stderr(&o).contains("black in every pixel"), "{}", stderr(&o));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 #[test]
 fn renders_beyond_the_memory_limit_are_refused_with_the_way_to_raise_it() {
     let scene = cornell_box();

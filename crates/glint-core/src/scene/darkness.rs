@@ -10,6 +10,8 @@
 use glam::Vec2;
 
 use super::Scene;
+use crate::film::Film;
+use crate::integrators::IntegratorKind;
 use crate::Rgb;
 
 /// Camera rays per side of the probe's grid.
@@ -142,4 +144,15 @@ impl Scene {
             _ => Darkness::NothingReflected,
         }
     }
+}
+
+/// The warning for a render whose image is black in every pixel, with the cause `why_dark`
+/// finds; `None` when some pixel is not black (and for the BVH heat map, which shows no light).
+pub fn black_image_warning(scene: &Scene, kind: IntegratorKind, film: &Film) -> Option<String> {
+    let (sums, _) = film.accumulators();
+    if kind == IntegratorKind::BvhHeat || sums.iter().any(|s| *s != Rgb::ZERO) {
+        return None;
+    }
+    let delta_lights_only = matches!(kind, IntegratorKind::Raycast | IntegratorKind::Whitted);
+    Some(format!("the image is black in every pixel: {}", scene.why_dark(delta_lights_only)))
 }

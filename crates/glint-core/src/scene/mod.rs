@@ -4,7 +4,7 @@
 mod darkness;
 mod hit;
 
-pub use darkness::Darkness;
+pub use darkness::{black_image_warning, Darkness};
 pub use hit::SurfaceHit;
 pub(crate) use hit::{Spawn, SHADOW_EPSILON};
 
