@@ -38,6 +38,8 @@ pub(super) struct Translator<'a> {
     media_by_element: HashMap<(usize, u32, u32), String>,
     /// Top-level area emitters attached to a shape by `<ref>`: each to one shape, as in Mitsuba.
     attached_emitters: HashSet<String>,
+    /// Top-level samplers, films and filters the sensor (or its film) refers to.
+    referenced: HashSet<String>,
 }
 
 /// The properties of one plugin element, recording which ones were read.
@@ -83,6 +85,7 @@ impl<'a> Translator<'a> {
             groups: HashMap::new(),
             media_by_element: HashMap::new(),
             attached_emitters: HashSet::new(),
+            referenced: HashSet::new(),
         })
     }
 
@@ -99,6 +102,7 @@ impl<'a> Translator<'a> {
         let mut sensors = 0;
         let mut integrator = None;
         let mut area_emitters = Vec::new();
+        let mut declared = Vec::new();
         for child in &root.children {
             match child.tag.as_str() {
                 "sensor" => {
@@ -111,13 +115,13 @@ impl<'a> Translator<'a> {
                 }
                 "integrator" => integrator = Some(child),
                 "shape" => self.shape(child)?,
-                // An area emitter with an id, for the shape that refers to it.
-                "emitter" if child.attribute("type") == Some("area") && child.attribute("id").is_some() => {
-                    area_emitters.push(child)
-                }
+                // An area emitter at the top level emits from the shape that refers to it.
+                "emitter" if child.attribute("type") == Some("area") => area_emitters.push(child),
                 "emitter" => self.emitter(child)?,
                 // Declared for <ref>; used where referenced.
                 "bsdf" | "texture" | "medium" | "phase" | "volume" => {}
+                // Declared for the sensor's (or its film's) <ref>; Mitsuba ignores them otherwise.
+                "sampler" | "film" | "rfilter" => declared.push(child),
                 other => {
                     return Err(self.error(&child.position, format!("unexpected <{other}> in <scene>")));
                 }
@@ -126,18 +130,26 @@ impl<'a> Translator<'a> {
         if sensors == 0 {
             return Err(self.error(&root.position, "the scene has no <sensor>: glint needs a camera"));
         }
-        // Mitsuba refuses a surface emitter no shape took (it would emit from nowhere).
+        // An area emitter no shape took emits nothing; Mitsuba drops it in silence.
         for emitter in area_emitters {
             let id = emitter.attribute("id").unwrap_or("");
             if !self.attached_emitters.contains(id) {
-                return Err(self.error(
+                self.warn(
                     &emitter.position,
-                    format!("the area emitter `{id}` is not attached to any shape: refer to it from one <shape> with <ref id=\"{id}\"/>"),
-                ));
+                    format!("the area emitter{} is not attached to any shape, so it emits nothing (as in Mitsuba); nest it in a <shape>, or give it an id and refer to it from one with <ref id=\"…\"/>", if id.is_empty() { String::new() } else { format!(" `{id}`") }),
+                );
             }
         }
         if let Some(i) = integrator {
             self.integrator(i)?;
+        }
+        for element in declared {
+            if !element.attribute("id").is_some_and(|id| self.referenced.contains(id)) {
+                self.warn(
+                    &element.position,
+                    format!("<{}> at the top level is not used: no sensor refers to it (Mitsuba ignores it too; refer to it with <ref id=\"…\"/> inside the <sensor>)", element.tag),
+                );
+            }
         }
         Ok((self.scene, self.warnings.into_inner()))
     }
@@ -186,16 +198,37 @@ impl<'a> Translator<'a> {
         let (mut width, mut height) = (768u32, 576u32);
         let mut medium = None;
         for child in &sensor.children {
-            match child.tag.as_str() {
+            // A sampler, film or medium declared at the top level, by reference.
+            let target = match child.tag.as_str() {
+                "ref" => {
+                    let target = self.resolve(child)?;
+                    if !matches!(target.tag.as_str(), "film" | "sampler" | "medium") {
+                        return Err(self.error(
+                            &child.position,
+                            format!(
+                                "a sensor can refer to a <sampler>, a <film> or a <medium>, not to <{}> `{}`",
+                                target.tag,
+                                child.attribute("id").unwrap_or("")
+                            ),
+                        ));
+                    }
+                    if let Some(id) = child.attribute("id") {
+                        self.referenced.insert(id.to_string());
+                    }
+                    target
+                }
+                _ => child,
+            };
+            match target.tag.as_str() {
                 "film" => {
-                    let (w, h) = self.film(child)?;
+                    let (w, h) = self.film(target)?;
                     width = w;
                     height = h;
                 }
-                "sampler" => self.sampler(child)?,
-                // The sensor's medium, nested or by reference (other references are not read).
-                "medium" | "ref" if child.attribute("name") == Some("medium") || child.tag == "medium" => {
-                    medium = Some(self.medium_child(child)?);
+                "sampler" => self.sampler(target)?,
+                // The sensor's medium, nested or by reference.
+                "medium" => {
+                    medium = Some(self.medium(target)?);
                     p.used.borrow_mut().insert("medium".into());
                 }
                 _ => {}
@@ -287,6 +320,22 @@ impl<'a> Translator<'a> {
         }
         let mut filter = "gaussian".to_string(); // Mitsuba's default reconstruction filter
         for child in &film.children {
+            let child = match child.tag.as_str() {
+                "ref" => {
+                    let target = self.resolve(child)?;
+                    if target.tag != "rfilter" {
+                        return Err(self.error(
+                            &child.position,
+                            format!("a film can refer to an <rfilter>, not to <{}>", target.tag),
+                        ));
+                    }
+                    if let Some(id) = child.attribute("id") {
+                        self.referenced.insert(id.to_string());
+                    }
+                    target
+                }
+                _ => child,
+            };
             if child.tag == "rfilter" {
                 let t = child.attribute("type").unwrap_or("");
                 filter = match t {
@@ -1231,9 +1280,6 @@ impl<'a> Translator<'a> {
                 p.string(self, "filter_type")?;
                 self.unused(&p);
                 return Ok(());
-            }
-            "area" => {
-                return Err(self.error(at, "an area emitter must be nested inside the <shape> that emits, or have an `id` that one <shape> refers to"));
             }
             _ => {
                 return Err(self.error(

@@ -100,18 +100,6 @@ impl<'a> Translator<'a> {
         Ok(name)
     }
 
-    /// The medium a `<ref>` or nested `<medium>` child names.
-    pub(super) fn medium_child(&mut self, child: &'a Element) -> Result<String> {
-        let target = if child.tag == "ref" { self.resolve(child)? } else { child };
-        if target.tag != "medium" {
-            return Err(self.error(
-                &child.position,
-                format!("`{}` must be a <medium>, not <{}>", child.attribute("name").unwrap_or(""), target.tag),
-            ));
-        }
-        self.medium(target)
-    }
-
     /// A medium's phase function (nested or by reference; isotropic when none is given).
     fn phase(&mut self, medium: &'a Element) -> Result<PhaseDesc> {
         let mut found = None;
