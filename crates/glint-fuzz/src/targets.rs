@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 
 use clap::ValueEnum;
 use glint_cli::checkpoint::{self, Expected, WeightRule};
+use glint_cli::compare::{self, Image};
 use glint_cli::description::Description;
+use glint_core::Rgb;
 use glint_scene::native::Format;
 use glint_scene::Source;
 
@@ -32,6 +34,10 @@ pub enum Target {
     /// The Python module's `load_dict`: a dict (mutated JSON objects) made a description and
     /// read as the module reads it (`glint_cli::description`).
     Dict,
+    /// `glint compare`'s metrics, ꟻLIP (LDR and HDR), Z-test and warnings on two small images
+    /// made from the input's bytes as f32 pixels, NaN and infinities included: a width and a
+    /// height byte (1 to 8), then the image's and the reference's channels.
+    Compare,
 }
 
 /// A quad that the pbrt seed scenes' `plymesh` resolves to.
@@ -54,6 +60,7 @@ impl Target {
             Target::Image => "image",
             Target::Partial => "partial",
             Target::Dict => "dict",
+            Target::Compare => "compare",
         }
     }
 
@@ -160,7 +167,7 @@ impl Target {
                 "-1",
                 "1e40",
             ],
-            Target::Checkpoint | Target::Image | Target::Partial => &[],
+            Target::Checkpoint | Target::Image | Target::Partial | Target::Compare => &[],
         }
     }
 }
@@ -258,8 +265,42 @@ impl Runner {
                 let json = description.to_json().map_err(|e| e.to_string())?;
                 json.load(&Source::embedded(&files)).map(|_| ()).map_err(|e| e.to_string())
             }
+            Target::Compare => {
+                let (image, reference) = compare_images(input);
+                let variance =
+                    Image { pixels: reference.pixels.iter().map(|p| p.abs()).collect(), ..reference.clone() };
+                compare::metrics(&image, &reference)?;
+                compare::flip(&image, &reference, 0.0)?;
+                compare::hdr_flip(&image, &reference)?;
+                compare::z_test(&image, &reference, &variance, 4)?;
+                compare::warnings(Path::new("a.png"), &image, Path::new("b.exr"), &reference);
+                Ok(())
+            }
         }
     }
+}
+
+/// Two images of the same size from `input`: a width and a height byte (each 1 to 8), then
+/// little-endian f32 channels, the image's and then the reference's, zeros past the end.
+fn compare_images(input: &[u8]) -> (Image, Image) {
+    let size = |i: usize| input.get(i).map_or(1, |b| u32::from(b % 8) + 1);
+    let (width, height) = (size(0), size(1));
+    let mut values = input.get(2..).unwrap_or_default().chunks(4).map(|c| {
+        let mut bytes = [0u8; 4];
+        bytes[..c.len()].copy_from_slice(c);
+        f32::from_le_bytes(bytes)
+    });
+    let mut image = || {
+        let pixels = (0..width * height)
+            .map(|_| {
+                let mut next = || values.next().unwrap_or(0.0);
+                Rgb::new(next(), next(), next())
+            })
+            .collect();
+        Image { width, height, pixels, attributes: Default::default() }
+    };
+    let first = image();
+    (first, image())
 }
 
 fn corpus_dir(name: &str) -> PathBuf {
