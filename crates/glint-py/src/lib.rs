@@ -488,9 +488,13 @@ fn read_file(py: Python<'_>, path: PathBuf, defines: Vec<(String, String)>) -> P
     let options = glint_scene::LoadOptions { defines: defines.clone(), search_path: Vec::new() };
     let loaded = glint_scene::load_scene_with_options(&path, &options).map_err(glint_error)?;
     warn_all(py, &loaded.warnings)?;
+    // Each file by its contents and length, read within the memory limit: one past it (a glTF
+    // buffer far longer than its byteLength, of which the reader took only that) is not read
+    // whole again here.
     let mut sources = Vec::new();
     for input in &loaded.inputs {
-        sources.extend(std::fs::read(input).unwrap_or_default());
+        sources.extend(glint_scene::read_file(input, u64::MAX).unwrap_or_default());
+        sources.extend(std::fs::metadata(input).map(|m| m.len()).unwrap_or_default().to_le_bytes());
     }
     Ok(Scene::new(loaded, &sources, &defines, Origin::File { path, params: defines.clone() }))
 }
