@@ -177,3 +177,34 @@ fn a_top_level_sampler_and_film_serve_the_sensor_that_refers_to_them() {
     );
     assert!(e.contains("sensor-ref.xml:4:") && e.contains("<bsdf>"), "{e}");
 }
+
+/// Properties every documentation scene has, which Mitsuba reads and glint used to report as
+/// unused: a BSDF referred to by name (`<ref name="bsdf" id="…"/>`), a perspective sensor's
+/// `focus_distance` (read by Mitsuba's projective cameras, used only by `thinlens`) and a
+/// medium's `has_spectral_extinction` (which changes only how Mitsuba samples distances).
+#[test]
+fn properties_mitsuba_reads_are_not_reported_unused() {
+    let path = scene_file(
+        "read-properties",
+        r#"<scene version="3.0.0">
+<sensor type="perspective">
+    <float name="focus_distance" value="6.0"/>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+</sensor>
+<bsdf type="diffuse" id="white"/>
+<medium type="homogeneous" id="fog">
+    <boolean name="has_spectral_extinction" value="false"/>
+</medium>
+<shape type="sphere">
+    <ref name="bsdf" id="white"/>
+</shape>
+<shape type="cube">
+    <bsdf type="null"/>
+    <ref name="interior" id="fog"/>
+</shape>
+</scene>
+"#,
+    );
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+}

@@ -265,6 +265,9 @@ impl<'a> Translator<'a> {
         for clip in ["near_clip", "far_clip"] {
             p.float(self, clip)?; // glint's rays are not clipped; the defaults rarely matter
         }
+        if kind != "thinlens" {
+            p.float(self, "focus_distance")?; // Mitsuba's projective cameras read it; a pinhole has no use for it
+        }
         let (aperture_radius, focus_distance) = if kind == "thinlens" {
             let radius = p.float(self, "aperture_radius")?.unwrap_or(0.03);
             let focus = p
@@ -498,7 +501,12 @@ impl<'a> Translator<'a> {
                     }
                     emission = Some(self.area_emitter(target)?);
                 }
-                ("bsdf", _) => bsdf = Some(target),
+                ("bsdf", name) => {
+                    bsdf = Some(target);
+                    if let Some(name) = name {
+                        p.used.borrow_mut().insert(name.to_string()); // `<ref name="bsdf" …/>`
+                    }
+                }
                 ("medium", Some(side @ ("interior" | "exterior"))) => {
                     let medium = Some(self.medium(target)?);
                     *if side == "interior" { &mut interior } else { &mut exterior } = medium;

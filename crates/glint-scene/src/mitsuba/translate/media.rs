@@ -39,6 +39,9 @@ impl<'a> Translator<'a> {
                 "`sample_emitters` false: glint samples the emitters from media anyway (only the noise differs)",
             );
         }
+        // Whether Mitsuba samples distances by one channel's extinction or by each channel's:
+        // the same image, different noise.
+        p.boolean(self, "has_spectral_extinction")?;
         let phase = self.phase(element)?;
         let sigma_t = self.medium_value(&p, element, "sigma_t")?;
         let albedo = self.medium_value(&p, element, "albedo")?;
