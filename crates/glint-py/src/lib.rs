@@ -352,6 +352,8 @@ fn run_interruptibly(
                         &mut |_, _, _| {},
                     );
                     warnings.extend(renderer.warnings());
+                    // As the command says it: a render black in every pixel names its cause.
+                    warnings.extend(glint_core::scene::black_image_warning(&scene, kind, &output.film));
                     Ok((output, warnings))
                 })
             });
@@ -668,7 +670,12 @@ fn compare<'py>(
     spp: Option<u64>,
     exposure: Option<f32>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    // What the warnings call each image: its path, or what the argument was.
+    let name =
+        |value: &Bound<'py, PyAny>, what: &str| value.extract::<PathBuf>().unwrap_or_else(|_| PathBuf::from(what));
+    let (image_name, reference_name) = (name(image, "the image array"), name(reference, "the reference array"));
     let (image, reference) = (image_argument(image, "image")?, image_argument(reference, "reference")?);
+    warn_all(py, &judge::warnings(&image_name, &image, &reference_name, &reference))?;
     let metrics = judge::metrics(&image, &reference).map_err(PyValueError::new_err)?;
     let flip = match exposure {
         Some(exposure) => judge::flip(&image, &reference, exposure),
@@ -681,6 +688,11 @@ fn compare<'py>(
     d.set_item("mae", metrics.mae.to_vec())?;
     d.set_item("mean_ratio", metrics.mean_ratio.to_vec())?;
     d.set_item("flip", flip.mean)?;
+    let non_finite = PyDict::new(py);
+    non_finite.set_item("image", metrics.non_finite.image)?;
+    non_finite.set_item("reference", metrics.non_finite.reference)?;
+    non_finite.set_item("left_out", metrics.non_finite.either)?;
+    d.set_item("non_finite_pixels", non_finite)?;
     match (variance, spp) {
         (Some(variance), Some(spp)) => {
             let variance = image_argument(variance, "variance")?;

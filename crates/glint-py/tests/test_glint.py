@@ -116,6 +116,28 @@ def test_compare_metrics_on_hand_made_images():
         glint.compare([[1, 2, 3]], reference)
 
 
+def test_compare_leaves_out_non_finite_pixels_with_a_warning():
+    # A +inf in the reference raised a PanicException (HDR-FLIP's exposure range was infinite).
+    reference = np.full((8, 8, 3), 0.5, dtype=np.float32)
+    reference[0, 3] = np.inf
+    reference[2, 1, 0] = np.nan
+    image = reference + np.float32(0.5)
+    with pytest.warns(glint.GlintWarning, match="2 pixels with a NaN or infinite value"):
+        result = glint.compare(image, reference)
+    assert result["non_finite_pixels"] == {"image": 2, "reference": 2, "left_out": 2}
+    assert result["mae"] == pytest.approx([0.5, 0.5, 0.5])
+    assert result["flip"] > 0.05
+
+
+def test_a_black_render_says_why():
+    unlit = small_scene(width=8)
+    unlit["shapes"] = unlit["shapes"][:2]  # the lamp gone
+    del unlit["materials"]["lamp"]
+    with pytest.warns(glint.GlintWarning, match="black in every pixel: the scene has no light"):
+        image = glint.load_dict(unlit).render(spp=1)
+    assert not image.any()
+
+
 def test_the_gil_is_released_while_rendering():
     scene = glint.load_file(CORNELL)
     ticks = []
