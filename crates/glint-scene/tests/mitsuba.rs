@@ -636,8 +636,8 @@ fn sensor_sampler_integrator_and_emitter_variants() {
         assert_eq!(loaded.render.integrator, expected, "{kind}");
         assert_eq!(loaded.render.integrator_settings.max_depth, depth, "{kind}");
     }
-    let e = scene_with("aov", "perspective", "<integrator type=\"aov\"/>").err().unwrap().to_string();
-    assert!(e.contains("aov.xml:3:") && e.contains("<integrator type=\"aov\"> is not supported"), "{e}");
+    let e = scene_with("bdpt", "perspective", "<integrator type=\"bdpt\"/>").err().unwrap().to_string();
+    assert!(e.contains("bdpt.xml:3:") && e.contains("<integrator type=\"bdpt\"> is not supported"), "{e}");
     let ld = scene_with("ld", "perspective", "").unwrap();
     assert!(ld.warnings.is_empty(), "{:?}", ld.warnings);
     // A point light placed by to_world, a directional light along to_world's +z.

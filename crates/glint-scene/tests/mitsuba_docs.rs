@@ -208,3 +208,44 @@ fn properties_mitsuba_reads_are_not_reported_unused() {
     let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
 }
+
+/// Mitsuba's `aov` integrator renders its nested integrator's image with extra channels
+/// beside it: glint renders that image, and says the named channels are not written. Without
+/// a nested integrator there is no image to render.
+#[test]
+fn an_aov_integrator_renders_its_nested_integrators_image() {
+    let path = scene_file(
+        "aov",
+        &format!(
+            "<scene version=\"3.0.0\">\n{SENSOR}\n<integrator type=\"aov\">\n<string name=\"aovs\" value=\"nn:sh_normal, depth.y:depth\"/>\n<integrator type=\"path\" name=\"image\">\n<integer name=\"max_depth\" value=\"3\"/>\n</integrator>\n</integrator>\n</scene>\n"
+        ),
+    );
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(loaded.render.integrator, glint_core::integrators::IntegratorKind::Path);
+    assert_eq!(loaded.render.integrator_settings.max_depth, 2);
+    let warnings = loaded.warnings.join("\n");
+    assert!(warnings.contains("aov.xml:3:") && warnings.contains("nn:sh_normal, depth.y:depth"), "{warnings}");
+    let e = error_of(
+        "aov-alone",
+        &format!(
+            "<scene version=\"3.0.0\">\n{SENSOR}\n<integrator type=\"aov\">\n<string name=\"aovs\" value=\"dd.y:depth\"/>\n</integrator>\n</scene>\n"
+        ),
+    );
+    assert!(e.contains("aov-alone.xml:3:") && e.contains("no nested <integrator>"), "{e}");
+}
+
+/// Plugins that exist only for Mitsuba's polarized variants are refused at their line, saying
+/// so (glint renders RGB without polarization).
+#[test]
+fn polarization_plugins_are_refused_as_such() {
+    for (name, element) in [
+        ("pplastic", "<shape type=\"sphere\">\n<bsdf type=\"pplastic\"/>\n</shape>"),
+        ("polarizer", "<shape type=\"sphere\">\n<bsdf type=\"polarizer\"/>\n</shape>"),
+        ("measured-polarized", "<shape type=\"sphere\">\n<bsdf type=\"measured_polarized\"/>\n</shape>"),
+        ("stokes", "<integrator type=\"stokes\">\n<integrator type=\"path\"/>\n</integrator>"),
+    ] {
+        let e = error_of(name, &format!("<scene version=\"3.0.0\">\n{SENSOR}\n{element}\n</scene>\n"));
+        let line = if name == "stokes" { 3 } else { 4 };
+        assert!(e.contains(&format!("{name}.xml:{line}:")) && e.contains("polariz"), "{e}");
+    }
+}

@@ -397,8 +397,11 @@ impl<'a> Translator<'a> {
 
     fn integrator(&mut self, integrator: &Element) -> Result<()> {
         let kind = integrator.attribute("type").unwrap_or("");
-        if kind == "moment" {
-            return self.moment(integrator);
+        match kind {
+            "moment" => return self.moment(integrator),
+            "aov" => return self.aov(integrator),
+            "stokes" => return Err(self.error(&integrator.position, polarized("<integrator type=\"stokes\">"))),
+            _ => {}
         }
         let p = self.properties(integrator);
         let max_depth = p.integer(self, "max_depth")?.unwrap_or(-1);
@@ -456,6 +459,30 @@ impl<'a> Translator<'a> {
         }
         self.unused(&self.properties(moment));
         self.scene.render.moment = true;
+        self.integrator(first)
+    }
+
+    /// Mitsuba's `aov` renders its nested integrator's image and writes the listed channels
+    /// (depth, normals, …) beside it: glint renders the image and says the channels are not
+    /// written (`--aovs` writes glint's own: albedo, normal, depth).
+    fn aov(&mut self, aov: &Element) -> Result<()> {
+        let p = self.properties(aov);
+        let channels = p.string(self, "aovs")?.unwrap_or_default();
+        let nested: Vec<&Element> = aov.children.iter().filter(|c| c.tag == "integrator").collect();
+        let Some(first) = nested.first() else {
+            return Err(self.error(
+                &aov.position,
+                format!("<integrator type=\"aov\"> with no nested <integrator> renders only its channels (`{channels}`), which glint does not write"),
+            ));
+        };
+        for extra in &nested[1..] {
+            self.warn(&extra.position, "a second integrator inside `aov`: glint renders the first one only");
+        }
+        self.warn(
+            &aov.position,
+            format!("<integrator type=\"aov\">: glint renders the nested integrator's image but not the channels `{channels}` (its --aovs writes albedo, normal and depth layers)"),
+        );
+        self.unused(&p);
         self.integrator(first)
     }
 
@@ -951,8 +978,7 @@ impl<'a> Translator<'a> {
                         MaterialDesc::ThinDielectric { int_ior, ext_ior, specular_reflectance, specular_transmittance }
                     }
                     _ => {
-                        let TexturedRoughness { alpha, alpha_u, alpha_v, distribution } =
-                            self.textured_alphas(&p)?;
+                        let TexturedRoughness { alpha, alpha_u, alpha_v, distribution } = self.textured_alphas(&p)?;
                         MaterialDesc::RoughDielectric {
                             int_ior,
                             ext_ior,
@@ -1008,7 +1034,8 @@ impl<'a> Translator<'a> {
                 }
             }
             "plastic" | "roughplastic" => {
-                let diffuse_reflectance = Some(p.color(self, "diffuse_reflectance")?.unwrap_or(ColorDesc::Rgb([0.5; 3])));
+                let diffuse_reflectance =
+                    Some(p.color(self, "diffuse_reflectance")?.unwrap_or(ColorDesc::Rgb([0.5; 3])));
                 let specular_reflectance = p.color(self, "specular_reflectance")?;
                 let int_ior = Some(self.ior_ratio(&p, 1.49)?);
                 let ext_ior = Some(1.0);
@@ -1026,7 +1053,10 @@ impl<'a> Translator<'a> {
                     let distribution = self.distribution(&p)?;
                     let alpha = p.float(self, "alpha")?;
                     if p.find("alpha_u").is_some() || p.find("alpha_v").is_some() {
-                        return Err(self.error(&bsdf.position, "roughplastic is isotropic: give `alpha`, not `alpha_u`/`alpha_v` (as Mitsuba requires)"));
+                        return Err(self.error(
+                            &bsdf.position,
+                            "roughplastic is isotropic: give `alpha`, not `alpha_u`/`alpha_v` (as Mitsuba requires)",
+                        ));
                     }
                     MaterialDesc::RoughPlastic {
                         diffuse_reflectance,
@@ -1040,13 +1070,21 @@ impl<'a> Translator<'a> {
                     }
                 }
             }
+            "pplastic" | "polarizer" | "measured_polarized" | "retarder" => {
+                return Err(self.error(&bsdf.position, polarized(&format!("<bsdf type=\"{kind}\">"))))
+            }
             _ => {
+                let why = match kind {
+                    "hair" => " (glint has no hair fibre model)",
+                    "measured" => " (glint reads no measured BSDF data)",
+                    _ => "",
+                };
                 return Err(self.error(
                     &bsdf.position,
                     format!(
-                        "<bsdf type=\"{kind}\"> is not supported; glint reads diffuse, conductor, roughconductor, dielectric, thindielectric, roughdielectric, plastic, roughplastic, principled, twosided, blendbsdf, mask, bumpmap and normalmap"
+                        "<bsdf type=\"{kind}\"> is not supported{why}; glint reads diffuse, conductor, roughconductor, dielectric, thindielectric, roughdielectric, plastic, roughplastic, principled, principledthin, twosided, blendbsdf, mask, bumpmap, normalmap and null"
                     ),
-                ))
+                ));
             }
         };
         self.unused(&p);
@@ -1433,6 +1471,11 @@ impl<'a> Translator<'a> {
             self.error(&reference.position, format!("no object with id `{id}`{hint}"))
         })
     }
+}
+
+/// The message for a plugin of Mitsuba's polarized variants.
+fn polarized(element: &str) -> String {
+    format!("{element} is not supported: it needs Mitsuba's polarized variants, and glint renders light without polarization")
 }
 
 /// Every object with an `id`, anywhere in the tree; a repeated id is an error.
