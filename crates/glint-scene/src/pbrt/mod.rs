@@ -26,18 +26,18 @@ pub fn load_pbrt(path: &Path, search_path: &[PathBuf]) -> Result<LoadedScene, Sc
         .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
     let mut directories = vec![path.parent().map(Path::to_path_buf).unwrap_or_default()];
     directories.extend(search_path.iter().cloned());
-    let source = Source::search_path(directories);
-    let (file, made, mut warnings) = translate::translate(path, bytes, &source)?;
-    let source = source.with_made_files(made);
-    let mut loaded = crate::native::build_file(file, "", path, &source)?;
-    warnings.append(&mut loaded.warnings);
-    loaded.warnings = warnings;
-    Ok(loaded)
+    build(path, bytes, Source::search_path(directories))
 }
 
 /// Reads pbrt-v4 scene text; `name` is used in messages, `source` resolves what it names.
 pub fn parse_pbrt(text: &str, name: &Path, source: Source<'_>) -> Result<LoadedScene, SceneError> {
-    let (file, made, mut warnings) = translate::translate(name, text.as_bytes().to_vec(), &source)?;
+    build(name, text.as_bytes().to_vec(), source)
+}
+
+/// Translates the file and builds its description, the files the translation made (resampled
+/// maps) found before `source`'s; the translation's warnings come first.
+fn build(name: &Path, bytes: Vec<u8>, source: Source<'_>) -> Result<LoadedScene, SceneError> {
+    let (file, made, mut warnings) = translate::translate(name, bytes, &source)?;
     let source = source.with_made_files(made);
     let mut loaded = crate::native::build_file(file, "", name, &source)?;
     warnings.append(&mut loaded.warnings);

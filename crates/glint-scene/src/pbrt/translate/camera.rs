@@ -1,0 +1,227 @@
+//! The camera and the film: pbrt's perspective, orthographic and realistic cameras (the last
+//! as the thin lens of its focal length), the film's resolution and diagonal, and at the end
+//! of the file the scene's camera made from them.
+
+use glam::{Mat4, Vec3};
+
+use super::{Result, Translator};
+use crate::located::Located;
+use crate::native::schema::*;
+use crate::pbrt::params::Failure;
+use crate::pbrt::parse::{At, Directive};
+
+pub(super) struct Camera {
+    kind: String,
+    camera_from_world: Mat4,
+    fov: f32,
+    lens_radius: f32,
+    focal_distance: f32,
+    /// A realistic camera's paraxial focal length (mm): its field of view follows from the
+    /// film's size, known at the end.
+    focal_length_mm: Option<f64>,
+    at: At,
+}
+
+impl Translator<'_> {
+    pub(super) fn camera(&mut self, d: &Directive) -> Result<()> {
+        let p = self.params(d);
+        let kind = d.args[0].clone();
+        let f = |r: std::result::Result<f32, Failure>| r.map_err(|x| self.fail(x));
+        let (fov, lens_radius, focal_distance) = match kind.as_str() {
+            "perspective" => {
+                (f(p.float("fov", 90.0))?, f(p.float("lensradius", 0.0))?, f(p.float("focaldistance", 1e6))?)
+            }
+            "orthographic" => {
+                let lens = f(p.float("lensradius", 0.0))?;
+                if lens > 0.0 {
+                    self.warn(d.at, "an orthographic camera's `lensradius` is ignored (glint's has no lens)");
+                }
+                (90.0, 0.0, 1e6)
+            }
+            "realistic" => {
+                let file = p
+                    .string("lensfile")
+                    .map_err(|x| self.fail(x))?
+                    .ok_or_else(|| self.parser.error(d.at, "a realistic camera needs a `lensfile`"))?;
+                let bytes = self.source.read(&file).map_err(|m| self.parser.error(self.param_at(&p, "lensfile"), m))?;
+                let table = String::from_utf8_lossy(&bytes);
+                let focal = crate::pbrt::lens::focal_length(&table)
+                    .map_err(|m| self.parser.error(self.param_at(&p, "lensfile"), format!("`{file}`: {m}")))?;
+                // pbrt's lens tables are in millimetres, its scenes in metres.
+                let aperture = f(p.float("aperturediameter", 1.0))?;
+                let focus = f(p.float("focusdistance", 10.0))?;
+                if !(aperture >= 0.0 && focus > 0.0) {
+                    return Err(self
+                        .parser
+                        .error(d.at, "a realistic camera needs `aperturediameter` ≥ 0 and `focusdistance` > 0"));
+                }
+                if p.list.iter().any(|x| x.name == "aperture") {
+                    p.ignore(&["aperture"]);
+                    self.warn(
+                        d.at,
+                        "a realistic camera's custom `aperture` shape is not read: the thin lens's aperture is round",
+                    );
+                }
+                self.warn(d.at, format!("the realistic camera is approximated by a thin lens of its paraxial focal length ({focal:.1} mm) and its aperture: no aberrations or vignetting"));
+                self.realistic_focal_length = Some(focal);
+                (0.0, 0.5 * aperture * 1e-3, focus)
+            }
+            other => {
+                return Err(self.parser.error(
+                    d.at,
+                    format!("camera `{other}` is not supported; glint reads perspective and orthographic"),
+                ))
+            }
+        };
+        for refused in ["screenwindow", "frameaspectratio"] {
+            if p.list.iter().any(|x| x.name == refused) {
+                return Err(self.parser.error(d.at, format!("the camera's `{refused}` is not supported")));
+            }
+        }
+        let shutter = p.float("shutterclose", 1.0).map_err(|x| self.fail(x))?
+            - p.float("shutteropen", 0.0).map_err(|x| self.fail(x))?;
+        if (shutter - 1.0).abs() > 1e-6 {
+            self.warn(d.at, "pbrt scales the image by the shutter's open time; glint records radiance as it is");
+        }
+        self.coordinate_systems.insert("camera".into(), self.state.ctm.inverse());
+        let focal_length_mm = self.realistic_focal_length.take();
+        self.camera = Some(Camera {
+            kind,
+            camera_from_world: self.state.ctm,
+            fov,
+            lens_radius,
+            focal_distance,
+            focal_length_mm,
+            at: d.at,
+        });
+        Ok(())
+    }
+
+    pub(super) fn film(&mut self, d: &Directive) -> Result<()> {
+        let p = self.params(d);
+        if !matches!(d.args[0].as_str(), "rgb" | "gbuffer" | "spectral") {
+            return Err(self.parser.error(d.at, format!("film `{}` is not supported; glint reads rgb", d.args[0])));
+        }
+        let x = p.int("xresolution", 1280).map_err(|f| self.fail(f))?;
+        let y = p.int("yresolution", 720).map_err(|f| self.fail(f))?;
+        if !(1..=32768).contains(&x) || !(1..=32768).contains(&y) {
+            return Err(self.parser.error(d.at, format!("the film's resolution must be 1 to 32768 each, got {x}x{y}")));
+        }
+        self.resolution = [x as u32, y as u32];
+        p.ignore(&["filename", "savefp16"]);
+        self.film_diagonal = p.float("diagonal", 35.0).map_err(|f| self.fail(f))?;
+        if !(self.film_diagonal > 0.0 && self.film_diagonal.is_finite()) {
+            return Err(self.parser.error(self.param_at(&p, "diagonal"), "the film's `diagonal` must be > 0 (mm)"));
+        }
+        if p.string("sensor").map_err(|f| self.fail(f))?.is_some_and(|s| s != "cie1931") {
+            self.warn(d.at, "camera sensor spectra are not available: the film records CIE 1931 XYZ as sRGB (pbrt's default sensor)");
+        }
+        let iso = p.float("iso", 100.0).map_err(|f| self.fail(f))?;
+        let exposure = p.float("exposuretime", 1.0).map_err(|f| self.fail(f))?;
+        let white = p.float("whitebalance", 0.0).map_err(|f| self.fail(f))?;
+        if iso != 100.0 || exposure != 1.0 || white != 0.0 {
+            self.warn(
+                d.at,
+                "the film's iso, exposuretime and whitebalance are ignored: glint records radiance as it is",
+            );
+        }
+        for refused in ["cropwindow", "pixelbounds"] {
+            if p.list.iter().any(|x| x.name == refused) {
+                return Err(self
+                    .parser
+                    .error(d.at, format!("the film's `{refused}` is not supported (glint renders the whole image)")));
+            }
+        }
+        Ok(())
+    }
+
+    /// The scene's camera, from the `Camera` directive and the film.
+    pub(super) fn finish(&mut self) -> Result<SceneFile> {
+        let [w, h] = self.resolution;
+        let camera = self.camera.take().unwrap_or(Camera {
+            kind: "perspective".into(),
+            camera_from_world: Mat4::IDENTITY,
+            fov: 90.0,
+            lens_radius: 0.0,
+            focal_distance: 1e6,
+            focal_length_mm: None,
+            at: At { file: 0, offset: 0 },
+        });
+        let mut camera = camera;
+        if let Some(focal) = camera.focal_length_mm {
+            // The shorter side of a film of this diagonal and aspect.
+            let shorter = self.film_diagonal as f64 * (w.min(h) as f64) / (w as f64).hypot(h as f64);
+            let fov = crate::pbrt::lens::field_of_view(focal, camera.focal_distance as f64 * 1e3, shorter)
+                .map_err(|m| self.parser.error(camera.at, m))?;
+            camera.fov = fov as f32;
+        }
+        let world_from_camera = camera.camera_from_world.inverse();
+        if !world_from_camera.is_finite() {
+            return Err(self.parser.error(camera.at, "the camera's transform is singular"));
+        }
+        let position = world_from_camera.transform_point3(Vec3::ZERO);
+        let forward = world_from_camera.transform_vector3(Vec3::Z);
+        let up = world_from_camera.transform_vector3(Vec3::Y);
+        let right = world_from_camera.transform_vector3(Vec3::X);
+        // pbrt's image right is camera +x; glint's is forward × up unless mirrored.
+        let mirror = right.dot(forward.cross(up)) < 0.0;
+        // pbrt's fov spans the shorter image axis; glint's is vertical.
+        let aspect = w as f32 / h as f32;
+        let vertical = if aspect >= 1.0 {
+            camera.fov
+        } else {
+            2.0 * ((0.5 * camera.fov.to_radians()).tan() / aspect).atan().to_degrees()
+        };
+        let orthographic_height = (camera.kind == "orthographic").then(|| {
+            // The screen window spans [−1, 1] on the shorter axis.
+            let shorter = if aspect >= 1.0 { 2.0 } else { 2.0 / aspect };
+            shorter * up.length()
+        });
+        let (aperture_radius, focus_distance) = if camera.lens_radius > 0.0 {
+            (Some(camera.lens_radius), Some(camera.focal_distance))
+        } else {
+            (None, None)
+        };
+        self.scene.camera = Located {
+            value: CameraDesc {
+                position: position.to_array(),
+                look_at: (position + forward.normalize_or_zero()).to_array(),
+                up: up.to_array(),
+                fov: vertical,
+                resolution: [w, h],
+                aperture_radius,
+                focus_distance,
+                orthographic_height,
+                mirror,
+                medium: None,
+            },
+            span: None,
+        };
+        if self.scene.materials.is_empty() && !self.scene.shapes.is_empty() {
+            self.default_material();
+        }
+        let file = std::mem::replace(&mut self.scene, SceneFile::new(default_camera(), RenderDesc::default()));
+        if file.lights.is_empty() && file.environment.map.is_none() && file.environment.background == [0.0; 3] {
+            let emitters = file.materials.values().any(|m| matches!(m.value, MaterialDesc::Emitter { .. }));
+            if !emitters {
+                self.warnings.push("the scene has no lights: it renders black".into());
+            }
+        }
+        Ok(file)
+    }
+}
+
+pub(super) fn default_camera() -> CameraDesc {
+    CameraDesc {
+        position: [0.0; 3],
+        look_at: [0.0, 0.0, 1.0],
+        up: [0.0, 1.0, 0.0],
+        fov: 90.0,
+        resolution: [1280, 720],
+        aperture_radius: None,
+        focus_distance: None,
+        orthographic_height: None,
+        mirror: true,
+        medium: None,
+    }
+}

@@ -1,0 +1,286 @@
+//! Materials: pbrt's diffuse, conductor, dielectric, thin dielectric, coated diffuse and
+//! conductor, diffuse transmission, mix and interface mapped onto glint's, with their
+//! roughness, index and conductor parameters, and a normal map on any of them.
+
+use glam::Vec3;
+
+use super::{Result, Translator};
+use crate::located::Located;
+use crate::native::schema::*;
+use crate::pbrt::params::Params;
+use crate::pbrt::parse::Directive;
+use crate::pbrt::spectra::{self, Spectrum};
+
+/// pbrt's `RoughnessToAlpha` (with `remaproughness`): α = √roughness.
+fn alpha_of(roughness: f32, remap: bool) -> f32 {
+    if remap {
+        roughness.max(0.0).sqrt()
+    } else {
+        roughness
+    }
+}
+
+impl Translator<'_> {
+    pub(super) fn default_material(&mut self) -> String {
+        let name = "pbrt-default".to_string();
+        self.scene.materials.entry(name.clone()).or_insert_with(|| Located {
+            value: MaterialDesc::Diffuse {
+                reflectance: Some(ColorDesc::Rgb([0.5; 3])),
+                emission: None,
+                two_sided_emission: false,
+                two_sided: None,
+            },
+            span: None,
+        });
+        name
+    }
+
+    pub(super) fn current_material(&mut self) -> String {
+        match self.state.material.clone() {
+            Some(m) => m,
+            None => self.default_material(),
+        }
+    }
+
+    /// Roughness as glint's α: `None` for a smooth surface; (α_u, α_v) when anisotropic.
+    fn roughness(&mut self, p: &Params, prefix: &str) -> Result<Option<(FractionDesc, Option<FractionDesc>)>> {
+        let key = |k: &str| format!("{prefix}{k}");
+        let remap = p.bool("remaproughness", true).map_err(|f| self.fail(f))?;
+        let r = self.fraction(p, &key("roughness"))?;
+        let u = self.fraction(p, &key("uroughness"))?.or_else(|| r.clone());
+        let v = self.fraction(p, &key("vroughness"))?.or_else(|| r.clone());
+        let alpha = |f: FractionDesc, this: &mut Self| match f {
+            FractionDesc::Number(x) => FractionDesc::Number(alpha_of(x, remap)),
+            FractionDesc::Texture(t) => {
+                if remap {
+                    this.warn(
+                        p.at,
+                        "a roughness texture is used as α directly (`remaproughness` applies to numbers only)",
+                    );
+                }
+                FractionDesc::Texture(t)
+            }
+        };
+        Ok(match (u, v) {
+            (None, None) => None,
+            (Some(FractionDesc::Number(a)), Some(FractionDesc::Number(b))) if a == 0.0 && b == 0.0 => None,
+            (u, v) => {
+                let u = alpha(u.unwrap_or(FractionDesc::Number(0.0)), self);
+                let v = alpha(v.unwrap_or(FractionDesc::Number(0.0)), self);
+                let isotropic = matches!((&u, &v), (FractionDesc::Number(a), FractionDesc::Number(b)) if a == b)
+                    || matches!((&u, &v), (FractionDesc::Texture(a), FractionDesc::Texture(b)) if a == b);
+                Some(if isotropic { (u, None) } else { (u, Some(v)) })
+            }
+        })
+    }
+
+    fn index(&self, p: &Params, name: &str, default: f32) -> Result<f32> {
+        let at = self.param_at(p, name);
+        if p.list.iter().any(|x| x.name == name && x.ty == "float") {
+            return p.float(name, default).map_err(|f| self.fail(f));
+        }
+        match p.spectrum(name).map_err(|f| self.fail(f))? {
+            None => Ok(default),
+            Some(s) => spectra::index(&s).map_err(|m| self.parser.error(at, format!("`{name}`: {m}"))),
+        }
+    }
+
+    /// Conductor η and k, from names, values or an artist's `reflectance`.
+    fn conductor_optics(&self, p: &Params, prefix: &str) -> Result<(Option<String>, [f32; 3], [f32; 3])> {
+        let (eta_key, k_key) = (format!("{prefix}eta"), format!("{prefix}k"));
+        let eta = p.spectrum(&eta_key).map_err(|f| self.fail(f))?;
+        let k = p.spectrum(&k_key).map_err(|f| self.fail(f))?;
+        if let Some(r) = p.spectrum("reflectance").map_err(|f| self.fail(f))? {
+            if eta.is_some() || k.is_some() {
+                return Err(self.parser.error(p.at, "give a conductor `reflectance` or its η and k, not both"));
+            }
+            let r = spectra::albedo(&r).map_err(|m| self.parser.error(self.param_at(p, "reflectance"), m))?;
+            // pbrt: η = 1, k = 2√r / √(1 − r), the metal whose normal reflectance is r.
+            let k = r.map(|r| {
+                let r = r.min(0.9999);
+                2.0 * r.sqrt() / (1.0 - r).sqrt()
+            });
+            return Ok((None, [1.0; 3], k));
+        }
+        let copper = glint_core::materials::named_metal("Cu").expect("glint knows copper");
+        let named = |s: &Option<Spectrum>| match s {
+            Some(Spectrum::Named(n)) => Some(n.clone()),
+            _ => None,
+        };
+        if let (Some(a), Some(b)) = (named(&eta), named(&k)) {
+            let metal = spectra::metal(&a, &b).map_err(|m| self.parser.error(self.param_at(p, &eta_key), m))?;
+            return Ok((Some(metal.to_string()), [0.0; 3], [0.0; 3]));
+        }
+        let value = |s: &Option<Spectrum>, key: &str, default: Vec3| -> Result<[f32; 3]> {
+            match s {
+                None => Ok(default.to_array()),
+                Some(Spectrum::Named(n)) => Err(self.parser.error(
+                    self.param_at(p, key),
+                    format!("`{n}`: a named metal needs both its η and k spectra (metal-Cu-eta with metal-Cu-k)"),
+                )),
+                Some(s) => spectra::unbounded(s).map_err(|m| self.parser.error(self.param_at(p, key), m)),
+            }
+        };
+        if eta.is_none() && k.is_none() {
+            return Ok((Some("Cu".into()), [0.0; 3], [0.0; 3]));
+        }
+        Ok((None, value(&eta, &eta_key, copper.0)?, value(&k, &k_key, copper.1)?))
+    }
+
+    pub(super) fn material(&mut self, d: &Directive, kind: &str, name: String) -> Result<()> {
+        let p = self.params(d);
+        p.ignore(&["type"]);
+        if p.list.iter().any(|x| x.name == "displacement") {
+            return Err(self.parser.error(self.param_at(&p, "displacement"), "displacement is not supported"));
+        }
+        let desc = match kind {
+            "diffuse" => MaterialDesc::Diffuse {
+                reflectance: Some(self.colour(&p, "reflectance", [0.5; 3], true)?),
+                emission: None,
+                two_sided_emission: false,
+                two_sided: None,
+            },
+            "conductor" => {
+                let (metal, eta, k) = self.conductor_optics(&p, "")?;
+                let (eta, k) = if metal.is_some() { (None, None) } else { (Some(eta), Some(k)) };
+                conductor(metal, eta, k, self.roughness(&p, "")?)
+            }
+            "dielectric" | "thindielectric" => {
+                let eta = self.index(&p, "eta", 1.5)?;
+                if !(eta.is_finite() && eta > 0.0) {
+                    return Err(self.parser.error(self.param_at(&p, "eta"), format!("`eta` must be > 0, got {eta}")));
+                }
+                if kind == "thindielectric" {
+                    MaterialDesc::ThinDielectric { int_ior: Some(eta), ext_ior: Some(1.0), specular_reflectance: None, specular_transmittance: None }
+                } else {
+                    match self.roughness(&p, "")? {
+                        None => MaterialDesc::Dielectric { int_ior: Some(eta), ext_ior: Some(1.0), specular_reflectance: None, specular_transmittance: None },
+                        Some((u, v)) => MaterialDesc::RoughDielectric {
+                            int_ior: Some(eta),
+                            ext_ior: Some(1.0),
+                            specular_reflectance: None,
+                            specular_transmittance: None,
+                            alpha: if v.is_none() { Some(u.clone()) } else { None },
+                            alpha_u: v.is_some().then(|| u.clone()),
+                            alpha_v: v,
+                            distribution: None,
+                        },
+                    }
+                }
+            }
+            "coateddiffuse" => {
+                let reflectance = self.colour(&p, "reflectance", [0.5; 3], true)?;
+                let eta = self.index(&p, "eta", 1.5)?;
+                let alpha = match self.roughness(&p, "")? {
+                    None => None,
+                    Some((FractionDesc::Number(a), None)) => Some(a),
+                    Some(_) => {
+                        return Err(self.parser.error(d.at, "a coateddiffuse's roughness must be one number (glint's rough plastic is isotropic and untextured)"))
+                    }
+                };
+                p.ignore(&["thickness", "g", "maxdepth", "nsamples"]);
+                if p.spectrum("albedo").map_err(|f| self.fail(f))?.is_some_and(|a| a != Spectrum::Rgb([0.0; 3])) {
+                    self.warn(d.at, "coateddiffuse: the layer's `albedo` is ignored (glint's coat holds no medium)");
+                }
+                self.warn(d.at, "coateddiffuse is approximated by glint's plastic (a diffuse base under a dielectric coat, Mitsuba's model): no layer thickness, and the coat's inter-reflection is Mitsuba's closed form rather than pbrt's random walk");
+                match alpha {
+                    None => MaterialDesc::Plastic { diffuse_reflectance: Some(reflectance), specular_reflectance: None, int_ior: Some(eta), ext_ior: Some(1.0), nonlinear: false, two_sided: None },
+                    Some(a) => MaterialDesc::RoughPlastic { diffuse_reflectance: Some(reflectance), specular_reflectance: None, int_ior: Some(eta), ext_ior: Some(1.0), nonlinear: false, alpha: Some(a), distribution: None, two_sided: None },
+                }
+            }
+            "coatedconductor" => {
+                let interface_eta = self.index(&p, "interface.eta", 1.5)?;
+                let (metal, eta, k) = self.conductor_optics(&p, "conductor.")?;
+                let (eta, k) = match metal {
+                    Some(m) => glint_core::materials::named_metal(&m).map(|(e, k)| (e.to_array(), k.to_array())).unwrap_or((eta, k)),
+                    None => (eta, k),
+                };
+                // Seen through the coat, the metal's indices are relative to the coat's.
+                let (eta, k) = (eta.map(|x| x / interface_eta), k.map(|x| x / interface_eta));
+                let _ = self.roughness(&p, "interface.")?;
+                let roughness = self.roughness(&p, "conductor.")?;
+                p.ignore(&["thickness", "g", "maxdepth", "nsamples", "albedo"]);
+                self.warn(d.at, "coatedconductor is approximated by its conductor alone, its η and k taken relative to the coat's index: the coat's own reflection and roughness are left out");
+                conductor(None, Some(eta), Some(k), roughness)
+            }
+            "diffusetransmission" => {
+                let scale = p.float("scale", 1.0).map_err(|f| self.fail(f))?;
+                let scaled = |c: ColorDesc| match c {
+                    ColorDesc::Rgb(rgb) => Ok(ColorDesc::Rgb(rgb.map(|x| (x * scale).clamp(0.0, 1.0)))),
+                    texture if scale == 1.0 => Ok(texture),
+                    ColorDesc::Texture(_) => Err(self.parser.error(self.param_at(&p, "scale"), "a diffusetransmission's `scale` with a textured albedo is not supported")),
+                };
+                MaterialDesc::DiffuseTransmission {
+                    reflectance: Some(scaled(self.colour(&p, "reflectance", [0.25; 3], true)?)?),
+                    transmittance: Some(scaled(self.colour(&p, "transmittance", [0.25; 3], true)?)?),
+                }
+            }
+            "mix" => {
+                let names = p.strings("materials", &["string"]).map_err(|f| self.fail(f))?;
+                let [first, second] = names.unwrap_or_default() else {
+                    return Err(self.parser.error(d.at, "a mix material needs `\"string materials\" [ \"a\" \"b\" ]`, two named materials"));
+                };
+                let lookup = |n: &String| {
+                    self.named_materials.get(n).cloned().ok_or_else(|| self.parser.error(self.param_at(&p, "materials"), format!("no material named `{n}`")))
+                };
+                let (first, second) = (lookup(first)?, lookup(second)?);
+                MaterialDesc::Blend { weight: Some(self.fraction(&p, "amount")?.unwrap_or(FractionDesc::Number(0.5))), first, second }
+            }
+            "interface" | "none" | "" => {
+                let inner = self.default_material();
+                MaterialDesc::Mask { opacity: Some(FractionDesc::Number(0.0)), material: inner }
+            }
+            other => {
+                return Err(self.parser.error(
+                    d.at,
+                    format!("material `{other}` is not supported; glint reads diffuse, diffusetransmission, conductor, dielectric, thindielectric, coateddiffuse, coatedconductor, mix and interface"),
+                ))
+            }
+        };
+        let desc = match p.string("normalmap").map_err(|f| self.fail(f))? {
+            None => desc,
+            Some(file) => {
+                let inner = format!("{name}:base");
+                self.scene.materials.insert(inner.clone(), Located { value: desc, span: None });
+                let texture = self.unique("normalmap");
+                let image = TextureDesc::Image {
+                    file,
+                    wrap: WrapDesc::Repeat,
+                    filter: TexelFilterDesc::Bilinear,
+                    scale: None,
+                    uv_transform: None,
+                    raw: true,
+                    channel: None,
+                    tint: None,
+                };
+                self.scene.textures.insert(texture.clone(), Located { value: image, span: None });
+                MaterialDesc::NormalMap { normals: ColorDesc::Texture(texture), material: inner }
+            }
+        };
+        self.scene.materials.insert(name, Located { value: desc, span: None });
+        Ok(())
+    }
+}
+
+/// A two-sided metal: smooth without roughness, else GGX of width α (or α_u, α_v).
+fn conductor(
+    metal: Option<String>,
+    eta: Option<[f32; 3]>,
+    k: Option<[f32; 3]>,
+    roughness: Option<(FractionDesc, Option<FractionDesc>)>,
+) -> MaterialDesc {
+    match roughness {
+        None => MaterialDesc::Conductor { metal, eta, k, specular_reflectance: None, two_sided: Some(true) },
+        Some((u, v)) => MaterialDesc::RoughConductor {
+            metal,
+            eta,
+            k,
+            specular_reflectance: None,
+            alpha: if v.is_none() { Some(u.clone()) } else { None },
+            alpha_u: v.is_some().then(|| u.clone()),
+            alpha_v: v,
+            distribution: None,
+            two_sided: Some(true),
+        },
+    }
+}
