@@ -80,17 +80,18 @@ pub fn load_scene_with_options(path: &Path, options: &LoadOptions) -> Result<Loa
     if extension.as_deref() == Some("xml") {
         return crate::mitsuba::load_mitsuba(path, defines, &options.search_path);
     }
-    if matches!(extension.as_deref(), Some("gltf" | "glb")) {
+    // The readers that take a search path and no parameters.
+    type Reader = fn(&Path, &[PathBuf]) -> Result<LoadedScene, SceneError>;
+    let reader: Option<Reader> = match extension.as_deref() {
+        Some("gltf" | "glb") => Some(crate::gltf::load_gltf),
+        Some("pbrt") => Some(crate::pbrt::load_pbrt),
+        _ => None,
+    };
+    if let Some(read) = reader {
         if let Some((name, _)) = defines.first() {
             return Err(SceneError::new(path, None, format!("-D {name}=…: parameters are for Mitsuba scenes (.xml)")));
         }
-        return crate::gltf::load_gltf(path, &options.search_path);
-    }
-    if extension.as_deref() == Some("pbrt") {
-        if let Some((name, _)) = defines.first() {
-            return Err(SceneError::new(path, None, format!("-D {name}=…: parameters are for Mitsuba scenes (.xml)")));
-        }
-        return crate::pbrt::load_pbrt(path, &options.search_path);
+        return read(path, &options.search_path);
     }
     if let Some((name, _)) = defines.first() {
         return Err(SceneError::new(

@@ -1,0 +1,159 @@
+//! The `[textures]` table: checkerboards, images, marble, wood and mesh attributes, their uv
+//! maps, colours that name a texture, and the check that every mesh attribute a texture
+//! reads is there.
+
+use std::sync::Arc;
+
+use glam::{Affine2, Vec2, Vec3};
+use glint_core::scene::Object;
+use glint_core::shapes::Shape;
+use glint_core::textures::{
+    AttributeTexture, Checker, ImageTexture, Marble, SolidChecker, TexelFilter, Texture, Wood, Wrap,
+};
+
+use super::checks::{non_negative, positive};
+use super::Context;
+use crate::error::{did_you_mean, SceneError};
+use crate::native::schema::*;
+use crate::source::Source;
+
+/// A texture, or the key its error is about and the message.
+pub(super) fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'static str, String)> {
+    let rgb = |key: &'static str, v: Vector| non_negative(v).map_err(|m| (key, m));
+    let number = |key: &'static str, x: Option<f32>, default: f32| -> Result<f32, (&'static str, String)> {
+        let x = x.unwrap_or(default);
+        positive(x).map_err(|m| (key, format!("`{key}` {m}")))?;
+        Ok(x)
+    };
+    let scale2 = |s: Option<Scale2Desc>, default: f32| -> Result<Vec2, (&'static str, String)> {
+        let v = match s {
+            None => Vec2::splat(default),
+            Some(Scale2Desc::Uniform(x)) => Vec2::splat(x),
+            Some(Scale2Desc::PerAxis(a)) => Vec2::from(a),
+        };
+        if !(v.is_finite() && v.min_element() > 0.0) {
+            return Err(("scale", format!("`scale` must be positive, got {v}")));
+        }
+        Ok(v)
+    };
+    Ok(match desc {
+        TextureDesc::Checker { even, odd, scale, uv_transform } => Texture::Checker(Box::new(Checker {
+            even: rgb("even", *even)?,
+            odd: rgb("odd", *odd)?,
+            uv_transform: uv_map(scale2(*scale, 8.0)?, uv_transform.as_ref())?,
+        })),
+        TextureDesc::SolidChecker { even, odd, scale } => Texture::SolidChecker(SolidChecker {
+            even: rgb("even", *even)?,
+            odd: rgb("odd", *odd)?,
+            scale: number("scale", *scale, 1.0)?,
+        }),
+        TextureDesc::Image { file, wrap, filter, scale, uv_transform, raw, channel, tint } => {
+            let bytes = source.read(file).map_err(|m| ("file", format!("image file: {m}")))?;
+            let (width, height, mut pixels) =
+                crate::image::decode(file, &bytes, *raw).map_err(|m| ("file", format!("image `{file}`: {m}")))?;
+            if let Some(c) = *channel {
+                if c > 2 {
+                    return Err(("channel", format!("`channel` is 0 (red), 1 (green) or 2 (blue), got {c}")));
+                }
+                pixels.iter_mut().for_each(|p| *p = Vec3::splat(p[c as usize]));
+            }
+            if let Some(tint) = tint {
+                let tint = rgb("tint", *tint)?;
+                pixels.iter_mut().for_each(|p| *p *= tint);
+            }
+            Texture::Image(Arc::new(ImageTexture {
+                width,
+                height,
+                pixels,
+                wrap: match wrap {
+                    WrapDesc::Repeat => Wrap::Repeat,
+                    WrapDesc::Clamp => Wrap::Clamp,
+                    WrapDesc::Mirror => Wrap::Mirror,
+                },
+                filter: match filter {
+                    TexelFilterDesc::Bilinear => TexelFilter::Bilinear,
+                    TexelFilterDesc::Nearest => TexelFilter::Nearest,
+                },
+                uv_transform: uv_map(scale2(*scale, 1.0)?, uv_transform.as_ref())?,
+            }))
+        }
+        TextureDesc::Marble { base, vein, scale, turbulence, octaves } => Texture::Marble(Marble {
+            base: rgb("base", *base)?,
+            vein: rgb("vein", *vein)?,
+            scale: number("scale", *scale, 4.0)?,
+            turbulence: number("turbulence", *turbulence, 5.0)?,
+            octaves: octaves.unwrap_or(6).clamp(1, 16),
+        }),
+        TextureDesc::Wood { light, dark, rings, turbulence } => Texture::Wood(Wood {
+            light: rgb("light", *light)?,
+            dark: rgb("dark", *dark)?,
+            rings: number("rings", *rings, 8.0)?,
+            turbulence: number("turbulence", *turbulence, 0.3)?,
+        }),
+        TextureDesc::MeshAttribute { name, scale } => {
+            if !(name.starts_with("vertex_") || name.starts_with("face_")) {
+                return Err(("name", format!("a mesh attribute is named `vertex_…` or `face_…`, got `{name}`")));
+            }
+            let scale = scale.unwrap_or(1.0);
+            if !(scale >= 0.0 && scale.is_finite()) {
+                return Err(("scale", format!("`scale` must be ≥ 0, got {scale}")));
+            }
+            Texture::Attribute(Box::new(AttributeTexture { name: name.clone(), scale }))
+        }
+    })
+}
+
+pub(in crate::native) fn resolve_colour(c: &ColorDesc, textures: &[(String, Texture)]) -> Result<Texture, String> {
+    match c {
+        ColorDesc::Rgb(v) => Ok(Texture::Constant(non_negative(*v)?)),
+        ColorDesc::Texture(name) => textures.iter().find(|(n, _)| n == name).map(|(_, t)| t.clone()).ok_or_else(|| {
+            let hint = did_you_mean(name, textures.iter().map(|(n, _)| n.as_str()));
+            format!("unknown texture `{name}` (a colour is [r, g, b] or the name of a texture in [textures]){hint}")
+        }),
+    }
+}
+
+/// A texture's uv map: its `scale`, then its `uv_transform` (two rows of an affine map).
+fn uv_map(scale: Vec2, rows: Option<&[[f32; 3]; 2]>) -> Result<Affine2, (&'static str, String)> {
+    let Some([[a, b, c], [d, e, f]]) = rows.copied() else { return Ok(Affine2::from_scale(scale)) };
+    let map = Affine2::from_cols_array(&[a, d, b, e, c, f]);
+    if !map.is_finite() || map.matrix2.determinant() == 0.0 {
+        return Err(("uv_transform", format!("`uv_transform` must be finite and invertible, got {rows:?}")));
+    }
+    Ok(map * Affine2::from_scale(scale))
+}
+
+/// Every `mesh-attribute` texture names an attribute some mesh of the scene has: a typo would
+/// otherwise render black.
+pub(super) fn check_mesh_attributes(
+    cx: &Context,
+    file: &SceneFile,
+    textures: &[(String, Texture)],
+    objects: &[Object],
+) -> Result<(), SceneError> {
+    let present: Vec<&str> = objects
+        .iter()
+        .filter_map(|o| match &o.shape {
+            Shape::Mesh(m) => Some(m.attributes.iter().map(|a| a.name.as_str())),
+            _ => None,
+        })
+        .flatten()
+        .collect();
+    for (name, texture) in textures {
+        let Texture::Attribute(t) = texture else { continue };
+        if !present.contains(&t.name.as_str()) {
+            let span = file.textures.get(name).map(|e| e.span.clone());
+            let known = if present.is_empty() {
+                "no mesh has attributes".to_string()
+            } else {
+                format!("the meshes have {}", present.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", "))
+            };
+            return Err(cx.error(
+                &span.flatten(),
+                Some("name"),
+                format!("texture `{name}`: no mesh of the scene has the attribute `{}` ({known})", t.name),
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,69 @@
+//! Materials that wrap others, named by reference in any order: `blend`, `null`, `mask`,
+//! `normal-map`, `bump-map`, `two-sided` and `emitter`.
+
+use glint_core::materials::{Blend, BumpMap, Diffuse, Mask, Material, NormalMap, TwoSided};
+use glint_core::textures::Texture;
+use glint_core::Rgb;
+
+use super::parameters::Parameters;
+use super::Builder;
+use crate::error::SceneError;
+use crate::native::build::resolve_colour;
+use crate::native::schema::{ColorDesc, MaterialDesc};
+
+impl Builder<'_> {
+    /// A wrapper: its own parameters, then the materials it names.
+    pub(super) fn wrapper(&mut self, p: &Parameters, desc: &MaterialDesc) -> Result<Material, SceneError> {
+        let (name, textures) = (p.name, p.textures);
+        Ok(match desc {
+            MaterialDesc::Blend { weight, first, second } => {
+                let weight = p.fraction("weight", weight)?;
+                let first = self.reference(name, "first", first)?;
+                let second = self.reference(name, "second", second)?;
+                Material::Blend(Box::new(Blend { weight, first, second }))
+            }
+            MaterialDesc::Null => Material::Mask(Box::new(Mask {
+                opacity: Texture::Constant(Rgb::ZERO),
+                material: Material::Diffuse(Diffuse { reflectance: Texture::Constant(Rgb::ZERO) }),
+            })),
+            MaterialDesc::Mask { opacity, material } => {
+                let opacity = p.fraction("opacity", opacity)?;
+                let material = self.reference(name, "material", material)?;
+                Material::Mask(Box::new(Mask { opacity, material }))
+            }
+            MaterialDesc::NormalMap { normals, material } => {
+                let normals = resolve_colour(normals, textures).map_err(|m| p.at("normals", m))?;
+                let material = self.reference(name, "material", material)?;
+                Material::NormalMap(Box::new(NormalMap { normals, material }))
+            }
+            MaterialDesc::BumpMap { height, scale, material } => {
+                let height =
+                    resolve_colour(&ColorDesc::Texture(height.clone()), textures).map_err(|m| p.at("height", m))?;
+                if !height.has_uv_gradient() {
+                    return Err(p.at(
+                        "height",
+                        "a bump map's height must vary with uv: an image, a checkerboard or a constant (solid textures vary with the point and have no uv slope)".into(),
+                    ));
+                }
+                if !scale.is_finite() {
+                    return Err(p.at("scale", format!("`scale` must be a finite number; got {scale}")));
+                }
+                let material = self.reference(name, "material", material)?;
+                Material::BumpMap(Box::new(BumpMap { height, scale: *scale, material }))
+            }
+            MaterialDesc::TwoSided { front, back } => {
+                let front = self.reference(name, "front", front)?;
+                let back = match back {
+                    Some(b) => self.reference(name, "back", b)?,
+                    None => front.clone(),
+                };
+                Material::TwoSided(Box::new(TwoSided { front, back }))
+            }
+            MaterialDesc::Emitter { radiance, two_sided, material } => {
+                let surface = self.reference(name, "material", material)?;
+                p.emitting(surface, Some(("radiance", radiance)), *two_sided)?
+            }
+            _ => unreachable!("wrapper is given a wrapping material's description"),
+        })
+    }
+}
