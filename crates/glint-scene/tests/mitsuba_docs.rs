@@ -249,3 +249,27 @@ fn polarization_plugins_are_refused_as_such() {
         assert!(e.contains(&format!("{name}.xml:{line}:")) && e.contains("polariz"), "{e}");
     }
 }
+
+/// Mitsuba gives a shape without a BSDF a diffuse 0.5, but an emitting one a black diffuse
+/// (checked on Mitsuba 3.9.1): the documentation's sphere lights are such shapes, and glint's
+/// grey emitters reflected the sky and the floor (their images were 0.4 % bright on average,
+/// far more on the sphere itself).
+#[test]
+fn an_emitting_shape_without_a_bsdf_reflects_nothing() {
+    let path = scene_file(
+        "emitter-default-bsdf",
+        &format!(
+            "<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"sphere\">\n<emitter type=\"area\"/>\n</shape>\n<shape type=\"sphere\"/>\n</scene>\n"
+        ),
+    );
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let mut reflectances: Vec<(bool, glint_core::textures::Texture)> = loaded
+        .scene
+        .materials()
+        .iter()
+        .map(|m| (m.emission().0 != Rgb::splat(0.0), m.lambert().expect("a diffuse material").0.clone()))
+        .collect();
+    reflectances.sort_by_key(|(emits, _)| *emits);
+    use glint_core::textures::Texture::Constant;
+    assert_eq!(reflectances, [(false, Constant(Rgb::splat(0.5))), (true, Constant(Rgb::splat(0.0)))]);
+}

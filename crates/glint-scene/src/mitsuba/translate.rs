@@ -759,7 +759,8 @@ impl<'a> Translator<'a> {
         Ok(())
     }
 
-    /// The material of a shape: its BSDF (Mitsuba's default: diffuse 0.5) plus its emission.
+    /// The material of a shape: its BSDF (Mitsuba's default: diffuse 0.5, or black diffuse on
+    /// an emitter) plus its emission.
     fn material_for(
         &mut self,
         bsdf: Option<&'a Element>,
@@ -772,10 +773,13 @@ impl<'a> Translator<'a> {
                 return Ok(name.clone());
             }
         }
+        // Mitsuba's shapes without a BSDF are diffuse 0.5, but emitting ones black (checked on
+        // Mitsuba 3.9.1): an area light reflects nothing unless it is given a BSDF.
+        let default_reflectance = if emission.is_some() { 0.0 } else { 0.5 };
         let mut desc = match bsdf {
             Some(b) => self.bsdf(b)?,
             None => MaterialDesc::Diffuse {
-                reflectance: Some(ColorDesc::Rgb([0.5; 3])),
+                reflectance: Some(ColorDesc::Rgb([default_reflectance; 3])),
                 emission: None,
                 two_sided_emission: false,
                 two_sided: Some(false),
@@ -783,6 +787,7 @@ impl<'a> Translator<'a> {
         };
         let base = match bsdf {
             Some(b) => b.attribute("id").map(str::to_string).unwrap_or(format!("bsdf@{}", b.position.line)),
+            None if emission.is_some() => "default-black-diffuse".into(),
             None => "default-diffuse".into(),
         };
         let emits = emission.is_some();
