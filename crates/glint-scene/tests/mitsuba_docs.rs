@@ -273,3 +273,22 @@ fn an_emitting_shape_without_a_bsdf_reflects_nothing() {
     use glint_core::textures::Texture::Constant;
     assert_eq!(reflectances, [(false, Constant(Rgb::splat(0.5))), (true, Constant(Rgb::splat(0.0)))]);
 }
+
+/// An environment map whose file is not on the search path is refused at the emitter's line
+/// (it was reported with the scene's name only, not the included file and line that name it).
+#[test]
+fn a_missing_environment_map_is_refused_at_its_line() {
+    let dir = scene_file("envmap-missing-include", "").parent().unwrap().to_path_buf();
+    std::fs::create_dir_all(dir.join("include")).unwrap();
+    std::fs::write(
+        dir.join("include/sky.xml"),
+        "<scene version=\"3.0.0\">\n\n<emitter type=\"envmap\">\n<string name=\"filename\" value=\"textures/museum.exr\"/>\n</emitter>\n</scene>\n",
+    )
+    .unwrap();
+    let e = error_of(
+        "envmap-missing",
+        &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<include filename=\"include/sky.xml\"/>\n</scene>\n")
+            .replace("<include", &format!("<path value=\"{}\"/>\n<include", dir.display())),
+    );
+    assert!(e.contains("sky.xml:3:") && e.contains("textures/museum.exr") && e.contains("not found"), "{e}");
+}

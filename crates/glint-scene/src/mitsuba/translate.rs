@@ -1325,6 +1325,11 @@ impl<'a> Translator<'a> {
                     };
                     self.error(at, format!("envmap `to_world`: {message}"))
                 })?;
+                // Found here so that a missing file is reported at this line.
+                let found = crate::source::resolve(&self.files.search_path, std::path::Path::new(&file));
+                if !found.exists() {
+                    return Err(self.error(at, format!("envmap `filename` `{file}` not found ({})", found.display())));
+                }
                 self.scene.environment.map = Some(file);
                 self.scene.environment.map_scale = p.float(self, "scale")?;
                 self.scene.environment.map_transform = ops;
