@@ -1,0 +1,82 @@
+//! The `[textures]` table: checkerboards, images, marble, wood and mesh attributes.
+
+use serde::Deserialize;
+
+use super::Vector;
+
+/// A number for both axes or one per axis.
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(untagged)]
+pub enum Scale2Desc {
+    Uniform(f32),
+    PerAxis([f32; 2]),
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum TextureDesc {
+    Checker {
+        even: Vector,
+        odd: Vector,
+        scale: Option<Scale2Desc>,
+        /// An affine map of uv after `scale`: rows [a, b, c] and [d, e, f].
+        uv_transform: Option<[[f32; 3]; 2]>,
+    },
+    SolidChecker {
+        even: Vector,
+        odd: Vector,
+        scale: Option<f32>,
+    },
+    Image {
+        file: String,
+        #[serde(default)]
+        wrap: WrapDesc,
+        #[serde(default)]
+        filter: TexelFilterDesc,
+        scale: Option<Scale2Desc>,
+        uv_transform: Option<[[f32; 3]; 2]>,
+        /// The stored values as they are (normal maps, data), not decoded from sRGB.
+        #[serde(default)]
+        raw: bool,
+        /// One channel (0 red, 1 green, 2 blue) as grey: packed data, as glTF's
+        /// metallic-roughness maps.
+        channel: Option<u8>,
+        /// A factor for every texel (glTF's colour factors, pbrt's `scale`).
+        tint: Option<Vector>,
+    },
+    Marble {
+        base: Vector,
+        vein: Vector,
+        scale: Option<f32>,
+        turbulence: Option<f32>,
+        octaves: Option<u32>,
+    },
+    Wood {
+        light: Vector,
+        dark: Vector,
+        rings: Option<f32>,
+        turbulence: Option<f32>,
+    },
+    /// A mesh's own values (`vertex_color`, `face_weight`, …: Mitsuba's `mesh_attribute`).
+    MeshAttribute {
+        name: String,
+        scale: Option<f32>,
+    },
+}
+
+#[derive(Deserialize, Debug, Default, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub enum WrapDesc {
+    #[default]
+    Repeat,
+    Clamp,
+    Mirror,
+}
+
+#[derive(Deserialize, Debug, Default, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub enum TexelFilterDesc {
+    #[default]
+    Bilinear,
+    Nearest,
+}
