@@ -235,7 +235,7 @@ fn an_aov_integrator_renders_its_nested_integrators_image() {
 }
 
 /// Plugins that exist only for Mitsuba's polarized variants are refused at their line, saying
-/// so (glint renders RGB without polarization).
+/// so (glint renders RGB without polarization); so are other plugins glint lacks.
 #[test]
 fn polarization_plugins_are_refused_as_such() {
     for (name, element) in [
@@ -248,6 +248,10 @@ fn polarization_plugins_are_refused_as_such() {
         let line = if name == "stokes" { 3 } else { 4 };
         assert!(e.contains(&format!("{name}.xml:{line}:")) && e.contains("polariz"), "{e}");
     }
+    // Other plugins glint lacks: named at their line, with what is missing.
+    let e =
+        error_of("curve", &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"linearcurve\"/>\n</scene>\n"));
+    assert!(e.contains("curve.xml:3:") && e.contains("<shape type=\"linearcurve\">") && e.contains("no curve"), "{e}");
 }
 
 /// Mitsuba gives a shape without a BSDF a diffuse 0.5, but an emitting one a black diffuse

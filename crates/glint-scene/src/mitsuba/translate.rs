@@ -681,10 +681,15 @@ impl<'a> Translator<'a> {
                 ShapeDesc::SdfGrid { file, normals, material, transform, name }
             }
             _ => {
+                let why = match kind {
+                    "bsplinecurve" | "linearcurve" => " (glint has no curve primitive)",
+                    "ellipsoids" | "ellipsoidsmesh" => " (glint has no ellipsoid primitives)",
+                    _ => "",
+                };
                 return Err(self.error(
                     &shape.position,
                     format!(
-                        "<shape type=\"{kind}\"> is not supported; glint reads obj, ply, serialized, rectangle, cube, sphere, disk, cylinder and sdfgrid"
+                        "<shape type=\"{kind}\"> is not supported{why}; glint reads obj, ply, serialized, rectangle, cube, sphere, disk, cylinder and sdfgrid"
                     ),
                 ))
             }
