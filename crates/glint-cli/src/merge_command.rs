@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use glint_cli::error::CliError;
-use glint_cli::output::{check_writable, write_image, ImageFormat};
+use glint_cli::output::check_writable;
 use glint_cli::partial;
 
 #[derive(Args)]
@@ -25,17 +25,13 @@ pub struct MergeArgs {
 pub fn run(args: MergeArgs) -> Result<(), CliError> {
     // What a part's header may declare (GLINT_MEMORY_LIMIT, as for `render`).
     glint_scene::set_memory_limit(crate::render_command::memory_limit_bytes(None)?);
-    let format = check_writable(&args.output)?;
+    // Checked before the parts are read, so a bad name costs no work.
+    check_writable(&args.output)?;
     let parts = args.parts.iter().map(|p| partial::read(p)).collect::<Result<Vec<_>, _>>()?;
     let count = parts.len();
     let partial::Merged { film, attributes, ranges } = partial::merge(parts)?;
-    if format == ImageFormat::Exr {
-        let attributes: Vec<(&str, String)> = attributes.iter().map(|(k, v)| (k.as_str(), v.clone())).collect();
-        partial::write(&args.output, &film, &attributes)?;
-    } else {
-        let metadata: Vec<(&str, String)> = Vec::new();
-        write_image(&args.output, film.width, film.height, &film.to_rgb(), 0.0, &metadata, &[])?;
-    }
+    let attributes: Vec<(&str, String)> = attributes.iter().map(|(k, v)| (k.as_str(), v.clone())).collect();
+    partial::write_as_named(&args.output, &film, &attributes)?;
     if !args.quiet {
         let samples: u32 = ranges.iter().map(|(a, b)| b - a).sum();
         say!(
