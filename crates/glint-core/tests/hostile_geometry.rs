@@ -161,6 +161,16 @@ fn rays_from_the_origin_hit_a_blob_far_from_it() {
     }
 }
 
+/// The distance at which `ray` meets the plane of a triangle, by Cramer's rule on the
+/// triangle's edges in f64 (where differences of f32 are exact): the reference for the
+/// distances the f32 tests report.
+fn distance_in_f64([a, b, c]: [Vec3; 3], ray: &Ray) -> Option<f64> {
+    let [a, b, c, origin, direction] = [a, b, c, ray.origin, ray.direction].map(|p| p.as_dvec3());
+    let (edge1, edge2, to_origin) = (b - a, c - a, origin - a);
+    let det = direction.cross(edge2).dot(edge1);
+    (det != 0.0).then(|| to_origin.cross(edge1).dot(edge2) / det)
+}
+
 #[test]
 fn rays_aimed_inside_needles_and_slivers_hit_them_at_the_right_distance() {
     let mut rng = TestRng(5);
@@ -179,8 +189,11 @@ fn rays_aimed_inside_needles_and_slivers_hit_them_at_the_right_distance() {
             };
             let local = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, width, 0.0), Vec3::new(0.0, width, 0.0)];
             let place = |p: Vec3| offset + scale * (rotation * p);
-            let positions = local.iter().map(|p| place(*p)).collect();
-            let needle = mesh_scene(Mesh { positions, indices: vec![[0, 1, 2], [0, 2, 3]], ..Default::default() });
+            let positions: Vec<Vec3> = local.iter().map(|p| place(*p)).collect();
+            let indices = vec![[0, 1, 2], [0, 2, 3]];
+            let corners = |prim: u32| indices[prim as usize].map(|i: u32| positions[i as usize]);
+            let needle =
+                mesh_scene(Mesh { positions: positions.clone(), indices: indices.clone(), ..Default::default() });
             for _ in 0..250 {
                 let local_target = Vec3::new(rng.range(0.05, 0.95), width * rng.range(0.25, 0.75), 0.0);
                 let target = place(local_target);
@@ -189,6 +202,13 @@ fn rays_aimed_inside_needles_and_slivers_hit_them_at_the_right_distance() {
                 let t = (target - origin).length();
                 let what = format!("needle {width}, turned {turned}, scale {scale}, offset {offset}");
                 assert_hits(&needle, &ray, Some(t), 1e-3, &what);
+                // On the triangle it names, the hit's distance is the f64 answer to the f32
+                // rounding (Embree's robust mode's accuracy; the edge functions' own distance
+                // was up to 4e-4 off on the needles 1e-5 wide).
+                let hit = needle.intersect(&ray).unwrap();
+                let exact = distance_in_f64(corners(hit.prim), &ray).unwrap();
+                let error = (hit.t as f64 - exact).abs() / exact;
+                assert!(error < 3e-7, "{what}: t = {} for {exact} (relative error {error:.1e}), {ray:?}", hit.t);
             }
         }
     }
@@ -201,6 +221,9 @@ fn rays_aimed_inside_needles_and_slivers_hit_them_at_the_right_distance() {
             let origin = target + Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), -2.5);
             let ray = Ray::new(origin, (target - origin).normalize());
             assert_hits(&cap, &ray, Some((target - origin).length()), 1e-4, &format!("cap {height}"));
+            let exact = distance_in_f64([Vec3::ZERO, Vec3::new(0.1, 0.0, 0.0), Vec3::new(0.05, height, 0.0)], &ray);
+            let t = cap.intersect(&ray).unwrap().t as f64;
+            assert!((t - exact.unwrap()).abs() < 3e-7 * t, "cap {height}: t = {t} for {exact:?}");
         }
     }
 }

@@ -10,7 +10,7 @@ use glam::Vec3;
 use wide::{f32x8, CmpEq, CmpGt, CmpLt, CmpNe};
 
 use crate::geometry::{gamma, Ray};
-use crate::shapes::{PrimHit, WatertightRay};
+use crate::shapes::{plane_distance, PrimHit, WatertightRay};
 
 pub const LANES: usize = 8;
 
@@ -133,6 +133,8 @@ pub struct WatertightRay8 {
     origin: [Lanes; 3],
     /// The shear (dx/dz, dy/dz, 1/dz).
     shear: [Lanes; 3],
+    /// The ray itself, for the distance of each hit (`plane_distance`).
+    ray: Ray,
 }
 
 impl WatertightRay8 {
@@ -149,6 +151,7 @@ impl WatertightRay8 {
             axes,
             origin: axes.map(|a| Lanes::splat(origin[a])),
             shear: [0, 1, 2].map(|i| Lanes::splat(scalar.shear[i])),
+            ray: *ray,
         }
     }
 
@@ -218,7 +221,31 @@ impl WatertightRay8 {
         // As the scalar test: the bound only where a vertex is not ahead of the origin.
         let ahead = az.fast_min(bz).fast_min(cz).cmp_gt(zero);
         let hit = in_range & (ahead | t.cmp_gt(delta_t));
-        Hits8 { mask: hit.move_mask() as u32, t: t.to_array(), u: v_ * inv_det, v: w * inv_det }
+        let (mask, t) = self.refine_distances(block, hit.move_mask() as u32, t.to_array(), t_min, t_max);
+        Hits8 { mask, t, u: v_ * inv_det, v: w * inv_det }
+    }
+
+    /// Each hit lane's distance from its plane, as the scalar test computes it
+    /// (`plane_distance`), and the lanes whose distance then leaves (t_min, t_max) dropped.
+    #[inline(never)]
+    fn refine_distances(
+        &self,
+        block: &Triangle8,
+        mut mask: u32,
+        mut t: [f32; LANES],
+        t_min: f32,
+        t_max: f32,
+    ) -> (u32, [f32; LANES]) {
+        let mut lanes = mask;
+        while lanes != 0 {
+            let k = lanes.trailing_zeros() as usize;
+            lanes &= lanes - 1;
+            t[k] = plane_distance(block.triangle(k), &self.ray, t[k]);
+            if !(t[k] > t_min && t[k] < t_max) {
+                mask &= !(1 << k);
+            }
+        }
+        (mask, t)
     }
 }
 
