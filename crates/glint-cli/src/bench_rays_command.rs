@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use clap::Args;
 use glint_cli::error::CliError;
+use glint_core::accel::PrimitiveHit;
 use glint_core::geometry::Ray;
 use glint_core::scene::{Geometry, Object};
 use glint_core::shapes::{IntersectMethods, Shape};
@@ -62,6 +63,24 @@ pub fn run(args: BenchRaysArgs) -> Result<(), CliError> {
     println!("rays {}: {} rays, {} thread(s), best of {}", args.rays.display(), rays.len(), args.threads, args.repeat);
 
     let mut hits = Vec::new();
+    // The same queries as a batch, several rays' traversals interleaved (as the path tracer
+    // traces its bounces).
+    let mut interleaved_hits: Vec<(f32, u32)> = Vec::new();
+    let interleaved_s = best_time(args.repeat, || {
+        interleaved_hits = pool.install(|| {
+            rays.par_chunks(4096)
+                .flat_map_iter(|chunk| {
+                    let mut chunk = chunk.to_vec();
+                    let mut found = vec![PrimitiveHit::NONE; chunk.len()];
+                    geometry.closest_primitives(&mut chunk, &mut found);
+                    found.into_iter().map(|f| match f.object {
+                        u32::MAX => (f32::INFINITY, MISS),
+                        _ => (f.at.t, f.prim),
+                    })
+                })
+                .collect()
+        });
+    });
     let closest_s = best_time(args.repeat, || {
         hits = pool.install(|| {
             rays.par_chunks(4096)
@@ -94,8 +113,20 @@ pub fn run(args: BenchRaysArgs) -> Result<(), CliError> {
         occluded = pool.install(|| rays.par_iter().filter(|r| geometry.occluded(r)).count());
     });
     let n = rays.len() as f64;
+    let same = |a: &(f32, u32), b: &(f32, u32)| a.0.to_bits() == b.0.to_bits() && a.1 == b.1;
+    if let Some(k) = interleaved_hits.iter().zip(&hits).position(|(a, b)| !same(a, b)) {
+        return Err(CliError::Input(format!(
+            "ray {k}: the interleaved query found {:?}, the one-ray query {:?}",
+            interleaved_hits[k], hits[k]
+        )));
+    }
     let hit_count = hits.iter().filter(|h| h.1 != MISS).count();
     println!("closest hit: {:.3} Mrays/s ({hit_count} hits)", n / closest_s / 1e6);
+    println!(
+        "closest hit, {} rays interleaved: {:.3} Mrays/s (the same hits)",
+        glint_core::accel::INTERLEAVED_RAYS,
+        n / interleaved_s / 1e6
+    );
     println!("any hit:     {:.3} Mrays/s ({occluded} occluded)", n / anyhit_s / 1e6);
     if occluded != hit_count {
         println!("warning: any-hit found {occluded} occluded rays, closest hit {hit_count} hits");
@@ -122,8 +153,9 @@ pub fn run(args: BenchRaysArgs) -> Result<(), CliError> {
         None => "-".into(),
     };
     println!(
-        "build_s={build_s:.4} closest_mrays={:.4} anyhit_mrays={:.4} matches={matches}",
+        "build_s={build_s:.4} closest_mrays={:.4} interleaved_mrays={:.4} anyhit_mrays={:.4} matches={matches}",
         n / closest_s / 1e6,
+        n / interleaved_s / 1e6,
         n / anyhit_s / 1e6
     );
     Ok(())

@@ -409,13 +409,15 @@ impl Geometry {
     fn closest_in_block(&self, b: u32, ray: &Ray, prepared: &WatertightRay8) -> Option<(u32, PrimHit)> {
         let block = &self.blocks[b as usize];
         if self.simd_only() {
-            let (lane, hit) = prepared.intersect(block, ray.t_min, ray.t_max).nearest()?;
+            let hits = prepared.intersect(block, ray.t_min, ray.t_max);
+            let (lane, hit) = prepared.nearest_refined(block, hits, ray.t_min, ray.t_max)?;
             return Some((block.ids[lane], hit));
         }
         let mut best = None;
         let mut ray = *ray;
         if self.methods.triangle == TriangleMethod::Watertight && block.has_triangles() {
-            if let Some((lane, hit)) = prepared.intersect(block, ray.t_min, ray.t_max).nearest() {
+            let hits = prepared.intersect(block, ray.t_min, ray.t_max);
+            if let Some((lane, hit)) = prepared.nearest_refined(block, hits, ray.t_min, ray.t_max) {
                 ray.t_max = hit.t;
                 best = Some((block.ids[lane], hit));
             }
@@ -491,6 +493,40 @@ impl Geometry {
         }
     }
 
+    /// `closest_primitive_into` for each ray, the same answers to the bit, with several rays'
+    /// traversals interleaved so that their waits for memory overlap
+    /// (`Bvh8::closest_interleaved`): for batches of incoherent rays. `found[i]` receives ray
+    /// `i`'s hit, or `PrimitiveHit::NONE`, and each ray's `t_max` becomes its hit's distance.
+    pub fn closest_primitives(&self, rays: &mut [Ray], found: &mut [PrimitiveHit]) {
+        assert_eq!(rays.len(), found.len(), "one answer per ray");
+        if self.bvh.is_one_node() || !self.unbounded.is_empty() {
+            for (ray, found) in rays.iter_mut().zip(found.iter_mut()) {
+                *found = PrimitiveHit::NONE;
+                self.closest_primitive_into(ray, found);
+            }
+            return;
+        }
+        self.bvh.closest_interleaved(
+            rays,
+            |_, ray| (WatertightRay8::for_ray(ray), None),
+            |(prepared, best_lane), b, ray| {
+                let (id, h) = self.closest_in_block(b, ray, prepared)?;
+                *best_lane = Some((id, h));
+                Some(h.t)
+            },
+            |i, (_, best_lane)| {
+                found[i] = match best_lane {
+                    Some((id, at)) => {
+                        let (object, prim) = self.locate(id);
+                        PrimitiveHit { object, prim, at }
+                    }
+                    None => PrimitiveHit::NONE,
+                }
+            },
+            |b| super::wide::prefetch_lines(&self.blocks[b as usize]),
+        );
+    }
+
     /// The traversal work of a closest-hit query (for the BVH heat map and `bench-rays`).
     pub fn traversal_counts(&self, ray: &Ray) -> TraversalCounts {
         let mut counts = TraversalCounts::default();
@@ -528,6 +564,7 @@ impl Geometry {
                 best_lane = Some((id, h));
                 Some(h.t)
             },
+            |b| super::wide::prefetch_lines(&self.blocks[b as usize]),
             counter,
         );
         counter.primitives(tested);
@@ -579,7 +616,10 @@ impl Geometry {
                     let lane = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
                     let (u, v) = (hits.u.as_array_ref()[lane], hits.v.as_array_ref()[lane]);
-                    report(block, lane, block.ids[lane], PrimHit { t: hits.t[lane], u, v, inner: 0 });
+                    let hit = PrimHit { t: hits.t[lane], u, v, inner: 0 };
+                    if let Some(hit) = prepared.refined(block, lane, hit, ray.t_min, ray.t_max) {
+                        report(block, lane, block.ids[lane], hit);
+                    }
                 }
             }
             for (lane, id) in block.lanes().filter(|&(_, id)| id & GENERIC == 0) {
@@ -596,7 +636,11 @@ impl Geometry {
     #[inline(never)]
     fn occluded_in_tree(&self, ray: &Ray) -> bool {
         let prepared = WatertightRay8::for_ray(ray);
-        self.bvh.any::<false>(ray, |b, ray| self.any_in_block(b, ray, &prepared))
+        self.bvh.any_prefetching::<false>(
+            ray,
+            |b, ray| self.any_in_block(b, ray, &prepared),
+            |b| super::wide::prefetch_lines(&self.blocks[b as usize]),
+        )
     }
 }
 

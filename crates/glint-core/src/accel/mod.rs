@@ -10,4 +10,4 @@ mod wide;
 pub use aggregate::{Geometry, Object, PrimitiveHit};
 pub use bvh::{Bvh, BvhStats};
 pub use triangle8::{Hits8, Triangle8, WatertightRay8, EMPTY, GENERIC, LANES};
-pub use wide::{Bvh8, NoCounter, TraversalCounter, TraversalCounts};
+pub use wide::{Bvh8, NoCounter, TraversalCounter, TraversalCounts, INTERLEAVED as INTERLEAVED_RAYS};
