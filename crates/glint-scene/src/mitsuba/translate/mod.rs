@@ -156,8 +156,7 @@ impl<'a> Translator<'a> {
     fn resolve(&self, reference: &Element) -> Result<&'a Element> {
         let id = reference.attribute("id").ok_or_else(|| self.error(&reference.position, "<ref> needs an `id`"))?;
         self.ids.get(id).copied().ok_or_else(|| {
-            let known: Vec<&String> = self.ids.keys().collect();
-            let hint = crate::error::did_you_mean(id, known.iter().map(|s| s.as_str()));
+            let hint = crate::error::did_you_mean_among_keys(id, self.ids.keys());
             self.error(&reference.position, format!("no object with id `{id}`{hint}"))
         })
     }

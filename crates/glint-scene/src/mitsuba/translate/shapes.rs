@@ -269,7 +269,7 @@ impl<'a> Translator<'a> {
             .ok_or_else(|| self.error(&instance.position, "an instance needs a <ref> to its shapegroup"))?;
         let id = reference.attribute("id").unwrap_or("");
         let Some(members) = self.groups.get(id) else {
-            let hint = crate::error::did_you_mean(id, self.groups.keys().map(String::as_str));
+            let hint = crate::error::did_you_mean_among_keys(id, self.groups.keys());
             return Err(
                 self.error(&reference.position, format!("no shapegroup `{id}` declared before this instance{hint}"))
             );
