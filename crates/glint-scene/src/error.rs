@@ -82,6 +82,15 @@ pub(crate) fn did_you_mean<'a>(name: &str, names: impl IntoIterator<Item = &'a s
     closest_name(name, names).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default()
 }
 
+/// `did_you_mean` over the keys of a map (a `HashMap`'s come in an order that changes from
+/// run to run): sorted first, so that of names equally close to `name` the same one is
+/// suggested every time.
+pub(crate) fn did_you_mean_among_keys<'a>(name: &str, keys: impl IntoIterator<Item = &'a String>) -> String {
+    let mut keys: Vec<&str> = keys.into_iter().map(String::as_str).collect();
+    keys.sort_unstable();
+    did_you_mean(name, keys)
+}
+
 /// The closest of `names` to `name`, if any is close enough to be a likely typo.
 pub(crate) fn closest_name<'a>(name: &str, names: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
     names

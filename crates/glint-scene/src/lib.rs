@@ -14,6 +14,7 @@ pub mod mesh;
 pub mod mitsuba;
 pub mod native;
 pub mod pbrt;
+mod reader;
 mod source;
 pub mod volume;
 

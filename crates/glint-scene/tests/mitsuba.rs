@@ -1083,6 +1083,37 @@ fn a_rough_conductor_takes_textured_widths_and_amorphous_carbon() {
     assert!(e.contains("alpha-twice.xml:3:") && e.contains("not both"), "{e}");
 }
 
+/// Of eight ids equally close to a misspelt one, the suggestion is the first in order,
+/// however the reader's maps happen to order them: each scene is loaded several times, each
+/// load with maps of its own.
+#[test]
+fn a_suggestion_among_equally_close_ids_is_the_same_every_time() {
+    let names = ["m8", "m3", "m6", "m1", "m7", "m2", "m5", "m4"];
+    let bsdfs: String = names.iter().map(|n| format!("<bsdf type=\"diffuse\" id=\"{n}\"/>\n")).collect();
+    let groups: String = names
+        .iter()
+        .map(|n| format!("<shape type=\"shapegroup\" id=\"{n}\"><shape type=\"sphere\"/></shape>\n"))
+        .collect();
+    let cases = [
+        (
+            "reference",
+            format!("<scene version=\"3.0.0\">\n{SENSOR}\n{bsdfs}<shape type=\"sphere\"><ref id=\"m0\"/></shape>\n</scene>\n"),
+            "no object with id `m0`",
+        ),
+        (
+            "group",
+            format!("<scene version=\"3.0.0\">\n{SENSOR}\n{groups}<shape type=\"instance\"><ref id=\"m0\"/></shape>\n</scene>\n"),
+            "no shapegroup `m0` declared before this instance",
+        ),
+    ];
+    for (test, text, expected) in cases {
+        for _ in 0..4 {
+            let e = error_of(&format!("suggestion-{test}"), &text);
+            assert!(e.contains(&format!("{expected}; did you mean `m1`?")), "{test}: {e}");
+        }
+    }
+}
+
 /// `shapegroup` + `instance`: every instance places each of the group's shapes under its own
 /// `to_world` after the shape's; the group's mesh is loaded once and shared (glint's
 /// instancing). An instance of an unknown group and an emitter in a group are errors.

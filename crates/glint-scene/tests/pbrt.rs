@@ -277,6 +277,36 @@ fn error_of(test: &str, text: &str) -> String {
     }
 }
 
+/// Of eight names equally close to a misspelt one, the suggestion is the first in order,
+/// however the reader's maps happen to order them: each scene is loaded several times, each
+/// load with maps of its own.
+#[test]
+fn a_suggestion_among_equally_close_names_is_the_same_every_time() {
+    let names = ["m8", "m3", "m6", "m1", "m7", "m2", "m5", "m4"];
+    let materials: String =
+        names.iter().map(|n| format!("MakeNamedMaterial \"{n}\" \"string type\" \"diffuse\"\n")).collect();
+    let objects: String = names.iter().map(|n| format!("ObjectBegin \"{n}\"\nObjectEnd\n")).collect();
+    let textures: String = names
+        .iter()
+        .map(|n| format!("Texture \"{n}\" \"spectrum\" \"constant\" \"rgb value\" [ 0.5 0.5 0.5 ]\n"))
+        .collect();
+    let cases = [
+        ("material", format!("WorldBegin\n{materials}NamedMaterial \"m0\"\n"), "no material named `m0`"),
+        ("object", format!("WorldBegin\n{objects}ObjectInstance \"m0\"\n"), "no object named `m0`"),
+        (
+            "texture",
+            format!("WorldBegin\n{textures}Material \"diffuse\" \"texture reflectance\" \"m0\"\n"),
+            "no texture named `m0`",
+        ),
+    ];
+    for (test, text, expected) in cases {
+        for _ in 0..4 {
+            let e = error_of(&format!("suggestion-{test}"), &text);
+            assert!(e.contains(&format!("{expected}; did you mean `m1`?")), "{test}: {e}");
+        }
+    }
+}
+
 #[test]
 fn errors_name_the_file_line_and_what_was_expected() {
     let cases: &[(&str, &str, &str)] = &[

@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::SceneError;
 use crate::native::LoadedScene;
+use crate::reader::Translation;
 use crate::source::Source;
 
 /// Reads a Mitsuba 3 scene. `defines` are `-D name=value` parameters, which override the
@@ -35,10 +36,8 @@ pub fn load_mitsuba(
         warnings
             .push(format!("-D {name}: no <default name=\"{name}\"> in the scene, so it changes nothing{suggestion}"));
     }
-    let text = &files.files[0].1;
-    let mut loaded = crate::native::build_file(file, text, path, &Source::search_path(files.search_path.clone()))?;
-    warnings.append(&mut loaded.warnings);
-    loaded.warnings = warnings;
+    let translation = Translation { file, text: &files.files[0].1, made: Vec::new(), warnings };
+    let mut loaded = crate::reader::build(translation, path, Source::search_path(files.search_path.clone()))?;
     // The XML files (the scene and what it includes), then the meshes and textures.
     let xml_files = files.files.iter().map(|(path, _)| path.clone());
     loaded.inputs = xml_files.chain(loaded.inputs.into_iter().skip(1)).collect();

@@ -74,12 +74,9 @@ pub(super) fn read_scene(
     defines: &[(String, String)],
     search_path: &[PathBuf],
 ) -> Result<(Element, Files), SceneError> {
-    let mut files = Files::default();
-    files.search_path.push(path.parent().map(Path::to_path_buf).unwrap_or_default());
-    files.search_path.extend(search_path.iter().cloned());
+    let (bytes, directories) = crate::reader::read_scene_file(path, search_path)?;
+    let mut files = Files { search_path: directories, ..Files::default() };
     let mut parameters: HashMap<String, String> = defines.iter().cloned().collect();
-    let bytes = crate::source::read_file(path, u64::MAX)
-        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
     let text = crate::source::utf8_text(path, bytes)?;
     let root = parse_file(path, text, &mut files, &mut parameters, 0)?;
     if root.tag != "scene" {

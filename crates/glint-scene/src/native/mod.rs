@@ -100,8 +100,7 @@ pub fn load_scene_with_options(path: &Path, options: &LoadOptions) -> Result<Loa
             format!("-D {name}=…: parameters are for Mitsuba scenes (.xml); this is a native scene"),
         ));
     }
-    let bytes = crate::source::read_file(path, u64::MAX)
-        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+    let (bytes, directories) = crate::reader::read_scene_file(path, &options.search_path)?;
     let text = crate::source::utf8_text(path, bytes)?;
     let format = match path.extension().and_then(|e| e.to_str()) {
         Some(ext) if ext.eq_ignore_ascii_case("json") => Format::Json,
@@ -128,8 +127,6 @@ pub fn load_scene_with_options(path: &Path, options: &LoadOptions) -> Result<Loa
             ),
         ));
     }
-    let mut directories = vec![path.parent().map(Path::to_path_buf).unwrap_or_default()];
-    directories.extend(options.search_path.iter().cloned());
     parse_scene(&text, format, path, &Source::search_path(directories))
 }
 

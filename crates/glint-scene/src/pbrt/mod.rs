@@ -17,15 +17,13 @@ use std::path::{Path, PathBuf};
 
 use crate::error::SceneError;
 use crate::native::LoadedScene;
+use crate::reader::Translation;
 use crate::source::Source;
 
 /// Reads a pbrt-v4 scene; `search_path` is searched after the scene's directory for the
 /// files it names.
 pub fn load_pbrt(path: &Path, search_path: &[PathBuf]) -> Result<LoadedScene, SceneError> {
-    let bytes = crate::source::read_file(path, u64::MAX)
-        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
-    let mut directories = vec![path.parent().map(Path::to_path_buf).unwrap_or_default()];
-    directories.extend(search_path.iter().cloned());
+    let (bytes, directories) = crate::reader::read_scene_file(path, search_path)?;
     build(path, bytes, Source::search_path(directories))
 }
 
@@ -34,13 +32,9 @@ pub fn parse_pbrt(text: &str, name: &Path, source: Source<'_>) -> Result<LoadedS
     build(name, text.as_bytes().to_vec(), source)
 }
 
-/// Translates the file and builds its description, the files the translation made (resampled
-/// maps) found before `source`'s; the translation's warnings come first.
+/// Translates the file and builds its description, with the files the translation made
+/// (resampled maps).
 fn build(name: &Path, bytes: Vec<u8>, source: Source<'_>) -> Result<LoadedScene, SceneError> {
-    let (file, made, mut warnings) = translate::translate(name, bytes, &source)?;
-    let source = source.with_made_files(made);
-    let mut loaded = crate::native::build_file(file, "", name, &source)?;
-    warnings.append(&mut loaded.warnings);
-    loaded.warnings = warnings;
-    Ok(loaded)
+    let (file, made, warnings) = translate::translate(name, bytes, &source)?;
+    crate::reader::build(Translation { file, text: "", made, warnings }, name, source)
 }

@@ -26,12 +26,10 @@ use super::parse::{At, Directive, Parser};
 use crate::error::SceneError;
 use crate::located::Located;
 use crate::native::schema::*;
+use crate::reader::MadeFiles;
 use crate::source::Source;
 
 type Result<T> = std::result::Result<T, SceneError>;
-
-/// Files a reader makes in memory: (name, bytes).
-pub type MadeFiles = Vec<(String, Vec<u8>)>;
 
 /// The scene description, the files made in memory (resampled maps), and warnings.
 pub fn translate(path: &Path, bytes: Vec<u8>, source: &Source) -> Result<(SceneFile, MadeFiles, Vec<String>)> {

@@ -162,7 +162,7 @@ impl Translator<'_> {
             "NamedMaterial" => match self.named_materials.get(&d.args[0]) {
                 Some(name) => self.state.material = Some(name.clone()),
                 None => {
-                    let hint = crate::error::did_you_mean(&d.args[0], self.named_materials.keys().map(String::as_str));
+                    let hint = crate::error::did_you_mean_among_keys(&d.args[0], self.named_materials.keys());
                     return Err(self.parser.error(d.at, format!("no material named `{}`{hint}", d.args[0])));
                 }
             },
@@ -195,7 +195,7 @@ impl Translator<'_> {
             }
             "ObjectInstance" => {
                 let Some(shapes) = self.objects.get(&d.args[0]) else {
-                    let hint = crate::error::did_you_mean(&d.args[0], self.objects.keys().map(String::as_str));
+                    let hint = crate::error::did_you_mean_among_keys(&d.args[0], self.objects.keys());
                     return Err(self.parser.error(d.at, format!("no object named `{}`{hint}", d.args[0])));
                 };
                 let placement = matrix_op(self.state.ctm);
