@@ -835,3 +835,44 @@ fn a_normal_maps_scale_tilts_its_normals() {
     let expected = Vec3::new(2.0 * n[0], 2.0 * n[1], n[2]).normalize();
     assert!((stored.normalize() - expected).length() < 1e-4, "{stored} vs {expected}");
 }
+
+/// A material whose textures name TEXCOORD_1 has its primitives' second uv set read; a
+/// material whose textures name both sets is warned of and reads its base colour's.
+#[test]
+fn textures_on_the_second_uv_set_read_it() {
+    let mut b = Builder::default();
+    let mut quad = b.quad();
+    // TEXCOORD_0 all at one point; TEXCOORD_1 the quad's own (quad() gives them as 0).
+    quad["attributes"]["TEXCOORD_1"] = quad["attributes"]["TEXCOORD_0"].clone();
+    quad["attributes"]["TEXCOORD_0"] = json!(b.pairs(&[[0.5, 0.5]; 4]));
+    let mut mixed = quad.clone();
+    quad["material"] = json!(0);
+    mixed["material"] = json!(1);
+    let image = png(1, 1, |_, _| [255, 255, 255]);
+    let document = json!({
+        "scenes": [{ "nodes": [0, 1] }],
+        "nodes": [{ "mesh": 0 }, { "mesh": 1, "translation": [5.0, 0.0, 0.0] }],
+        "meshes": [{ "primitives": [quad] }, { "primitives": [mixed] }],
+        "materials": [
+            { "pbrMetallicRoughness": { "baseColorTexture": { "index": 0, "texCoord": 1 } } },
+            { "pbrMetallicRoughness": { "baseColorTexture": { "index": 0, "texCoord": 1 }, "metallicRoughnessTexture": { "index": 0 } } }
+        ],
+        "textures": [{ "source": 0 }],
+        "images": [{ "uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(&image)) }]
+    });
+    let (document, _) = b.finish(document, Some("data"));
+    let loaded = load_scene(&write_json("texcoord1", &document)).unwrap_or_else(|e| panic!("{e}"));
+    let warnings = loaded.warnings.join("\n");
+    assert!(!warnings.contains("material 0:"), "{warnings}");
+    assert!(
+        warnings.contains(
+            "material 1: its textures read TEXCOORD_0 and TEXCOORD_1: glint reads one set per primitive, TEXCOORD_1"
+        ),
+        "{warnings}"
+    );
+    // glTF's uv (0, 1) at the bottom-left corner, glint's (0, 0): the second set's.
+    for x in [0.0, 5.0] {
+        let h = loaded.scene.intersect(&Ray::new(Vec3::new(x - 0.999, -0.999, 3.0), -Vec3::Z)).unwrap();
+        assert!((h.geometry.uv - glam::Vec2::new(0.0005, 0.0005)).length() < 1e-3, "{}", h.geometry.uv);
+    }
+}

@@ -13,12 +13,14 @@ use super::{alpha, normal_scale};
 use crate::located::Located;
 use crate::native::schema::*;
 
-/// A glTF material as glint names it, whether it emits, and whether it is partly
-/// transparent (alpha `MASK` or `BLEND`).
+/// A glTF material as glint names it, whether it emits, whether it is partly transparent
+/// (alpha `MASK` or `BLEND`), and the set of texture coordinates its textures read
+/// (`TEXCOORD_n`).
 pub struct MaterialInfo {
     pub name: String,
     pub emits: bool,
     pub alpha: bool,
+    pub uv_set: u32,
 }
 
 /// The materials: index 0 is glTF's default material (white, metallic 1, roughness 1), index
@@ -47,8 +49,8 @@ pub fn translate(
         clearcoat_gloss: None,
     };
     scene.materials.insert("glTF default".into(), Located { value: default, span: None });
-    out.push(MaterialInfo { name: "glTF default".into(), emits: false, alpha: false });
-    let mut textures = Textures { images, scene_textures: Vec::new() };
+    out.push(MaterialInfo { name: "glTF default".into(), emits: false, alpha: false, uv_set: 0 });
+    let mut textures = Textures { images, scene_textures: Vec::new(), uv_sets: Vec::new() };
     for m in document.materials() {
         let index = m.index().unwrap_or(0);
         let name = match m.name() {
@@ -59,20 +61,17 @@ pub fn translate(
         let pbr = m.pbr_metallic_roughness();
         let [r, g, b, _] = pbr.base_color_factor();
         let base_color = match pbr.base_color_texture() {
-            Some(info) => ColorDesc::Texture(textures.get(&info, "base colour", false, None, [r, g, b], warnings)?),
+            Some(info) => ColorDesc::Texture(textures.get(&info, "base colour", false, None, [r, g, b])?),
             None => ColorDesc::Rgb([r, g, b]),
         };
         let fraction = |textures: &mut Textures,
                         info: Option<gltf::texture::Info>,
                         what: &str,
                         channel: u8,
-                        factor: f32,
-                        warnings: &mut Vec<String>|
+                        factor: f32|
          -> Result<FractionDesc, String> {
             Ok(match info {
-                Some(info) => {
-                    FractionDesc::Texture(textures.get(&info, what, true, Some(channel), [factor; 3], warnings)?)
-                }
+                Some(info) => FractionDesc::Texture(textures.get(&info, what, true, Some(channel), [factor; 3])?),
                 None => FractionDesc::Number(factor.clamp(0.0, 1.0)),
             })
         };
@@ -85,10 +84,8 @@ pub fn translate(
         };
         let metallic_factor = unit(warnings, "pbrMetallicRoughness.metallicFactor", pbr.metallic_factor());
         let roughness_factor = unit(warnings, "pbrMetallicRoughness.roughnessFactor", pbr.roughness_factor());
-        let metallic =
-            fraction(&mut textures, pbr.metallic_roughness_texture(), "metallic", 2, metallic_factor, warnings)?;
-        let roughness =
-            fraction(&mut textures, pbr.metallic_roughness_texture(), "roughness", 1, roughness_factor, warnings)?;
+        let metallic = fraction(&mut textures, pbr.metallic_roughness_texture(), "metallic", 2, metallic_factor)?;
+        let roughness = fraction(&mut textures, pbr.metallic_roughness_texture(), "roughness", 1, roughness_factor)?;
         let mut ior = m.ior().unwrap_or(1.5);
         if ior == 0.0 {
             // KHR_materials_ior: 0 stands for an infinite index (specular-glossiness files).
@@ -99,14 +96,9 @@ pub fn translate(
             return Err(format!("{name}: its index of refraction must be ≥ 1 (or 0), got {ior}"));
         }
         let transmission = match m.transmission() {
-            Some(t) if t.transmission_factor() > 0.0 => Some(fraction(
-                &mut textures,
-                t.transmission_texture(),
-                "transmission",
-                0,
-                t.transmission_factor(),
-                warnings,
-            )?),
+            Some(t) if t.transmission_factor() > 0.0 => {
+                Some(fraction(&mut textures, t.transmission_texture(), "transmission", 0, t.transmission_factor())?)
+            }
             _ => None,
         };
         let volume = m.volume().filter(|v| v.thickness_factor() > 0.0);
@@ -167,9 +159,8 @@ pub fn translate(
             current = wrapped;
         }
         if let Some(normal) = m.normal_texture() {
-            if normal.tex_coord() != 0 {
-                say(warnings, "its normal map reads TEXCOORD_0 (glint reads one set of texture coordinates)");
-            }
+            let set = normal.extension_value("KHR_texture_transform").and_then(|t| t.get("texCoord")?.as_u64());
+            textures.uv_sets.push(set.map_or(normal.tex_coord(), |s| s as u32));
             let transform = normal.extension_value("KHR_texture_transform").map(|t| {
                 let pair = |key: &str, default: [f32; 2]| {
                     t.get(key).and_then(|v| v.as_array()).map_or(default, |a| {
@@ -227,9 +218,7 @@ pub fn translate(
         let emits = er > 0.0 || eg > 0.0 || eb > 0.0;
         if emits {
             let radiance = match m.emissive_texture() {
-                Some(info) => {
-                    ColorDesc::Texture(textures.get(&info, "emission", false, None, [er, eg, eb], warnings)?)
-                }
+                Some(info) => ColorDesc::Texture(textures.get(&info, "emission", false, None, [er, eg, eb])?),
                 None => ColorDesc::Rgb([er, eg, eb]),
             };
             let wrapped = format!("{name}: emitting");
@@ -237,7 +226,23 @@ pub fn translate(
             scene.materials.insert(wrapped.clone(), Located { value: desc, span: None });
             current = wrapped;
         }
-        out.push(MaterialInfo { name: current, emits, alpha });
+        // A primitive has one set of uvs in glint: the one its material's textures name (the
+        // base colour's, first met, where they differ).
+        let mut sets = std::mem::take(&mut textures.uv_sets);
+        let uv_set = sets.first().copied().unwrap_or(0);
+        sets.sort_unstable();
+        sets.dedup();
+        if sets.len() > 1 {
+            let names: Vec<String> = sets.iter().map(|s| format!("TEXCOORD_{s}")).collect();
+            say(
+                warnings,
+                &format!(
+                    "its textures read {}: glint reads one set per primitive, TEXCOORD_{uv_set}, for all of them",
+                    names.join(" and ")
+                ),
+            );
+        }
+        out.push(MaterialInfo { name: current, emits, alpha, uv_set });
     }
     for (name, desc) in textures.scene_textures {
         scene.textures.insert(name, Located { value: desc, span: None });
@@ -276,6 +281,8 @@ fn clearcoat(
 pub(super) struct Textures<'a> {
     images: &'a [String],
     scene_textures: Vec<(String, TextureDesc)>,
+    /// The texture coordinate sets the current material's textures read, in order.
+    uv_sets: Vec<u32>,
 }
 
 impl Textures<'_> {
@@ -288,22 +295,12 @@ impl Textures<'_> {
         raw: bool,
         channel: Option<u8>,
         tint: [f32; 3],
-        warnings: &mut Vec<String>,
     ) -> Result<String, String> {
-        if info.tex_coord() != 0 {
-            warnings.push(format!(
-                "texture {}: TEXCOORD_{} is read as TEXCOORD_0",
-                info.texture().index(),
-                info.tex_coord()
-            ));
-        }
-        let transform = info.texture_transform().map(|t| {
-            if t.tex_coord().is_some_and(|c| c != 0) {
-                warnings
-                    .push(format!("texture {}: the transform's texCoord override is not read", info.texture().index()));
-            }
-            (t.offset(), t.rotation(), t.scale())
-        });
+        let transform = info.texture_transform();
+        // KHR_texture_transform's texCoord overrides the texture's own.
+        let set = transform.as_ref().and_then(|t| t.tex_coord()).unwrap_or(info.tex_coord());
+        self.uv_sets.push(set);
+        let transform = transform.map(|t| (t.offset(), t.rotation(), t.scale()));
         self.make(&info.texture(), what, raw, channel, tint, transform)
     }
 

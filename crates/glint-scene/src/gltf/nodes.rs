@@ -98,7 +98,7 @@ impl<'a> Reader<'a> {
             if let Some(mesh) = node.mesh() {
                 *uses.entry(mesh.index()).or_default() += 1;
                 if let std::collections::hash_map::Entry::Vacant(entry) = primitives.entry(mesh.index()) {
-                    entry.insert(self.primitives(&mesh, &mut warnings)?);
+                    entry.insert(self.primitives(&mesh, &materials, &mut warnings)?);
                 }
             }
         }
@@ -195,7 +195,12 @@ impl<'a> Reader<'a> {
         Ok((scene, warnings))
     }
 
-    fn primitives(&self, mesh: &gltf::Mesh, warnings: &mut Vec<String>) -> Result<Vec<Primitive>, String> {
+    fn primitives(
+        &self,
+        mesh: &gltf::Mesh,
+        materials: &[MaterialInfo],
+        warnings: &mut Vec<String>,
+    ) -> Result<Vec<Primitive>, String> {
         let mut out = Vec::new();
         for primitive in mesh.primitives() {
             let at = format!("mesh {} primitive {}", mesh.index(), primitive.index());
@@ -258,8 +263,10 @@ impl<'a> Reader<'a> {
                     })
                     .collect()
             });
-            // glTF's v runs down the image; glint's up.
-            let uvs: Option<Vec<[f32; 2]>> = read(gltf::Semantic::TexCoords(0), &TEXCOORDS)?
+            let material = primitive.material().index().map_or(0, |i| i + 1);
+            // The set its material's textures read. glTF's v runs down the image; glint's up.
+            let uv_set = materials.get(material).map_or(0, |m| m.uv_set);
+            let uvs: Option<Vec<[f32; 2]>> = read(gltf::Semantic::TexCoords(uv_set), &TEXCOORDS)?
                 .map(|t| t.chunks_exact(2).map(|t| [t[0], 1.0 - t[1]]).collect());
             let indices: Vec<u32> = match primitive.indices() {
                 Some(a) => accessors::read(&a, self.buffers, &INDICES, |x| x as u32)
@@ -280,7 +287,6 @@ impl<'a> Reader<'a> {
                 warnings.push(format!("{}: {at}: no triangles; left out", self.name.display()));
                 continue;
             }
-            let material = primitive.material().index().map_or(0, |i| i + 1);
             out.push(Primitive { data: MeshData { positions, indices: triangles, normals, uvs }, material });
         }
         Ok(out)
