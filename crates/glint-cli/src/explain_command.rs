@@ -31,6 +31,9 @@ pub struct ExplainArgs {
     /// scene's own directory and a Mitsuba scene's <path>s (repeatable; Mitsuba's -a).
     #[arg(short = 'a', long = "search-path", value_name = "DIR")]
     search_path: Vec<PathBuf>,
+    /// glTF scenes: no default environment for a file without punctual lights (docs/gltf.md).
+    #[arg(long)]
+    no_default_light: bool,
     /// The pixel, as X,Y from the top-left corner (at the scene's resolution, or --width/--height).
     #[arg(long, value_parser = parse_pixel)]
     pixel: (u32, u32),
@@ -83,7 +86,11 @@ pub fn run(args: ExplainArgs) -> Result<(), CliError> {
     let loaded = match &args.scene {
         Some(path) => glint_scene::load_scene_with_options(
             path,
-            &glint_scene::LoadOptions { defines: args.define.clone(), search_path: args.search_path.clone() },
+            &glint_scene::LoadOptions {
+                defines: args.define.clone(),
+                search_path: args.search_path.clone(),
+                no_default_light: args.no_default_light,
+            },
         ),
         None => glint_scene::default_scene(),
     }?;

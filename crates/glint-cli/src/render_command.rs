@@ -40,6 +40,9 @@ pub struct RenderArgs {
     /// scene's own directory and a Mitsuba scene's <path>s (repeatable; Mitsuba's -a).
     #[arg(short = 'a', long = "search-path", value_name = "DIR")]
     search_path: Vec<PathBuf>,
+    /// glTF scenes: no default environment for a file without punctual lights (docs/gltf.md).
+    #[arg(long)]
+    no_default_light: bool,
     /// Output image; the format follows the extension (.png, .exr, .pfm). Default: <scene>.png.
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -380,7 +383,11 @@ fn load(args: &RenderArgs) -> Result<(Scene, Plan), CliError> {
     let loaded = match &args.scene {
         Some(path) => glint_scene::load_scene_with_options(
             path,
-            &glint_scene::LoadOptions { defines: args.define.clone(), search_path: args.search_path.clone() },
+            &glint_scene::LoadOptions {
+                defines: args.define.clone(),
+                search_path: args.search_path.clone(),
+                no_default_light: args.no_default_light,
+            },
         ),
         None => glint_scene::default_scene(),
     }?;

@@ -329,3 +329,27 @@ fn a_scene_file_too_large_to_read_within_the_limit_is_refused() {
     assert!(err.contains("memory limit") && err.contains("as JSON"), "{err}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// A glTF model without punctual lights is lit by the default environment, and says so;
+/// `--no-default-light` leaves it out, and the black image then says the scene has no light.
+#[test]
+fn no_default_light_leaves_a_gltf_model_unlit_and_says_why_it_is_black() {
+    let dir = std::env::temp_dir().join(format!("glint-default-light-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("spheres.png");
+    let spheres = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/gltf/spheres.glb");
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", spheres, "--spp", "1", "--width", "16", "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let o = glint(&args);
+        let err = stderr(&o);
+        assert!(o.status.success(), "{err}");
+        err
+    };
+    let lit = render(&[]);
+    assert!(lit.contains("lit by the default environment") && !lit.contains("black in every pixel"), "{lit}");
+    let unlit = render(&["--no-default-light"]);
+    assert!(!unlit.contains("default environment"), "{unlit}");
+    assert!(unlit.contains("the image is black in every pixel") && unlit.contains("the scene has no light"), "{unlit}");
+    std::fs::remove_dir_all(dir).unwrap();
+}

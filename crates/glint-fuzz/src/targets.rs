@@ -242,7 +242,7 @@ impl Runner {
             }
             Target::Gltf => {
                 let name = if input.starts_with(b"glTF") { "fuzz.glb" } else { "fuzz.gltf" };
-                glint_scene::gltf::parse_gltf(input, Path::new(name), Source::embedded(&[]))
+                glint_scene::gltf::parse_gltf(input, Path::new(name), Source::embedded(&[]), Default::default())
                     .map(|_| ())
                     .map_err(|e| e.to_string())
             }

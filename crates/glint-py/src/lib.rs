@@ -487,7 +487,7 @@ fn load_file(py: Python<'_>, path: &Bound<'_, PyAny>, params: Option<&Bound<'_, 
 
 fn read_file(py: Python<'_>, path: PathBuf, defines: Vec<(String, String)>) -> PyResult<Scene> {
     memory_limit()?;
-    let options = glint_scene::LoadOptions { defines: defines.clone(), search_path: Vec::new() };
+    let options = glint_scene::LoadOptions { defines: defines.clone(), ..Default::default() };
     let loaded = glint_scene::load_scene_with_options(&path, &options).map_err(glint_error)?;
     warn_all(py, &loaded.warnings)?;
     // Each file by its contents and length, read within the memory limit: one past it (a glTF

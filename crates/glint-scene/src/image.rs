@@ -6,23 +6,7 @@ use glint_core::Rgb;
 /// Width, height and linear RGB pixels (row 0 = top) of an image file's bytes; with `raw`, the
 /// stored values as they are (a normal map's), never decoded from sRGB.
 pub fn decode(name: &str, bytes: &[u8], raw: bool) -> Result<(u32, u32, Vec<Rgb>), String> {
-    // The size from the header first: a 1.2 KB EXR declaring a large data window decoded to
-    // 1.2 GB (found by glint-fuzz). A pixel takes up to 16 bytes decoded, 12 as RGB f32, and
-    // 12 once ours.
-    let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| format!("cannot decode: {e}"))?;
-    let (w, h) = reader.into_dimensions().map_err(|e| format!("cannot decode: {e}"))?;
-    let needed = (u64::from(w) * u64::from(h)).saturating_mul(40);
-    if needed > crate::limits::memory_limit() {
-        return Err(format!(
-            "the image is {w}x{h} pixels; decoding it takes about {}, more than the memory limit of {} ({})",
-            crate::limits::describe(needed),
-            crate::limits::describe(crate::limits::memory_limit()),
-            crate::limits::RAISE
-        ));
-    }
-    let image = image::load_from_memory(bytes).map_err(|e| format!("cannot decode: {e}"))?;
+    let image = decode_within_limit(bytes)?;
     let lower = name.to_ascii_lowercase();
     let linear_already = raw || lower.ends_with(".exr") || lower.ends_with(".hdr");
     let rgb = image.to_rgb32f();
@@ -39,6 +23,38 @@ pub fn decode(name: &str, bytes: &[u8], raw: bool) -> Result<(u32, u32, Vec<Rgb>
         })
         .collect();
     Ok((width, height, pixels))
+}
+
+/// Width, height and alpha (row 0 = top; alpha is linear as stored) of an image file's bytes,
+/// or `None` when the image has no alpha channel.
+pub(crate) fn decode_alpha(bytes: &[u8]) -> Result<Option<(u32, u32, Vec<f32>)>, String> {
+    let image = decode_within_limit(bytes)?;
+    if !image.color().has_alpha() {
+        return Ok(None);
+    }
+    let rgba = image.to_rgba32f();
+    let (width, height) = rgba.dimensions();
+    Ok(Some((width, height, rgba.pixels().map(|p| p.0[3]).collect())))
+}
+
+/// The decoded image, its size checked against the memory limit from its header first: a
+/// 1.2 KB EXR declaring a large data window decoded to 1.2 GB (found by glint-fuzz). A pixel
+/// takes up to 16 bytes decoded, 16 as RGBA f32, and 12 once ours.
+fn decode_within_limit(bytes: &[u8]) -> Result<image::DynamicImage, String> {
+    let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| format!("cannot decode: {e}"))?;
+    let (w, h) = reader.into_dimensions().map_err(|e| format!("cannot decode: {e}"))?;
+    let needed = (u64::from(w) * u64::from(h)).saturating_mul(40);
+    if needed > crate::limits::memory_limit() {
+        return Err(format!(
+            "the image is {w}x{h} pixels; decoding it takes about {}, more than the memory limit of {} ({})",
+            crate::limits::describe(needed),
+            crate::limits::describe(crate::limits::memory_limit()),
+            crate::limits::RAISE
+        ));
+    }
+    image::load_from_memory(bytes).map_err(|e| format!("cannot decode: {e}"))
 }
 
 /// The sRGB decoding function (IEC 61966-2-1).

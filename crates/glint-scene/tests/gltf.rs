@@ -9,13 +9,15 @@ use std::path::PathBuf;
 use base64::Engine;
 use glint_core::camera::Lens;
 use glint_core::geometry::Ray;
+use glint_core::integrators::IntegratorKind;
 use glint_core::lights::Light;
 use glint_core::materials::Material;
 use glint_core::render::{render, RenderSettings};
+use glint_core::scene::Darkness;
 use glint_core::shapes::Shape;
 use glint_core::textures::Texture;
 use glint_core::{Rgb, Vec3};
-use glint_scene::load_scene;
+use glint_scene::{load_scene, load_scene_with_options, LoadOptions};
 use serde_json::{json, Value};
 
 /// A glTF document under construction: one buffer holding every accessor's data.
@@ -267,7 +269,7 @@ fn every_feature_maps_onto_glint() {
         let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
         let scene = &loaded.scene;
         let warnings = loaded.warnings.join("\n");
-        for expected in ["KHR_materials_sheen is not read", "occlusion map is not read", "alpha mode is not read"] {
+        for expected in ["KHR_materials_sheen is not read", "occlusion map is not read"] {
             assert!(warnings.contains(expected), "{expected}: {warnings}");
         }
         // The camera: at z = 10 looking down −z, 0.5 rad vertically, 2:1.
@@ -516,4 +518,361 @@ fn the_example_scenes_load() {
     assert_eq!(spheres.warnings.len(), 1, "{:?}", spheres.warnings);
     assert_eq!(spheres.scene.environment().background, Rgb::ONE);
     assert_eq!(spheres.scene.objects().len(), 6);
+}
+
+fn write_json(test: &str, document: &Value) -> PathBuf {
+    let path = dir(test).join(format!("{test}.gltf"));
+    std::fs::write(&path, serde_json::to_vec(document).unwrap()).unwrap();
+    path
+}
+
+fn without_default_light() -> LoadOptions {
+    LoadOptions { no_default_light: true, ..LoadOptions::default() }
+}
+
+/// A model with emitters but no punctual light is lit by the default environment, as a
+/// viewer lights it; the option leaves it out, and then a model without emitters is
+/// explained as having no light.
+#[test]
+fn the_default_environment_lights_a_model_without_punctual_lights_unless_turned_off() {
+    let mut b = Builder::default();
+    let mut quad = b.quad();
+    quad["material"] = json!(0);
+    let document = json!({
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "mesh": 0 }],
+        "meshes": [{ "primitives": [quad] }],
+        "materials": [{ "emissiveFactor": [1.0, 1.0, 1.0] }]
+    });
+    let (document, _) = b.finish(document, Some("data"));
+    let path = write_json("emissive-unlit", &document);
+    let lit = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(lit.scene.environment().background, Rgb::ONE);
+    assert!(
+        lit.warnings.join("\n").contains("no punctual light: lit by the default environment"),
+        "{:?}",
+        lit.warnings
+    );
+    let dark = load_scene_with_options(&path, &without_default_light()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(dark.scene.environment().background, Rgb::ZERO);
+    assert!(dark.warnings.is_empty(), "{:?}", dark.warnings);
+    assert!(dark.scene.lights().area_count() > 0, "the emitter still lights");
+
+    let mut plain = document.clone();
+    plain["materials"] = json!([{}]);
+    let path = write_json("plain-unlit", &plain);
+    let dark = load_scene_with_options(&path, &without_default_light()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(dark.scene.why_dark(false), Darkness::NoLight);
+}
+
+/// Spec violations are warned of, naming the field (or refused where nothing sensible can be
+/// drawn: a projective node matrix).
+#[test]
+fn spec_violations_are_warned_of_naming_the_field() {
+    let mut b = Builder::default();
+    let mut quad = b.quad();
+    quad["material"] = json!(0);
+    let mut seven = b.quad();
+    seven["indices"] = json!(b.indices(&[0, 1, 2, 0, 2, 3, 0]));
+    let document = json!({
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "scenes": [{ "nodes": [0, 1, 2] }],
+        "nodes": [
+            { "mesh": 0, "matrix": [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0], "translation": [1.0, 0.0, 0.0] },
+            { "mesh": 1, "translation": [0.0, 0.0, -5.0] },
+            { "extensions": { "KHR_lights_punctual": { "light": 0 } }, "translation": [0.0, 0.0, 3.0] }
+        ],
+        "meshes": [{ "primitives": [quad] }, { "primitives": [seven] }],
+        "materials": [{
+            "emissiveFactor": [-1.0, 0.5, 0.0],
+            "pbrMetallicRoughness": { "roughnessFactor": 5.0, "metallicFactor": -2.0 }
+        }],
+        "extensions": { "KHR_lights_punctual": { "lights": [
+            { "type": "spot", "intensity": 683.0, "spot": { "innerConeAngle": 0.6, "outerConeAngle": 0.5 } }
+        ] } }
+    });
+    let (document, _) = b.finish(document, Some("data"));
+    let path = write_json("violations", &document);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let warnings = loaded.warnings.join("\n");
+    for expected in [
+        "node 0: has both `matrix` and `translation`",
+        "mesh 1 primitive 0: TRIANGLES with 7 indices, not a multiple of 3",
+        "material 0: emissiveFactor is [-1.0, 0.5, 0.0], negative",
+        "material 0: pbrMetallicRoughness.roughnessFactor is 5, outside [0, 1] as glTF requires: taken as 1",
+        "material 0: pbrMetallicRoughness.metallicFactor is -2, outside [0, 1] as glTF requires: taken as 0",
+        "light 0: spot.innerConeAngle (0.6) is not less than spot.outerConeAngle (0.5)",
+    ] {
+        assert!(warnings.contains(expected), "{expected}: {warnings}");
+    }
+    let scene = &loaded.scene;
+    // The matrix is used: the quad spans x ∈ [−1, 1], not [0, 2].
+    assert!(scene.intersect(&Ray::new(Vec3::new(-0.5, 0.0, 2.0), -Vec3::Z)).is_some_and(|h| (h.t - 2.0).abs() < 1e-4));
+    let index = |name: &str| scene.material_names().iter().position(|n| n == name).unwrap();
+    match &scene.materials()[index("material 0: emitting")] {
+        Material::Emitter(e) => assert_eq!(e.radiance, Texture::Constant(Rgb::new(0.0, 0.5, 0.0))),
+        other => panic!("{other:?}"),
+    }
+    match &scene.materials()[index("material 0: surface")] {
+        Material::Principled(p) => {
+            assert_eq!(p.roughness, Texture::from(1.0));
+            assert_eq!(p.metallic, Texture::from(0.0));
+        }
+        other => panic!("{other:?}"),
+    }
+
+    let mut projective = document.clone();
+    projective["nodes"][0] = json!({ "mesh": 0, "matrix": [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.5, 0.0, 0.0, 0.0, 1.0] });
+    let e = load_scene(&write_json("projective", &projective)).err().expect("an error").to_string();
+    assert!(e.contains("node 0: its `matrix` is not affine: its bottom row is [0.0, 0.0, 0.5, 1.0]"), "{e}");
+}
+
+/// KHR_mesh_quantization: positions as 16-bit integers scaled by their node, normals as
+/// normalised bytes, uvs as normalised 16- and 8-bit integers; and a sparse accessor with no
+/// buffer view (zeros with three vertices given).
+#[test]
+fn quantized_and_sparse_accessors_are_read() {
+    let mut b = Builder::default();
+    // Elements of vertex attributes start on 4-byte boundaries: strides 8 and 4.
+    let padded = |elements: Vec<Vec<u8>>, stride: usize| -> Vec<u8> {
+        elements
+            .into_iter()
+            .flat_map(|mut e| {
+                e.resize(stride, 0);
+                e
+            })
+            .collect()
+    };
+    let i16s = |v: [i16; 3]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
+    let positions =
+        padded([[-1000, -1000, 0], [1000, -1000, 0], [1000, 1000, 0], [-1000, 1000, 0]].map(i16s).to_vec(), 8);
+    let p = b.accessor(&positions, 4, "VEC3", 5122, Some((vec![-1000.0, -1000.0, 0.0], vec![1000.0, 1000.0, 0.0])));
+    let normals = padded(vec![vec![0, 0, 127]; 4], 4);
+    let n = b.accessor(&normals, 4, "VEC3", 5120, None);
+    let uv16: Vec<u8> =
+        [[0u16, 65535], [65535, 65535], [65535, 0], [0, 0]].iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+    let t = b.accessor(&uv16, 4, "VEC2", 5123, None);
+    let i = b.accessor(&[0, 1, 2, 0, 2, 3], 6, "SCALAR", 5121, None);
+    b.views[0]["byteStride"] = json!(8);
+    b.views[1]["byteStride"] = json!(4);
+    b.accessors[n]["normalized"] = json!(true);
+    b.accessors[t]["normalized"] = json!(true);
+    // The sparse square: vertex 0 at the origin (no view: zeros), 1 to 3 given as floats.
+    let sparse_indices = b.accessor(&[1, 2, 3, 0], 1, "SCALAR", 5121, None);
+    let values: Vec<u8> =
+        [[2.0f32, 0.0, 0.0], [2.0, 2.0, 0.0], [0.0, 2.0, 0.0]].iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+    let sparse_values = b.accessor(&values, 1, "VEC3", 5126, None);
+    let square = b.accessors.len();
+    b.accessors.push(json!({
+        "componentType": 5126, "count": 4, "type": "VEC3", "min": [0.0, 0.0, 0.0], "max": [2.0, 2.0, 0.0],
+        "sparse": { "count": 3,
+            "indices": { "bufferView": b.accessors[sparse_indices]["bufferView"], "componentType": 5121 },
+            "values": { "bufferView": b.accessors[sparse_values]["bufferView"] } }
+    }));
+    let uv8 = padded(vec![vec![0, 255], vec![255, 255], vec![255, 0], vec![0, 0]], 4);
+    let t8 = b.accessor(&uv8, 4, "VEC2", 5121, None);
+    let last = b.views.len() - 1;
+    b.views[last]["byteStride"] = json!(4);
+    b.accessors[t8]["normalized"] = json!(true);
+    let document = json!({
+        "extensionsUsed": ["KHR_mesh_quantization"],
+        "extensionsRequired": ["KHR_mesh_quantization"],
+        "scenes": [{ "nodes": [0, 1] }],
+        "nodes": [
+            { "mesh": 0, "scale": [0.001, 0.001, 0.001] },
+            { "mesh": 1, "translation": [5.0, 0.0, 0.0] }
+        ],
+        "meshes": [
+            { "primitives": [{ "attributes": { "POSITION": p, "NORMAL": n, "TEXCOORD_0": t }, "indices": i }] },
+            { "primitives": [{ "attributes": { "POSITION": square, "TEXCOORD_0": t8 }, "indices": i }] }
+        ]
+    });
+    let (document, _) = b.finish(document, Some("data"));
+    let loaded = load_scene(&write_json("quantized", &document)).unwrap_or_else(|e| panic!("{e}"));
+    assert!(!loaded.warnings.join("\n").contains("KHR_mesh_quantization"), "{:?}", loaded.warnings);
+    let scene = &loaded.scene;
+    // The i16 quad dequantized by its node: ±1000 × 0.001 = ±1; glTF's uv (0, 1) at its
+    // bottom-left corner is glint's (0, 0); its normal +z.
+    let h = scene.intersect(&Ray::new(Vec3::new(-0.998, -0.998, 3.0), -Vec3::Z)).expect("the quantized quad");
+    assert!((h.t - 3.0).abs() < 1e-5);
+    assert!((h.geometry.uv - glam::Vec2::new(0.001, 0.001)).length() < 1e-4, "{}", h.geometry.uv);
+    assert!((h.geometry.shading_normal - Vec3::Z).length() < 1e-5, "{}", h.geometry.shading_normal);
+    assert!(scene.intersect(&Ray::new(Vec3::new(-1.01, 0.0, 3.0), -Vec3::Z)).is_none());
+    // The sparse square spans [5, 7] × [0, 2]; its centre has u8 uv (½, ½).
+    let h = scene.intersect(&Ray::new(Vec3::new(6.0, 1.0, 3.0), -Vec3::Z)).expect("the sparse square");
+    assert!((h.geometry.uv - glam::Vec2::new(0.5, 0.5)).length() < 1e-5, "{}", h.geometry.uv);
+    assert!(scene.intersect(&Ray::new(Vec3::new(6.9, 1.9, 3.0), -Vec3::Z)).is_some());
+    assert!(scene.intersect(&Ray::new(Vec3::new(7.1, 1.0, 3.0), -Vec3::Z)).is_none());
+
+    // A sparse index past the accessor's elements is an error naming it.
+    let mut bad = document.clone();
+    bad["accessors"][square]["count"] = json!(3);
+    let e = load_scene(&write_json("sparse-past", &bad)).err().expect("an error").to_string();
+    assert!(e.contains(&format!("accessor {square}: sparse index 3 is past its 3 elements")), "{e}");
+}
+
+/// A required extension glint cannot read is refused by name; one it reads loads.
+#[test]
+fn required_extensions_glint_cannot_read_are_refused_by_name() {
+    let mut b = Builder::default();
+    let quad = b.quad();
+    let (document, _) = b.finish(
+        json!({ "scenes": [{ "nodes": [0] }], "nodes": [{ "mesh": 0 }], "meshes": [{ "primitives": [quad] }] }),
+        Some("data"),
+    );
+    for (extension, why) in [
+        ("KHR_draco_mesh_compression", "no decoder"),
+        ("EXT_meshopt_compression", "no decoder"),
+        ("KHR_texture_basisu", "KTX2/Basis"),
+        ("KHR_materials_unlit", "does not read"),
+    ] {
+        let mut required = document.clone();
+        required["extensionsUsed"] = json!([extension]);
+        required["extensionsRequired"] = json!([extension]);
+        let e = load_scene(&write_json("required", &required)).err().expect("an error").to_string();
+        assert!(e.contains(&format!("requires the extension {extension}")) && e.contains(why), "{e}");
+    }
+    let mut read = document.clone();
+    read["extensionsUsed"] = json!(["KHR_materials_clearcoat"]);
+    read["extensionsRequired"] = json!(["KHR_materials_clearcoat"]);
+    load_scene(&write_json("required-read", &read)).unwrap_or_else(|e| panic!("{e}"));
+}
+
+/// Alpha: MASK cuts out by the base colour texture's alpha against the cutoff, or by the
+/// factor's alpha; BLEND makes the surface present with probability alpha; the scene renders
+/// with volpath, whose shadow rays pass masks. A surface cut away entirely shows the sky.
+#[test]
+fn alpha_masks_and_blends_the_surface() {
+    let mut b = Builder::default();
+    let quad = b.quad();
+    let primitive = |material: usize| {
+        let mut p = quad.clone();
+        p["material"] = json!(material);
+        json!({ "primitives": [p] })
+    };
+    let rgba = image::RgbaImage::from_fn(2, 1, |x, _| image::Rgba([200, 100, 50, if x == 0 { 0 } else { 255 }]));
+    let mut png = Vec::new();
+    rgba.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).unwrap();
+    let document = json!({
+        "scenes": [{ "nodes": [0, 1, 2, 3] }],
+        "nodes": [
+            { "mesh": 0, "translation": [-6.0, 0.0, 0.0] },
+            { "mesh": 1, "translation": [-3.0, 0.0, 0.0] },
+            { "mesh": 2 },
+            { "mesh": 3, "translation": [3.0, 0.0, 0.0] }
+        ],
+        "meshes": [primitive(0), primitive(1), primitive(2), primitive(3)],
+        "materials": [
+            { "alphaMode": "MASK", "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } } },
+            { "alphaMode": "BLEND", "pbrMetallicRoughness": { "baseColorFactor": [1.0, 1.0, 1.0, 0.25] } },
+            { "alphaMode": "MASK", "pbrMetallicRoughness": { "baseColorFactor": [1.0, 1.0, 1.0, 0.4] } },
+            { "alphaMode": "MASK", "alphaCutoff": 0.3, "pbrMetallicRoughness": { "baseColorFactor": [1.0, 1.0, 1.0, 0.4] } }
+        ],
+        "textures": [{ "source": 0 }],
+        "images": [{ "uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(&png)) }]
+    });
+    let (document, _) = b.finish(document, Some("data"));
+    let loaded = load_scene(&write_json("alpha", &document)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(loaded.render.integrator, IntegratorKind::VolPath);
+    let scene = &loaded.scene;
+    let material = |name: &str| {
+        let i = scene
+            .material_names()
+            .iter()
+            .position(|n| n == name)
+            .unwrap_or_else(|| panic!("{name}: {:?}", scene.material_names()));
+        &scene.materials()[i]
+    };
+    let Material::Mask(cut) = material("material 0: alpha") else { panic!() };
+    let Texture::Image(opacity) = &cut.opacity else { panic!("{:?}", cut.opacity) };
+    assert_eq!(opacity.evaluate(glam::Vec2::new(0.25, 0.5)), Rgb::ZERO);
+    assert_eq!(opacity.evaluate(glam::Vec2::new(0.75, 0.5)), Rgb::ONE);
+    let Material::Mask(blend) = material("material 1: alpha") else { panic!() };
+    assert_eq!(blend.opacity, Texture::from(0.25));
+    let Material::Mask(gone) = material("material 2: alpha") else { panic!() };
+    assert_eq!(gone.opacity, Texture::from(0.0));
+    assert!(!scene.material_names().iter().any(|n| n == "material 3: alpha"), "0.4 reaches the cutoff 0.3: opaque");
+
+    // The quad cut away entirely, alone under the default sky: every pixel is the sky.
+    let mut alone = document.clone();
+    alone["scenes"] = json!([{ "nodes": [2] }]);
+    let loaded = load_scene(&write_json("alpha-gone", &alone)).unwrap_or_else(|e| panic!("{e}"));
+    let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).unwrap();
+    let mut scene = loaded.scene;
+    scene.set_camera(scene.camera().with_resolution(8, 6));
+    let settings = RenderSettings { spp: 4, seed: 1, filter: loaded.render.filter, sampler: loaded.render.sampler };
+    let image = render(&scene, integrator.as_ref(), &settings, &|| {}).film.to_rgb();
+    for pixel in image {
+        assert!((pixel - Rgb::ONE).abs().max_element() < 1e-5, "{pixel}");
+    }
+}
+
+/// A normal map's `scale` tilts its normals as glTF defines: normalize(s·x, s·y, z).
+#[test]
+fn a_normal_maps_scale_tilts_its_normals() {
+    let mut b = Builder::default();
+    let mut quad = b.quad();
+    quad["material"] = json!(0);
+    let texel = [204u8, 140, 230];
+    let normals = png(1, 1, |_, _| texel);
+    let document = json!({
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "mesh": 0 }],
+        "meshes": [{ "primitives": [quad] }],
+        "materials": [{ "normalTexture": { "index": 0, "scale": 2.0 } }],
+        "textures": [{ "source": 0 }],
+        "images": [{ "uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(&normals)) }]
+    });
+    let (document, _) = b.finish(document, Some("data"));
+    let loaded = load_scene(&write_json("normal-scale", &document)).unwrap_or_else(|e| panic!("{e}"));
+    assert!(!loaded.warnings.join("\n").contains("`scale`"), "{:?}", loaded.warnings);
+    let scene = &loaded.scene;
+    let i = scene.material_names().iter().position(|n| n == "material 0: normal-mapped").unwrap();
+    let Material::NormalMap(mapped) = &scene.materials()[i] else { panic!() };
+    let Texture::Image(image) = &mapped.normals else { panic!("{:?}", mapped.normals) };
+    let stored = 2.0 * image.evaluate(glam::Vec2::new(0.5, 0.5)) - Vec3::ONE;
+    let n = texel.map(|c| 2.0 * c as f32 / 255.0 - 1.0);
+    let expected = Vec3::new(2.0 * n[0], 2.0 * n[1], n[2]).normalize();
+    assert!((stored.normalize() - expected).length() < 1e-4, "{stored} vs {expected}");
+}
+
+/// A material whose textures name TEXCOORD_1 has its primitives' second uv set read; a
+/// material whose textures name both sets is warned of and reads its base colour's.
+#[test]
+fn textures_on_the_second_uv_set_read_it() {
+    let mut b = Builder::default();
+    let mut quad = b.quad();
+    // TEXCOORD_0 all at one point; TEXCOORD_1 the quad's own (quad() gives them as 0).
+    quad["attributes"]["TEXCOORD_1"] = quad["attributes"]["TEXCOORD_0"].clone();
+    quad["attributes"]["TEXCOORD_0"] = json!(b.pairs(&[[0.5, 0.5]; 4]));
+    let mut mixed = quad.clone();
+    quad["material"] = json!(0);
+    mixed["material"] = json!(1);
+    let image = png(1, 1, |_, _| [255, 255, 255]);
+    let document = json!({
+        "scenes": [{ "nodes": [0, 1] }],
+        "nodes": [{ "mesh": 0 }, { "mesh": 1, "translation": [5.0, 0.0, 0.0] }],
+        "meshes": [{ "primitives": [quad] }, { "primitives": [mixed] }],
+        "materials": [
+            { "pbrMetallicRoughness": { "baseColorTexture": { "index": 0, "texCoord": 1 } } },
+            { "pbrMetallicRoughness": { "baseColorTexture": { "index": 0, "texCoord": 1 }, "metallicRoughnessTexture": { "index": 0 } } }
+        ],
+        "textures": [{ "source": 0 }],
+        "images": [{ "uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(&image)) }]
+    });
+    let (document, _) = b.finish(document, Some("data"));
+    let loaded = load_scene(&write_json("texcoord1", &document)).unwrap_or_else(|e| panic!("{e}"));
+    let warnings = loaded.warnings.join("\n");
+    assert!(!warnings.contains("material 0:"), "{warnings}");
+    assert!(
+        warnings.contains(
+            "material 1: its textures read TEXCOORD_0 and TEXCOORD_1: glint reads one set per primitive, TEXCOORD_1"
+        ),
+        "{warnings}"
+    );
+    // glTF's uv (0, 1) at the bottom-left corner, glint's (0, 0): the second set's.
+    for x in [0.0, 5.0] {
+        let h = loaded.scene.intersect(&Ray::new(Vec3::new(x - 0.999, -0.999, 3.0), -Vec3::Z)).unwrap();
+        assert!((h.geometry.uv - glam::Vec2::new(0.0005, 0.0005)).length() < 1e-3, "{}", h.geometry.uv);
+    }
 }

@@ -9,13 +9,18 @@
 
 use glam::{Affine2, Mat2, Vec2};
 
+use super::{alpha, normal_scale};
 use crate::located::Located;
 use crate::native::schema::*;
 
-/// A glTF material as glint names it, and whether it emits.
+/// A glTF material as glint names it, whether it emits, whether it is partly transparent
+/// (alpha `MASK` or `BLEND`), and the set of texture coordinates its textures read
+/// (`TEXCOORD_n`).
 pub struct MaterialInfo {
     pub name: String,
     pub emits: bool,
+    pub alpha: bool,
+    pub uv_set: u32,
 }
 
 /// The materials: index 0 is glTF's default material (white, metallic 1, roughness 1), index
@@ -23,6 +28,7 @@ pub struct MaterialInfo {
 pub fn translate(
     document: &gltf::Document,
     images: &[String],
+    made: &mut Vec<(String, Vec<u8>)>,
     scene: &mut SceneFile,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<MaterialInfo>, String> {
@@ -43,8 +49,8 @@ pub fn translate(
         clearcoat_gloss: None,
     };
     scene.materials.insert("glTF default".into(), Located { value: default, span: None });
-    out.push(MaterialInfo { name: "glTF default".into(), emits: false });
-    let mut textures = Textures { images, scene_textures: Vec::new() };
+    out.push(MaterialInfo { name: "glTF default".into(), emits: false, alpha: false, uv_set: 0 });
+    let mut textures = Textures { images, scene_textures: Vec::new(), uv_sets: Vec::new() };
     for m in document.materials() {
         let index = m.index().unwrap_or(0);
         let name = match m.name() {
@@ -55,33 +61,31 @@ pub fn translate(
         let pbr = m.pbr_metallic_roughness();
         let [r, g, b, _] = pbr.base_color_factor();
         let base_color = match pbr.base_color_texture() {
-            Some(info) => ColorDesc::Texture(textures.get(&info, "base colour", false, None, [r, g, b], warnings)?),
+            Some(info) => ColorDesc::Texture(textures.get(&info, "base colour", false, None, [r, g, b])?),
             None => ColorDesc::Rgb([r, g, b]),
         };
         let fraction = |textures: &mut Textures,
                         info: Option<gltf::texture::Info>,
                         what: &str,
                         channel: u8,
-                        factor: f32,
-                        warnings: &mut Vec<String>|
+                        factor: f32|
          -> Result<FractionDesc, String> {
             Ok(match info {
-                Some(info) => {
-                    FractionDesc::Texture(textures.get(&info, what, true, Some(channel), [factor; 3], warnings)?)
-                }
+                Some(info) => FractionDesc::Texture(textures.get(&info, what, true, Some(channel), [factor; 3])?),
                 None => FractionDesc::Number(factor.clamp(0.0, 1.0)),
             })
         };
-        let metallic =
-            fraction(&mut textures, pbr.metallic_roughness_texture(), "metallic", 2, pbr.metallic_factor(), warnings)?;
-        let roughness = fraction(
-            &mut textures,
-            pbr.metallic_roughness_texture(),
-            "roughness",
-            1,
-            pbr.roughness_factor(),
-            warnings,
-        )?;
+        let unit = |warnings: &mut Vec<String>, field: &str, value: f32| {
+            if !(0.0..=1.0).contains(&value) {
+                let taken = value.clamp(0.0, 1.0);
+                say(warnings, &format!("{field} is {value}, outside [0, 1] as glTF requires: taken as {taken}"));
+            }
+            value.clamp(0.0, 1.0)
+        };
+        let metallic_factor = unit(warnings, "pbrMetallicRoughness.metallicFactor", pbr.metallic_factor());
+        let roughness_factor = unit(warnings, "pbrMetallicRoughness.roughnessFactor", pbr.roughness_factor());
+        let metallic = fraction(&mut textures, pbr.metallic_roughness_texture(), "metallic", 2, metallic_factor)?;
+        let roughness = fraction(&mut textures, pbr.metallic_roughness_texture(), "roughness", 1, roughness_factor)?;
         let mut ior = m.ior().unwrap_or(1.5);
         if ior == 0.0 {
             // KHR_materials_ior: 0 stands for an infinite index (specular-glossiness files).
@@ -92,14 +96,9 @@ pub fn translate(
             return Err(format!("{name}: its index of refraction must be ≥ 1 (or 0), got {ior}"));
         }
         let transmission = match m.transmission() {
-            Some(t) if t.transmission_factor() > 0.0 => Some(fraction(
-                &mut textures,
-                t.transmission_texture(),
-                "transmission",
-                0,
-                t.transmission_factor(),
-                warnings,
-            )?),
+            Some(t) if t.transmission_factor() > 0.0 => {
+                Some(fraction(&mut textures, t.transmission_texture(), "transmission", 0, t.transmission_factor())?)
+            }
             _ => None,
         };
         let volume = m.volume().filter(|v| v.thickness_factor() > 0.0);
@@ -111,7 +110,7 @@ pub fn translate(
         let (clearcoat, clearcoat_gloss) = clearcoat(&m, &name, warnings);
         // The thin principled BSDF has no metal: a metallic transmitter (glTF's default
         // metallic is 1) stays on the solid one, where metal does not transmit.
-        let metallic_at_all = pbr.metallic_factor() > 0.0;
+        let metallic_at_all = metallic_factor > 0.0;
         if transmission.is_some() && volume.is_none() && metallic_at_all {
             say(warnings, "it transmits but is metallic: rendered on the solid principled BSDF (metal does not transmit), so its dielectric part refracts rather than passing straight through a thin wall");
         }
@@ -160,12 +159,8 @@ pub fn translate(
             current = wrapped;
         }
         if let Some(normal) = m.normal_texture() {
-            if normal.tex_coord() != 0 {
-                say(warnings, "its normal map reads TEXCOORD_0 (glint reads one set of texture coordinates)");
-            }
-            if (normal.scale() - 1.0).abs() > 1e-6 {
-                say(warnings, "its normal map's `scale` is not read");
-            }
+            let set = normal.extension_value("KHR_texture_transform").and_then(|t| t.get("texCoord")?.as_u64());
+            textures.uv_sets.push(set.map_or(normal.tex_coord(), |s| s as u32));
             let transform = normal.extension_value("KHR_texture_transform").map(|t| {
                 let pair = |key: &str, default: [f32; 2]| {
                     t.get(key).and_then(|v| v.as_array()).map_or(default, |a| {
@@ -175,7 +170,26 @@ pub fn translate(
                 let rotation = t.get("rotation").and_then(serde_json::Value::as_f64).unwrap_or(0.0) as f32;
                 (pair("offset", [0.0; 2]), rotation, pair("scale", [1.0; 2]))
             });
-            let texture = textures.make(&normal.texture(), "normals", true, None, [1.0; 3], transform)?;
+            let file = textures.image(&normal.texture())?.to_string();
+            let scale = normal.scale();
+            let file = if scale == 1.0 {
+                file
+            } else {
+                if !scale.is_finite() {
+                    return Err(format!("{name}: normalTexture.scale must be a finite number, got {scale}"));
+                }
+                let bytes = made
+                    .iter()
+                    .find(|(n, _)| *n == file)
+                    .map(|(_, b)| b)
+                    .ok_or_else(|| format!("{name}: no image {file}"))?;
+                let scaled = normal_scale::scaled_image(bytes, scale)
+                    .map_err(|e| format!("{name}: its normal map `{file}`: {e}"))?;
+                let file = format!("gltf-normals-{index}.png");
+                made.push((file.clone(), scaled));
+                file
+            };
+            let texture = textures.make_of(&normal.texture(), &file, "normals", true, None, [1.0; 3], transform)?;
             let wrapped = format!("{name}: normal-mapped");
             let desc = MaterialDesc::NormalMap { normals: ColorDesc::Texture(texture), material: current };
             scene.materials.insert(wrapped.clone(), Located { value: desc, span: None });
@@ -184,17 +198,27 @@ pub fn translate(
         if m.occlusion_texture().is_some() {
             say(warnings, "its occlusion map is not read (a path tracer finds occlusion itself)");
         }
-        if !matches!(m.alpha_mode(), gltf::material::AlphaMode::Opaque) {
-            say(warnings, "its alpha mode is not read: the surface is opaque");
+        let opacity = alpha::opacity(&m, &name, &mut textures, made)?;
+        let alpha = opacity.is_some();
+        if let Some(opacity) = opacity {
+            let wrapped = format!("{name}: alpha");
+            let desc = MaterialDesc::Mask { opacity: Some(opacity), material: current };
+            scene.materials.insert(wrapped.clone(), Located { value: desc, span: None });
+            current = wrapped;
         }
         let strength = m.emissive_strength().unwrap_or(1.0);
-        let [er, eg, eb] = m.emissive_factor().map(|c| c * strength);
+        let factor = m.emissive_factor();
+        if factor.iter().any(|c| *c < 0.0) {
+            say(
+                warnings,
+                &format!("emissiveFactor is {factor:?}, negative where glTF requires [0, 1]: taken as 0 there"),
+            );
+        }
+        let [er, eg, eb] = factor.map(|c| c.max(0.0) * strength);
         let emits = er > 0.0 || eg > 0.0 || eb > 0.0;
         if emits {
             let radiance = match m.emissive_texture() {
-                Some(info) => {
-                    ColorDesc::Texture(textures.get(&info, "emission", false, None, [er, eg, eb], warnings)?)
-                }
+                Some(info) => ColorDesc::Texture(textures.get(&info, "emission", false, None, [er, eg, eb])?),
                 None => ColorDesc::Rgb([er, eg, eb]),
             };
             let wrapped = format!("{name}: emitting");
@@ -202,7 +226,23 @@ pub fn translate(
             scene.materials.insert(wrapped.clone(), Located { value: desc, span: None });
             current = wrapped;
         }
-        out.push(MaterialInfo { name: current, emits });
+        // A primitive has one set of uvs in glint: the one its material's textures name (the
+        // base colour's, first met, where they differ).
+        let mut sets = std::mem::take(&mut textures.uv_sets);
+        let uv_set = sets.first().copied().unwrap_or(0);
+        sets.sort_unstable();
+        sets.dedup();
+        if sets.len() > 1 {
+            let names: Vec<String> = sets.iter().map(|s| format!("TEXCOORD_{s}")).collect();
+            say(
+                warnings,
+                &format!(
+                    "its textures read {}: glint reads one set per primitive, TEXCOORD_{uv_set}, for all of them",
+                    names.join(" and ")
+                ),
+            );
+        }
+        out.push(MaterialInfo { name: current, emits, alpha, uv_set });
     }
     for (name, desc) in textures.scene_textures {
         scene.textures.insert(name, Located { value: desc, span: None });
@@ -238,9 +278,11 @@ fn clearcoat(
 }
 
 /// The glint textures made so far, one per glTF texture and use.
-struct Textures<'a> {
+pub(super) struct Textures<'a> {
     images: &'a [String],
     scene_textures: Vec<(String, TextureDesc)>,
+    /// The texture coordinate sets the current material's textures read, in order.
+    uv_sets: Vec<u32>,
 }
 
 impl Textures<'_> {
@@ -253,26 +295,17 @@ impl Textures<'_> {
         raw: bool,
         channel: Option<u8>,
         tint: [f32; 3],
-        warnings: &mut Vec<String>,
     ) -> Result<String, String> {
-        if info.tex_coord() != 0 {
-            warnings.push(format!(
-                "texture {}: TEXCOORD_{} is read as TEXCOORD_0",
-                info.texture().index(),
-                info.tex_coord()
-            ));
-        }
-        let transform = info.texture_transform().map(|t| {
-            if t.tex_coord().is_some_and(|c| c != 0) {
-                warnings
-                    .push(format!("texture {}: the transform's texCoord override is not read", info.texture().index()));
-            }
-            (t.offset(), t.rotation(), t.scale())
-        });
+        let transform = info.texture_transform();
+        // KHR_texture_transform's texCoord overrides the texture's own.
+        let set = transform.as_ref().and_then(|t| t.tex_coord()).unwrap_or(info.tex_coord());
+        self.uv_sets.push(set);
+        let transform = transform.map(|t| (t.offset(), t.rotation(), t.scale()));
         self.make(&info.texture(), what, raw, channel, tint, transform)
     }
 
-    fn make(
+    /// A glint texture of `file` (an image of `made`) with `texture`'s sampler.
+    pub(super) fn make(
         &mut self,
         texture: &gltf::Texture,
         what: &str,
@@ -281,8 +314,31 @@ impl Textures<'_> {
         tint: [f32; 3],
         transform: Option<([f32; 2], f32, [f32; 2])>,
     ) -> Result<String, String> {
+        let file = self.image(texture)?.to_string();
+        self.make_of(texture, &file, what, raw, channel, tint, transform)
+    }
+
+    /// The name of `texture`'s image among the made files.
+    pub(super) fn image(&self, texture: &gltf::Texture) -> Result<&str, String> {
         let image = texture.source().index();
-        let file = self.images.get(image).ok_or_else(|| format!("texture {}: no image {image}", texture.index()))?;
+        self.images
+            .get(image)
+            .map(String::as_str)
+            .ok_or_else(|| format!("texture {}: no image {image}", texture.index()))
+    }
+
+    /// A glint texture of the image `file` with `texture`'s sampler.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn make_of(
+        &mut self,
+        texture: &gltf::Texture,
+        file: &str,
+        what: &str,
+        raw: bool,
+        channel: Option<u8>,
+        tint: [f32; 3],
+        transform: Option<([f32; 2], f32, [f32; 2])>,
+    ) -> Result<String, String> {
         let sampler = texture.sampler();
         let wrap = match sampler.wrap_s() {
             gltf::texture::WrappingMode::ClampToEdge => WrapDesc::Clamp,
@@ -295,7 +351,7 @@ impl Textures<'_> {
         };
         let name = format!("texture {} ({what}) #{}", texture.index(), self.scene_textures.len());
         let desc = TextureDesc::Image {
-            file: file.clone(),
+            file: file.to_string(),
             wrap,
             filter,
             scale: None,

@@ -1,11 +1,15 @@
 //! glTF 2.0 scenes (`.gltf` with external or embedded buffers, `.glb`), read by the `gltf`
-//! crate, mapped onto glint's native scene description and built by the same builder as TOML
-//! scenes: the node hierarchy (meshes placed once or instanced), cameras, punctual lights,
-//! and metallic-roughness materials on glint's principled BSDF. docs/gltf.md lists what maps
-//! to what.
+//! crate (its accessors by glint: quantized and sparse), mapped onto glint's native scene
+//! description and built by the same builder as TOML scenes: the node hierarchy (meshes
+//! placed once or instanced), cameras, punctual lights (or a default environment),
+//! metallic-roughness materials on glint's principled BSDF, alpha as a `mask`.
+//! docs/gltf.md lists what maps to what.
 
+mod accessors;
+mod alpha;
 mod materials;
 mod nodes;
+mod normal_scale;
 
 use std::path::{Path, PathBuf};
 
@@ -15,9 +19,11 @@ use crate::error::SceneError;
 use crate::native::LoadedScene;
 use crate::source::Source;
 
-/// Extensions whose meaning glint reads; others in `extensionsUsed` are named in a warning.
-const READ_EXTENSIONS: [&str; 7] = [
+/// Extensions whose meaning glint reads; others in `extensionsUsed` are named in a warning,
+/// and a file that lists one of the others in `extensionsRequired` is refused.
+const READ_EXTENSIONS: [&str; 8] = [
     "KHR_lights_punctual",
+    "KHR_mesh_quantization",
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_materials_emissive_strength",
@@ -26,22 +32,47 @@ const READ_EXTENSIONS: [&str; 7] = [
     "KHR_texture_transform",
 ];
 
+/// What the caller chooses about a glTF scene beyond its file.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GltfOptions {
+    /// Leave out the default environment that lights a file without punctual lights.
+    pub no_default_light: bool,
+}
+
 /// Reads a glTF 2.0 scene; `search_path` is searched after its directory for the files it
 /// names.
-pub fn load_gltf(path: &Path, search_path: &[PathBuf]) -> Result<LoadedScene, SceneError> {
+pub fn load_gltf(path: &Path, search_path: &[PathBuf], options: GltfOptions) -> Result<LoadedScene, SceneError> {
     let bytes = crate::source::read_file(path, u64::MAX)
         .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
     let mut directories = vec![path.parent().map(Path::to_path_buf).unwrap_or_default()];
     directories.extend(search_path.iter().cloned());
-    parse_gltf(&bytes, path, Source::search_path(directories))
+    parse_gltf(&bytes, path, Source::search_path(directories), options)
 }
 
 /// Reads glTF bytes (JSON or binary); `name` is used in messages, `source` resolves the
 /// buffers and images it names.
-pub fn parse_gltf(bytes: &[u8], name: &Path, source: Source<'_>) -> Result<LoadedScene, SceneError> {
+pub fn parse_gltf(
+    bytes: &[u8],
+    name: &Path,
+    source: Source<'_>,
+    options: GltfOptions,
+) -> Result<LoadedScene, SceneError> {
     let error = |m: String| SceneError::new(name, None, m);
     precheck(bytes).map_err(|m| error(format!("not a valid glTF 2.0 file: {m}")))?;
-    let gltf = ::gltf::Gltf::from_slice(bytes).map_err(|e| error(format!("not a valid glTF 2.0 file: {e}")))?;
+    let mut gltf = ::gltf::Gltf::from_slice_without_validation(bytes)
+        .map_err(|e| error(format!("not a valid glTF 2.0 file: {e}")))?;
+    // The crate's validation refuses every required extension it has no types for, even those
+    // glint reads itself (KHR_mesh_quantization): glint decides, naming the extension, and the
+    // crate validates the rest.
+    let mut json = gltf.document.into_json();
+    if let Some(extension) = json.extensions_required.iter().find(|e| !READ_EXTENSIONS.contains(&e.as_str())) {
+        return Err(error(format!(
+            "the file requires the extension {extension}, which glint does not read{}",
+            why_not(extension)
+        )));
+    }
+    json.extensions_required.clear();
+    gltf.document = ::gltf::Document::from_json(json).map_err(|e| error(format!("not a valid glTF 2.0 file: {e}")))?;
     let mut warnings = Vec::new();
     for extension in gltf.extensions_used() {
         if !READ_EXTENSIONS.contains(&extension) {
@@ -51,14 +82,25 @@ pub fn parse_gltf(bytes: &[u8], name: &Path, source: Source<'_>) -> Result<Loade
     let buffers = read_buffers(&gltf, &source).map_err(error)?;
     let mut made = Vec::new();
     let images = read_images(&gltf, &buffers, &source, &mut made).map_err(error)?;
-    let reader = nodes::Reader::new(&gltf.document, &buffers, &images, name);
-    let (file, mut more) = reader.translate().map_err(error)?;
+    let reader = nodes::Reader::new(&gltf.document, &buffers, &images, name, options);
+    let (file, mut more) = reader.translate(&mut made).map_err(error)?;
     warnings.append(&mut more);
     let source = source.with_made_files(made);
     let mut loaded = crate::native::build_file(file, "", name, &source)?;
     warnings.append(&mut loaded.warnings);
     loaded.warnings = warnings;
     Ok(loaded)
+}
+
+/// Why a required extension is not read, where there is more to say than that.
+fn why_not(extension: &str) -> &'static str {
+    match extension {
+        "KHR_draco_mesh_compression" | "EXT_meshopt_compression" => {
+            ": its meshes are compressed, and glint has no decoder for them (save the file uncompressed, e.g. with gltf-transform)"
+        }
+        "KHR_texture_basisu" => ": its textures are KTX2/Basis, which glint cannot decode (convert them to PNG or JPEG)",
+        _ => "",
+    }
 }
 
 /// What the `gltf` crate's own validation indexes without checking (found by glint-fuzz):

@@ -1,15 +1,19 @@
 //! A glTF document's default scene walked node by node: each mesh primitive placed by its
 //! node's world transform (a mesh placed more than once goes into the mesh library and is
 //! instanced, unless it emits light: glint samples emitting meshes, not instances), the first
-//! camera met (or, without one, a camera that frames the scene), and KHR_lights_punctual.
+//! camera met (or, without one, a camera that frames the scene), and KHR_lights_punctual (or,
+//! without a punctual light, the default environment).
 
 use std::collections::HashMap;
 use std::path::Path;
 
 use glam::{Mat4, Vec3};
+use gltf::accessor::{DataType, Dimensions};
 use gltf::khr_lights_punctual::Kind;
 
+use super::accessors::{self, Allowed};
 use super::materials::{self, MaterialInfo};
+use super::GltfOptions;
 use crate::located::Located;
 use crate::native::schema::*;
 
@@ -24,6 +28,7 @@ pub struct Reader<'a> {
     buffers: &'a [Vec<u8>],
     images: &'a [String],
     name: &'a Path,
+    options: GltfOptions,
 }
 
 /// One primitive's triangles in its mesh's space.
@@ -33,17 +38,30 @@ struct Primitive {
 }
 
 impl<'a> Reader<'a> {
-    pub fn new(document: &'a gltf::Document, buffers: &'a [Vec<u8>], images: &'a [String], name: &'a Path) -> Self {
-        Self { document, buffers, images, name }
+    pub fn new(
+        document: &'a gltf::Document,
+        buffers: &'a [Vec<u8>],
+        images: &'a [String],
+        name: &'a Path,
+        options: GltfOptions,
+    ) -> Self {
+        Self { document, buffers, images, name, options }
     }
 
-    pub fn translate(&self) -> Result<(SceneFile, Vec<String>), String> {
+    /// The scene description and the warnings; `made` holds the images as files, and takes
+    /// the opacity images that alpha makes.
+    pub fn translate(&self, made: &mut Vec<(String, Vec<u8>)>) -> Result<(SceneFile, Vec<String>), String> {
         let mut warnings = Vec::new();
         let mut scene = SceneFile::new(
             framing_camera(None, 4.0 / 3.0),
             RenderDesc { integrator: "path".into(), spp: 64, max_depth: -1, ..RenderDesc::default() },
         );
-        let materials = materials::translate(self.document, self.images, &mut scene, &mut warnings)?;
+        let materials = materials::translate(self.document, self.images, made, &mut scene, &mut warnings)?;
+        // Shadow rays pass a cut-out or blended surface only under volpath (the path tracer
+        // stops them at any surface, so a punctual light would cast a cut-out's whole quad).
+        if materials.iter().any(|m| m.alpha) {
+            scene.render.integrator = "volpath".into();
+        }
 
         let Some(gltf_scene) = self.document.default_scene().or_else(|| self.document.scenes().next()) else {
             return Err("the file has no scene".into());
@@ -61,7 +79,7 @@ impl<'a> Reader<'a> {
                     node.index()
                 ));
             }
-            let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+            let world = parent * self.local_transform(&node, &mut warnings)?;
             for child in node.children().collect::<Vec<_>>().into_iter().rev() {
                 stack.push((child, world, depth + 1));
             }
@@ -80,7 +98,7 @@ impl<'a> Reader<'a> {
             if let Some(mesh) = node.mesh() {
                 *uses.entry(mesh.index()).or_default() += 1;
                 if let std::collections::hash_map::Entry::Vacant(entry) = primitives.entry(mesh.index()) {
-                    entry.insert(self.primitives(&mesh, &mut warnings)?);
+                    entry.insert(self.primitives(&mesh, &materials, &mut warnings)?);
                 }
             }
         }
@@ -152,7 +170,9 @@ impl<'a> Reader<'a> {
                 camera = Some(self.camera(&c, world)?);
             }
             if let Some(light) = node.light() {
-                scene.lights.push(Located { value: punctual_light(&light, world), span: None });
+                scene
+                    .lights
+                    .push(Located { value: punctual_light(&light, world, self.name, &mut warnings), span: None });
             }
         }
         if hidden > 0 {
@@ -163,18 +183,24 @@ impl<'a> Reader<'a> {
             Some(c) => c,
             None => framing_camera(framed, 4.0 / 3.0),
         };
-        if scene.lights.is_empty() && !materials.iter().any(|m| m.emits) {
-            // glTF leaves lighting to the viewer: a uniform white sky, radiance 1.
+        if scene.lights.is_empty() && !self.options.no_default_light {
+            // glTF leaves lighting to the viewer, and viewers light a model with an
+            // environment even when it has emitters: glint's is a uniform white sky.
             scene.environment.background = [1.0; 3];
             warnings.push(format!(
-                "{}: the scene has no lights: lit by a uniform white sky of radiance 1",
+                "{}: the file has no punctual light: lit by the default environment, a uniform white sky of radiance 1 (--no-default-light leaves it out)",
                 self.name.display()
             ));
         }
         Ok((scene, warnings))
     }
 
-    fn primitives(&self, mesh: &gltf::Mesh, warnings: &mut Vec<String>) -> Result<Vec<Primitive>, String> {
+    fn primitives(
+        &self,
+        mesh: &gltf::Mesh,
+        materials: &[MaterialInfo],
+        warnings: &mut Vec<String>,
+    ) -> Result<Vec<Primitive>, String> {
         let mut out = Vec::new();
         for primitive in mesh.primitives() {
             let at = format!("mesh {} primitive {}", mesh.index(), primitive.index());
@@ -203,22 +229,6 @@ impl<'a> Reader<'a> {
                 warnings.push(format!("{}: {at}: points and lines have no surface; left out", self.name.display()));
                 continue;
             }
-            use gltf::accessor::{DataType, Dimensions};
-            let float = &[DataType::F32][..];
-            let expected = [
-                (gltf::Semantic::Positions, Dimensions::Vec3, float),
-                (gltf::Semantic::Normals, Dimensions::Vec3, float),
-                (gltf::Semantic::TexCoords(0), Dimensions::Vec2, &[DataType::F32, DataType::U8, DataType::U16][..]),
-            ];
-            for (semantic, dimensions, types) in expected {
-                if let Some(accessor) = primitive.get(&semantic) {
-                    self.check(&accessor, dimensions, types).map_err(|m| format!("{at}: {m}"))?;
-                }
-            }
-            if let Some(accessor) = primitive.indices() {
-                self.check(&accessor, Dimensions::Scalar, &[DataType::U8, DataType::U16, DataType::U32])
-                    .map_err(|m| format!("{at}: {m}"))?;
-            }
             if primitive.get(&gltf::Semantic::Tangents).is_some() {
                 warnings.push(format!(
                     "{}: {at}: TANGENT is not read: normal maps use the frame of ∂p/∂u",
@@ -231,73 +241,92 @@ impl<'a> Reader<'a> {
             if primitive.morph_targets().next().is_some() {
                 warnings.push(format!("{}: {at}: morph targets are not read", self.name.display()));
             }
-            let reader = primitive.reader(|buffer| self.buffers.get(buffer.index()).map(Vec::as_slice));
-            let positions: Vec<[f32; 3]> = match reader.read_positions() {
-                Some(p) => p.collect(),
-                None => return Err(format!("{at}: no POSITION attribute")),
+            let read = |semantic: gltf::Semantic, allowed: &Allowed| -> Result<Option<Vec<f32>>, String> {
+                primitive
+                    .get(&semantic)
+                    .map(|a| accessors::read(&a, self.buffers, allowed, |x| x as f32))
+                    .transpose()
+                    .map_err(|m| format!("{at}: {semantic:?}: {m}"))
             };
-            let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(Iterator::collect);
-            // glTF's v runs down the image; glint's up.
-            let uvs: Option<Vec<[f32; 2]>> =
-                reader.read_tex_coords(0).map(|t| t.into_f32().map(|[u, v]| [u, 1.0 - v]).collect());
-            let indices: Vec<u32> = match reader.read_indices() {
-                Some(i) => i.into_u32().collect(),
+            let Some(positions) = read(gltf::Semantic::Positions, &POSITIONS)? else {
+                return Err(format!("{at}: no POSITION attribute"));
+            };
+            let positions: Vec<[f32; 3]> = positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+            // Quantized normals are unit only to within their precision; float ones are kept
+            // as stored.
+            let quantized = primitive.get(&gltf::Semantic::Normals).is_some_and(|a| a.data_type() != DataType::F32);
+            let normals: Option<Vec<[f32; 3]>> = read(gltf::Semantic::Normals, &NORMALS)?.map(|n| {
+                n.chunks_exact(3)
+                    .map(|n| {
+                        let n = Vec3::new(n[0], n[1], n[2]);
+                        if quantized { n.normalize_or_zero() } else { n }.to_array()
+                    })
+                    .collect()
+            });
+            let material = primitive.material().index().map_or(0, |i| i + 1);
+            // The set its material's textures read. glTF's v runs down the image; glint's up.
+            let uv_set = materials.get(material).map_or(0, |m| m.uv_set);
+            let uvs: Option<Vec<[f32; 2]>> = read(gltf::Semantic::TexCoords(uv_set), &TEXCOORDS)?
+                .map(|t| t.chunks_exact(2).map(|t| [t[0], 1.0 - t[1]]).collect());
+            let indices: Vec<u32> = match primitive.indices() {
+                Some(a) => accessors::read(&a, self.buffers, &INDICES, |x| x as u32)
+                    .map_err(|m| format!("{at}: indices: {m}"))?,
                 None => (0..positions.len() as u32).collect(),
             };
+            if primitive.mode() == gltf::mesh::Mode::Triangles && !indices.len().is_multiple_of(3) {
+                warnings.push(format!(
+                    "{}: {at}: TRIANGLES with {} {}, not a multiple of 3 (glTF requires one): the last {} left out",
+                    self.name.display(),
+                    indices.len(),
+                    if primitive.indices().is_some() { "indices" } else { "vertices" },
+                    indices.len() % 3
+                ));
+            }
             let triangles = triangles_of(indices);
             if triangles.is_empty() {
                 warnings.push(format!("{}: {at}: no triangles; left out", self.name.display()));
                 continue;
             }
-            let material = primitive.material().index().map_or(0, |i| i + 1);
             out.push(Primitive { data: MeshData { positions, indices: triangles, normals, uvs }, material });
         }
         Ok(out)
     }
 
-    /// An accessor's elements are of the kind glTF allows where it is used and lie within its
-    /// buffer (the `gltf` crate's reader would stop at `unreachable!` or index past it).
-    fn check(
-        &self,
-        accessor: &gltf::Accessor,
-        dimensions: gltf::accessor::Dimensions,
-        types: &[gltf::accessor::DataType],
-    ) -> Result<(), String> {
-        if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
-            return Err(format!(
-                "accessor {} holds {:?} of {:?}; here glTF expects {dimensions:?} of {types:?}",
-                accessor.index(),
-                accessor.dimensions(),
-                accessor.data_type()
-            ));
-        }
-        if accessor.sparse().is_some() {
-            return Err(format!("accessor {}: sparse accessors are not supported", accessor.index()));
-        }
-        let Some(view) = accessor.view() else {
-            return Err(format!("accessor {} has no buffer view", accessor.index()));
+    /// A node's own transform from its raw JSON: `matrix` (affine, as glTF requires) or
+    /// translation · rotation · scale. A node with both is warned of (glTF allows one): the
+    /// matrix is used, as the `gltf` crate does.
+    fn local_transform(&self, node: &gltf::Node, warnings: &mut Vec<String>) -> Result<Mat4, String> {
+        let Some(json) = self.document.as_json().nodes.get(node.index()) else {
+            return Ok(Mat4::from_cols_array_2d(&node.transform().matrix()));
         };
-        let buffer = &self.buffers[view.buffer().index()];
-        let size = accessor.size();
-        let stride = view.stride().unwrap_or(size);
-        if stride < size {
-            return Err(format!(
-                "accessor {}: its view's stride ({stride}) is shorter than an element ({size})",
-                accessor.index()
-            ));
+        if let Some(m) = json.matrix {
+            let trs: Vec<&str> = [
+                ("translation", json.translation.is_some()),
+                ("rotation", json.rotation.is_some()),
+                ("scale", json.scale.is_some()),
+            ]
+            .into_iter()
+            .filter_map(|(name, given)| given.then_some(name))
+            .collect();
+            if !trs.is_empty() {
+                warnings.push(format!(
+                    "{}: node {}: has both `matrix` and `{}` (glTF allows one or the other): `matrix` is used",
+                    self.name.display(),
+                    node.index(),
+                    trs.join("`, `")
+                ));
+            }
+            // Column-major: the bottom row is elements 3, 7, 11, 15.
+            let bottom = [m[3], m[7], m[11], m[15]];
+            if bottom != [0.0, 0.0, 0.0, 1.0] {
+                return Err(format!(
+                    "node {}: its `matrix` is not affine: its bottom row is {bottom:?}, where glTF requires [0, 0, 0, 1]",
+                    node.index()
+                ));
+            }
+            return Ok(Mat4::from_cols_array(&m));
         }
-        if accessor.count() == 0 {
-            return Err(format!("accessor {} has no elements", accessor.index()));
-        }
-        let needed = (accessor.count() - 1)
-            .checked_mul(stride)
-            .and_then(|x| x.checked_add(size)?.checked_add(accessor.offset()));
-        let fits = needed.is_some_and(|end| end <= view.length())
-            && view.offset().checked_add(view.length()).is_some_and(|end| end <= buffer.len());
-        if !fits {
-            return Err(format!("accessor {} reads past the end of its buffer view or buffer", accessor.index()));
-        }
-        Ok(())
+        Ok(Mat4::from_cols_array_2d(&node.transform().matrix()))
     }
 
     fn camera(&self, camera: &gltf::Camera, world: &Mat4) -> Result<CameraDesc, String> {
@@ -332,7 +361,12 @@ impl<'a> Reader<'a> {
     }
 }
 
-fn punctual_light(light: &gltf::khr_lights_punctual::Light, world: &Mat4) -> LightDesc {
+fn punctual_light(
+    light: &gltf::khr_lights_punctual::Light,
+    world: &Mat4,
+    name: &Path,
+    warnings: &mut Vec<String>,
+) -> LightDesc {
     let colour = light.color().map(|c| c * light.intensity() / LUMENS_PER_WATT);
     let position = world.transform_point3(Vec3::ZERO).to_array();
     let direction = world.transform_vector3(-Vec3::Z).to_array();
@@ -341,21 +375,45 @@ fn punctual_light(light: &gltf::khr_lights_punctual::Light, world: &Mat4) -> Lig
         Kind::Point => {
             LightDesc::Point { position, color: colour, intensity: 1.0, falloff: FalloffDesc::InverseSquare }
         }
-        Kind::Spot { inner_cone_angle, outer_cone_angle } => LightDesc::Spot {
-            position,
-            direction,
-            cone_angle: Some(outer_cone_angle.to_degrees()),
-            focal_length: None,
-            edge: (outer_cone_angle - inner_cone_angle).max(0.0).to_degrees(),
-            profile: Some("smooth".into()),
-            texture: None,
-            up: None,
-            color: colour,
-            intensity: 1.0,
-            falloff: FalloffDesc::InverseSquare,
-        },
+        Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+            if inner_cone_angle >= outer_cone_angle {
+                warnings.push(format!(
+                    "{}: light {}: spot.innerConeAngle ({inner_cone_angle}) is not less than spot.outerConeAngle ({outer_cone_angle}), as glTF requires: the cone's edge is hard, at the outer angle",
+                    name.display(),
+                    light.index()
+                ));
+            }
+            LightDesc::Spot {
+                position,
+                direction,
+                cone_angle: Some(outer_cone_angle.to_degrees()),
+                focal_length: None,
+                edge: (outer_cone_angle - inner_cone_angle).max(0.0).to_degrees(),
+                profile: Some("smooth".into()),
+                texture: None,
+                up: None,
+                color: colour,
+                intensity: 1.0,
+                falloff: FalloffDesc::InverseSquare,
+            }
+        }
     }
 }
+
+/// The accessor types glTF allows per use, KHR_mesh_quantization's included (positions and
+/// uvs in 8- and 16-bit integers, as stored or normalised; normals normalised).
+const POSITIONS: Allowed = Allowed {
+    dimensions: &[Dimensions::Vec3],
+    types: &[DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16],
+};
+const NORMALS: Allowed =
+    Allowed { dimensions: &[Dimensions::Vec3], types: &[DataType::F32, DataType::I8, DataType::I16] };
+const TEXCOORDS: Allowed = Allowed {
+    dimensions: &[Dimensions::Vec2],
+    types: &[DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16],
+};
+const INDICES: Allowed =
+    Allowed { dimensions: &[Dimensions::Scalar], types: &[DataType::U8, DataType::U16, DataType::U32] };
 
 /// A camera that frames `bounds`: from the front (+z, glTF's front) and a little above, its
 /// 40° vertical view holding the bounding sphere.

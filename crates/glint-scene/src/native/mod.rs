@@ -60,7 +60,7 @@ pub fn load_scene(path: &Path) -> Result<LoadedScene, SceneError> {
 /// `load_scene` with `-D name=value` parameters for Mitsuba scenes (native scenes have none:
 /// giving any is an error).
 pub fn load_scene_with(path: &Path, defines: &[(String, String)]) -> Result<LoadedScene, SceneError> {
-    load_scene_with_options(path, &LoadOptions { defines: defines.to_vec(), search_path: Vec::new() })
+    load_scene_with_options(path, &LoadOptions { defines: defines.to_vec(), ..LoadOptions::default() })
 }
 
 /// What the command line adds to a scene file.
@@ -71,6 +71,9 @@ pub struct LoadOptions {
     /// Directories searched, after the scene's own (and a Mitsuba scene's `<path>`s), for
     /// the files it names: meshes, textures, includes (Mitsuba's `-a`).
     pub search_path: Vec<PathBuf>,
+    /// A glTF file without punctual lights is lit by a default environment unless this is
+    /// set (`--no-default-light`; docs/gltf.md).
+    pub no_default_light: bool,
 }
 
 /// `load_scene` with parameters and a search path.
@@ -81,17 +84,17 @@ pub fn load_scene_with_options(path: &Path, options: &LoadOptions) -> Result<Loa
         return crate::mitsuba::load_mitsuba(path, defines, &options.search_path);
     }
     // The readers that take a search path and no parameters.
-    type Reader = fn(&Path, &[PathBuf]) -> Result<LoadedScene, SceneError>;
-    let reader: Option<Reader> = match extension.as_deref() {
-        Some("gltf" | "glb") => Some(crate::gltf::load_gltf),
-        Some("pbrt") => Some(crate::pbrt::load_pbrt),
+    let gltf = crate::gltf::GltfOptions { no_default_light: options.no_default_light };
+    let reader: Option<&dyn Fn() -> Result<LoadedScene, SceneError>> = match extension.as_deref() {
+        Some("gltf" | "glb") => Some(&|| crate::gltf::load_gltf(path, &options.search_path, gltf)),
+        Some("pbrt") => Some(&|| crate::pbrt::load_pbrt(path, &options.search_path)),
         _ => None,
     };
     if let Some(read) = reader {
         if let Some((name, _)) = defines.first() {
             return Err(SceneError::new(path, None, format!("-D {name}=…: parameters are for Mitsuba scenes (.xml)")));
         }
-        return read(path, &options.search_path);
+        return read();
     }
     if let Some((name, _)) = defines.first() {
         return Err(SceneError::new(
