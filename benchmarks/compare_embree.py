@@ -30,8 +30,8 @@ MESHES = {"bunny": "stanford_bunny.ply.gz", "dragon": "stanford_dragon.ply.gz"}
 SETS = ["primary", "diffuse", "random"]
 # glint's queries (the name in the table, bench-rays' field) and the Embree query each is set
 # against: one ray at a time, then the same closest hits with eight rays' traversals
-# interleaved (Geometry::closest_primitives, what the path tracer uses for its bounces),
-# against Embree's one-ray closest hit, which is what embreex runs.
+# interleaved (Geometry::closest_primitives), against Embree's one-ray closest hit, which is
+# what embreex runs (a loop of rtcIntersect1).
 QUERIES = [("closest", "closest_mrays", "closest"),
            ("closest, interleaved", "interleaved_mrays", "closest"),
            ("occluded", "anyhit_mrays", "occluded")]

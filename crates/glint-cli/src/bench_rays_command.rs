@@ -63,8 +63,8 @@ pub fn run(args: BenchRaysArgs) -> Result<(), CliError> {
     println!("rays {}: {} rays, {} thread(s), best of {}", args.rays.display(), rays.len(), args.threads, args.repeat);
 
     let mut hits = Vec::new();
-    // The same queries as a batch, several rays' traversals interleaved (as the path tracer
-    // traces its bounces).
+    // The same queries as a batch, several rays' traversals interleaved
+    // (`Geometry::closest_primitives`).
     let mut interleaved_hits: Vec<(f32, u32)> = Vec::new();
     let interleaved_s = best_time(args.repeat, || {
         interleaved_hits = pool.install(|| {
