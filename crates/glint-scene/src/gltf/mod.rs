@@ -42,10 +42,7 @@ pub struct GltfOptions {
 /// Reads a glTF 2.0 scene; `search_path` is searched after its directory for the files it
 /// names.
 pub fn load_gltf(path: &Path, search_path: &[PathBuf], options: GltfOptions) -> Result<LoadedScene, SceneError> {
-    let bytes = crate::source::read_file(path, u64::MAX)
-        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
-    let mut directories = vec![path.parent().map(Path::to_path_buf).unwrap_or_default()];
-    directories.extend(search_path.iter().cloned());
+    let (bytes, directories) = crate::reader::read_scene_file(path, search_path)?;
     parse_gltf(&bytes, path, Source::search_path(directories), options)
 }
 
@@ -85,11 +82,7 @@ pub fn parse_gltf(
     let reader = nodes::Reader::new(&gltf.document, &buffers, &images, name, options);
     let (file, mut more) = reader.translate(&mut made).map_err(error)?;
     warnings.append(&mut more);
-    let source = source.with_made_files(made);
-    let mut loaded = crate::native::build_file(file, "", name, &source)?;
-    warnings.append(&mut loaded.warnings);
-    loaded.warnings = warnings;
-    Ok(loaded)
+    crate::reader::build(crate::reader::Translation { file, text: "", made, warnings }, name, source)
 }
 
 /// Why a required extension is not read, where there is more to say than that.
