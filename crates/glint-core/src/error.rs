@@ -30,4 +30,7 @@ pub enum RenderError {
     StateMismatch,
     #[error("the checkpoint's SPPM state of pixel {pixel} is not finite and non-negative")]
     BadPixelState { pixel: usize },
+    /// `glint explain` with an integrator that has no paths or ray trees to tell.
+    #[error("`{integrator}` has no paths or ray trees to explain (it shows what the camera ray hits first)")]
+    NothingToExplain { integrator: &'static str },
 }

@@ -5,6 +5,7 @@
 
 pub mod aov;
 mod bvh_heat;
+mod explain;
 mod light;
 mod particle;
 pub mod passes;
@@ -22,6 +23,7 @@ mod wavefront;
 pub mod whitted;
 
 pub use bvh_heat::{heat_colour, BvhHeat};
+pub use explain::{CameraExplanation, PixelExplanation};
 pub use light::{LightTracer, ParticleExplanation};
 pub use path::{power_heuristic, PathTracer};
 pub use path_naive::NaivePathTracer;
@@ -111,6 +113,13 @@ pub trait Integrator: Send + Sync {
     /// ceiling, say); empty when all went as asked.
     fn warnings(&self) -> Vec<String> {
         Vec::new()
+    }
+
+    /// What the estimate along one camera ray is made of, for `glint explain`: Whitted's ray
+    /// tree or a path's events, computed by the code that renders. `None` for the integrators
+    /// that explain nothing (ray casting, the BVH heat map).
+    fn explain(&self, _scene: &Scene, _camera_ray: &Ray, _context: &mut SampleContext) -> Option<CameraExplanation> {
+        None
     }
 }
 
@@ -257,8 +266,14 @@ impl IntegratorKind {
         !matches!(self, IntegratorKind::Raycast | IntegratorKind::Whitted | IntegratorKind::BvhHeat)
     }
 
+    /// Whether `glint explain` can follow it (every integrator but ray casting and the BVH heat
+    /// map, which have nothing to tell but the first hit).
+    pub fn explains(self) -> bool {
+        !matches!(self, IntegratorKind::Raycast | IntegratorKind::BvhHeat)
+    }
+
     /// The integrator, for those that need nothing but the camera ray (`None` for those that
-    /// must first look at the scene: use `renderer`).
+    /// must first look at the scene: use `build`).
     pub fn create(self, settings: &IntegratorSettings) -> Option<Box<dyn Integrator>> {
         Some(match self {
             IntegratorKind::Raycast => Box::new(Raycast),
@@ -277,6 +292,53 @@ impl IntegratorKind {
             IntegratorKind::Light | IntegratorKind::Photon | IntegratorKind::Sppm | IntegratorKind::VolPhoton => {
                 return None
             }
+        })
+    }
+
+    /// The integrator of this kind made for `scene` (photon mapping shoots its photons here,
+    /// with `seed`): the one place integrators are constructed, for rendering (`renderer`) and
+    /// for explaining a pixel (`explain_pixel`). An error if the scene cannot be rendered so
+    /// (no physical light), or soon after `stop` is raised (photon maps take a while).
+    pub fn build_until(
+        self,
+        settings: &IntegratorSettings,
+        scene: &Scene,
+        seed: u64,
+        stop: &AtomicBool,
+    ) -> Result<Built, RenderError> {
+        Ok(match self {
+            IntegratorKind::Light => Built::Light(LightTracer::new(scene, settings.max_depth)?),
+            IntegratorKind::Sppm => Built::Sppm(Sppm::new(
+                scene,
+                settings.max_depth,
+                settings.rr_depth,
+                settings.sppm_radius,
+                settings.photons_per_pass,
+            )?),
+            IntegratorKind::Photon => Built::Photon(PhotonMapper::new_until(
+                scene,
+                settings.max_depth,
+                settings.rr_depth,
+                settings.photon,
+                seed,
+                stop,
+            )?),
+            IntegratorKind::VolPhoton => {
+                let photons = VolumePhotons::shoot(
+                    scene,
+                    settings.max_depth,
+                    settings.photon.global_photons as u64,
+                    settings.photon.nearest as usize,
+                    settings.photon.max_radius,
+                    seed,
+                    stop,
+                )?;
+                Built::Camera(Box::new(VolPathTracer {
+                    photons: Some(std::sync::Arc::new(photons)),
+                    ..VolPathTracer::new(settings)
+                }))
+            }
+            camera => Built::Camera(camera.create(settings).expect("a camera integrator")),
         })
     }
 
@@ -300,44 +362,34 @@ impl IntegratorKind {
         seed: u64,
         stop: &AtomicBool,
     ) -> Result<Box<dyn PassRenderer + Send>, RenderError> {
-        Ok(match self {
-            IntegratorKind::Light => Box::new(LightTracer::new(scene, settings.max_depth)?),
-            IntegratorKind::Sppm => Box::new(Sppm::new(
-                scene,
-                settings.max_depth,
-                settings.rr_depth,
-                settings.sppm_radius,
-                settings.photons_per_pass,
-            )?),
-            IntegratorKind::Photon => {
-                let mapper: Box<dyn Integrator> = Box::new(PhotonMapper::new_until(
-                    scene,
-                    settings.max_depth,
-                    settings.rr_depth,
-                    settings.photon,
-                    seed,
-                    stop,
-                )?);
+        Ok(self.build_until(settings, scene, seed, stop)?.into_renderer())
+    }
+}
+
+/// An integrator made for a scene (`IntegratorKind::build_until`), by how it renders.
+pub enum Built {
+    /// One that estimates each camera sample alone, in camera passes.
+    Camera(Box<dyn Integrator>),
+    /// Photon mapping: camera passes too, after its maps (which `glint explain --photons` lists).
+    Photon(PhotonMapper),
+    /// Light tracing: particles splatted into the film.
+    Light(LightTracer),
+    /// SPPM: visible points and a photon pass, per pass.
+    Sppm(Sppm),
+}
+
+impl Built {
+    /// What renders its passes.
+    pub fn into_renderer(self) -> Box<dyn PassRenderer + Send> {
+        match self {
+            Built::Camera(integrator) => Box::new(CameraPasses(integrator)),
+            Built::Photon(mapper) => {
+                let mapper: Box<dyn Integrator> = Box::new(mapper);
                 Box::new(CameraPasses(mapper))
             }
-            IntegratorKind::VolPhoton => {
-                let photons = VolumePhotons::shoot(
-                    scene,
-                    settings.max_depth,
-                    settings.photon.global_photons as u64,
-                    settings.photon.nearest as usize,
-                    settings.photon.max_radius,
-                    seed,
-                    stop,
-                )?;
-                let tracer: Box<dyn Integrator> = Box::new(VolPathTracer {
-                    photons: Some(std::sync::Arc::new(photons)),
-                    ..VolPathTracer::new(settings)
-                });
-                Box::new(CameraPasses(tracer))
-            }
-            camera => Box::new(CameraPasses(camera.create(settings).expect("a camera integrator"))),
-        })
+            Built::Light(tracer) => Box::new(tracer),
+            Built::Sppm(sppm) => Box::new(sppm),
+        }
     }
 }
 

@@ -16,7 +16,7 @@ use wide::{f32x8, CmpEq};
 
 use super::path_record::{LightSampleRecord, PathEnd, PathRecorder, TracesPaths};
 use super::vertex::Vertex;
-use super::{Integrator, IntegratorSettings, SampleContext};
+use super::{CameraExplanation, Integrator, IntegratorSettings, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
 use crate::sampling::Sampler;
@@ -136,6 +136,11 @@ pub(crate) fn power_heuristic8(a: f32x8, b: f32x8) -> f32x8 {
 impl Integrator for PathTracer {
     fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
         self.trace(scene, camera_ray, context, &mut ())
+    }
+
+    fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Option<CameraExplanation> {
+        let (radiance, log) = TracesPaths::explain(self, scene, camera_ray, context);
+        Some(CameraExplanation::Path { radiance, log })
     }
 }
 

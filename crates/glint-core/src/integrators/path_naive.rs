@@ -10,7 +10,7 @@ use glam::Vec2;
 use super::path::russian_roulette;
 use super::path_record::{PathEnd, PathRecorder, TracesPaths};
 use super::vertex::trace_seeing_light;
-use super::{Integrator, SampleContext};
+use super::{CameraExplanation, Integrator, SampleContext};
 use crate::geometry::Ray;
 use crate::scene::Scene;
 use crate::Rgb;
@@ -23,6 +23,11 @@ pub struct NaivePathTracer {
 impl Integrator for NaivePathTracer {
     fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
         self.trace(scene, camera_ray, context, &mut ())
+    }
+
+    fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Option<CameraExplanation> {
+        let (radiance, log) = TracesPaths::explain(self, scene, camera_ray, context);
+        Some(CameraExplanation::Path { radiance, log })
     }
 }
 

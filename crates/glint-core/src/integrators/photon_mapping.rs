@@ -36,7 +36,7 @@ use super::particle::{trace_particle, ParticleVertex};
 use super::path::{russian_roulette, sample_lights, Weighting};
 use super::path_record::{GatherRecord, PathEnd, PathRecorder, TracesPaths};
 use super::vertex::{trace_seeing_light, Vertex};
-use super::{Integrator, RayCounts, SampleContext};
+use super::{CameraExplanation, Integrator, RayCounts, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
 use crate::photons::{NearestPhotons, Photon, PhotonMap};
@@ -372,6 +372,11 @@ fn precompute_irradiance(global: &PhotonMap, nearest: usize, max_radius: f32) ->
 impl Integrator for PhotonMapper {
     fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
         self.trace(scene, camera_ray, context, &mut ())
+    }
+
+    fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Option<CameraExplanation> {
+        let (radiance, log) = TracesPaths::explain(self, scene, camera_ray, context);
+        Some(CameraExplanation::Path { radiance, log })
     }
 }
 

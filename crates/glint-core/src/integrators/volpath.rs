@@ -26,7 +26,7 @@ use super::path::{emission_weight, power_heuristic, BounceDraws};
 use super::path_record::{LightSampleRecord, PathEnd, PathRecorder, TracesPaths};
 use super::vertex::Vertex;
 use super::volume_photons::VolumePhotons;
-use super::{Integrator, IntegratorSettings, SampleContext};
+use super::{CameraExplanation, Integrator, IntegratorSettings, SampleContext};
 use crate::geometry::{offset_ray_origin, Ray};
 use crate::lights::{LightEnd, LightSample};
 use crate::media::{Flight, MediumInterface};
@@ -66,6 +66,11 @@ const MAX_CROSSINGS: usize = 256;
 impl Integrator for VolPathTracer {
     fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
         self.trace(scene, camera_ray, context, &mut ())
+    }
+
+    fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Option<CameraExplanation> {
+        let (radiance, log) = TracesPaths::explain(self, scene, camera_ray, context);
+        Some(CameraExplanation::Path { radiance, log })
     }
 }
 

@@ -30,8 +30,8 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::recorder::{LightRecord, NoRecorder, RayKind, Recorder};
-use super::{Integrator, SampleContext};
+use super::recorder::{LightRecord, NoRecorder, RayKind, RayTree, Recorder};
+use super::{CameraExplanation, Integrator, SampleContext};
 use crate::geometry::{reflect, refract, Ray};
 use crate::scene::{Scene, SurfaceHit};
 use crate::Rgb;
@@ -64,6 +64,14 @@ struct TreeBudget {
 impl Integrator for Whitted {
     fn radiance(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Rgb {
         self.trace_camera_ray(scene, ray, context, &mut NoRecorder)
+    }
+
+    /// The ray tree of `ray`; its colour is what the render computes for the pixel.
+    fn explain(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Option<CameraExplanation> {
+        let cut_before = self.cut_trees();
+        let mut tree = RayTree::default();
+        let colour = self.trace_camera_ray(scene, ray, context, &mut tree);
+        Some(CameraExplanation::Tree { tree, colour, cut: self.cut_trees() > cut_before })
     }
 
     fn warnings(&self) -> Vec<String> {

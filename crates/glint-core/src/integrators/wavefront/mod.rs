@@ -25,7 +25,7 @@ use glam::{Vec2, Vec3};
 use wide::{f32x8, i32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
 use super::path::{power_heuristic8, BounceDraws, PathState, PathTracer, Scatter};
-use super::{Integrator, RayCounts, SampleContext};
+use super::{CameraExplanation, Integrator, RayCounts, SampleContext};
 use crate::geometry::lanes::{negate, Vec3x8, LANES};
 use crate::geometry::{offset_ray_origin8, orthonormal_basis8, Ray};
 use crate::lights::{area_to_solid_angle8, LightSample, TriangleEmitter, TriangleSampling};
@@ -115,6 +115,11 @@ impl Integrator for WavefrontPathTracer {
 
     fn radiance_tile(&self, scene: &Scene, rays: &[Ray], contexts: &mut [SampleContext], out: &mut [Rgb]) {
         Wavefront::new(&self.tracer, scene).radiance_tile(rays, contexts, out);
+    }
+
+    /// The path by the scalar code, which the lanes follow bit for bit.
+    fn explain(&self, scene: &Scene, ray: &Ray, context: &mut SampleContext) -> Option<CameraExplanation> {
+        Integrator::explain(&self.tracer, scene, ray, context)
     }
 }
 
