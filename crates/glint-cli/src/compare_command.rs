@@ -35,7 +35,7 @@ pub struct CompareArgs {
 
 pub fn run(args: CompareArgs) -> Result<(), CliError> {
     // What an image's header may declare (GLINT_MEMORY_LIMIT, as for `render`).
-    glint_scene::set_memory_limit(crate::render_command::memory_limit_bytes(None)?);
+    glint_cli::job::memory_limit(None)?;
     let read = |path: &PathBuf| compare::read_image(path).map_err(CliError::Input);
     let (image, reference) = (read(&args.image)?, read(&args.reference)?);
     let warnings = compare::warnings(&args.image, &image, &args.reference, &reference);

@@ -43,6 +43,9 @@ pub enum CliError {
     /// Partial renders that cannot be merged.
     #[error(transparent)]
     Merge(#[from] MergeError),
+    /// A scene description built in memory (Python's `load_dict`), at its key path.
+    #[error(transparent)]
+    Description(#[from] crate::description::DescriptionError),
     /// A benchmark's input file (mesh, rays, hits) that cannot be read or is malformed.
     #[error("{0}")]
     Input(String),

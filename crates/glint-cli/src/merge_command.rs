@@ -24,7 +24,7 @@ pub struct MergeArgs {
 
 pub fn run(args: MergeArgs) -> Result<(), CliError> {
     // What a part's header may declare (GLINT_MEMORY_LIMIT, as for `render`).
-    glint_scene::set_memory_limit(crate::render_command::memory_limit_bytes(None)?);
+    glint_cli::job::memory_limit(None)?;
     // Checked before the parts are read, so a bad name costs no work.
     check_writable(&args.output)?;
     let parts = args.parts.iter().map(|p| partial::read(p)).collect::<Result<Vec<_>, _>>()?;

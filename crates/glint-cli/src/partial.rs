@@ -63,10 +63,16 @@ pub fn parse_range(text: &str) -> Result<(u32, u32), String> {
     let (a, b) = text.split_once("..").ok_or_else(|| format!("expected A..B (for example 0..64), got `{text}`"))?;
     let number = |v: &str| v.trim().parse::<u32>().map_err(|_| format!("`{v}` is not a sample index"));
     let (a, b) = (number(a)?, number(b)?);
+    check_range(a, b)?;
+    Ok((a, b))
+}
+
+/// Refuses an empty range of samples (A..B holds A to B − 1).
+pub fn check_range(a: u32, b: u32) -> Result<(), String> {
     if a >= b {
         return Err(format!("the range {a}..{b} is empty: it holds samples A to B − 1, so B must exceed A"));
     }
-    Ok((a, b))
+    Ok(())
 }
 
 /// Ranges sorted and joined where they touch.
