@@ -5,9 +5,12 @@
 //! which pickles (for Ray) and merges bit for bit; `compare` judges an image against a
 //! reference.
 //!
-//! The checks a render is held to are the command's own (`glint_cli::limits`: the memory
-//! limit, GLINT_MEMORY_LIMIT, the thread bound), with the same words; the readers' warnings
-//! arrive as `glint.GlintWarning`s.
+//! A load and a render are the command's own render job (`glint_cli::job`): the same checks
+//! and limits (the memory limit, GLINT_MEMORY_LIMIT, the thread bound) with the same words
+//! (arguments named as Python names them), the same identity (a part rendered here merges
+//! with one from `glint render --samples`), and the same warnings, issued as
+//! `glint.GlintWarning`s. This module only turns Python's arguments into a request, runs the
+//! job with the GIL released, and hands back numpy arrays.
 
 use std::ffi::CString;
 use std::path::{Path, PathBuf};
@@ -17,15 +20,15 @@ use std::time::Duration;
 
 use glint_cli::compare as judge;
 use glint_cli::description::{self, Description, DescriptionError};
+use glint_cli::error::CliError;
+use glint_cli::job::{self, FrontEnd, Job, Plan, Request, SceneOverrides, SceneSource};
 use glint_cli::limits;
 use glint_cli::partial::{self, Partial as PartialFile};
 use glint_core::film::Film;
-use glint_core::integrators::aov::render_aovs;
+use glint_core::integrators::aov::Aovs;
 use glint_core::integrators::IntegratorKind;
-use glint_core::render::{render_progressive, Progressive, RenderOutput, RenderSettings};
-use glint_core::scene::Scene as CoreScene;
+use glint_core::render::RenderOutput;
 use glint_core::{Named, Rgb};
-use glint_scene::{LoadedScene, RenderOptions};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyTypeError, PyUserWarning, PyValueError};
@@ -46,6 +49,15 @@ fn glint_error(e: impl std::fmt::Display) -> PyErr {
     GlintError::new_err(e.to_string())
 }
 
+/// A refusal of the render job: an argument out of its range or in conflict (`ValueError`),
+/// or a scene, render or file glint refuses (`GlintError`).
+fn job_error(e: CliError) -> PyErr {
+    match e {
+        CliError::Setting(message) => PyValueError::new_err(message),
+        other => glint_error(other),
+    }
+}
+
 /// Each message as a `GlintWarning`, attributed to the caller's line.
 fn warn_all(py: Python<'_>, messages: &[String]) -> PyResult<()> {
     let category = py.get_type::<GlintWarning>();
@@ -64,9 +76,7 @@ fn path_argument(value: &Bound<'_, PyAny>) -> PyResult<PathBuf> {
 /// The memory limit (GLINT_MEMORY_LIMIT, else the default), read at each call as the command
 /// reads it at each run, and handed to the scene readers.
 fn memory_limit() -> PyResult<u64> {
-    let limit = limits::memory_limit_bytes(None).map_err(glint_error)?;
-    glint_scene::set_memory_limit(limit);
-    Ok(limit)
+    job::memory_limit(None).map_err(glint_error)
 }
 
 /// An integer argument (a Python int, a numpy integer: anything with `__index__`) as its
@@ -106,28 +116,14 @@ fn samples_argument(value: &Bound<'_, PyAny>) -> PyResult<(u32, u32)> {
     Ok((a, b))
 }
 
-/// A loaded scene and the render settings it asks for.
+/// A loaded scene and the render settings it asks for: the render job's scene, which every
+/// render of it starts from.
 #[pyclass(module = "glint._glint", frozen)]
 struct Scene {
-    scene: Arc<CoreScene>,
-    options: RenderOptions,
-    /// What makes a render of this scene what it is (the sources' contents, the parameters):
-    /// parts of one render merge only with each other.
+    job: Arc<Job>,
+    /// The scene's contents and parameters when it was read (`Job::source_fingerprint`): a
+    /// pickled scene read again must be the same.
     source_fingerprint: u64,
-    /// Where it was read from, to read it again when unpickled.
-    origin: Origin,
-}
-
-enum Origin {
-    File {
-        path: PathBuf,
-        params: Vec<(String, String)>,
-    },
-    /// The description's JSON text and the directory its files are found from.
-    Dict {
-        json: String,
-        directory: PathBuf,
-    },
 }
 
 /// An image as a (height, width, 3) float32 array.
@@ -142,9 +138,14 @@ fn scalar_array<'py>(py: Python<'py>, width: u32, height: u32, values: Vec<f32>)
 }
 
 impl Scene {
-    fn new(loaded: LoadedScene, sources: &[u8], params: &[(String, String)], origin: Origin) -> Self {
-        let fingerprint = glint_cli::checkpoint::fingerprint_of(&(sources, params));
-        Self { scene: Arc::new(loaded.scene), options: loaded.render, source_fingerprint: fingerprint, origin }
+    /// Loads `source` within the memory limit, warning what the readers warn about.
+    fn load(py: Python<'_>, source: SceneSource) -> PyResult<Self> {
+        memory_limit()?;
+        let (job, warnings) = Job::load(source, &SceneOverrides::default()).map_err(glint_error)?;
+        warn_all(py, &warnings)?;
+        // The files by content now, as they were read (a render's identity reuses it).
+        let source_fingerprint = job.source_fingerprint();
+        Ok(Self { job: Arc::new(job), source_fingerprint })
     }
 }
 
@@ -152,33 +153,34 @@ impl Scene {
 impl Scene {
     #[getter]
     fn width(&self) -> u32 {
-        self.scene.camera().width
+        self.job.scene().camera().width
     }
 
     #[getter]
     fn height(&self) -> u32 {
-        self.scene.camera().height
+        self.job.scene().camera().height
     }
 
-    /// The scene's own settings: spp, seed, integrator.
+    /// The scene's own settings: spp, seed, integrator, sampler, filter.
     #[getter]
     fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let options = self.job.options();
         let d = PyDict::new(py);
-        d.set_item("spp", self.options.spp)?;
-        d.set_item("seed", self.options.seed)?;
-        d.set_item("integrator", self.options.integrator.name())?;
-        d.set_item("sampler", self.options.sampler.name())?;
-        d.set_item("filter", self.options.filter.name())?;
+        d.set_item("spp", options.spp)?;
+        d.set_item("seed", options.seed)?;
+        d.set_item("integrator", options.integrator.name())?;
+        d.set_item("sampler", options.sampler.name())?;
+        d.set_item("filter", options.filter.name())?;
         Ok(d)
     }
 
     /// Renders the camera's view. Without `samples`: the image as a (height, width, 3)
-    /// float32 array (with `aovs=True`, a dict of it and the AOVs). With `samples=(a, b)`:
-    /// samples a to b − 1 of every pixel, as a `Partial` to merge with the others. `threads`:
-    /// 1 to 1024 worker threads (default: all cores). A render whose buffers would exceed the
-    /// memory limit (GLINT_MEMORY_LIMIT GiB, default 8) is refused, as `glint render` refuses
-    /// it. The GIL is released while rendering; Ctrl-C stops the render and raises
-    /// KeyboardInterrupt.
+    /// float32 array (with `aovs=True`, a dict of it, the AOVs and, for camera integrators,
+    /// the variance). With `samples=(a, b)`: samples a to b − 1 of every pixel, as a `Partial`
+    /// to merge with the others (from Python or `glint render --samples`). `threads`: 1 to
+    /// 1024 worker threads (default: all cores). The render job of `glint render` runs it:
+    /// its checks, its memory limit (GLINT_MEMORY_LIMIT GiB, default 8), its warnings. The GIL
+    /// is released while rendering; Ctrl-C stops the render and raises KeyboardInterrupt.
     #[pyo3(signature = (spp=None, seed=None, samples=None, integrator=None, threads=None, aovs=false))]
     #[allow(clippy::too_many_arguments)] // Python's keyword arguments, as Mitsuba's `render` has them
     fn render<'py>(
@@ -191,9 +193,6 @@ impl Scene {
         threads: Option<&Bound<'py, PyAny>>,
         aovs: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let spp = spp.map(|v| ranged_argument(v, "spp", 1, u64::from(u32::MAX))).transpose()?.map(|v| v as u32);
-        let seed = seed.map(|v| ranged_argument(v, "seed", 0, u64::MAX)).transpose()?;
-        let samples = samples.map(samples_argument).transpose()?;
         let threads = match threads {
             Some(value) => {
                 let (_, shown) = integer_argument(value, "threads")?;
@@ -201,83 +200,57 @@ impl Scene {
             }
             None => None,
         };
-        let kind = match integrator {
-            None => self.options.integrator,
-            Some(name) => IntegratorKind::from_name(name).ok_or_else(|| {
+        let integrator = match integrator {
+            None => None,
+            Some(name) => Some(IntegratorKind::from_name(name).ok_or_else(|| {
                 PyValueError::new_err(format!(
                     "unknown integrator `{name}`, expected one of {}",
                     IntegratorKind::names()
                 ))
-            })?,
+            })?),
         };
-        if let Some((a, b)) = samples {
-            if spp.is_some() {
-                return Err(PyValueError::new_err(
-                    "give spp or samples, not both: samples=(a, b) renders b − a samples",
-                ));
-            }
-            if a >= b {
-                return Err(PyValueError::new_err(format!("samples=({a}, {b}) is empty: it holds samples a to b − 1")));
-            }
-            if !kind.samples_pixels() {
-                return Err(PyValueError::new_err(format!(
-                    "samples: `{}` does not take samples of its own per pixel, so its passes cannot be rendered apart and merged",
-                    kind.name()
-                )));
-            }
-            if aovs {
-                return Err(PyValueError::new_err(
-                    "samples: a part holds its sums alone; ask the AOVs of a whole render",
-                ));
-            }
-        }
-        let (width, height) = (self.width(), self.height());
-        limits::check_memory(kind, &self.options.integrator_settings, width, height, memory_limit()?)
-            .map_err(glint_error)?;
-        let settings = RenderSettings {
-            spp: spp.unwrap_or(self.options.spp),
-            seed: seed.unwrap_or(self.options.seed),
-            filter: self.options.filter,
-            sampler: self.options.sampler,
+        let request = Request {
+            front_end: FrontEnd::Python,
+            integrator,
+            spp: spp.map(|v| ranged_argument(v, "spp", 1, u64::from(u32::MAX))).transpose()?.map(|v| v as u32),
+            seed: seed.map(|v| ranged_argument(v, "seed", 0, u64::MAX)).transpose()?,
+            samples: samples.map(samples_argument).transpose()?,
+            aovs,
+            threads,
+            ..Default::default()
         };
-        let progressive = Progressive { settings, time_limit: None, second_moment: false, sample_range: samples };
-        let (output, warnings) = run_interruptibly(py, self.scene.clone(), kind, self.options, progressive, threads)?;
+        request.check().map_err(job_error)?;
+        let (plan, warnings) = self.job.plan(&request, memory_limit()?).map_err(job_error)?;
         warn_all(py, &warnings)?;
-        if let Some((a, _)) = samples {
-            let identity = glint_cli::checkpoint::fingerprint_of(&(
-                self.source_fingerprint,
-                kind.name(),
-                self.options.integrator_settings,
-                width,
-                height,
-                settings.sampler.name(),
-                settings.filter.name(),
-            ));
-            let attributes = vec![
-                ("glint:integrator".to_string(), kind.name().to_string()),
-                ("glint:seed".to_string(), settings.seed.to_string()),
-                ("glint:sampler".to_string(), settings.sampler.name().to_string()),
-                ("glint:filter".to_string(), settings.filter.name().to_string()),
-                ("glint:identity".to_string(), format!("{identity:016x}")),
-                ("glint:spp".to_string(), output.spp_done.to_string()),
-            ];
-            let part = Partial { film: output.film, attributes, ranges: vec![(a, a + output.spp_done)] };
+        let (output, aov, warnings) = run_interruptibly(py, self.job.clone(), plan.clone())?;
+        warn_all(py, &warnings)?;
+        if let Some(attributes) = self.job.partial_attributes(&plan, &output) {
+            // What was rendered: a render stopped early holds the passes it finished.
+            let first = plan.sample_range.map_or(0, |(a, _)| a);
+            let ranges = vec![(first, first + output.spp_done)];
+            let attributes = attributes
+                .into_iter()
+                .filter(|(k, _)| *k != partial::SAMPLES_KEY)
+                .map(|(k, v)| (k.to_string(), v))
+                .collect();
+            let part = Partial { film: output.film, attributes, ranges };
             return Ok(Bound::new(py, part)?.into_any());
         }
-        let image = image_array(py, width, height, &output.film.to_rgb())?;
-        if !aovs {
-            return Ok(image);
-        }
-        let scene = self.scene.clone();
-        let aov = py.allow_threads(|| {
-            pool(threads).map(|p| p.install(|| render_aovs(&scene, settings.spp.min(16), settings.seed)))
-        });
-        let aov = aov.map_err(glint_error)?;
+        let (width, height) = (self.width(), self.height());
+        let pixels = output.film.to_rgb();
+        let image = image_array(py, width, height, &pixels)?;
+        let Some(aov) = aov else { return Ok(image) };
         let d = PyDict::new(py);
         d.set_item("image", image)?;
         d.set_item("albedo", image_array(py, width, height, &aov.albedo)?)?;
         d.set_item("normal", image_array(py, width, height, &aov.normal)?)?;
         d.set_item("depth", scalar_array(py, width, height, aov.depth)?)?;
+        if let (true, Some(variance)) = (plan.variance, job::variance(&output.film, &pixels, output.spp_done)) {
+            d.set_item("variance", image_array(py, width, height, &variance)?)?;
+        }
+        if let (true, Some(m2)) = (plan.moment, output.film.second_moments()) {
+            d.set_item("m2", image_array(py, width, height, &m2)?)?;
+        }
         Ok(d.into_any())
     }
 
@@ -286,14 +259,15 @@ impl Scene {
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
         let restore = py.import("glint._glint")?.getattr("_restore_scene")?;
         let fingerprint = self.source_fingerprint;
-        let state = match &self.origin {
-            Origin::File { path, params } => {
-                ("file", path.clone(), params.clone(), None::<String>, fingerprint).into_pyobject(py)?
+        let state = match self.job.source() {
+            SceneSource::File { path, defines, .. } => {
+                ("file", path.clone(), defines.clone(), None::<String>, fingerprint).into_pyobject(py)?
             }
-            Origin::Dict { json, directory } => {
-                ("dict", directory.clone(), Vec::<(String, String)>::new(), Some(json.clone()), fingerprint)
+            SceneSource::Description { json, directory } => {
+                ("dict", directory.clone(), Vec::<(String, String)>::new(), Some(json.text.clone()), fingerprint)
                     .into_pyobject(py)?
             }
+            SceneSource::BuiltIn => return Err(glint_error("the built-in scene is not loaded from Python")),
         };
         Ok((restore, state))
     }
@@ -308,22 +282,11 @@ impl Scene {
     }
 }
 
-fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, rayon::ThreadPoolBuildError> {
-    rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build()
-}
-
 /// Renders on a thread of its own while this one, without the GIL, waits for it, taking the
 /// GIL back every 50 ms to let Python handle signals: Ctrl-C raises the stop flag (the render
-/// ends after the pass under way) and becomes KeyboardInterrupt. Returns the render and the
-/// warnings `glint render` prints about it.
-fn run_interruptibly(
-    py: Python<'_>,
-    scene: Arc<CoreScene>,
-    kind: IntegratorKind,
-    options: RenderOptions,
-    progressive: Progressive,
-    threads: Option<usize>,
-) -> PyResult<(RenderOutput, Vec<String>)> {
+/// ends after the pass under way) and becomes KeyboardInterrupt. Returns the render, its AOVs
+/// if planned, and the job's warnings about it.
+fn run_interruptibly(py: Python<'_>, job: Arc<Job>, plan: Plan) -> PyResult<(RenderOutput, Option<Aovs>, Vec<String>)> {
     let stop = Arc::new(AtomicBool::new(false));
     let (sender, receiver) = mpsc::channel();
     // Behind a mutex: the waits below hand it to code without the GIL, which must be Sync.
@@ -331,33 +294,14 @@ fn run_interruptibly(
     let worker = {
         let stop = stop.clone();
         std::thread::spawn(move || {
-            let result = pool(threads).map_err(|e| e.to_string()).and_then(|pool| {
-                pool.install(|| {
-                    let seed = progressive.settings.seed;
-                    let mut renderer = kind
-                        .renderer_until(&options.integrator_settings, &scene, seed, &stop)
-                        .map_err(|e| e.to_string())?;
-                    let mut warnings = Vec::new();
-                    if kind.is_monte_carlo() {
-                        let materials = scene.material_names().iter().zip(scene.materials());
-                        warnings.extend(materials.filter_map(|(name, material)| material.highlight_warning(name)));
-                    }
-                    let output = render_progressive(
-                        &scene,
-                        renderer.as_mut(),
-                        &progressive,
-                        None,
-                        &stop,
-                        &|| {},
-                        &mut |_, _, _| {},
-                    );
-                    warnings.extend(renderer.warnings());
-                    // As the command says it: a render black in every pixel names its cause.
-                    warnings.extend(glint_core::scene::black_image_warning(&scene, kind, &output.film));
-                    Ok((output, warnings))
-                })
+            let result = job.start(&plan, &stop).map(|(mut run, mut warnings)| {
+                let rendered = run.render(None, &stop, &|| {}, &mut |_, _, _| {});
+                warnings.extend(rendered.warnings);
+                // Not after a Ctrl-C: the caller is no longer waiting.
+                let aovs = if stop.load(Ordering::Relaxed) { None } else { run.aovs() };
+                (rendered.output, aovs, warnings)
             });
-            let _ = sender.send(result);
+            let _ = sender.send(result.map_err(job_error));
         })
     };
     loop {
@@ -367,7 +311,7 @@ fn run_interruptibly(
         match received {
             Ok(result) => {
                 let _ = worker.join();
-                return result.map_err(glint_error);
+                return result;
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {
                 if let Err(interrupt) = py.check_signals() {
@@ -486,19 +430,7 @@ fn load_file(py: Python<'_>, path: &Bound<'_, PyAny>, params: Option<&Bound<'_, 
 }
 
 fn read_file(py: Python<'_>, path: PathBuf, defines: Vec<(String, String)>) -> PyResult<Scene> {
-    memory_limit()?;
-    let options = glint_scene::LoadOptions { defines: defines.clone(), ..Default::default() };
-    let loaded = glint_scene::load_scene_with_options(&path, &options).map_err(glint_error)?;
-    warn_all(py, &loaded.warnings)?;
-    // Each file by its contents and length, read within the memory limit: one past it (a glTF
-    // buffer far longer than its byteLength, of which the reader took only that) is not read
-    // whole again here.
-    let mut sources = Vec::new();
-    for input in &loaded.inputs {
-        sources.extend(glint_scene::read_file(input, u64::MAX).unwrap_or_default());
-        sources.extend(std::fs::metadata(input).map(|m| m.len()).unwrap_or_default().to_le_bytes());
-    }
-    Ok(Scene::new(loaded, &sources, &defines, Origin::File { path, params: defines.clone() }))
+    Scene::load(py, SceneSource::File { path, defines, search_path: Vec::new(), no_default_light: false })
 }
 
 /// Loads a scene from a dict with the native format's schema (the TOML file's tables as
@@ -512,12 +444,8 @@ fn load_dict(py: Python<'_>, description: &Bound<'_, PyDict>) -> PyResult<Scene>
 }
 
 fn read_dict(py: Python<'_>, description: &Bound<'_, PyAny>, directory: PathBuf) -> PyResult<Scene> {
-    memory_limit()?;
     let json = describe(description, "", 0)?.to_json().map_err(glint_error)?;
-    let loaded = json.load(&glint_scene::Source::directory(directory.clone())).map_err(glint_error)?;
-    warn_all(py, &loaded.warnings)?;
-    let sources = json.text.as_bytes().to_vec();
-    Ok(Scene::new(loaded, &sources, &[], Origin::Dict { json: json.text, directory }))
+    Scene::load(py, SceneSource::Description { json, directory })
 }
 
 /// A Python value as a scene description: dicts with str keys, lists and tuples, str, int,
@@ -637,6 +565,13 @@ fn merge(parts: Vec<PyRef<'_, Partial>>) -> PyResult<Partial> {
     Ok(Partial { film: merged.film, attributes, ranges: merged.ranges })
 }
 
+/// Reads a part written by `Partial.save` or `glint render --samples A..B` (a partial EXR),
+/// to merge with others.
+#[pyfunction]
+fn load_partial(path: &Bound<'_, PyAny>) -> PyResult<Partial> {
+    Partial::from_file(partial::read(&path_argument(path)?).map_err(glint_error)?)
+}
+
 /// An image argument: a path, or a (height, width, 3) array.
 fn image_argument(value: &Bound<'_, PyAny>, what: &str) -> PyResult<judge::Image> {
     if value.is_instance_of::<PyString>() || value.is_instance_of::<PyBytes>() || value.hasattr("__fspath__")? {
@@ -716,6 +651,7 @@ fn _glint(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_file, m)?)?;
     m.add_function(wrap_pyfunction!(load_dict, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
+    m.add_function(wrap_pyfunction!(load_partial, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(restore_scene, m)?)?;
     m.add_function(wrap_pyfunction!(check_output, m)?)?;

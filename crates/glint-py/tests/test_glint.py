@@ -7,6 +7,7 @@ import multiprocessing
 import os
 import pathlib
 import pickle
+import re
 import signal
 import subprocess
 import sys
@@ -40,13 +41,25 @@ def small_scene(width=24):
     }
 
 
-def glint_cli(*args, env=None):
-    """Runs the `glint` command (built beside the wheel by tests/python.rs); its stderr."""
+def run_glint_cli(args, env=None):
+    """Runs the `glint` command (built beside the wheel by tests/python.rs)."""
     cli = os.environ.get("GLINT_CLI") or os.path.join(ROOT, "target", "release", "glint")
     if not os.path.exists(cli):
         pytest.skip("the glint command is not built (tests/python.rs builds it and sets GLINT_CLI)")
-    out = subprocess.run([cli, *args], capture_output=True, text=True, env=env, timeout=120)
+    return subprocess.run([cli, *args], capture_output=True, text=True, env=env, timeout=120)
+
+
+def glint_cli(*args, env=None):
+    """Runs the `glint` command, which must refuse; its stderr."""
+    out = run_glint_cli(args, env=env)
     assert out.returncode != 0, out.stderr
+    return out.stderr
+
+
+def glint_cli_ok(*args):
+    """Runs the `glint` command, which must succeed; its stderr."""
+    out = run_glint_cli(args)
+    assert out.returncode == 0, out.stderr
     return out.stderr
 
 
@@ -93,10 +106,15 @@ def test_merges_of_two_three_and_seven_ranges_equal_one_render_bit_for_bit():
         glint.merge([a, scene.render(samples=(3, 7), seed=3)])
     with pytest.raises(glint.GlintError, match="seed"):
         glint.merge([a, scene.render(samples=(5, 9), seed=4)])
-    with pytest.raises(ValueError, match="empty"):
+    with pytest.raises(ValueError, match="^samples: the range 4..4 is empty"):
         scene.render(samples=(4, 4))
-    with pytest.raises(ValueError, match="spp or samples"):
+    # The command's checks, in Python's names.
+    with pytest.raises(ValueError, match="^samples renders exactly the samples it names: it cannot be combined with spp$"):
         scene.render(spp=4, samples=(0, 4))
+    with pytest.raises(ValueError, match="leave aovs to the merged render"):
+        scene.render(samples=(0, 4), aovs=True)
+    with pytest.raises(ValueError, match="^samples: `light` does not take samples of its own per pixel"):
+        scene.render(samples=(0, 4), integrator="light")
 
 
 def test_compare_metrics_on_hand_made_images():
@@ -393,3 +411,102 @@ def test_load_warnings_reach_python_as_warnings():
     bright["materials"]["white"]["reflectance"] = [1.5, 1.5, 1.5]
     with pytest.warns(glint.GlintWarning, match="material `white` reflects or transmits more light than it receives"):
         glint.load_dict(bright)
+
+
+# A Mitsuba scene with a parameter (the sphere's radius): the parameters are part of a
+# render's identity, from the command's -D as from load_file's keywords.
+MITSUBA_SPHERE = """<scene version="3.0.0">
+    <default name="radius" value="0.5"/>
+    <sensor type="perspective">
+        <float name="fov" value="40"/>
+        <transform name="to_world"><lookat origin="0, 0, -4" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
+        <film type="hdrfilm"><integer name="width" value="20"/><integer name="height" value="16"/></film>
+    </sensor>
+    <integrator type="path"><integer name="max_depth" value="4"/></integrator>
+    <shape type="sphere"><float name="radius" value="$radius"/>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.7, 0.5, 0.3"/></bsdf></shape>
+    <shape type="sphere"><point name="center" x="1" y="2" z="-1"/><float name="radius" value="0.3"/>
+        <emitter type="area"><rgb name="radiance" value="8, 8, 8"/></emitter></shape>
+    <emitter type="constant"><rgb name="radiance" value="0.1, 0.1, 0.2"/></emitter>
+</scene>
+"""
+
+
+def test_parts_from_python_and_the_command_merge_bit_for_bit(tmp_path):
+    """One render's samples split between the two front ends: the merge equals the command's
+    render of both halves (and of all the samples) bit for bit, in either order, through
+    either front end's merge; a part of another render is still refused."""
+    native = tmp_path / "scene.json"
+    native.write_text(json.dumps(small_scene(width=24)))
+    mitsuba = tmp_path / "sphere.xml"
+    mitsuba.write_text(MITSUBA_SPHERE)
+    for scene_file, params in ((native, {}), (mitsuba, {"radius": 0.75})):
+        defines = [arg for name, value in params.items() for arg in ("-D", f"{name}={value}")]
+
+        def cli_part(a, b, seed=3):
+            out = tmp_path / f"cli-{scene_file.stem}-{a}-{b}-{seed}.exr"
+            glint_cli_ok("render", str(scene_file), *defines, "--samples", f"{a}..{b}", "--seed", str(seed),
+                         "-q", "-o", str(out))
+            return out
+
+        # The command's own: both halves merged by `glint merge`, and all the samples at once.
+        cli_first, cli_second = cli_part(0, 3), cli_part(3, 8)
+        both = tmp_path / f"both-{scene_file.stem}.exr"
+        glint_cli_ok("merge", "-q", str(both), str(cli_first), str(cli_second))
+        whole = glint.load_partial(both)
+        assert whole.samples == [(0, 8)]
+        assert np.array_equal(whole.image, glint.load_partial(cli_part(0, 8)).image)
+        assert whole.image.max() > 0.01
+
+        scene = glint.load_file(scene_file, **params)
+        py_first, py_second = scene.render(samples=(0, 3), seed=3), scene.render(samples=(3, 8), seed=3)
+        for parts in ([py_first, glint.load_partial(cli_second)], [glint.load_partial(cli_first), py_second]):
+            merged = glint.merge(parts)
+            assert merged.samples == [(0, 8)]
+            assert np.array_equal(merged.image, whole.image), scene_file
+        # The command merges a part Python saved with one of its own.
+        py_first.save(tmp_path / "py-first.exr")
+        mixed = tmp_path / f"mixed-{scene_file.stem}.exr"
+        glint_cli_ok("merge", "-q", str(mixed), str(tmp_path / "py-first.exr"), str(cli_second))
+        assert np.array_equal(glint.load_partial(mixed).image, whole.image)
+
+        # Parts of other renders: another seed, another parameter.
+        with pytest.raises(glint.GlintError, match="`glint:seed` differ"):
+            glint.merge([py_first, glint.load_partial(cli_part(3, 8, seed=4))])
+    other = glint.load_file(mitsuba, radius=0.5).render(samples=(0, 3), seed=3)
+    with pytest.raises(glint.GlintError, match="`glint:identity` differ"):
+        glint.merge([other, py_second])
+
+
+def test_the_job_warns_in_python_as_on_the_command_line(tmp_path):
+    """The scene's `moment` that a render cannot keep: the command's warning, as a
+    GlintWarning; a camera render keeps it and returns it with the AOVs, beside the
+    variance."""
+    description = small_scene(width=12)
+    description["render"]["moment"] = True
+    scene = glint.load_dict(description)
+    message = "the scene asks for the second moment (`moment`), which is not written: `light` splats particles"
+    with pytest.warns(glint.GlintWarning, match=re.escape(message)):
+        scene.render(spp=1, integrator="light")
+    scene_file = tmp_path / "moment.json"
+    scene_file.write_text(json.dumps(description))
+    stderr = glint_cli_ok("render", str(scene_file), "--spp", "1", "--integrator", "light", "-q",
+                          "-o", str(tmp_path / "m.pfm"))
+    assert f"warning: {message}" in stderr, stderr
+    layers = scene.render(spp=4, seed=1, aovs=True)
+    assert layers["m2"].shape == (12, 12, 3) and layers["variance"].shape == (12, 12, 3)
+    assert (layers["m2"] >= layers["image"] ** 2 * 0.999).all()
+    assert np.allclose(layers["variance"], np.maximum(layers["m2"] - layers["image"] ** 2, 0) / 4, rtol=1e-5, atol=1e-7)
+
+
+def test_the_memory_limit_counts_the_photon_maps_in_python_as_on_the_command_line(tmp_path, monkeypatch):
+    description = small_scene(width=8)
+    description["render"]["photons"] = 200_000_000
+    scene_file = tmp_path / "photons.json"
+    scene_file.write_text(json.dumps(description))
+    scene = glint.load_file(scene_file)
+    with pytest.raises(glint.GlintError, match="pixels and the photon maps") as refused:
+        scene.render(spp=1, integrator="photon")
+    stderr = glint_cli("render", str(scene_file), "--integrator", "photon", "-o", str(tmp_path / "x.pfm"))
+    assert f"error: {refused.value}" in stderr.splitlines(), stderr
