@@ -51,7 +51,15 @@ impl RenderIdentity<'_> {
 pub(super) fn scene_contents(source: &SceneSource, inputs: &[PathBuf]) -> Vec<u8> {
     match source {
         SceneSource::BuiltIn => b"<built-in default scene>".to_vec(),
-        SceneSource::File { .. } => inputs_fingerprint(inputs),
+        // Without the default light a glTF model renders another image; marked only when
+        // asked for, so that every other render keeps its fingerprint.
+        SceneSource::File { no_default_light, .. } => {
+            let mut contents = inputs_fingerprint(inputs);
+            if *no_default_light {
+                contents.extend_from_slice(b"<no default light>");
+            }
+            contents
+        }
         SceneSource::Description { json, .. } => {
             let text = json.text.as_bytes();
             let own = checkpoint::fingerprint(&[text, &(text.len() as u64).to_le_bytes()]).to_le_bytes();
@@ -79,6 +87,22 @@ fn inputs_fingerprint(inputs: &[PathBuf]) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A render without the default light is another render; with it, the scene's contents are
+    /// those of before the option existed.
+    #[test]
+    fn the_default_light_left_out_changes_the_identity() {
+        let file = |no_default_light| SceneSource::File {
+            path: "model.glb".into(),
+            defines: Vec::new(),
+            search_path: Vec::new(),
+            no_default_light,
+        };
+        let inputs = [PathBuf::from("no-such-model.glb")];
+        let (lit, unlit) = (scene_contents(&file(false), &inputs), scene_contents(&file(true), &inputs));
+        assert_eq!(lit, inputs_fingerprint(&inputs));
+        assert_ne!(identity(&lit, &[]).fingerprint(), identity(&unlit, &[]).fingerprint());
+    }
 
     fn identity<'a>(contents: &'a [u8], defines: &'a [(String, String)]) -> RenderIdentity<'a> {
         RenderIdentity {
