@@ -224,32 +224,9 @@ impl WatertightRay8 {
         Hits8 { mask: hit.move_mask() as u32, t: t.to_array(), u: v_ * inv_det, v: w * inv_det }
     }
 
-    /// The nearest of `hits` (lanes of `block`) at its distance from the triangle's plane, as
-    /// the scalar test reports it (`plane_distance`): the lane and the hit. A lane whose plane
-    /// distance leaves (t_min, t_max), which only a hit within rounding of an end can, is
-    /// dropped, as the scalar test drops it, and the next nearest taken. Refined for the
-    /// nearest lane only: for every hit lane, the f64 arithmetic cost the dragon's primary
-    /// rays 4 % of their time.
-    #[inline]
-    pub fn nearest_refined(
-        &self,
-        block: &Triangle8,
-        mut hits: Hits8,
-        t_min: f32,
-        t_max: f32,
-    ) -> Option<(usize, PrimHit)> {
-        loop {
-            let (lane, hit) = hits.nearest()?;
-            let t = plane_distance(block.triangle(lane), &self.ray, hit.t);
-            if t > t_min && t < t_max {
-                return Some((lane, PrimHit { t, ..hit }));
-            }
-            hits.mask &= !(1 << lane);
-        }
-    }
-
-    /// A hit lane at its distance from the triangle's plane, as `nearest_refined` (None if
-    /// that leaves (t_min, t_max)).
+    /// A hit lane at its distance from the triangle's plane, as the scalar test reports it
+    /// (`plane_distance`), or None if that distance leaves (t_min, t_max), as the scalar test
+    /// then drops the hit. The f64 arithmetic is for the hit a query keeps, not every lane.
     #[inline]
     pub fn refined(&self, block: &Triangle8, lane: usize, hit: PrimHit, t_min: f32, t_max: f32) -> Option<PrimHit> {
         let t = plane_distance(block.triangle(lane), &self.ray, hit.t);

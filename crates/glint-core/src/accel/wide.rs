@@ -178,19 +178,21 @@ impl Bvh8 {
     ///
     /// `start(i, ray)` makes ray `i`'s per-walk state (the leaf test's prepared ray, say),
     /// `hit(state, item, ray)` tests a leaf item as `closest_counted`'s `hit` does, and
-    /// `finish(i, state)` hands back the state when ray `i` is done, its `t_max` narrowed.
+    /// `finish(i, state, ray)` hands back the state and ray `i`'s narrowed copy when it is
+    /// done, whose `t_max` (which `finish` may still set) becomes `rays[i]`'s.
     #[inline]
     pub fn closest_interleaved<S>(
         &self,
         rays: &mut [Ray],
         mut start: impl FnMut(usize, &Ray) -> S,
         mut hit: impl FnMut(&mut S, u32, &Ray) -> Option<f32>,
-        mut finish: impl FnMut(usize, S),
+        mut finish: impl FnMut(usize, S, &mut Ray),
         prefetch_leaf: impl Fn(u32),
     ) {
         if self.nodes.is_empty() {
-            for (i, ray) in rays.iter().enumerate() {
-                finish(i, start(i, ray));
+            for (i, ray) in rays.iter_mut().enumerate() {
+                let state = start(i, ray);
+                finish(i, state, ray);
             }
             return;
         }
@@ -209,8 +211,8 @@ impl Bvh8 {
                 if walk.state.is_none() || self.step(walk, &mut hit, &prefetch_leaf) {
                     continue;
                 }
+                finish(walk.index, walk.state.take().unwrap(), &mut walk.ray);
                 rays[walk.index].t_max = walk.ray.t_max;
-                finish(walk.index, walk.state.take().unwrap());
                 if next < rays.len() {
                     walk.begin(next, &rays[next], start(next, &rays[next]));
                     next += 1;
@@ -311,19 +313,7 @@ impl Bvh8 {
     /// leaf test is a call: inlined there, it cost the dragon's diffuse rays 9 % of their
     /// any-hit speed. The two need two closures, as a closure is inlined at one call only.
     #[inline]
-    pub fn any<const ONE_NODE: bool>(&self, ray: &Ray, hit: impl FnMut(u32, &Ray) -> bool) -> bool {
-        self.any_prefetching::<ONE_NODE>(ray, hit, |_| ())
-    }
-
-    /// `any`, with each entered child asked of the memory system before the first is used:
-    /// nodes here, leaves through `prefetch_leaf` (given a leaf's first item).
-    #[inline]
-    pub fn any_prefetching<const ONE_NODE: bool>(
-        &self,
-        ray: &Ray,
-        mut hit: impl FnMut(u32, &Ray) -> bool,
-        prefetch_leaf: impl Fn(u32),
-    ) -> bool {
+    pub fn any<const ONE_NODE: bool>(&self, ray: &Ray, mut hit: impl FnMut(u32, &Ray) -> bool) -> bool {
         if self.nodes.is_empty() {
             return false;
         }
@@ -342,12 +332,6 @@ impl Bvh8 {
         while let Some(index) = stack.pop() {
             let node = &self.nodes[index as usize];
             let (_, mask) = query.test(node, ray.t_min, ray.t_max);
-            // Every entered child's memory requested at once, before the first is used.
-            let mut entered = mask;
-            while entered != 0 {
-                self.prefetch(node.children[entered.trailing_zeros() as usize], &prefetch_leaf);
-                entered &= entered - 1;
-            }
             for k in 0..WIDTH {
                 if mask & (1 << k) != 0 {
                     let child = node.children[k];
