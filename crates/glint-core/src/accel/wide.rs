@@ -173,8 +173,7 @@ impl Bvh8 {
     /// prefetched, and by the time the walk comes back to that ray it has arrived. A single
     /// incoherent ray spends most of its time waiting for memory (the dragon's random rays:
     /// half their time at the first load of a node or a leaf block); interleaved, the waits of
-    /// several rays overlap (Kim et al.'s software pipelining of traversal; the GPU's warps do
-    /// the same in hardware).
+    /// several rays overlap, as a GPU's warps overlap theirs in hardware.
     ///
     /// `start(i, ray)` makes ray `i`'s per-walk state (the leaf test's prepared ray, say),
     /// `hit(state, item, ray)` tests a leaf item as `closest_counted`'s `hit` does, and
