@@ -1,6 +1,12 @@
 #!/usr/bin/env python3
-"""glint against Mitsuba 3 on scenes of Mitsuba's own regression suite (issue 25): the error
-each reaches in equal time, as a ratio, in one sitting.
+"""glint against Mitsuba 3 on scenes of Mitsuba's own regression suite (issues 25 and 48): the
+error each reaches in equal time, as a ratio, in one sitting.
+
+By default three long renders (a glossy sphere, instances, a hall of mirrors); with `--all`,
+every one of the suite's 41 scenes with an RGB reference, at the samples per pixel Mitsuba's
+own test renders them (2,000,000 / pixels, times `--spp-scale`), followed by the geometric
+mean of the ratios and the worst scene. `--only SUBSTRING` keeps the scenes whose path
+contains it.
 
 For each scene both renderers render the same number of samples per pixel, each timed on its
 render alone (Mitsuba: the second `mi.render` of a loaded scene, so its kernels are compiled
@@ -13,17 +19,20 @@ different seeds; the scenes' `moment` wrapper stays in both (Mitsuba pays for tw
 channels, glint renders the nested integrator).
 
     python3 benchmarks/mitsuba_suite_equal_time.py --mitsuba-python ~/venvs/mitsuba/bin/python \
-        [--glint target/release/glint] [--variant llvm_ad_rgb] [--rounds 3] [--threads 2]
+        [--glint target/release/glint] [--variant llvm_ad_rgb] [--rounds 3] [--threads 2] \
+        [--all [--spp-scale 1.0]] [--only projector]
 
 Needs numpy in the Python that runs it and Mitsuba 3 in `--mitsuba-python`'s (the anchors'
 `mitsuba/setup.sh` makes that venv). Build glint first: `cargo build --release`.
 """
 import argparse
 import json
+import math
 import os
 import re
 import statistics
 import subprocess
+import sys
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -61,6 +70,27 @@ print(json.dumps({"seconds": seconds}))
 """
 
 
+# Mitsuba's test: 2,000,000 samples per image, whatever its size.
+SAMPLES_PER_IMAGE = 2_000_000
+
+
+def suite_scenes():
+    """Every suite scene with an RGB reference, as (group, file name), sorted."""
+    found = []
+    scenes = os.path.join(SUITE, "scenes")
+    for group in sorted(os.listdir(scenes)):
+        for name in sorted(os.listdir(os.path.join(scenes, group))):
+            if name.endswith(".xml") and os.path.exists(reference_path(group, name)):
+                found.append((group, name))
+    return found
+
+
+def reference_path(group, name):
+    stem = name[:-4]
+    base = stem[:stem.rfind("_")]
+    return os.path.join(SUITE, "scenes", group, "refs", f"{base}_ref_rgb.exr")
+
+
 def read_exr(python, path):
     """RGB of an EXR as nested lists, read by Mitsuba's Python (numpy there)."""
     code = ("import sys, json, numpy as np, mitsuba as mi; mi.set_variant('scalar_rgb');"
@@ -82,17 +112,30 @@ def main():
     parser.add_argument("--variant", default="llvm_ad_rgb")
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--all", action="store_true", help="every suite scene, at Mitsuba's test spp")
+    parser.add_argument("--spp-scale", type=float, default=1.0, help="with --all: the test's spp times this")
+    parser.add_argument("--only", help="keep the scenes whose group/file contains this")
     args = parser.parse_args()
+
+    if not os.path.isdir(SUITE):
+        parser.error(f"Mitsuba's suite not found at {SUITE}")
+    if args.all:
+        scenes = [(group, name, None) for group, name in suite_scenes()]
+    else:
+        scenes = SCENES
+    if args.only:
+        scenes = [s for s in scenes if args.only in f"{s[0]}/{s[1]}"]
 
     rows = []
     with tempfile.TemporaryDirectory() as scratch:
-        for group, name, spp in SCENES:
+        for group, name, spp in scenes:
             path = os.path.join(SUITE, "scenes", group, name)
             stem = name[:-4]
             integrator = stem[stem.rfind("_") + 1:]
-            base = stem[:stem.rfind("_")]
-            reference = read_exr(args.mitsuba_python,
-                                 os.path.join(SUITE, "scenes", group, "refs", f"{base}_ref_rgb.exr"))
+            reference = read_exr(args.mitsuba_python, reference_path(group, name))
+            if spp is None:
+                pixels = len(reference) * len(reference[0])
+                spp = max(1, round(SAMPLES_PER_IMAGE // pixels * args.spp_scale))
             results = {"mitsuba": [], "glint": []}
             for seed in range(args.rounds):
                 out = os.path.join(scratch, f"{stem}-mitsuba-{seed}.exr")
@@ -114,6 +157,9 @@ def main():
                 summary[who] = (statistics.median(s for s, _ in runs), statistics.median(e for _, e in runs),
                                 statistics.median(s * e for s, e in runs))
             rows.append((f"{group}/{stem}", spp, summary))
+            (mt, me, mp), (gt, ge, gp) = summary["mitsuba"], summary["glint"]
+            print(f"{group}/{stem}: {spp} spp, Mitsuba {mt:.3f} s, glint {gt:.3f} s, "
+                  f"equal-time error {gp / mp:.2f}×", file=sys.stderr, flush=True)
 
     print(f"| scene | spp | Mitsuba {args.variant} s | glint s | Mitsuba relMSE | glint relMSE "
           "| speed (Mitsuba s / glint s) | equal-time error (glint / Mitsuba) |")
@@ -122,6 +168,15 @@ def main():
         (mt, me, mp), (gt, ge, gp) = s["mitsuba"], s["glint"]
         print(f"| {scene} | {spp} | {mt:.3f} | {gt:.3f} | {me:.3g} | {ge:.3g} | {mt / gt:.2f}× "
               f"| {gp / mp:.2f}× |")
+    ratios = [(s["glint"][2] / s["mitsuba"][2], scene) for scene, _, s in rows]
+    speeds = [s["mitsuba"][0] / s["glint"][0] for _, _, s in rows]
+    if ratios:
+        geomean = math.exp(sum(math.log(r) for r, _ in ratios) / len(ratios))
+        worst, worst_scene = max(ratios)
+        behind = sum(1 for r, _ in ratios if r > 1.0)
+        speed = math.exp(sum(math.log(r) for r in speeds) / len(speeds))
+        print(f"\n{len(ratios)} scenes: equal-time error (glint / Mitsuba) geometric mean {geomean:.2f}×, "
+              f"worst {worst:.2f}× ({worst_scene}), glint behind on {behind}; speed geometric mean {speed:.2f}×")
 
 
 if __name__ == "__main__":
