@@ -89,6 +89,11 @@ pub struct FilmBand<'a> {
 }
 
 impl FilmBand<'_> {
+    /// The film's rows this band holds.
+    pub fn rows(&self) -> std::ops::Range<u32> {
+        self.y0..self.y0 + self.rows
+    }
+
     /// `Film::add_samples` for pixel (x, y) of the film, which must lie in this band.
     pub fn add_samples(&mut self, x: u32, y: u32, radiance_sum: Rgb, count: f32) {
         debug_assert!(x < self.width && (self.y0..self.y0 + self.rows).contains(&y), "({x}, {y}) outside the band");

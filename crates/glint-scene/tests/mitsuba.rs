@@ -1313,3 +1313,20 @@ fn a_mirroring_sensor_renders_mirrored() {
     assert!(plain.x < 0.0, "{plain}");
     assert!((mirrored - Vec3::new(-plain.x, plain.y, plain.z)).length() < 1e-5, "{mirrored} vs {plain}");
 }
+
+/// Mitsuba's gaussian reconstruction filter (its film's default, and `<rfilter type="gaussian">`)
+/// is cut off at 4σ = 2 pixels: glint's `gaussian-wide`, not pbrt-v4's `gaussian` (1.5).
+#[test]
+fn mitsubas_gaussian_filter_reaches_two_pixels() {
+    let film = |rfilter: &str| {
+        format!(
+            r#"<scene version="3.0.0"><sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/>{rfilter}</film></sensor></scene>"#
+        )
+    };
+    for (name, rfilter) in [("default", ""), ("named", r#"<rfilter type="gaussian"/>"#)] {
+        let loaded =
+            load_scene(&scene_file(&format!("gaussian-{name}"), &film(rfilter))).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(loaded.render.filter, Filter::GaussianWide, "{name}");
+        assert_eq!(loaded.render.filter.radius(), 2.0);
+    }
+}

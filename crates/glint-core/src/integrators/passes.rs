@@ -140,8 +140,8 @@ type TileResult = (Vec<(f32, f32)>, Vec<Rgb>, RayCounts);
 /// as one pass after another would: for the box filter, each into its own pixel by each tile as
 /// it finishes it (tiles are disjoint, and a tile adds its passes in order, so the order of
 /// additions to a pixel is the passes' order); for other filters, splatted to every pixel
-/// within the filter's radius serially after the parallel tiles, a pass at a time, so that the
-/// image does not depend on the thread count.
+/// within the filter's radius after the parallel tiles, a pass at a time, by bands of rows in
+/// parallel (`splat_tiles`), so that the image does not depend on the thread count.
 fn camera_passes(
     scene: &Scene,
     integrator: &dyn Integrator,
@@ -201,28 +201,81 @@ fn camera_passes(
                 result
             })
             .collect();
-        for (positions, radiance, tile_rays) in tiles {
-            for (&(fx, fy), r) in positions.iter().zip(radiance) {
-                splat(film, pass.filter, fx, fy, r);
-            }
-            rays.add(&tile_rays);
+        splat_tiles(film, pass.filter, &tiles);
+        for (_, _, tile_rays) in &tiles {
+            rays.add(tile_rays);
         }
     }
     rays
 }
 
+/// A pass's tiles (in `tiles` order) splatted to the film: the additions a serial splat of
+/// tile after tile would make, each band of rows taking its own in parallel. A pixel lies in
+/// one band, and its band visits the tiles within the filter's reach in order, so each pixel
+/// receives its additions in the serial order, bit for bit. (Splatted serially after the
+/// parallel tiles, this took a third of a two-thread render of Mitsuba's 48² test scenes.)
+fn splat_tiles(film: &mut Film, filter: Filter, results: &[TileResult]) {
+    let (width, height) = (film.width, film.height);
+    let rects = tiles(width, height);
+    let reach = filter.radius();
+    let bands = film.bands_mut(TILE_SIZE);
+    bands.into_par_iter().with_max_len(1).for_each(|mut band| {
+        let rows = band.rows();
+        let near = |&(_, y0, _, y1): &(u32, u32, u32, u32)| {
+            (y0 as f32 - reach) < rows.end as f32 && (y1 as f32 + reach) > rows.start as f32
+        };
+        for (_, (positions, radiance, _)) in rects.iter().zip(results).filter(|(rect, _)| near(rect)) {
+            for (&(fx, fy), &r) in positions.iter().zip(radiance) {
+                footprint(filter, width, rows.clone(), fx, fy, |x, y, w| band.add_sample(x, y, r, w));
+            }
+        }
+    });
+}
+
 /// Adds a sample at film position (fx, fy) to every pixel whose centre is within the radius.
 pub fn splat(film: &mut Film, filter: Filter, fx: f32, fy: f32, radiance: Rgb) {
+    let (width, height) = (film.width, film.height);
+    footprint(filter, width, 0..height, fx, fy, |x, y, w| film.add_sample(x, y, radiance, w));
+}
+
+/// The pixels of rows `rows` (of a film `width` wide) whose centres lie within the filter's
+/// radius of film position (fx, fy), row by row, each with its weight w(dx)·w(dy) (`add(x, y,
+/// w)`; pixels of weight 0 skipped). The 1D weights are evaluated once per column and row.
+#[inline]
+fn footprint(
+    filter: Filter,
+    width: u32,
+    rows: std::ops::Range<u32>,
+    fx: f32,
+    fy: f32,
+    mut add: impl FnMut(u32, u32, f32),
+) {
+    // At most five pixels across: the widest filters' radius is 2.
+    const MOST: usize = 5;
     let r = filter.radius();
     let x0 = (fx - 0.5 - r).ceil().max(0.0) as u32;
-    let y0 = (fy - 0.5 - r).ceil().max(0.0) as u32;
-    let x1 = ((fx - 0.5 + r).floor() as i64).min(film.width as i64 - 1);
-    let y1 = ((fy - 0.5 + r).floor() as i64).min(film.height as i64 - 1);
-    for y in y0 as i64..=y1 {
-        for x in x0 as i64..=x1 {
-            let w = filter.weight(x as f32 + 0.5 - fx, y as f32 + 0.5 - fy);
+    let y0 = ((fy - 0.5 - r).ceil().max(0.0) as u32).max(rows.start);
+    let x1 = ((fx - 0.5 + r).floor() as i64).min(width as i64 - 1);
+    let y1 = ((fy - 0.5 + r).floor() as i64).min(rows.end as i64 - 1);
+    if x1 < x0 as i64 || y1 < y0 as i64 {
+        return;
+    }
+    let (columns, lines) = ((x1 - x0 as i64 + 1) as usize, (y1 - y0 as i64 + 1) as usize);
+    debug_assert!(columns <= MOST && lines <= MOST, "a filter reaches {columns} × {lines} pixels");
+    let mut wx = [0f32; MOST];
+    for (i, w) in wx.iter_mut().enumerate().take(columns) {
+        *w = filter.weight_1d((x0 + i as u32) as f32 + 0.5 - fx);
+    }
+    for j in 0..lines as u32 {
+        let y = y0 + j;
+        let wy = filter.weight_1d(y as f32 + 0.5 - fy);
+        if wy == 0.0 {
+            continue;
+        }
+        for (i, &w) in wx.iter().enumerate().take(columns) {
+            let w = w * wy;
             if w != 0.0 {
-                film.add_sample(x as u32, y as u32, radiance, w);
+                add(x0 + i as u32, y, w);
             }
         }
     }
@@ -304,6 +357,48 @@ mod tests {
     use crate::lights::Environment;
     use crate::scene::SceneBuilder;
     use crate::{Named, Vec3};
+
+    /// A pass's tiles splatted by bands in parallel make the additions of a serial splat, in
+    /// its order: the same sums, weights and second moments bit for bit, for every filter, on a
+    /// film whose bands and tiles leave remainders (37 × 29 pixels: three bands, the last of
+    /// 13 rows, and tiles of 5 and 13 pixels at the edges).
+    #[test]
+    fn banded_splats_equal_a_serial_splat() {
+        let (width, height) = (37, 29);
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let results: Vec<TileResult> = tiles(width, height)
+            .into_iter()
+            .map(|(x0, y0, x1, y1)| {
+                let mut positions = Vec::new();
+                let mut radiance = Vec::new();
+                for y in y0..y1 {
+                    for x in x0..x1 {
+                        positions.push((x as f32 + next(), y as f32 + next()));
+                        radiance.push(Rgb::new(next(), 4.0 * next(), next() * next()));
+                    }
+                }
+                (positions, radiance, RayCounts::default())
+            })
+            .collect();
+        for &filter in Filter::ALL {
+            let mut serial = Film::new(width, height).with_second_moment();
+            for (positions, radiance, _) in &results {
+                for (&(fx, fy), &r) in positions.iter().zip(radiance) {
+                    splat(&mut serial, filter, fx, fy, r);
+                }
+            }
+            let mut banded = Film::new(width, height).with_second_moment();
+            splat_tiles(&mut banded, filter, &results);
+            assert!(serial.accumulators() == banded.accumulators(), "{}: the sums differ", filter.name());
+            assert!(serial.second_moments() == banded.second_moments(), "{}: the moments differ", filter.name());
+            // And the splat reached past the tile borders (a filter wider than the box).
+            assert!(serial.accumulators().1.iter().all(|&w| w > 0.0), "{}: a pixel got nothing", filter.name());
+        }
+    }
 
     /// A tile's camera samples, drawn eight samplers at a time (and a pinhole's rays made
     /// eight at a time), are what each pixel's sample draws alone: film position, ray

@@ -70,7 +70,8 @@ impl<'a> Translator<'a> {
                 integrator: "path".into(),
                 max_depth: -1,
                 spp: 4,
-                filter: "gaussian".into(),
+                // Mitsuba's default reconstruction filter: its gaussian, σ ½ out to 4σ.
+                filter: "gaussian-wide".into(),
                 // Mitsuba picks each emitter equally; its reference variances measure that.
                 light_selection: "uniform".into(),
                 ..RenderDesc::default()

@@ -147,7 +147,9 @@ impl<'a> Translator<'a> {
         for ignored in ["pixel_format", "component_format", "file_format", "sample_border", "banner"] {
             p.string(self, ignored)?;
         }
-        let mut filter = "gaussian".to_string(); // Mitsuba's default reconstruction filter
+        // Mitsuba's default reconstruction filter: its gaussian (σ ½ out to 4σ), glint's
+        // `gaussian-wide` (glint's own `gaussian` is pbrt-v4's, cut off at 3σ).
+        let mut filter = "gaussian-wide".to_string();
         for child in &film.children {
             let child = match child.tag.as_str() {
                 "ref" => {
@@ -168,11 +170,11 @@ impl<'a> Translator<'a> {
             if child.tag == "rfilter" {
                 let t = child.attribute("type").unwrap_or("");
                 filter = match t {
-                    "box" | "tent" | "gaussian" => t.to_string(),
-                    "mitchell" => "mitchell".into(),
+                    "box" | "tent" | "mitchell" => t.to_string(),
+                    "gaussian" => "gaussian-wide".into(),
                     _ => {
                         self.warn(&child.position, format!("<rfilter type=\"{t}\"> is not available: using gaussian"));
-                        "gaussian".into()
+                        "gaussian-wide".into()
                     }
                 };
                 let fp = self.properties(child);
