@@ -132,3 +132,28 @@ fn meshes_given_as_data_are_shapes_and_instances() {
     let bad = r#"data = { positions = [[0, 0, 0], [1, 0, 0], [0, 1, 0]], indices = [[0, 1, 3]] }"#;
     assert!(refused(bad).contains("refers to a vertex that does not exist"));
 }
+
+/// A quad under a transform is stored in world space, as meshes are (its two triangles then
+/// sit in the BVH's blocks), and renders as the quad given by its corners in world space.
+#[test]
+fn a_transformed_quad_is_baked_into_world_space() {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let placed = format!(
+        "{HEADER}\n[[shapes]]\ntype = \"quad\"\nvertices = [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]\nmaterial = \"gold\"\ntransform = [{{ rotate = {{ axis = [1, 0, 0], angle = 90 }} }}, {{ scale = 2 }}, {{ translate = [0, 0, 0.5] }}]\n"
+    );
+    // By hand: turning +90° about x takes (x, y, 0) to (x, 0, y); then doubled and moved.
+    let world = format!(
+        "{HEADER}\n[[shapes]]\ntype = \"quad\"\nvertices = [[-2, 0, -1.5], [2, 0, -1.5], [2, 0, 2.5], [-2, 0, 2.5]]\nmaterial = \"gold\"\n"
+    );
+    let (placed, world) = (load(&placed, &scenes), load(&world, &scenes));
+    let object = &placed.scene.geometry().objects()[0];
+    assert!(object.transform.is_none(), "the quad kept its transform");
+    let Shape::Mesh(mesh) = &object.shape else { panic!("a quad is a mesh") };
+    for (p, q) in mesh.positions.iter().zip([[-2.0, 0.0, -1.5], [2.0, 0.0, -1.5], [2.0, 0.0, 2.5], [-2.0, 0.0, 2.5]]) {
+        assert!((*p - glint_core::Vec3::from(q)).abs().max_element() < 1e-6, "corner {p} instead of {q:?}");
+    }
+    let (a, b) = (image(&placed), image(&world));
+    let differing = a.iter().zip(&b).filter(|(x, y)| (**x - **y).abs().max_element() > 1e-3).count();
+    assert!(differing <= a.len() / 200, "{differing} pixels differ");
+    assert!(a.iter().filter(|p| p.x > 0.3).count() > 100, "the quad is not in view");
+}
