@@ -131,8 +131,9 @@ fn references_cycles_and_depth_are_errors_at_their_line() {
     let blend = |name: &str, first: &str, second: &str| {
         format!("[materials.{name}]\ntype = \"blend\"\nfirst = \"{first}\"\nsecond = \"{second}\"\n\n")
     };
+    // (Plastic leaves: a blend of two diffuse materials is one diffuse material.)
     let deep = format!(
-        "{}{}{}[materials.d]\ntype = \"diffuse\"\n",
+        "{}{}{}[materials.d]\ntype = \"plastic\"\n",
         blend("a", "b", "c"),
         blend("b", "d", "c"),
         blend("c", "d", "d")
@@ -326,4 +327,45 @@ type = "diffuse"
     .unwrap()
     .to_string();
     assert!(e.contains("bsdfs.toml:") && e.contains("height") && e.contains("uv"), "{e}");
+}
+
+/// A blend of two diffuse materials is one diffuse material whose colour is the two mixed by
+/// the weight (the same BSDF and sampling density, and what the path tracer's lanes shade); a
+/// blend with anything else stays a blend.
+#[test]
+fn a_blend_of_two_diffuse_materials_is_diffuse() {
+    let loaded = parse(
+        r#"
+[materials.a]
+type = "blend"
+weight = 0.25
+first = "teal"
+second = "yellow"
+
+[materials.teal]
+type = "diffuse"
+reflectance = [0, 0.5, 0.5]
+
+[materials.yellow]
+type = "diffuse"
+reflectance = [1, 1, 0]
+
+[materials.b]
+type = "blend"
+first = "teal"
+second = "shiny"
+
+[materials.shiny]
+type = "plastic"
+"#,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    // The native `diffuse` reflects on both sides: so does the mix.
+    let Material::TwoSided(sides) = material(&loaded, "a") else { panic!("{:?}", material(&loaded, "a")) };
+    assert_eq!(sides.front, sides.back);
+    let Material::Diffuse(mixed) = &sides.front else { panic!("{:?}", sides.front) };
+    let Texture::Mix(_) = &mixed.reflectance else { panic!("{:?}", mixed.reflectance) };
+    let colour = mixed.reflectance.evaluate(&Default::default());
+    assert!((colour - Rgb::new(0.25, 0.625, 0.375)).abs().max_element() < 1e-6, "{colour:?}");
+    assert!(matches!(material(&loaded, "b"), Material::Blend(_)));
 }

@@ -100,7 +100,7 @@ pub struct Emitter {
 
 /// A blend weight or an opacity: a texture's luminance, clamped to [0, 1].
 fn fraction(texture: &Texture, query: &TextureQuery) -> f32 {
-    texture.evaluate(query).dot(Rgb::new(0.2126, 0.7152, 0.0722)).clamp(0.0, 1.0)
+    crate::textures::fraction(texture.evaluate(query))
 }
 
 /// A mapped normal the viewer `wo` is behind, reflected about the surface's own shading normal

@@ -5,12 +5,14 @@
 mod attribute;
 mod checker;
 mod image;
+mod mix;
 mod noise;
 mod solid;
 
 pub use attribute::AttributeTexture;
 pub use checker::{Checker, SolidChecker};
 pub use image::{ImageTexture, TexelFilter, Wrap};
+pub use mix::{fraction, Mix};
 pub use noise::{perlin_noise, turbulence};
 pub use solid::{Marble, Wood};
 
@@ -57,6 +59,7 @@ pub enum Texture {
     Wood(Wood),
     /// Boxed: its name would make every texture larger.
     Attribute(Box<AttributeTexture>),
+    Mix(Box<Mix>),
 }
 
 impl Texture {
@@ -80,6 +83,7 @@ impl Texture {
             Texture::Marble(t) => t.evaluate(query.point),
             Texture::Wood(t) => t.evaluate(query.point),
             Texture::Attribute(t) => t.evaluate(query),
+            Texture::Mix(t) => t.evaluate(query),
         }
     }
 }
@@ -129,6 +133,7 @@ impl Texture {
             Texture::Wood(t) => t.light.max(t.dark),
             // Unknown until a mesh is hit: taken as colours are, at most 1 (times the scale).
             Texture::Attribute(t) => Rgb::splat(t.scale),
+            Texture::Mix(t) => t.first.max_value().max(t.second.max_value()),
         }
     }
 }

@@ -2,7 +2,7 @@
 //! `normal-map`, `bump-map`, `two-sided` and `emitter`.
 
 use glint_core::materials::{Blend, BumpMap, Diffuse, Mask, Material, NormalMap, TwoSided};
-use glint_core::textures::Texture;
+use glint_core::textures::{Mix, Texture};
 use glint_core::Rgb;
 
 use super::parameters::Parameters;
@@ -20,7 +20,7 @@ impl Builder<'_> {
                 let weight = p.fraction("weight", weight)?;
                 let first = self.reference(name, "first", first)?;
                 let second = self.reference(name, "second", second)?;
-                Material::Blend(Box::new(Blend { weight, first, second }))
+                blend(weight, first, second)
             }
             MaterialDesc::Null => Material::Mask(Box::new(Mask {
                 opacity: Texture::Constant(Rgb::ZERO),
@@ -65,5 +65,31 @@ impl Builder<'_> {
             }
             _ => unreachable!("wrapper is given a wrapping material's description"),
         })
+    }
+}
+
+/// (1 − w)·first + w·second. Of two Lambert reflectors alike in their sides, Lambert's lobe with
+/// the mixed colour: the same BSDF and sampling density, and a material the path tracer's
+/// lanes shade.
+fn blend(weight: Texture, first: Material, second: Material) -> Material {
+    let mixed = |weight, first: &Diffuse, second: &Diffuse| Diffuse {
+        reflectance: Texture::Mix(Box::new(Mix {
+            weight,
+            first: first.reflectance.clone(),
+            second: second.reflectance.clone(),
+        })),
+    };
+    match (&first, &second) {
+        (Material::Diffuse(a), Material::Diffuse(b)) => Material::Diffuse(mixed(weight, a, b)),
+        (Material::TwoSided(a), Material::TwoSided(b)) => match (&a.front, &a.back, &b.front, &b.back) {
+            (Material::Diffuse(af), Material::Diffuse(ab), Material::Diffuse(bf), Material::Diffuse(bb))
+                if af == ab && bf == bb =>
+            {
+                let side = Material::Diffuse(mixed(weight, af, bf));
+                Material::TwoSided(Box::new(TwoSided { front: side.clone(), back: side }))
+            }
+            _ => Material::Blend(Box::new(Blend { weight, first, second })),
+        },
+        _ => Material::Blend(Box::new(Blend { weight, first, second })),
     }
 }

@@ -1,0 +1,47 @@
+//! Two textures mixed by a third: (1 − w)·first + w·second, w the weight's luminance clamped
+//! to [0, 1] (`fraction`), as a blend of two materials weighs them. The scene readers make it
+//! of a `blend` of two Lambert materials, which is Lambert's lobe with the mixed colour: the
+//! same BSDF and the same sampling density, which the path tracer's lanes then shade.
+
+use super::{Texture, TextureQuery};
+use crate::Rgb;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mix {
+    pub weight: Texture,
+    pub first: Texture,
+    pub second: Texture,
+}
+
+impl Mix {
+    pub fn evaluate(&self, query: &TextureQuery) -> Rgb {
+        let w = fraction(self.weight.evaluate(query));
+        (1.0 - w) * self.first.evaluate(query) + w * self.second.evaluate(query)
+    }
+}
+
+/// A blend weight or an opacity read from a colour: its luminance, clamped to [0, 1].
+pub fn fraction(value: Rgb) -> f32 {
+    value.dot(Rgb::new(0.2126, 0.7152, 0.0722)).clamp(0.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// By hand: a weight of luminance ¼ mixes ¾ of the first with ¼ of the second; weights
+    /// outside [0, 1] are clamped.
+    #[test]
+    fn mixes_by_the_weights_luminance() {
+        let mix = |w: f32| Mix {
+            weight: Texture::Constant(Rgb::splat(w)),
+            first: Texture::Constant(Rgb::new(0.0, 0.5, 0.5)),
+            second: Texture::Constant(Rgb::new(1.0, 1.0, 0.0)),
+        };
+        let q = TextureQuery::default();
+        let close = |a: Rgb, b: Rgb| (a - b).abs().max_element() < 1e-6;
+        assert!(close(mix(0.25).evaluate(&q), Rgb::new(0.25, 0.625, 0.375)));
+        assert!(close(mix(-1.0).evaluate(&q), Rgb::new(0.0, 0.5, 0.5)));
+        assert!(close(mix(3.0).evaluate(&q), Rgb::new(1.0, 1.0, 0.0)));
+    }
+}
