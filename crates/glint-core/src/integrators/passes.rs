@@ -191,42 +191,58 @@ fn camera_passes(
         }
         return rays;
     }
-    // Splatted a pass at a time: a group's samples held at once would take memory in
-    // proportion to the group's size.
-    for pass in passes {
-        let tiles: Vec<TileResult> = par_tiles(width, height)
+    // The group's passes a chunk at a time: each tile renders the chunk's passes in one
+    // parallel job, and the chunk's samples, held until then, are splatted pass after pass.
+    // (A pass at a time, two parallel rounds per pass on a small image cost more in waking
+    // the threads than the pass took.) Chunks hold at most SPLAT_CHUNK_SAMPLES samples.
+    let per_chunk = (SPLAT_CHUNK_SAMPLES / (u64::from(width) * u64::from(height)).max(1)).max(1) as usize;
+    for chunk in passes.chunks(per_chunk) {
+        let tiles: Vec<Vec<TileResult>> = par_tiles(width, height)
             .map(|tile| {
-                let result = render_tile(pass, tile);
-                on_tile();
-                result
+                chunk
+                    .iter()
+                    .map(|pass| {
+                        let result = render_tile(pass, tile);
+                        on_tile();
+                        result
+                    })
+                    .collect()
             })
             .collect();
-        splat_tiles(film, pass.filter, &tiles);
-        for (_, _, tile_rays) in &tiles {
+        splat_tiles(film, chunk, &tiles);
+        for (_, _, tile_rays) in tiles.iter().flatten() {
             rays.add(tile_rays);
         }
     }
     rays
 }
 
-/// A pass's tiles (in `tiles` order) splatted to the film: the additions a serial splat of
-/// tile after tile would make, each band of rows taking its own in parallel. A pixel lies in
-/// one band, and its band visits the tiles within the filter's reach in order, so each pixel
-/// receives its additions in the serial order, bit for bit. (Splatted serially after the
-/// parallel tiles, this took a third of a two-thread render of Mitsuba's 48² test scenes.)
-fn splat_tiles(film: &mut Film, filter: Filter, results: &[TileResult]) {
+/// The most camera samples a chunk of splatted passes holds before splatting them (20 bytes
+/// each: 80 MB).
+const SPLAT_CHUNK_SAMPLES: u64 = 1 << 22;
+
+/// Passes' tiles splatted to the film (`results[tile][pass]`, tiles in `tiles` order): the
+/// additions a serial splat of pass after pass, tile after tile, would make, each band of
+/// rows taking its own in parallel. A pixel lies in one band, and its band visits the passes
+/// in order and in each the tiles within the filter's reach in order, so each pixel receives
+/// its additions in the serial order, bit for bit. (Splatted serially after the parallel
+/// tiles, this was a sixth of a render of a 48² test scene.)
+fn splat_tiles(film: &mut Film, passes: &[Pass], results: &[Vec<TileResult>]) {
     let (width, height) = (film.width, film.height);
     let rects = tiles(width, height);
-    let reach = filter.radius();
     let bands = film.bands_mut(TILE_SIZE);
     bands.into_par_iter().with_max_len(1).for_each(|mut band| {
         let rows = band.rows();
-        let near = |&(_, y0, _, y1): &(u32, u32, u32, u32)| {
-            (y0 as f32 - reach) < rows.end as f32 && (y1 as f32 + reach) > rows.start as f32
-        };
-        for (_, (positions, radiance, _)) in rects.iter().zip(results).filter(|(rect, _)| near(rect)) {
-            for (&(fx, fy), &r) in positions.iter().zip(radiance) {
-                footprint(filter, width, rows.clone(), fx, fy, |x, y, w| band.add_sample(x, y, r, w));
+        for (p, pass) in passes.iter().enumerate() {
+            let (filter, reach) = (pass.filter, pass.filter.radius());
+            let near = |&(_, y0, _, y1): &(u32, u32, u32, u32)| {
+                (y0 as f32 - reach) < rows.end as f32 && (y1 as f32 + reach) > rows.start as f32
+            };
+            for (_, tile) in rects.iter().zip(results).filter(|(rect, _)| near(rect)) {
+                let (positions, radiance, _) = &tile[p];
+                for (&(fx, fy), &r) in positions.iter().zip(radiance) {
+                    footprint(filter, width, rows.clone(), fx, fy, |x, y, w| band.add_sample(x, y, r, w));
+                }
             }
         }
     });
@@ -358,10 +374,10 @@ mod tests {
     use crate::scene::SceneBuilder;
     use crate::{Named, Vec3};
 
-    /// A pass's tiles splatted by bands in parallel make the additions of a serial splat, in
-    /// its order: the same sums, weights and second moments bit for bit, for every filter, on a
-    /// film whose bands and tiles leave remainders (37 × 29 pixels: three bands, the last of
-    /// 13 rows, and tiles of 5 and 13 pixels at the edges).
+    /// Passes' tiles splatted by bands in parallel make the additions of a serial splat, pass
+    /// after pass and tile after tile: the same sums, weights and second moments bit for bit,
+    /// for every filter, on a film whose bands and tiles leave remainders (37 × 29 pixels:
+    /// three bands, the last of 13 rows, and tiles of 5 and 13 pixels at the edges).
     #[test]
     fn banded_splats_equal_a_serial_splat() {
         let (width, height) = (37, 29);
@@ -370,29 +386,37 @@ mod tests {
             state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
             (state >> 40) as f32 / (1u64 << 24) as f32
         };
-        let results: Vec<TileResult> = tiles(width, height)
-            .into_iter()
-            .map(|(x0, y0, x1, y1)| {
-                let mut positions = Vec::new();
-                let mut radiance = Vec::new();
-                for y in y0..y1 {
-                    for x in x0..x1 {
-                        positions.push((x as f32 + next(), y as f32 + next()));
-                        radiance.push(Rgb::new(next(), 4.0 * next(), next() * next()));
-                    }
-                }
-                (positions, radiance, RayCounts::default())
+        // results[pass][tile]
+        let results: Vec<Vec<TileResult>> = (0..3)
+            .map(|_| {
+                tiles(width, height)
+                    .into_iter()
+                    .map(|(x0, y0, x1, y1)| {
+                        let mut positions = Vec::new();
+                        let mut radiance = Vec::new();
+                        for y in y0..y1 {
+                            for x in x0..x1 {
+                                positions.push((x as f32 + next(), y as f32 + next()));
+                                radiance.push(Rgb::new(next(), 4.0 * next(), next() * next()));
+                            }
+                        }
+                        (positions, radiance, RayCounts::default())
+                    })
+                    .collect()
             })
             .collect();
         for &filter in Filter::ALL {
             let mut serial = Film::new(width, height).with_second_moment();
-            for (positions, radiance, _) in &results {
+            for (positions, radiance, _) in results.iter().flatten() {
                 for (&(fx, fy), &r) in positions.iter().zip(radiance) {
                     splat(&mut serial, filter, fx, fy, r);
                 }
             }
+            let pass = Pass { seed: 0, index: 0, centre: false, filter, sampler: SamplerKind::Independent, samples: 3 };
+            let by_tile: Vec<Vec<TileResult>> =
+                (0..results[0].len()).map(|t| results.iter().map(|pass| pass[t].clone()).collect()).collect();
             let mut banded = Film::new(width, height).with_second_moment();
-            splat_tiles(&mut banded, filter, &results);
+            splat_tiles(&mut banded, &[pass; 3], &by_tile);
             assert!(serial.accumulators() == banded.accumulators(), "{}: the sums differ", filter.name());
             assert!(serial.second_moments() == banded.second_moments(), "{}: the moments differ", filter.name());
             // And the splat reached past the tile borders (a filter wider than the box).
@@ -400,11 +424,6 @@ mod tests {
         }
     }
 
-    /// A tile's camera samples, drawn eight samplers at a time (and a pinhole's rays made
-    /// eight at a time), are what each pixel's sample draws alone: film position, ray
-    /// (through a thin lens, which draws two more numbers, or a pinhole) and the sampler's
-    /// state after, for every sampler kind and a tile whose pixel count leaves a remainder of
-    /// the eights.
     #[test]
     fn grouped_camera_samples_equal_one_at_a_time() {
         let pinhole = Camera::new(Vec3::new(0.3, -0.2, -5.0), Vec3::new(0.1, 0.2, 0.0), Vec3::Y, 45.0, 21, 13).unwrap();
