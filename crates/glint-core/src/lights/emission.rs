@@ -72,6 +72,14 @@ impl Lights {
             }
             Light::Point(l) => (Ray::new(l.position, square_to_uniform_sphere(u_direction)), l.intensity * four_pi),
             Light::Spot(s) => {
+                // A projector's slide: by its brightness (`sample_projection`).
+                if let Some((direction, weight)) = s.sample_projection(u_direction) {
+                    return Some(Particle {
+                        ray: Ray::new(s.light.position, direction),
+                        weight: weight / probability,
+                        area: None,
+                    });
+                }
                 // Uniform over the cone's solid angle 2π(1 − cos θ_cone); the profile weighs it.
                 let cos_cone = s.emission_cos();
                 let cos = 1.0 - u_direction.x * (1.0 - cos_cone);

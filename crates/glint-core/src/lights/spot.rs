@@ -27,6 +27,7 @@
 use glam::{Vec2, Vec3};
 
 use super::{Falloff, Illumination, PointLight};
+use crate::sampling::distribution::Distribution2D;
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
@@ -40,6 +41,10 @@ pub struct SpotLight {
     pub profile: SpotProfile,
     /// Boxed so a light stays small (the light set is read per shading point).
     pub slide: Option<Box<Slide>>,
+    /// For a slide that is an image: where its light leaves, over the slide's uv square, by
+    /// the texels' brightness (each cell the brightest texel within one of it, since the
+    /// bilinear lookup reaches half a texel past its own), for light tracing and photons.
+    emission: Option<Box<Distribution2D>>,
 }
 
 /// How the intensity fades across the edge.
@@ -84,6 +89,7 @@ impl SpotLight {
             cos_full: full.cos(),
             profile: SpotProfile::Smooth,
             slide: None,
+            emission: None,
         }
     }
 
@@ -92,7 +98,37 @@ impl SpotLight {
     }
 
     pub fn with_slide(self, slide: Slide) -> Self {
-        Self { slide: Some(Box::new(slide)), ..self }
+        let emission = slide_distribution(&slide.texture).map(Box::new);
+        Self { slide: Some(Box::new(slide)), emission, ..self }
+    }
+
+    /// A direction a projector sends light along, through its slide's frame, and the
+    /// particle's weight: intensity over the density of the direction. The frame's point is
+    /// drawn by the slide's brightness (uniformly for a slide that is no image) rather than
+    /// uniformly over the cone around the frame: at unit distance dω = cos³θ dA, so the
+    /// projector's π·E/cos³θ over a density p(uv)/(A·cos³θ) leaves π·E·A/p, which the
+    /// brightness makes nearly constant, and no direction is lost outside the frame. `None`
+    /// for another profile or a projector without a slide (uniform over the cone then).
+    pub fn sample_projection(&self, u: Vec2) -> Option<(Vec3, Rgb)> {
+        let slide = self.slide.as_ref().filter(|_| self.profile == SpotProfile::Projector)?;
+        let (uv, pdf) = match &self.emission {
+            Some(distribution) => distribution.sample(u),
+            None => (u, 1.0),
+        };
+        if pdf <= 0.0 {
+            return Some((self.direction, Rgb::ZERO));
+        }
+        // The inverse of `illuminate`'s projection: uv = ½ + ½ (x, aspect·y) / tan at unit
+        // distance along the axis.
+        let tan_cone = self.tan_cone();
+        let across = (2.0 * uv - Vec2::ONE) * tan_cone;
+        let on_slide = self.direction + across.x * slide.right + (across.y / slide.aspect) * slide.up;
+        let direction = on_slide.normalize();
+        let cos = direction.dot(self.direction);
+        let frame_area = 4.0 * tan_cone * tan_cone / slide.aspect;
+        // `illuminate` at unit distance is the intensity for either falloff.
+        let intensity = self.illuminate(self.light.position + direction).intensity;
+        Some((direction, intensity * (cos * cos * cos * frame_area / pdf)))
     }
 
     pub fn illuminate(&self, point: Vec3) -> Illumination {
@@ -152,6 +188,33 @@ impl SpotLight {
         }
         2.0 * mean(self.light.intensity) * (1.0 - 0.5 * (self.cos_full + self.cos_cone))
     }
+}
+
+/// The density a projector's light leaves with over its slide's uv square (v up, as the
+/// slide's rows are read bottom row first), when the slide is an image read through the
+/// identity uv map; `None` otherwise (then uniform). Each cell holds the brightest texel
+/// within one of it, so the density is positive wherever the bilinear lookup can be.
+fn slide_distribution(texture: &Texture) -> Option<Distribution2D> {
+    let Texture::Image(image) = texture else { return None };
+    if image.uv_transform != glam::Affine2::IDENTITY {
+        return None;
+    }
+    let (width, height) = (image.width as i64, image.height as i64);
+    let brightness = |x: i64, y: i64| crate::textures::luminance(image.texel(x, y)).max(0.0);
+    let mut cells = Vec::with_capacity((width * height) as usize);
+    // Distribution rows run up from v = 0, the image's rows down from its top.
+    for row in (0..height).rev() {
+        for column in 0..width {
+            let mut brightest = 0.0f32;
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    brightest = brightest.max(brightness(column + dx, row + dy));
+                }
+            }
+            cells.push(brightest);
+        }
+    }
+    cells.iter().any(|&c| c > 0.0).then(|| Distribution2D::new(&cells, width as usize, height as usize))
 }
 
 /// 1 inside the full beam, 0 outside the cone, linear in the angle between.
@@ -265,5 +328,63 @@ mod tests {
         let expected = std::f64::consts::PI * projector.power_over_pi() as f64;
         assert!((projector.power_over_pi() - 4.0 * t * t).abs() < 1e-5);
         assert!((integral / expected - 1.0).abs() < 0.01, "{integral} vs {expected}");
+    }
+
+    /// A projector's particles leave through its slide's frame, drawn by its brightness: a
+    /// constant slide's weights are all its power; an image with dark texels (repeated, so
+    /// the bilinear lookup wraps) is sampled where it is lit, and the weights' mean over the
+    /// frame, and over its right half, is the integral of the intensity there (a midpoint
+    /// rule over the frame at unit distance, dω = cos³θ dA).
+    #[test]
+    fn a_projectors_particles_follow_its_slide() {
+        let projector = |texture: Texture| {
+            let slide = Slide { texture, right: Vec3::X, up: Vec3::Y, aspect: 2.0 };
+            SpotLight::new(Vec3::new(0.5, 1.0, 2.0), -Vec3::Z, Rgb::splat(1.5), Falloff::InverseSquare, 30.0, 0.0)
+                .with_profile(SpotProfile::Projector)
+                .with_slide(slide)
+        };
+        let constant = projector(Texture::Constant(Rgb::new(1.0, 2.0, 0.5)));
+        let power = std::f32::consts::PI * constant.power_over_pi();
+        for (i, j) in [(0, 0), (3, 7), (9, 9), (5, 2)] {
+            let u = Vec2::new(i as f32 + 0.5, j as f32 + 0.5) / 10.0;
+            let (direction, weight) = constant.sample_projection(u).expect("a projector with a slide");
+            assert!(direction.dot(-Vec3::Z) >= constant.emission_cos() - 1e-6, "outside the cone");
+            assert!((weight.dot(Rgb::splat(1.0 / 3.0)) / power - 1.0).abs() < 1e-4, "{weight} vs {power}");
+        }
+        let texels = [0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 2.0].map(Rgb::splat).to_vec();
+        let image = projector(Texture::Image(std::sync::Arc::new(crate::textures::ImageTexture::new(4, 2, texels))));
+        let t = 30f32.to_radians().tan();
+        let intensity = |d: Vec3| image.illuminate(image.light.position + d).intensity.x as f64;
+        // The reference: the frame is 2t wide, t high at unit distance.
+        let (n, mut whole, mut right) = (800, 0.0f64, 0.0f64);
+        for i in 0..n {
+            for j in 0..n {
+                let (x, y) = ((i as f32 + 0.5) / n as f32 * 2.0 - 1.0, (j as f32 + 0.5) / n as f32 * 2.0 - 1.0);
+                let d = Vec3::new(x * t, y * t / 2.0, -1.0);
+                let cos = 1.0 / d.length() as f64;
+                let value = intensity(d.normalize()) * cos * cos * cos * (2.0 * t as f64 * t as f64) / (n * n) as f64;
+                whole += value;
+                if x > 0.0 {
+                    right += value;
+                }
+            }
+        }
+        let (m, mut sampled_whole, mut sampled_right) = (512, 0.0f64, 0.0f64);
+        for i in 0..m {
+            for j in 0..m {
+                let u = Vec2::new((i as f32 + 0.5) / m as f32, (j as f32 + 0.5) / m as f32);
+                let (direction, weight) = image.sample_projection(u).expect("a projector with a slide");
+                assert!(weight.x > 0.0 || intensity(direction) == 0.0, "a lit direction drawn with no weight");
+                sampled_whole += weight.x as f64;
+                if direction.x > 0.0 {
+                    sampled_right += weight.x as f64;
+                }
+            }
+        }
+        let (sampled_whole, sampled_right) = (sampled_whole / (m * m) as f64, sampled_right / (m * m) as f64);
+        assert!((sampled_whole / whole - 1.0).abs() < 0.01, "{sampled_whole} vs {whole}");
+        assert!((sampled_right / right - 1.0).abs() < 0.01, "{sampled_right} vs {right}");
+        // And the texels' mean is the power (a repeated image's bilinear mean is its mean).
+        assert!((whole / (std::f64::consts::PI * image.power_over_pi() as f64) - 1.0).abs() < 0.01);
     }
 }

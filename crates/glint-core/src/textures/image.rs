@@ -61,7 +61,8 @@ impl ImageTexture {
         }
     }
 
-    fn texel(&self, x: i64, y: i64) -> Rgb {
+    /// Texel (x, y), row 0 the top, wrapped by the texture's mode.
+    pub(crate) fn texel(&self, x: i64, y: i64) -> Rgb {
         let (w, h) = (self.width as i64, self.height as i64);
         let mirror = |i: i64, n: i64| {
             let i = i.rem_euclid(2 * n);
