@@ -166,9 +166,12 @@ impl EnvironmentMap {
         let y = grid_uv.y * (h - 1) as f32;
         let (x0, y0) = ((x as usize).min(w - 1), (y as usize).min(h - 2));
         let (fx, fy) = (x - x0 as f32, y - y0 as f32);
-        let at = |x: usize, y: usize| self.pixels[y * w + x % w];
-        let top = at(x0, y0) * (1.0 - fx) + at(x0 + 1, y0) * fx;
-        let bottom = at(x0, y0 + 1) * (1.0 - fx) + at(x0 + 1, y0 + 1) * fx;
+        // The column right of x0, wrapped around the seam (a comparison: the modulo's
+        // divisions were a third of this lookup).
+        let x1 = if x0 + 1 == w { 0 } else { x0 + 1 };
+        let at = |x: usize, y: usize| self.pixels[y * w + x];
+        let top = at(x0, y0) * (1.0 - fx) + at(x1, y0) * fx;
+        let bottom = at(x0, y0 + 1) * (1.0 - fx) + at(x1, y0 + 1) * fx;
         top * (1.0 - fy) + bottom * fy
     }
 
