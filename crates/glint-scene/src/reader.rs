@@ -8,10 +8,11 @@ use std::path::{Path, PathBuf};
 use crate::error::SceneError;
 use crate::native::schema::SceneFile;
 use crate::native::LoadedScene;
-use crate::source::Source;
+use crate::source::{MadeFile, Source};
 
-/// Files a reader makes in memory, (name, bytes): a pbrt map resampled, for example.
-pub(crate) type MadeFiles = Vec<(String, Vec<u8>)>;
+/// Files a reader makes in memory, by name: a glTF's embedded images as bytes, a pbrt map
+/// resampled as a decoded image.
+pub(crate) type MadeFiles = Vec<(String, MadeFile)>;
 
 /// The scene file's bytes, and the directories the files it names are looked for in: the
 /// scene's own directory, then `search_path`.

@@ -10,8 +10,16 @@ pub struct Source<'a> {
     origin: Origin<'a>,
     /// Files a reader made in memory (a glTF's embedded images, a pbrt map resampled), found
     /// by name before the origin's.
-    made: Vec<(String, Vec<u8>)>,
+    made: Vec<(String, MadeFile)>,
     read: RefCell<Vec<PathBuf>>,
+}
+
+/// A file a reader made in memory: bytes to decode as a file's, or an image already decoded
+/// (linear RGB, row 0 the top), handed over as it is.
+#[derive(Clone, Debug)]
+pub(crate) enum MadeFile {
+    Bytes(Vec<u8>),
+    Image { width: u32, height: u32, pixels: Vec<glint_core::Rgb> },
 }
 
 #[derive(Clone, Debug)]
@@ -45,8 +53,17 @@ impl<'a> Source<'a> {
     }
 
     /// The same source with files made in memory, found by name before any other.
-    pub fn with_made_files(self, made: Vec<(String, Vec<u8>)>) -> Self {
+    pub(crate) fn with_made_files(self, made: Vec<(String, MadeFile)>) -> Self {
         Self { made, ..self }
+    }
+
+    /// The image a reader made in memory under the name `path`, decoded (linear RGB, row 0
+    /// the top), if it made one; a file's image is read and decoded by the caller.
+    pub(crate) fn made_image(&self, path: &str) -> Option<(u32, u32, Vec<glint_core::Rgb>)> {
+        self.made.iter().find(|(name, _)| name == path).and_then(|(_, made)| match made {
+            MadeFile::Image { width, height, pixels } => Some((*width, *height, pixels.clone())),
+            MadeFile::Bytes(_) => None,
+        })
     }
 
     /// The bytes of `path` as written in the scene, or a message saying why not.
@@ -58,8 +75,11 @@ impl<'a> Source<'a> {
     /// file that declares its own length (a glTF buffer's `byteLength`).
     pub fn read_at_most(&self, path: &str, at_most: u64) -> Result<Vec<u8>, String> {
         let prefix = |bytes: &[u8]| bytes[..bytes.len().min(usize::try_from(at_most).unwrap_or(usize::MAX))].to_vec();
-        if let Some((_, bytes)) = self.made.iter().find(|(name, _)| name == path) {
-            return Ok(prefix(bytes));
+        if let Some((_, made)) = self.made.iter().find(|(name, _)| name == path) {
+            return match made {
+                MadeFile::Bytes(bytes) => Ok(prefix(bytes)),
+                MadeFile::Image { .. } => Err(format!("`{path}` is an image made in memory, not a file")),
+            };
         }
         match &self.origin {
             Origin::Directories(directories) => {

@@ -82,6 +82,7 @@ pub fn parse_gltf(
     let reader = nodes::Reader::new(&gltf.document, &buffers, &images, name, options);
     let (file, mut more) = reader.translate(&mut made).map_err(error)?;
     warnings.append(&mut more);
+    let made = made.into_iter().map(|(name, bytes)| (name, crate::source::MadeFile::Bytes(bytes))).collect();
     crate::reader::build(crate::reader::Translation { file, text: "", made, warnings }, name, source)
 }
 

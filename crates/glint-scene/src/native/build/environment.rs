@@ -19,9 +19,13 @@ pub(super) fn build_environment_map(
     source: &Source,
 ) -> Result<Option<Arc<EnvironmentMap>>, (&'static str, String)> {
     let Some(file) = &desc.map else { return Ok(None) };
-    let bytes = source.read(file).map_err(|m| ("map", format!("environment map: {m}")))?;
-    let (width, height, pixels) =
-        crate::image::decode(file, &bytes, false).map_err(|m| ("map", format!("environment map `{file}`: {m}")))?;
+    let (width, height, pixels) = match source.made_image(file) {
+        Some(image) => image,
+        None => {
+            let bytes = source.read(file).map_err(|m| ("map", format!("environment map: {m}")))?;
+            crate::image::decode(file, &bytes, false).map_err(|m| ("map", format!("environment map `{file}`: {m}")))?
+        }
+    };
     // Radiance is finite and never negative: one +inf texel made the map's importance
     // sampling black out the lit half of a sphere, one of −5 gave negative pixels.
     if let Some(i) = pixels.iter().position(|p| !p.is_finite() || p.min_element() < 0.0) {

@@ -9,6 +9,7 @@ use crate::native::schema::*;
 use crate::pbrt::params::Params;
 use crate::pbrt::parse::{At, Directive};
 use crate::pbrt::spectra;
+use crate::source::MadeFile;
 
 #[derive(Clone)]
 pub(super) struct AreaLight {
@@ -121,16 +122,11 @@ impl Translator<'_> {
         let bytes = self.source.read(file).map_err(|m| self.parser.error(at, m))?;
         let (w, h, pixels) =
             crate::image::decode(file, &bytes, false).map_err(|m| self.parser.error(at, format!("`{file}`: {m}")))?;
-        let (w, h, resampled) = crate::pbrt::envmap::resample(w, h, &pixels, light_to_world)
+        let (width, height, pixels) = crate::pbrt::envmap::resample(w, h, &pixels, light_to_world)
             .map_err(|m| self.parser.error(at, format!("`{file}`: {m}")))?;
-        let image = image::Rgb32FImage::from_raw(w, h, resampled.iter().flat_map(|p| p.to_array()).collect())
-            .ok_or_else(|| self.parser.error(at, "the resampled map has the wrong size"))?;
-        let mut bytes = Vec::new();
-        image::DynamicImage::ImageRgb32F(image)
-            .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::OpenExr)
-            .map_err(|e| self.parser.error(at, format!("cannot keep the resampled map: {e}")))?;
-        let name = format!("pbrt-environment:{file}.exr");
-        self.made.push((name.clone(), bytes));
+        // Handed over decoded (it was encoded as EXR and decoded again).
+        let name = format!("pbrt-environment:{file}");
+        self.made.push((name.clone(), MadeFile::Image { width, height, pixels }));
         self.scene.environment.map = Some(name);
         self.scene.environment.map_scale = Some(scale);
         Ok(())

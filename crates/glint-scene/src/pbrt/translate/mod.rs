@@ -62,7 +62,7 @@ struct Translator<'s> {
     source: &'s Source<'s>,
     scene: SceneFile,
     warnings: Vec<String>,
-    made: Vec<(String, Vec<u8>)>,
+    made: MadeFiles,
     state: GraphicsState,
     stack: Vec<(GraphicsState, At)>,
     coordinate_systems: HashMap<String, Mat4>,
