@@ -73,10 +73,6 @@ impl Filter {
             }
         }
     }
-
-    pub fn weight(self, dx: f32, dy: f32) -> f32 {
-        self.weight_1d(dx) * self.weight_1d(dy)
-    }
 }
 
 /// The Gaussian bell of σ = ½, e^(−2x²), for 0 ≤ x ≤ 2, read from a table by linear

@@ -139,9 +139,10 @@ type TileResult = (Vec<(f32, f32)>, Vec<Rgb>, RayCounts);
 /// Consecutive passes of one sample per pixel (sample index `pass.index`), added to the film
 /// as one pass after another would: for the box filter, each into its own pixel by each tile as
 /// it finishes it (tiles are disjoint, and a tile adds its passes in order, so the order of
-/// additions to a pixel is the passes' order); for other filters, splatted to every pixel
-/// within the filter's radius after the parallel tiles, a pass at a time, by bands of rows in
-/// parallel (`splat_tiles`), so that the image does not depend on the thread count.
+/// additions to a pixel is the passes' order); for other filters, each tile renders a chunk of
+/// the passes in one job and the chunk is then splatted to every pixel within the filter's
+/// radius, by bands of rows in parallel, in the order of a serial splat of pass after pass
+/// (`splat_tiles`), so that the image does not depend on the thread count.
 fn camera_passes(
     scene: &Scene,
     integrator: &dyn Integrator,
@@ -424,6 +425,11 @@ mod tests {
         }
     }
 
+    /// A tile's camera samples, drawn eight samplers at a time (and a pinhole's rays made
+    /// eight at a time), are what each pixel's sample draws alone: film position, ray
+    /// (through a thin lens, which draws two more numbers, or a pinhole) and the sampler's
+    /// state after, for every sampler kind and a tile whose pixel count leaves a remainder of
+    /// the eights.
     #[test]
     fn grouped_camera_samples_equal_one_at_a_time() {
         let pinhole = Camera::new(Vec3::new(0.3, -0.2, -5.0), Vec3::new(0.1, 0.2, 0.0), Vec3::Y, 45.0, 21, 13).unwrap();

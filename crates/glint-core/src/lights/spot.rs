@@ -94,12 +94,21 @@ impl SpotLight {
     }
 
     pub fn with_profile(self, profile: SpotProfile) -> Self {
-        Self { profile, ..self }
+        Self { profile, ..self }.with_emission()
     }
 
     pub fn with_slide(self, slide: Slide) -> Self {
-        let emission = slide_distribution(&slide.texture).map(Box::new);
-        Self { slide: Some(Box::new(slide)), emission, ..self }
+        Self { slide: Some(Box::new(slide)), ..self }.with_emission()
+    }
+
+    /// The slide's emission density, made for a projector with an image only (a spot's
+    /// particles go uniformly over its cone: no density to make, for a slide of any size).
+    fn with_emission(self) -> Self {
+        let emission = match (&self.slide, self.profile) {
+            (Some(slide), SpotProfile::Projector) => slide_distribution(&slide.texture).map(Box::new),
+            _ => None,
+        };
+        Self { emission, ..self }
     }
 
     /// A direction a projector sends light along, through its slide's frame, and the

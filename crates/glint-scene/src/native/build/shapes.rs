@@ -125,7 +125,7 @@ pub(super) fn build_object(
             for v in vertices {
                 positions.push(finite(*v).map_err(|m| at("vertices", m))?);
             }
-            let mut mesh = Mesh {
+            let mesh = Mesh {
                 positions,
                 normals: None,
                 uvs: Some(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]),
@@ -134,15 +134,6 @@ pub(super) fn build_object(
             };
             if mesh.degenerate_triangles().count() > 0 {
                 return Err(at("vertices", "the quad has a zero-area half (three collinear corners)".into()));
-            }
-            // In world space, as meshes are: the BVH then tests its two triangles in its
-            // blocks, not through the transform (Mitsuba's rectangles, floors and area
-            // lights, all carry one; through it, the rays of its projector test spent a
-            // quarter of their time setting up the two triangles' tests).
-            if let Some(t) = &transform {
-                mesh.transform(t);
-                let name = name.map_or(label, str::to_string);
-                return Ok(Object { name, shape: Shape::Mesh(mesh), transform: None, material });
             }
             Shape::Mesh(mesh)
         }
@@ -199,6 +190,17 @@ pub(super) fn build_object(
             }
             return Ok(Object { name: label, shape: Shape::Mesh(mesh), transform: None, material });
         }
+    };
+    // A mesh made here (a quad) is stored in world space too, so the BVH tests its
+    // triangles in its blocks, not through the transform (Mitsuba's rectangles, floors and
+    // area lights, all carry one; through it, the rays of its projector test spent a quarter
+    // of their time setting up the two triangles' tests).
+    let (shape, transform) = match (shape, transform) {
+        (Shape::Mesh(mut mesh), Some(t)) => {
+            mesh.transform(&t);
+            (Shape::Mesh(mesh), None)
+        }
+        placed => placed,
     };
     Ok(Object { name: name.map_or(label, str::to_string), shape, transform, material })
 }

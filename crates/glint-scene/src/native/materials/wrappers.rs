@@ -72,24 +72,28 @@ impl Builder<'_> {
 /// the mixed colour: the same BSDF and sampling density, and a material the path tracer's
 /// lanes shade.
 fn blend(weight: Texture, first: Material, second: Material) -> Material {
-    let mixed = |weight, first: &Diffuse, second: &Diffuse| Diffuse {
-        reflectance: Texture::Mix(Box::new(Mix {
-            weight,
-            first: first.reflectance.clone(),
-            second: second.reflectance.clone(),
-        })),
-    };
-    match (&first, &second) {
-        (Material::Diffuse(a), Material::Diffuse(b)) => Material::Diffuse(mixed(weight, a, b)),
-        (Material::TwoSided(a), Material::TwoSided(b)) => match (&a.front, &a.back, &b.front, &b.back) {
-            (Material::Diffuse(af), Material::Diffuse(ab), Material::Diffuse(bf), Material::Diffuse(bb))
-                if af == ab && bf == bb =>
-            {
-                let side = Material::Diffuse(mixed(weight, af, bf));
-                Material::TwoSided(Box::new(TwoSided { front: side.clone(), back: side }))
-            }
-            _ => Material::Blend(Box::new(Blend { weight, first, second })),
+    if let (Some((a, a_two_sided)), Some((b, b_two_sided))) = (lambert(&first), lambert(&second)) {
+        if a_two_sided == b_two_sided {
+            let mix = Mix { weight, first: a.reflectance.clone(), second: b.reflectance.clone() };
+            let side = Material::Diffuse(Diffuse { reflectance: Texture::Mix(Box::new(mix)) });
+            return match a_two_sided {
+                true => Material::TwoSided(Box::new(TwoSided { front: side.clone(), back: side })),
+                false => side,
+            };
+        }
+    }
+    Material::Blend(Box::new(Blend { weight, first, second }))
+}
+
+/// A Lambert reflector's diffuse member, and whether it reflects on both sides (the same
+/// diffuse material on each).
+fn lambert(material: &Material) -> Option<(&Diffuse, bool)> {
+    match material {
+        Material::Diffuse(d) => Some((d, false)),
+        Material::TwoSided(t) => match (&t.front, &t.back) {
+            (Material::Diffuse(front), Material::Diffuse(back)) if front == back => Some((front, true)),
+            _ => None,
         },
-        _ => Material::Blend(Box::new(Blend { weight, first, second })),
+        _ => None,
     }
 }
