@@ -236,13 +236,13 @@ impl Runner {
             Target::Pbrt => {
                 let text = std::str::from_utf8(input).map_err(|e| e.to_string())?;
                 let files = [("quad.ply", QUAD_PLY)];
-                glint_scene::pbrt::parse_pbrt(text, Path::new("fuzz.pbrt"), Source::embedded(&files))
+                glint_scene::parse_pbrt(text, Path::new("fuzz.pbrt"), Source::embedded(&files))
                     .map(|_| ())
                     .map_err(|e| e.to_string())
             }
             Target::Gltf => {
                 let name = if input.starts_with(b"glTF") { "fuzz.glb" } else { "fuzz.gltf" };
-                glint_scene::gltf::parse_gltf(input, Path::new(name), Source::embedded(&[]), Default::default())
+                glint_scene::parse_gltf(input, Path::new(name), Source::embedded(&[]), Default::default())
                     .map(|_| ())
                     .map_err(|e| e.to_string())
             }

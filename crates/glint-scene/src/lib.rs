@@ -9,6 +9,7 @@ mod error;
 pub mod gltf;
 mod image;
 mod limits;
+mod load;
 mod located;
 pub mod mesh;
 pub mod mitsuba;
@@ -19,11 +20,13 @@ mod source;
 pub mod volume;
 
 pub use error::{Location, SceneError};
+pub use gltf::GltfOptions;
 pub use image::decode as decode_image;
 pub use limits::{describe as describe_bytes, memory_limit, set_memory_limit, RAISE as RAISE_MEMORY_LIMIT};
-pub use native::{
-    load_scene, load_scene_with, load_scene_with_options, parse_scene, LoadOptions, LoadedScene, RenderOptions,
+pub use load::{
+    load_scene, load_scene_with, load_scene_with_options, parse_gltf, parse_pbrt, parse_scene, LoadOptions,
 };
+pub use native::{LoadedScene, RenderOptions};
 pub use source::{read_file, Source};
 
 /// The scene `glint render` shows when given no scene file: spheres, a polygon, a box and a

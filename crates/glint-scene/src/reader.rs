@@ -1,14 +1,14 @@
-//! What every scene reader does around its own grammar: read the scene file and make the
-//! search path for the files it names, and build the native description it wrote, with the
-//! files it made in memory and its warnings. The readers call these, so that the message for
-//! an unreadable file, the search order and the order of warnings are one whatever the format.
+//! What every scene reader shares around its own grammar: reading the scene file with the
+//! search path for the files it names (one message for an unreadable file, one search order
+//! whatever the format), and the `Translation` it hands back: the native description, the
+//! files it made in memory and its warnings. Readers translate and never build; `load.rs`
+//! builds what they translate.
 
 use std::path::{Path, PathBuf};
 
 use crate::error::SceneError;
 use crate::native::schema::SceneFile;
-use crate::native::LoadedScene;
-use crate::source::{MadeFile, Source};
+use crate::source::MadeFile;
 
 /// Files a reader makes in memory, by name: a glTF's embedded images as bytes, a pbrt map
 /// resampled as a decoded image.
@@ -24,24 +24,23 @@ pub(crate) fn read_scene_file(path: &Path, search_path: &[PathBuf]) -> Result<(V
     Ok((bytes, directories))
 }
 
-/// What a reader made of a scene file.
-pub(crate) struct Translation<'t> {
+/// What a reader made of a scene file: everything the builder needs, and nothing built.
+pub(crate) struct Translation {
     /// The native description.
     pub(crate) file: SceneFile,
     /// The text the description's spans point into; empty where it has none.
-    pub(crate) text: &'t str,
-    /// Files made in memory, found by name before `source`'s.
+    pub(crate) text: String,
+    /// Files made in memory, found by name before those of the search path.
     pub(crate) made: MadeFiles,
     pub(crate) warnings: Vec<String>,
+    /// The scene files the reader read itself, the scene file first (a Mitsuba scene's
+    /// includes), when there are more than the one.
+    pub(crate) scene_files: Vec<PathBuf>,
 }
 
-/// Builds the translation of the scene `name`; the reader's warnings come before the
-/// builder's.
-pub(crate) fn build(translation: Translation, name: &Path, source: Source) -> Result<LoadedScene, SceneError> {
-    let source = source.with_made_files(translation.made);
-    let mut loaded = crate::native::build_file(translation.file, translation.text, name, &source)?;
-    let mut warnings = translation.warnings;
-    warnings.append(&mut loaded.warnings);
-    loaded.warnings = warnings;
-    Ok(loaded)
+impl Translation {
+    /// A description with nothing else: no text, nothing made, no warnings.
+    pub(crate) fn new(file: SceneFile, text: String) -> Self {
+        Self { file, text, made: Vec::new(), warnings: Vec::new(), scene_files: Vec::new() }
+    }
 }

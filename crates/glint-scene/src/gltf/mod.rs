@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use base64::Engine;
 
 use crate::error::SceneError;
-use crate::native::LoadedScene;
+use crate::reader::Translation;
 use crate::source::Source;
 
 /// Extensions whose meaning glint reads; others in `extensionsUsed` are named in a warning,
@@ -39,21 +39,26 @@ pub struct GltfOptions {
     pub no_default_light: bool,
 }
 
-/// Reads a glTF 2.0 scene; `search_path` is searched after its directory for the files it
-/// names.
-pub fn load_gltf(path: &Path, search_path: &[PathBuf], options: GltfOptions) -> Result<LoadedScene, SceneError> {
+/// Reads a glTF 2.0 scene into its native description, with the search path for the files it
+/// names: its directory, then `search_path`.
+pub(crate) fn read_file(
+    path: &Path,
+    search_path: &[PathBuf],
+    options: GltfOptions,
+) -> Result<(Translation, Source<'static>), SceneError> {
     let (bytes, directories) = crate::reader::read_scene_file(path, search_path)?;
-    parse_gltf(&bytes, path, Source::search_path(directories), options)
+    let source = Source::search_path(directories);
+    Ok((translate_bytes(&bytes, path, &source, options)?, source))
 }
 
-/// Reads glTF bytes (JSON or binary); `name` is used in messages, `source` resolves the
+/// Translates glTF bytes (JSON or binary); `name` is used in messages, `source` resolves the
 /// buffers and images it names.
-pub fn parse_gltf(
+pub(crate) fn translate_bytes(
     bytes: &[u8],
     name: &Path,
-    source: Source<'_>,
+    source: &Source,
     options: GltfOptions,
-) -> Result<LoadedScene, SceneError> {
+) -> Result<Translation, SceneError> {
     let error = |m: String| SceneError::new(name, None, m);
     precheck(bytes).map_err(|m| error(format!("not a valid glTF 2.0 file: {m}")))?;
     let mut gltf = ::gltf::Gltf::from_slice_without_validation(bytes)
@@ -76,14 +81,14 @@ pub fn parse_gltf(
             warnings.push(format!("{}: extension {extension} is not read; its effect is left out", name.display()));
         }
     }
-    let buffers = read_buffers(&gltf, &source).map_err(error)?;
+    let buffers = read_buffers(&gltf, source).map_err(error)?;
     let mut made = Vec::new();
-    let images = read_images(&gltf, &buffers, &source, &mut made).map_err(error)?;
+    let images = read_images(&gltf, &buffers, source, &mut made).map_err(error)?;
     let reader = nodes::Reader::new(&gltf.document, &buffers, &images, name, options);
     let (file, mut more) = reader.translate(&mut made).map_err(error)?;
     warnings.append(&mut more);
     let made = made.into_iter().map(|(name, bytes)| (name, crate::source::MadeFile::Bytes(bytes))).collect();
-    crate::reader::build(crate::reader::Translation { file, text: "", made, warnings }, name, source)
+    Ok(Translation { made, warnings, ..Translation::new(file, String::new()) })
 }
 
 /// Why a required extension is not read, where there is more to say than that.

@@ -10,17 +10,17 @@ mod xml;
 use std::path::{Path, PathBuf};
 
 use crate::error::SceneError;
-use crate::native::LoadedScene;
 use crate::reader::Translation;
 use crate::source::Source;
 
-/// Reads a Mitsuba 3 scene. `defines` are `-D name=value` parameters, which override the
-/// file's `<default>`s; `search_path` is searched after the scene's directory and its `<path>`s.
-pub fn load_mitsuba(
+/// Reads a Mitsuba 3 scene into its native description, with the search path for the files it
+/// names: the scene's directory, its `<path>`s, then `search_path`. `defines` are
+/// `-D name=value` parameters, which override the file's `<default>`s.
+pub(crate) fn read_file(
     path: &Path,
     defines: &[(String, String)],
     search_path: &[PathBuf],
-) -> Result<LoadedScene, SceneError> {
+) -> Result<(Translation, Source<'static>), SceneError> {
     let (root, files) = xml::read_scene(path, defines, search_path)?;
     let translator = translate::Translator::new(&files, &root)?;
     let (file, translated_warnings) = translator.translate(&root)?;
@@ -36,10 +36,11 @@ pub fn load_mitsuba(
         warnings
             .push(format!("-D {name}: no <default name=\"{name}\"> in the scene, so it changes nothing{suggestion}"));
     }
-    let translation = Translation { file, text: &files.files[0].1, made: Vec::new(), warnings };
-    let mut loaded = crate::reader::build(translation, path, Source::search_path(files.search_path.clone()))?;
-    // The XML files (the scene and what it includes), then the meshes and textures.
-    let xml_files = files.files.iter().map(|(path, _)| path.clone());
-    loaded.inputs = xml_files.chain(loaded.inputs.into_iter().skip(1)).collect();
-    Ok(loaded)
+    let translation = Translation {
+        warnings,
+        // The XML files (the scene and what it includes) come before the meshes and textures.
+        scene_files: files.files.iter().map(|(path, _)| path.clone()).collect(),
+        ..Translation::new(file, files.files[0].1.clone())
+    };
+    Ok((translation, Source::search_path(files.search_path.clone())))
 }

@@ -17,6 +17,7 @@ use glint_core::scene::Scene;
 
 use crate::error::{with_suggestion, Location, SceneError};
 use crate::located::with_spans;
+use crate::reader::Translation;
 use crate::source::Source;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,59 +52,10 @@ pub struct LoadedScene {
     pub inputs: Vec<PathBuf>,
 }
 
-/// Reads a scene file: `.xml` is a Mitsuba 3 scene, `.pbrt` a pbrt-v4 scene, `.gltf` and `.glb`
-/// glTF 2.0, `.json` JSON, anything else TOML.
-pub fn load_scene(path: &Path) -> Result<LoadedScene, SceneError> {
-    load_scene_with(path, &[])
-}
-
-/// `load_scene` with `-D name=value` parameters for Mitsuba scenes (native scenes have none:
-/// giving any is an error).
-pub fn load_scene_with(path: &Path, defines: &[(String, String)]) -> Result<LoadedScene, SceneError> {
-    load_scene_with_options(path, &LoadOptions { defines: defines.to_vec(), ..LoadOptions::default() })
-}
-
-/// What the command line adds to a scene file.
-#[derive(Clone, Debug, Default)]
-pub struct LoadOptions {
-    /// `-D name=value` parameters for Mitsuba scenes.
-    pub defines: Vec<(String, String)>,
-    /// Directories searched, after the scene's own (and a Mitsuba scene's `<path>`s), for
-    /// the files it names: meshes, textures, includes (Mitsuba's `-a`).
-    pub search_path: Vec<PathBuf>,
-    /// A glTF file without punctual lights is lit by a default environment unless this is
-    /// set (`--no-default-light`; docs/gltf.md).
-    pub no_default_light: bool,
-}
-
-/// `load_scene` with parameters and a search path.
-pub fn load_scene_with_options(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneError> {
-    let defines = &options.defines;
-    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    if extension.as_deref() == Some("xml") {
-        return crate::mitsuba::load_mitsuba(path, defines, &options.search_path);
-    }
-    // The readers that take a search path and no parameters.
-    let gltf = crate::gltf::GltfOptions { no_default_light: options.no_default_light };
-    let reader: Option<&dyn Fn() -> Result<LoadedScene, SceneError>> = match extension.as_deref() {
-        Some("gltf" | "glb") => Some(&|| crate::gltf::load_gltf(path, &options.search_path, gltf)),
-        Some("pbrt") => Some(&|| crate::pbrt::load_pbrt(path, &options.search_path)),
-        _ => None,
-    };
-    if let Some(read) = reader {
-        if let Some((name, _)) = defines.first() {
-            return Err(SceneError::new(path, None, format!("-D {name}=…: parameters are for Mitsuba scenes (.xml)")));
-        }
-        return read();
-    }
-    if let Some((name, _)) = defines.first() {
-        return Err(SceneError::new(
-            path,
-            None,
-            format!("-D {name}=…: parameters are for Mitsuba scenes (.xml); this is a native scene"),
-        ));
-    }
-    let (bytes, directories) = crate::reader::read_scene_file(path, &options.search_path)?;
+/// Reads a native scene file (TOML, or JSON by its extension) into its description, with the
+/// search path for the files it names: the scene's directory, then `search_path`.
+pub(crate) fn read_file(path: &Path, search_path: &[PathBuf]) -> Result<(Translation, Source<'static>), SceneError> {
+    let (bytes, directories) = crate::reader::read_scene_file(path, search_path)?;
     let text = crate::source::utf8_text(path, bytes)?;
     let format = match path.extension().and_then(|e| e.to_str()) {
         Some(ext) if ext.eq_ignore_ascii_case("json") => Format::Json,
@@ -130,43 +82,37 @@ pub fn load_scene_with_options(path: &Path, options: &LoadOptions) -> Result<Loa
             ),
         ));
     }
-    parse_scene(&text, format, path, &Source::search_path(directories))
+    Ok((translate(text, format, path)?, Source::search_path(directories)))
 }
 
 /// Memory the TOML reader takes per byte of text, measured (toml 0.8).
 const TOML_BYTES_PER_BYTE: u64 = 32;
 
-/// Parses scene text. `file` is only used in messages; `source` resolves the files it names.
-pub fn parse_scene(
-    text: &str,
-    format: Format,
-    file: impl AsRef<Path>,
-    source: &Source,
-) -> Result<LoadedScene, SceneError> {
-    let file = file.as_ref();
+/// Parses scene text into its description; `file` is only used in messages.
+pub(crate) fn translate(text: String, format: Format, file: &Path) -> Result<Translation, SceneError> {
     let parsed: schema::SceneFile = match format {
-        Format::Toml => with_spans(|| toml::from_str(text)).map_err(|e| {
+        Format::Toml => with_spans(|| toml::from_str(&text)).map_err(|e| {
             let message = with_suggestion(e.message());
             let location = e.span().map(|span| {
                 // serde reports errors inside a table at the table; point at the key instead.
                 let offset = crate::error::unknown_and_expected(e.message())
-                    .and_then(|(key, _)| find_key(text, span.clone(), &key))
-                    .or_else(|| find_wrong_value(text, span.clone(), e.message()))
+                    .and_then(|(key, _)| find_key(&text, span.clone(), &key))
+                    .or_else(|| find_wrong_value(&text, span.clone(), e.message()))
                     .unwrap_or(span.start);
-                Location::from_offset(text, offset)
+                Location::from_offset(&text, offset)
             });
             SceneError::new(file, location, message)
         })?,
-        Format::Json => serde_json::from_str(text).map_err(|e| {
+        Format::Json => serde_json::from_str(&text).map_err(|e| {
             let message = with_suggestion(&strip_json_position(&e.to_string()));
-            SceneError::new(file, Some(Location::from_line_column(text, e.line(), e.column())), message)
+            SceneError::new(file, Some(Location::from_line_column(&text, e.line(), e.column())), message)
         })?,
     };
-    build::build(parsed, text, file, source)
+    Ok(Translation::new(parsed, text))
 }
 
-/// Builds a scene from a native description made by another reader (Mitsuba XML): `text` is
-/// the file the description's spans point into.
+/// Builds a scene from its native description, made by any reader: `text` is the file the
+/// description's spans point into.
 pub(crate) fn build_file(
     file: schema::SceneFile,
     text: &str,

@@ -16,25 +16,20 @@ mod translate;
 use std::path::{Path, PathBuf};
 
 use crate::error::SceneError;
-use crate::native::LoadedScene;
 use crate::reader::Translation;
 use crate::source::Source;
 
-/// Reads a pbrt-v4 scene; `search_path` is searched after the scene's directory for the
-/// files it names.
-pub fn load_pbrt(path: &Path, search_path: &[PathBuf]) -> Result<LoadedScene, SceneError> {
+/// Reads a pbrt-v4 scene into its native description, with the search path for the files it
+/// names: the scene's directory, then `search_path`.
+pub(crate) fn read_file(path: &Path, search_path: &[PathBuf]) -> Result<(Translation, Source<'static>), SceneError> {
     let (bytes, directories) = crate::reader::read_scene_file(path, search_path)?;
-    build(path, bytes, Source::search_path(directories))
+    let source = Source::search_path(directories);
+    Ok((translate_bytes(path, bytes, &source)?, source))
 }
 
-/// Reads pbrt-v4 scene text; `name` is used in messages, `source` resolves what it names.
-pub fn parse_pbrt(text: &str, name: &Path, source: Source<'_>) -> Result<LoadedScene, SceneError> {
-    build(name, text.as_bytes().to_vec(), source)
-}
-
-/// Translates the file and builds its description, with the files the translation made
-/// (resampled maps).
-fn build(name: &Path, bytes: Vec<u8>, source: Source<'_>) -> Result<LoadedScene, SceneError> {
-    let (file, made, warnings) = translate::translate(name, bytes, &source)?;
-    crate::reader::build(Translation { file, text: "", made, warnings }, name, source)
+/// Translates pbrt-v4 scene bytes (the files it makes: resampled maps); `name` is used in
+/// messages, `source` resolves what it names.
+pub(crate) fn translate_bytes(name: &Path, bytes: Vec<u8>, source: &Source) -> Result<Translation, SceneError> {
+    let (file, made, warnings) = translate::translate(name, bytes, source)?;
+    Ok(Translation { made, warnings, ..Translation::new(file, String::new()) })
 }
