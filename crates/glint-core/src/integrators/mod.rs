@@ -5,6 +5,7 @@
 
 pub mod aov;
 mod bvh_heat;
+mod estimators;
 mod explain;
 mod light;
 mod particle;
@@ -23,9 +24,10 @@ mod wavefront;
 pub mod whitted;
 
 pub use bvh_heat::{heat_colour, BvhHeat};
+pub use estimators::power_heuristic;
 pub use explain::{CameraExplanation, PixelExplanation};
 pub use light::{LightTracer, ParticleExplanation};
-pub use path::{power_heuristic, PathTracer};
+pub use path::PathTracer;
 pub use path_naive::NaivePathTracer;
 pub use photon_mapping::{PhotonMapper, PhotonSettings};
 pub use raycast::Raycast;

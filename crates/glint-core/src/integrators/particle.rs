@@ -8,6 +8,7 @@
 //! weight is corrected by |wo·n_s||wi·n_g| / (|wo·n_g||wi·n_s|) (Veach 1997, §5.3).
 
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 
 use super::path_record::{ParticleRecorder, PathEnd};
 use super::vertex::Vertex;
@@ -33,6 +34,58 @@ pub(super) struct ParticleVertex<'a> {
     /// Whether every scattering event before this surface was specular (mirror, refraction):
     /// with `bounces > 0`, a caustic path L S+ D.
     pub specular_chain: bool,
+}
+
+/// Particles per batch of photon shooting (the unit of parallel work; batch b draws from its
+/// own random stream, so the photons do not depend on the thread count).
+pub(super) const BATCH: u64 = 1024;
+
+/// Shoots the particles of `batches` of random stream `stream`: batch b draws its
+/// `BATCH` particles from its own generator, each emitted by a light chosen by power (the
+/// lights checked as particle sources by the caller) and handed to `trace` with that
+/// generator, to append what it keeps. Returns what was kept, in batch order, and the rays
+/// traced.
+pub(super) fn shoot_batches<T: Send>(
+    scene: &Scene,
+    stream: u64,
+    batches: std::ops::Range<u64>,
+    trace: impl Fn(&Particle, &mut Rng, &mut RayCounts, &mut Vec<T>) + Sync,
+) -> (Vec<T>, RayCounts) {
+    let per_batch: Vec<(Vec<T>, RayCounts)> = batches
+        .into_par_iter()
+        .map(|batch| {
+            let mut rng = Rng::for_sample(stream, batch, 0);
+            let (mut kept, mut rays) = (Vec::new(), RayCounts::default());
+            for _ in 0..BATCH {
+                let u_select = rng.next_f32();
+                let u_point = Vec2::new(rng.next_f32(), rng.next_f32());
+                let u_direction = Vec2::new(rng.next_f32(), rng.next_f32());
+                if let Some(particle) = scene.lights().sample_le(u_select, u_point, u_direction) {
+                    trace(&particle, &mut rng, &mut rays, &mut kept);
+                }
+            }
+            (kept, rays)
+        })
+        .collect();
+    let (mut kept, mut rays) = (Vec::new(), RayCounts::default());
+    for (k, r) in per_batch {
+        kept.extend(k);
+        rays.add(&r);
+    }
+    (kept, rays)
+}
+
+/// Russian roulette on a particle whose flux `weight` a scattering scales by `scale` (Jensen:
+/// absorb, or go on with the power scaled by the BSDF's weight over the survival
+/// probability): it survives with the largest channel's scale, capped, so that a lossless
+/// mirror box or medium ends. Returns the survival probability and whether it survived.
+pub(super) fn particle_roulette(weight: &mut Rgb, scale: Rgb, rng: &mut Rng) -> (f32, bool) {
+    let survival = scale.max_element().min(0.95);
+    let survived = !(survival <= 0.0 || rng.next_f32() >= survival);
+    if survived {
+        *weight *= scale / survival;
+    }
+    (survival, survived)
 }
 
 /// The shading-normal correction for particles going from `wo` to `wi` at `hit`.
@@ -86,15 +139,12 @@ pub(super) fn trace_particle<R: ParticleRecorder>(
             return;
         };
         let scale = sample.weight * shading_correction(&hit, wo, sample.wi);
-        // Survive with the largest channel's scale (capped, so a lossless mirror box ends).
-        let survival = scale.max_element().min(0.95);
-        let survived = !(survival <= 0.0 || rng.next_f32() >= survival);
+        let (survival, survived) = particle_roulette(&mut weight, scale, rng);
         recorder.roulette(survival, survived);
         if !survived {
             recorder.end(PathEnd::Roulette);
             return;
         }
-        weight *= scale / survival;
         specular_chain &= sample.delta;
         bounces += 1;
         ray = hit.spawn_ray(sample.wi);

@@ -7,7 +7,7 @@
 
 use glam::Vec2;
 
-use super::path::russian_roulette;
+use super::estimators::roulette;
 use super::path_record::{PathEnd, PathRecorder, TracesPaths};
 use super::vertex::trace_seeing_light;
 use super::{CameraExplanation, Integrator, SampleContext};
@@ -69,7 +69,8 @@ impl TracesPaths for NaivePathTracer {
             recorder.scatter(&sample, throughput);
             eta_scale *= sample.eta_squared;
             depth += 1;
-            if depth >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context, recorder) {
+            if depth >= self.rr_depth && !roulette(&mut throughput, eta_scale, context, recorder) {
+                recorder.end(PathEnd::Roulette);
                 break;
             }
             ray = vertex.hit.spawn_ray(sample.wi);

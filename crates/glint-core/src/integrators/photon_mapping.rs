@@ -32,15 +32,14 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use glam::Vec2;
 use rayon::prelude::*;
 
-use super::particle::{trace_particle, ParticleVertex};
-use super::path::{russian_roulette, sample_lights, Weighting};
+use super::estimators::{roulette, sample_lights, Weighting};
+use super::particle::{shoot_batches, trace_particle, ParticleVertex, BATCH};
 use super::path_record::{GatherRecord, PathEnd, PathRecorder, TracesPaths};
 use super::vertex::{trace_seeing_light, Vertex};
 use super::{CameraExplanation, Integrator, RayCounts, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
 use crate::photons::{NearestPhotons, Photon, PhotonMap};
-use crate::sampling::Rng;
 use crate::scene::{Scene, SurfaceHit};
 use crate::RenderError;
 use crate::Rgb;
@@ -66,9 +65,6 @@ impl Default for PhotonSettings {
     }
 }
 
-/// Particles per batch of photon shooting (the unit of parallel work; batch b draws from
-/// its own random stream, so the maps do not depend on the thread count).
-pub(super) const BATCH: u64 = 1024;
 /// Batches shot between checks of the stored count.
 const ROUND: u64 = 64;
 /// A map gives up after this many particles per photon wanted (few caustics, say).
@@ -106,45 +102,16 @@ impl PhotonShooter<'_> {
     /// generator) and keeps the photons `keep` accepts, in batch order. Returns the photons,
     /// the particles emitted and the rays traced.
     pub fn shoot(&self, stream: u64, batches: std::ops::Range<u64>, keep: Keep) -> (Vec<Photon>, u64, RayCounts) {
-        let per_batch: Vec<(Vec<Photon>, RayCounts)> = batches
-            .clone()
-            .into_par_iter()
-            .map(|batch| {
-                let mut rng = Rng::for_sample(self.seed ^ stream, batch, 0);
-                let mut photons = Vec::new();
-                let mut rays = RayCounts::default();
-                for _ in 0..BATCH {
-                    let u_select = rng.next_f32();
-                    let u_point = Vec2::new(rng.next_f32(), rng.next_f32());
-                    let u_direction = Vec2::new(rng.next_f32(), rng.next_f32());
-                    let Some(particle) = self.scene.lights().sample_le(u_select, u_point, u_direction) else {
-                        continue;
-                    };
-                    trace_particle(
-                        self.scene,
-                        &particle,
-                        self.max_depth,
-                        &mut rng,
-                        &mut rays,
-                        &mut (),
-                        |v, _, _, _| {
-                            if keep(v) {
-                                let n = v.hit.geometric_normal_toward(v.wo);
-                                photons.push(Photon::new(v.hit.geometry.point, v.wo, n, v.weight));
-                            }
-                        },
-                    );
+        let emitted = (batches.end - batches.start) * BATCH;
+        let (photons, rays) = shoot_batches(self.scene, self.seed ^ stream, batches, |particle, rng, rays, photons| {
+            trace_particle(self.scene, particle, self.max_depth, rng, rays, &mut (), |v, _, _, _| {
+                if keep(v) {
+                    let n = v.hit.geometric_normal_toward(v.wo);
+                    photons.push(Photon::new(v.hit.geometry.point, v.wo, n, v.weight));
                 }
-                (photons, rays)
-            })
-            .collect();
-        let mut rays = RayCounts::default();
-        let mut photons = Vec::new();
-        for (p, r) in per_batch {
-            photons.extend(p);
-            rays.add(&r);
-        }
-        (photons, (batches.end - batches.start) * BATCH, rays)
+            });
+        });
+        (photons, emitted, rays)
     }
 
     /// Shoots rounds of batches until `wanted` photons are kept or `max_particles` emitted.
@@ -431,7 +398,8 @@ impl TracesPaths for PhotonMapper {
             throughput *= sample.weight;
             recorder.scatter(&sample, throughput);
             depth += 1;
-            if depth >= self.rr_depth && !russian_roulette(&mut throughput, 1.0, context, recorder) {
+            if depth >= self.rr_depth && !roulette(&mut throughput, 1.0, context, recorder) {
+                recorder.end(PathEnd::Roulette);
                 break;
             }
             if throughput == Rgb::ZERO {

@@ -26,10 +26,11 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
+use super::estimators::{add_next_event, roulette, surface_next_event, Weighting};
+use super::particle::BATCH;
 use super::passes::{camera_samples, par_tiles, pixel_sample, Pass, PassRenderer};
-use super::path::{russian_roulette, sample_lights_recorded, Weighting};
 use super::path_record::{PathEnd, PathLog, PathRecorder};
-use super::photon_mapping::{PhotonShooter, BATCH};
+use super::photon_mapping::PhotonShooter;
 use super::vertex::trace_seeing_light;
 use super::{RayCounts, SampleContext};
 use crate::film::Film;
@@ -127,8 +128,8 @@ impl Sppm {
             }
             let bsdf = vertex.bsdf();
             if bsdf.has_diffuse() {
-                direct +=
-                    sample_lights_recorded(scene, hit, &bsdf, wo, Weighting::LightOnly, context, throughput, recorder);
+                let event = surface_next_event(scene, hit, &bsdf, wo, Weighting::LightOnly, context);
+                add_next_event(event, throughput, &mut direct, recorder);
             }
             let p = bsdf.non_delta_probability();
             if context.sampler.next_f32() < p {
@@ -150,7 +151,8 @@ impl Sppm {
             throughput *= sample.weight / (1.0 - p);
             recorder.scatter(&sample, throughput);
             eta_scale *= sample.eta_squared;
-            if depth + 1 >= self.rr_depth && !russian_roulette(&mut throughput, eta_scale, context, recorder) {
+            if depth + 1 >= self.rr_depth && !roulette(&mut throughput, eta_scale, context, recorder) {
+                recorder.end(PathEnd::Roulette);
                 break;
             }
             if throughput == Rgb::ZERO {

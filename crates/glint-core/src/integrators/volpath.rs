@@ -22,16 +22,20 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::path::{emission_weight, power_heuristic, BounceDraws};
-use super::path_record::{LightSampleRecord, PathEnd, PathRecorder, TracesPaths};
+use super::estimators::{
+    add_emission, add_escaped, add_next_event, next_event, roulette, Scatter, Scattering, Weighting,
+};
+use super::path::BounceDraws;
+use super::path_record::{PathEnd, PathRecorder, TracesPaths};
 use super::vertex::Vertex;
 use super::volume_photons::VolumePhotons;
 use super::{CameraExplanation, Integrator, IntegratorSettings, SampleContext};
 use crate::geometry::{offset_ray_origin, Ray};
 use crate::lights::{LightEnd, LightSample};
-use crate::media::{Flight, MediumInterface};
+use crate::materials::Bsdf;
+use crate::media::{Flight, MediumInterface, PhaseFunction};
 use crate::sampling::Rng;
-use crate::scene::Scene;
+use crate::scene::{Scene, SurfaceHit};
 use crate::Rgb;
 
 #[derive(Clone)]
@@ -49,19 +53,28 @@ impl VolPathTracer {
     }
 }
 
-/// Where the last direction was sampled, for the MIS weight of emission found along it.
-#[derive(Clone, Copy, Debug)]
-struct Previous {
-    point: Vec3,
-    /// The surface's shading normal; `None` in a medium.
-    normal: Option<Vec3>,
-    pdf: f32,
-    delta: bool,
-}
+/// Null surfaces a single shadow ray, path segment or particle may cross in a row before glint
+/// gives up on it (the light beyond is lost: scenes of more nested null boundaries than this
+/// render dark).
+pub(super) const MAX_CROSSINGS: usize = 256;
 
-/// Null surfaces a single shadow ray or path segment may cross before glint gives up on it
-/// (the light beyond is lost: scenes of more nested null boundaries than this render dark).
-const MAX_CROSSINGS: usize = 256;
+/// The medium beyond `object`'s surface for a ray leaving along `direction` (the surface's
+/// geometric normal `geometric`): its interface's medium on that side, or `current` where the
+/// object has no interface (it keeps the medium it sits in).
+pub(super) fn medium_beyond(
+    scene: &Scene,
+    object: u32,
+    direction: Vec3,
+    geometric: Vec3,
+    current: Option<u32>,
+) -> Option<u32> {
+    let interface = scene.medium_interface(object);
+    if interface != MediumInterface::default() {
+        interface.toward(direction, geometric)
+    } else {
+        current
+    }
+}
 
 impl Integrator for VolPathTracer {
     fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
@@ -89,7 +102,7 @@ impl TracesPaths for VolPathTracer {
         let mut rng = Rng::new(seed, 0x766f6c70);
         let (mut radiance, mut throughput, mut eta_scale) = (Rgb::ZERO, Rgb::ONE, 1.0f32);
         let mut medium = scene.camera_medium();
-        let mut previous: Option<Previous> = None;
+        let mut previous: Option<Scatter> = None;
         let mut depth = 0u32;
         let mut ray = Ray::new(camera_ray.origin, camera_ray.direction.normalize());
         let mut crossings = 0usize;
@@ -118,24 +131,13 @@ impl TracesPaths for VolPathTracer {
                         if throughput == Rgb::ZERO {
                             break PathEnd::Absorbed;
                         }
-                        // Light sampling from the medium, against phase sampling.
-                        let (u_select, u) = BounceDraws::light(&mut context.sampler);
-                        if let Some(light) = scene.lights().sample_li(point, None, u_select, u) {
-                            let f = m.phase.eval(ray.direction, light.direction);
-                            if light.radiance != Rgb::ZERO && f > 0.0 && light.pdf > 0.0 {
-                                context.rays.shadow += 1;
-                                let shadow = shadow_ray_from(point, &light);
-                                let tr = transmittance(scene, shadow, medium, &mut rng);
-                                // Without phase sampling after it (photons), in full.
-                                let w = if light.delta || self.photons.is_some() {
-                                    1.0
-                                } else {
-                                    power_heuristic(light.pdf, f)
-                                };
-                                let lit = || throughput * light.radiance * tr * (f * w / light.pdf);
-                                add_light_sample(&mut radiance, recorder, &light, w, tr, lit);
-                            }
-                        }
+                        // Light sampling from the medium, against phase sampling (in full where
+                        // no phase sampling follows: photons).
+                        let weighting = if self.photons.is_some() { Weighting::LightOnly } else { Weighting::Mis };
+                        let phase =
+                            InMedium { scene, phase: &m.phase, direction: ray.direction, point, medium, rng: &mut rng };
+                        let event = next_event(scene, point, None, phase, weighting, context);
+                        add_next_event(event, throughput, &mut radiance, recorder);
                         if let Some(photons) = &self.photons {
                             // The rest of the light scattered here, ∫ p L dω', from the
                             // medium's photons (the throughput holds σ_s).
@@ -148,7 +150,7 @@ impl TracesPaths for VolPathTracer {
                         let (_, u) = BounceDraws::scatter(&mut context.sampler);
                         let sample = m.phase.sample(ray.direction, u);
                         recorder.phase(sample.outgoing, sample.pdf);
-                        previous = Some(Previous { point, normal: None, pdf: sample.pdf, delta: false });
+                        previous = Some(Scatter { point, normal: None, pdf: sample.pdf, delta: false });
                         ray = Ray::new(point, sample.outgoing);
                         depth += 1;
                         crossings = 0;
@@ -161,17 +163,7 @@ impl TracesPaths for VolPathTracer {
                 }
             }
             let Some(hit) = hit else {
-                let seen = match previous {
-                    Some(from) if !from.delta => scene
-                        .lights()
-                        .environment_seen(ray.direction)
-                        .map(|(radiance, pdf)| (radiance, power_heuristic(from.pdf, pdf))),
-                    _ => None,
-                };
-                let (background, weight) = seen.unwrap_or_else(|| (scene.environment().radiance(ray.direction), 1.0));
-                let added = throughput * background * weight;
-                radiance += added;
-                recorder.escape(background, weight, added);
+                add_escaped(scene, ray.direction, previous, throughput, &mut radiance, recorder);
                 break PathEnd::Escaped;
             };
             let material = &scene.materials()[hit.material as usize];
@@ -181,27 +173,14 @@ impl TracesPaths for VolPathTracer {
                 if crossings > MAX_CROSSINGS {
                     break PathEnd::Absorbed;
                 }
-                // An object without an interface keeps the path's medium.
-                let interface = scene.medium_interface(hit.object);
-                if interface != MediumInterface::default() {
-                    medium = interface.toward(ray.direction, hit.geometry.geometric_normal);
-                }
+                medium = medium_beyond(scene, hit.object, ray.direction, hit.geometry.geometric_normal, medium);
                 ray = hit.spawn_ray(ray.direction);
                 continue;
             }
             recorder.vertex(depth, &hit, throughput);
             let vertex = Vertex::at(scene, &ray, hit);
             let (wo, geometric) = (vertex.wo, hit.geometry.geometric_normal);
-            let emitted = vertex.emitted();
-            if emitted != Rgb::ZERO {
-                let weight = match previous {
-                    Some(from) if !from.delta => emission_weight(scene, from.point, from.normal, from.pdf, &hit),
-                    _ => 1.0,
-                };
-                let added = throughput * emitted * weight;
-                radiance += added;
-                recorder.emission(emitted, weight, added);
-            }
+            add_emission(scene, &hit, vertex.emitted(), previous, throughput, &mut radiance, recorder);
             let bsdf = vertex.bsdf();
             let passable = bsdf.null_transmission(wo) != Rgb::ZERO;
             // Past the last bounce a path may still pass straight through a thin sheet: that
@@ -210,29 +189,12 @@ impl TracesPaths for VolPathTracer {
             if last && !passable {
                 break PathEnd::Depth;
             }
-            let interface = scene.medium_interface(hit.object);
-            let has_interface = interface != MediumInterface::default();
-            let medium_toward = |w: Vec3| if has_interface { interface.toward(w, geometric) } else { medium };
+            let medium_toward = |w: Vec3| medium_beyond(scene, hit.object, w, geometric, medium);
             if bsdf.has_diffuse() && !last {
-                let (u_select, u) = BounceDraws::light(&mut context.sampler);
-                if let Some(light) =
-                    scene.lights().sample_li(hit.geometry.point, Some(hit.geometry.shading_normal), u_select, u)
-                {
-                    let f = bsdf.eval(wo, light.direction);
-                    if light.radiance != Rgb::ZERO && f != Rgb::ZERO && light.pdf > 0.0 {
-                        context.rays.shadow += 1;
-                        let tr = transmittance(
-                            scene,
-                            hit.spawn_shadow_ray(&light),
-                            medium_toward(light.direction),
-                            &mut rng,
-                        );
-                        let w =
-                            if light.delta { 1.0 } else { power_heuristic(light.pdf, bsdf.pdf(wo, light.direction)) };
-                        let lit = || throughput * f * light.radiance * tr * (w / light.pdf);
-                        add_light_sample(&mut radiance, recorder, &light, w, tr, lit);
-                    }
-                }
+                let surface = AtSurface { scene, hit: &hit, bsdf: &bsdf, wo, medium, rng: &mut rng };
+                let (point, normal) = (hit.geometry.point, hit.geometry.shading_normal);
+                let event = next_event(scene, point, Some(normal), surface, Weighting::Mis, context);
+                add_next_event(event, throughput, &mut radiance, recorder);
             }
             let (u_lobe, u) = BounceDraws::scatter(&mut context.sampler);
             let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break PathEnd::Absorbed };
@@ -254,7 +216,7 @@ impl TracesPaths for VolPathTracer {
                 break PathEnd::Depth;
             }
             eta_scale *= sample.eta_squared;
-            previous = Some(Previous {
+            previous = Some(Scatter {
                 point: hit.geometry.point,
                 normal: Some(hit.geometry.shading_normal),
                 pdf: sample.pdf,
@@ -275,43 +237,58 @@ impl TracesPaths for VolPathTracer {
     }
 }
 
-/// Adds what a light sample brings (`lit`, asked only if light came through the shadow ray:
-/// transmittance `tr` ≠ 0) to `radiance`, and tells the recorder (MIS weight `w`; 0 when
-/// occluded, as `path` records it).
-fn add_light_sample(
-    radiance: &mut Rgb,
-    recorder: &mut impl PathRecorder,
-    light: &LightSample,
-    w: f32,
-    tr: Rgb,
-    lit: impl FnOnce() -> Rgb,
-) {
-    let occluded = tr == Rgb::ZERO;
-    let added = if occluded { Rgb::ZERO } else { lit() };
-    *radiance += added;
-    recorder.light_sample(LightSampleRecord::new(light, if occluded { 0.0 } else { w }, occluded, added));
+/// A surface in a scene with media, lit through them: its BSDF, and shadow rays that start in
+/// the medium on the light's side and pass media, null surfaces and thin sheets.
+struct AtSurface<'a> {
+    scene: &'a Scene,
+    hit: &'a SurfaceHit,
+    bsdf: &'a Bsdf<'a>,
+    wo: Vec3,
+    /// The medium the path arrived in.
+    medium: Option<u32>,
+    rng: &'a mut Rng,
 }
 
-/// Russian roulette as the path tracer plays it (Mitsuba's rule), once a path has scattered
-/// more than `rr_depth` times (Mitsuba's `volpath` starts one bounce later than its `path`).
-fn roulette(
-    throughput: &mut Rgb,
-    eta_scale: f32,
-    context: &mut SampleContext,
-    recorder: &mut impl PathRecorder,
-) -> bool {
-    let survival = (throughput.max_element() * eta_scale).min(0.95);
-    if survival <= 0.0 {
-        recorder.roulette(survival, false);
-        return false;
+impl Scattering for AtSurface<'_> {
+    fn value(&self, wi: Vec3) -> Rgb {
+        self.bsdf.eval(self.wo, wi)
     }
-    let survived = BounceDraws::roulette(&mut context.sampler) < survival;
-    recorder.roulette(survival, survived);
-    if !survived {
-        return false;
+
+    fn density(&self, wi: Vec3) -> f32 {
+        self.bsdf.pdf(self.wo, wi)
     }
-    *throughput /= survival;
-    true
+
+    fn visibility(&mut self, light: &LightSample) -> Rgb {
+        let (hit, scene) = (self.hit, self.scene);
+        let medium = medium_beyond(scene, hit.object, light.direction, hit.geometry.geometric_normal, self.medium);
+        transmittance(scene, hit.spawn_shadow_ray(light), medium, self.rng)
+    }
+}
+
+/// A scattering collision in a medium, seen along `direction`: its phase function, and shadow
+/// rays through the media beyond.
+struct InMedium<'a> {
+    scene: &'a Scene,
+    phase: &'a PhaseFunction,
+    direction: Vec3,
+    point: Vec3,
+    medium: Option<u32>,
+    rng: &'a mut Rng,
+}
+
+impl Scattering for InMedium<'_> {
+    fn value(&self, wi: Vec3) -> Rgb {
+        Rgb::splat(self.phase.eval(self.direction, wi))
+    }
+
+    /// The phase function samples itself exactly: its density is its value.
+    fn density(&self, wi: Vec3) -> f32 {
+        self.phase.eval(self.direction, wi)
+    }
+
+    fn visibility(&mut self, light: &LightSample) -> Rgb {
+        transmittance(self.scene, shadow_ray_from(self.point, light), self.medium, self.rng)
+    }
 }
 
 /// A shadow ray from a point in a medium toward a sampled light: over t ∈ (0, 1) to a point
@@ -365,10 +342,7 @@ fn transmittance(scene: &Scene, ray: Ray, mut medium: Option<u32>, rng: &mut Rng
                 return tr;
             }
         }
-        let interface = scene.medium_interface(hit.object);
-        if interface != MediumInterface::default() {
-            medium = interface.toward(direction, hit.geometry.geometric_normal);
-        }
+        medium = medium_beyond(scene, hit.object, direction, hit.geometry.geometric_normal, medium);
         // On from the crossing, the rest of the segment.
         let remaining = ray.t_max - hit.t;
         ray = Ray { t_max: remaining, ..hit.spawn_ray(direction) };

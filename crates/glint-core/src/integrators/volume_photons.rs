@@ -23,28 +23,23 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use glam::{Vec2, Vec3};
-use rayon::prelude::*;
 
-use super::particle::shading_correction;
+use super::particle::{particle_roulette, shading_correction, shoot_batches, BATCH};
 use super::vertex::Vertex;
+use super::volpath::{medium_beyond, MAX_CROSSINGS};
 use super::RayCounts;
 use crate::geometry::Ray;
 use crate::lights::Particle;
-use crate::media::{Flight, MediumInterface, PhaseFunction};
+use crate::media::{Flight, PhaseFunction};
 use crate::photons::{NearestPhotons, Photon, PhotonMap};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use crate::{RenderError, Rgb};
 
-/// Particles per batch (batch b draws from its own stream: the map does not depend on the
-/// thread count).
-const BATCH: u64 = 1024;
 /// The map's random stream, apart from the camera's and the other photon maps'.
 const STREAM: u64 = 0x564F_4C50;
 /// Particles emitted at most per photon wanted (a scene whose light rarely reaches a medium).
 const EFFORT: u64 = 32;
-/// Null surfaces and thin sheets a particle may cross in a row.
-const MAX_CROSSINGS: usize = 256;
 
 /// The volume photon maps (one per medium, so that an estimate never gathers another
 /// medium's photons) and how they are searched.
@@ -84,28 +79,14 @@ impl VolumePhotons {
             if stop.load(Ordering::Relaxed) {
                 return Err(RenderError::Interrupted);
             }
-            let round: Vec<(Vec<(u32, Photon)>, RayCounts)> = (next..next + 64)
-                .into_par_iter()
-                .map(|batch| {
-                    let mut rng = Rng::for_sample(seed ^ STREAM, batch, 0);
-                    let (mut stored, mut rays) = (Vec::new(), RayCounts::default());
-                    for _ in 0..BATCH {
-                        let u_select = rng.next_f32();
-                        let u_point = Vec2::new(rng.next_f32(), rng.next_f32());
-                        let u_direction = Vec2::new(rng.next_f32(), rng.next_f32());
-                        if let Some(particle) = scene.lights().sample_le(u_select, u_point, u_direction) {
-                            trace(scene, &particle, max_depth, &mut rng, &mut rays, &mut stored);
-                        }
-                    }
-                    (stored, rays)
-                })
-                .collect();
+            let (round, round_rays) =
+                shoot_batches(scene, seed ^ STREAM, next..next + 64, |particle, rng, rays, stored| {
+                    trace(scene, particle, max_depth, rng, rays, stored)
+                });
             next += 64;
             emitted += 64 * BATCH;
-            for (p, r) in round {
-                photons.extend(p);
-                rays.add(&r);
-            }
+            photons.extend(round);
+            rays.add(&round_rays);
         }
         let mut by_medium: Vec<Vec<Photon>> = vec![Vec::new(); scene.media().len()];
         for (medium, photon) in photons {
@@ -161,17 +142,6 @@ impl VolumePhotons {
     }
 }
 
-/// Russian roulette on a particle's power scaled by `scale`: survive with the largest
-/// channel's scale, capped (so lossless media and mirror boxes end), the power kept unbiased.
-fn roulette(power: &mut Rgb, scale: Rgb, rng: &mut Rng) -> bool {
-    let survival = scale.max_element().min(0.95);
-    if survival <= 0.0 || rng.next_f32() >= survival {
-        return false;
-    }
-    *power *= scale / survival;
-    true
-}
-
 /// Follows one particle from its light, storing a photon at each real collision in a medium
 /// after its first scattering event.
 fn trace(
@@ -201,7 +171,7 @@ fn trace(
                         // power's density is the fluence.
                         stored.push((index, Photon::new(point, -ray.direction, -ray.direction, power * weight)));
                     }
-                    if events + 1 >= max_depth || !roulette(&mut power, weight * sigma_s, rng) {
+                    if events + 1 >= max_depth || !particle_roulette(&mut power, weight * sigma_s, rng).1 {
                         return;
                     }
                     let u = Vec2::new(rng.next_f32(), rng.next_f32());
@@ -215,10 +185,7 @@ fn trace(
             }
         }
         let Some(hit) = hit else { return };
-        let interface = scene.medium_interface(hit.object);
-        let geometric = hit.geometry.geometric_normal;
-        let medium_toward =
-            |w: Vec3| if interface != MediumInterface::default() { interface.toward(w, geometric) } else { medium };
+        let medium_toward = |w: Vec3| medium_beyond(scene, hit.object, w, hit.geometry.geometric_normal, medium);
         if scene.materials()[hit.material as usize].is_null() {
             crossings += 1;
             if crossings > MAX_CROSSINGS {
@@ -241,7 +208,7 @@ fn trace(
                 return;
             }
         } else {
-            if events + 1 >= max_depth || !roulette(&mut power, scale, rng) {
+            if events + 1 >= max_depth || !particle_roulette(&mut power, scale, rng).1 {
                 return;
             }
             events += 1;

@@ -24,7 +24,8 @@ use std::f32::consts::FRAC_1_PI;
 use glam::{Vec2, Vec3};
 use wide::{f32x8, i32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
-use super::path::{power_heuristic8, BounceDraws, PathState, PathTracer, Scatter};
+use super::estimators::{escaped, power_heuristic8, Scatter};
+use super::path::{BounceDraws, PathState, PathTracer};
 use super::{CameraExplanation, Integrator, RayCounts, SampleContext};
 use crate::geometry::lanes::{negate, Vec3x8, LANES};
 use crate::geometry::{offset_ray_origin8, orthonormal_basis8, Ray};
@@ -254,17 +255,8 @@ impl<'a> Wavefront<'a> {
                 } else {
                     // Weighed against light sampling from the last bounce, as the scalar code
                     // weighs it (a delta bounce's density is infinite).
-                    let lights = self.scene.lights();
-                    let direction = path.ray.direction;
-                    let seen = if path.depth > 0 && path.last_pdf != f32::INFINITY {
-                        lights
-                            .environment_seen(direction)
-                            .map(|(radiance, pdf)| (radiance, super::path::power_heuristic(path.last_pdf, pdf)))
-                    } else {
-                        None
-                    };
-                    let (radiance, weight) =
-                        seen.unwrap_or_else(|| (self.scene.environment().radiance(direction), 1.0));
+                    let bsdf_pdf = (path.depth > 0 && path.last_pdf != f32::INFINITY).then_some(path.last_pdf);
+                    let (radiance, weight) = escaped(self.scene, path.ray.direction, bsdf_pdf);
                     path.radiance += path.throughput * radiance * weight;
                 }
             }
@@ -484,7 +476,7 @@ impl<'a> Wavefront<'a> {
         let hit = scene.geometry().surface_hit((path.hit.object, path.hit.prim), &path.ray, &path.hit.at);
         let previous = (path.depth > 0).then_some(Scatter {
             point: path.last_point,
-            shading_normal: path.last_normal,
+            normal: Some(path.last_normal),
             pdf: path.last_pdf,
             delta: path.last_pdf == f32::INFINITY,
         });
@@ -503,7 +495,7 @@ impl<'a> Wavefront<'a> {
         path.eta_scale = state.eta_scale;
         path.depth = state.depth;
         path.last_point = scatter.point;
-        path.last_normal = scatter.shading_normal;
+        path.last_normal = scatter.normal.unwrap_or(path.last_normal);
         path.last_pdf = if scatter.delta { f32::INFINITY } else { scatter.pdf };
         true
     }
