@@ -226,19 +226,7 @@ impl Scattering for OpaqueSurface<'_> {
 }
 
 /// Next-event estimation at a surface of an opaque scene (no media): what a light sample adds
-/// there, before the path's throughput.
-pub(super) fn sample_lights(
-    scene: &Scene,
-    hit: &SurfaceHit,
-    bsdf: &Bsdf,
-    wo: Vec3,
-    weighting: Weighting,
-    context: &mut SampleContext,
-) -> Rgb {
-    surface_next_event(scene, hit, bsdf, wo, weighting, context).contribution
-}
-
-/// `sample_lights`' next event, with its light sample.
+/// there before the path's throughput, and the sample.
 #[inline(always)]
 pub(super) fn surface_next_event(
     scene: &Scene,

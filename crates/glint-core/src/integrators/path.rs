@@ -16,7 +16,7 @@ use glam::Vec2;
 use super::estimators::{add_emission, add_escaped, add_next_event, roulette, surface_next_event, Scatter, Weighting};
 use super::path_record::{PathEnd, PathRecorder, TracesPaths};
 use super::vertex::Vertex;
-use super::{CameraExplanation, Integrator, IntegratorSettings, SampleContext};
+use super::{IntegratorSettings, SampleContext};
 use crate::geometry::Ray;
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceHit};
@@ -91,17 +91,6 @@ impl PathState {
     /// A path before its camera ray is traced.
     pub const CAMERA: Self =
         Self { radiance: Rgb::ZERO, throughput: Rgb::ONE, eta_scale: 1.0, depth: 0, previous: None };
-}
-
-impl Integrator for PathTracer {
-    fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
-        self.trace(scene, camera_ray, context, &mut ())
-    }
-
-    fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Option<CameraExplanation> {
-        let (radiance, log) = TracesPaths::explain(self, scene, camera_ray, context);
-        Some(CameraExplanation::Path { radiance, log })
-    }
 }
 
 impl TracesPaths for PathTracer {

@@ -10,7 +10,7 @@ use glam::Vec2;
 use super::estimators::roulette;
 use super::path_record::{PathEnd, PathRecorder, TracesPaths};
 use super::vertex::trace_seeing_light;
-use super::{CameraExplanation, Integrator, SampleContext};
+use super::SampleContext;
 use crate::geometry::Ray;
 use crate::scene::Scene;
 use crate::Rgb;
@@ -18,17 +18,6 @@ use crate::Rgb;
 pub struct NaivePathTracer {
     pub max_depth: u32,
     pub rr_depth: u32,
-}
-
-impl Integrator for NaivePathTracer {
-    fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
-        self.trace(scene, camera_ray, context, &mut ())
-    }
-
-    fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Option<CameraExplanation> {
-        let (radiance, log) = TracesPaths::explain(self, scene, camera_ray, context);
-        Some(CameraExplanation::Path { radiance, log })
-    }
 }
 
 impl TracesPaths for NaivePathTracer {

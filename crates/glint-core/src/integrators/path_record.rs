@@ -6,7 +6,7 @@
 
 use glam::Vec3;
 
-use super::SampleContext;
+use super::{CameraExplanation, Integrator, SampleContext};
 use crate::geometry::Ray;
 use crate::lights::{LightEnd, LightSample};
 use crate::materials::BsdfSample;
@@ -14,7 +14,7 @@ use crate::scene::{Scene, SurfaceHit};
 use crate::Rgb;
 
 /// An integrator that follows one path per camera sample, telling a recorder what happens:
-/// it renders with `()` and explains with a `PathLog`.
+/// it renders with `()` and explains with a `PathLog` (the `Integrator` below, for all).
 pub trait TracesPaths {
     fn trace(
         &self,
@@ -30,6 +30,17 @@ pub trait TracesPaths {
         let mut log = PathLog::default();
         let radiance = self.trace(scene, camera_ray, context, &mut log);
         (radiance, log)
+    }
+}
+
+impl<T: TracesPaths + Send + Sync> Integrator for T {
+    fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
+        self.trace(scene, camera_ray, context, &mut ())
+    }
+
+    fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Option<CameraExplanation> {
+        let (radiance, log) = TracesPaths::explain(self, scene, camera_ray, context);
+        Some(CameraExplanation::Path { radiance, log })
     }
 }
 

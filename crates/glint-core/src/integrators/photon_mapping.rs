@@ -32,11 +32,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use glam::Vec2;
 use rayon::prelude::*;
 
-use super::estimators::{roulette, sample_lights, Weighting};
+use super::estimators::{roulette, surface_next_event, Weighting};
 use super::particle::{shoot_batches, trace_particle, ParticleVertex, BATCH};
 use super::path_record::{GatherRecord, PathEnd, PathRecorder, TracesPaths};
 use super::vertex::{trace_seeing_light, Vertex};
-use super::{CameraExplanation, Integrator, RayCounts, SampleContext};
+use super::{RayCounts, SampleContext};
 use crate::geometry::Ray;
 use crate::materials::Bsdf;
 use crate::photons::{NearestPhotons, Photon, PhotonMap};
@@ -336,17 +336,6 @@ fn precompute_irradiance(global: &PhotonMap, nearest: usize, max_radius: f32) ->
     PhotonMap::build(records, 1)
 }
 
-impl Integrator for PhotonMapper {
-    fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
-        self.trace(scene, camera_ray, context, &mut ())
-    }
-
-    fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Option<CameraExplanation> {
-        let (radiance, log) = TracesPaths::explain(self, scene, camera_ray, context);
-        Some(CameraExplanation::Path { radiance, log })
-    }
-}
-
 impl TracesPaths for PhotonMapper {
     /// The camera path through delta bounces to the diffuse surfaces it meets, each estimated
     /// from light sampling and the photon maps.
@@ -377,7 +366,7 @@ impl TracesPaths for PhotonMapper {
             let bsdf = vertex.bsdf();
             let (hit, wo) = (&vertex.hit, vertex.wo);
             if bsdf.has_diffuse() {
-                let direct = sample_lights(scene, hit, &bsdf, wo, Weighting::LightOnly, context);
+                let direct = surface_next_event(scene, hit, &bsdf, wo, Weighting::LightOnly, context).contribution;
                 let caustic = self.estimate(&self.caustic, hit, &bsdf, wo);
                 let mut local = direct;
                 local += caustic;

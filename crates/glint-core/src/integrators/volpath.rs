@@ -29,7 +29,7 @@ use super::path::BounceDraws;
 use super::path_record::{PathEnd, PathRecorder, TracesPaths};
 use super::vertex::Vertex;
 use super::volume_photons::VolumePhotons;
-use super::{CameraExplanation, Integrator, IntegratorSettings, SampleContext};
+use super::{IntegratorSettings, SampleContext};
 use crate::geometry::{offset_ray_origin, Ray};
 use crate::lights::{LightEnd, LightSample};
 use crate::materials::Bsdf;
@@ -73,17 +73,6 @@ pub(super) fn medium_beyond(
         interface.toward(direction, geometric)
     } else {
         current
-    }
-}
-
-impl Integrator for VolPathTracer {
-    fn radiance(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Rgb {
-        self.trace(scene, camera_ray, context, &mut ())
-    }
-
-    fn explain(&self, scene: &Scene, camera_ray: &Ray, context: &mut SampleContext) -> Option<CameraExplanation> {
-        let (radiance, log) = TracesPaths::explain(self, scene, camera_ray, context);
-        Some(CameraExplanation::Path { radiance, log })
     }
 }
 
