@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use crate::error::SceneError;
 use crate::gltf::GltfOptions;
 use crate::native::{Format, LoadedScene};
-use crate::reader::Translation;
+use crate::reader::{ReadScene, Translation};
 use crate::source::Source;
 
 /// What the command line adds to a scene file.
@@ -30,7 +30,7 @@ pub struct LoadOptions {
 struct Reader {
     extensions: &'static [&'static str],
     takes_defines: bool,
-    read: fn(&Path, &LoadOptions) -> Result<(Translation, Source<'static>), SceneError>,
+    read: fn(&Path, &LoadOptions) -> ReadScene,
 }
 
 /// Every reader but the native one, which reads whatever no other claims (TOML, or JSON by

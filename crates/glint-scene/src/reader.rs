@@ -8,11 +8,19 @@ use std::path::{Path, PathBuf};
 
 use crate::error::SceneError;
 use crate::native::schema::SceneFile;
-use crate::source::MadeFile;
+use crate::source::{MadeFile, Source};
 
 /// Files a reader makes in memory, by name: a glTF's embedded images as bytes, a pbrt map
 /// resampled as a decoded image.
 pub(crate) type MadeFiles = Vec<(String, MadeFile)>;
+
+/// The bytes of the file `name` among `made`, if it is one made as bytes (not decoded).
+pub(crate) fn made_bytes<'m>(made: &'m MadeFiles, name: &str) -> Option<&'m [u8]> {
+    made.iter().find(|(n, _)| n == name).and_then(|(_, file)| match file {
+        MadeFile::Bytes(bytes) => Some(bytes.as_slice()),
+        MadeFile::Image { .. } => None,
+    })
+}
 
 /// The scene file's bytes, and the directories the files it names are looked for in: the
 /// scene's own directory, then `search_path`.
@@ -23,6 +31,9 @@ pub(crate) fn read_scene_file(path: &Path, search_path: &[PathBuf]) -> Result<(V
     directories.extend(search_path.iter().cloned());
     Ok((bytes, directories))
 }
+
+/// What a reader's entry gives back: the translation, and where the files it names are found.
+pub(crate) type ReadScene = Result<(Translation, Source<'static>), SceneError>;
 
 /// What a reader made of a scene file: everything the builder needs, and nothing built.
 pub(crate) struct Translation {

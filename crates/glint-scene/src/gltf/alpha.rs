@@ -2,19 +2,23 @@
 //! fourth component times the base colour texture's alpha channel. `MASK` makes the surface
 //! present where alpha ≥ `alphaCutoff` (0.5 by default) and absent elsewhere; `BLEND` makes
 //! it present with probability alpha, which a path tracer's average turns into partial
-//! transparency. The texture's alpha becomes an image of its own (a 16-bit grey PNG among the
-//! made files, thresholded for `MASK`) read raw with the base colour's sampler and transform,
-//! so the image texture needs no alpha channel of its own.
+//! transparency. The texture's alpha becomes an image of its own (grey, decoded, among the
+//! made files, thresholded for `MASK`) read with the base colour's sampler and transform, so
+//! the image texture needs no alpha channel of its own.
+
+use glint_core::Rgb;
 
 use super::materials::Textures;
 use crate::native::schema::FractionDesc;
+use crate::reader::{made_bytes, MadeFiles};
+use crate::source::MadeFile;
 
 /// The opacity of material `m`, or `None` where it is opaque.
 pub fn opacity(
     m: &gltf::Material,
     name: &str,
     textures: &mut Textures,
-    made: &mut Vec<(String, Vec<u8>)>,
+    made: &mut MadeFiles,
 ) -> Result<Option<FractionDesc>, String> {
     let cutoff = match m.alpha_mode() {
         gltf::material::AlphaMode::Opaque => return Ok(None),
@@ -31,16 +35,16 @@ pub fn opacity(
     if let Some(info) = pbr.base_color_texture() {
         let texture = info.texture();
         let file = textures.image(&texture)?.to_string();
-        let bytes =
-            made.iter().find(|(n, _)| *n == file).map(|(_, b)| b).ok_or_else(|| format!("{name}: no image {file}"))?;
+        let bytes = made_bytes(made, &file).ok_or_else(|| format!("{name}: no image {file}"))?;
         let decoded = crate::image::decode_alpha(bytes).map_err(|e| format!("{name}: its base colour image: {e}"))?;
         if let Some((width, height, alpha)) = decoded {
             let (values, tint): (Vec<f32>, f32) = match cutoff {
                 Some(c) => (alpha.iter().map(|a| if a * factor >= c { 1.0 } else { 0.0 }).collect(), 1.0),
                 None => (alpha, factor),
             };
-            let file = format!("gltf-opacity-{}.png", m.index().unwrap_or(0));
-            made.push((file.clone(), grey_png(width, height, &values)?));
+            let file = format!("gltf-opacity-{}", m.index().unwrap_or(0));
+            let pixels = values.into_iter().map(Rgb::splat).collect();
+            made.push((file.clone(), MadeFile::Image { width, height, pixels }));
             let transform = info.texture_transform().map(|t| (t.offset(), t.rotation(), t.scale()));
             let name = textures.make_of(&texture, &file, "opacity", true, None, [tint; 3], transform)?;
             return Ok(Some(FractionDesc::Texture(name)));
@@ -62,18 +66,6 @@ fn threshold(alpha: f32, cutoff: f32) -> f32 {
     }
 }
 
-/// A 16-bit grey PNG of `values` in [0, 1] (row 0 = top).
-fn grey_png(width: u32, height: u32, values: &[f32]) -> Result<Vec<u8>, String> {
-    let pixels: Vec<u16> = values.iter().map(|v| (v.clamp(0.0, 1.0) * 65535.0).round() as u16).collect();
-    let image = image::ImageBuffer::<image::Luma<u16>, _>::from_raw(width, height, pixels)
-        .ok_or("an alpha channel of the wrong size")?;
-    let mut bytes = Vec::new();
-    image
-        .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
-        .map_err(|e| format!("cannot encode the opacity image: {e}"))?;
-    Ok(bytes)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -83,12 +75,5 @@ mod tests {
         assert_eq!(threshold(0.5, 0.5), 1.0);
         assert_eq!(threshold(0.49, 0.5), 0.0);
         assert_eq!(threshold(0.0, 0.0), 1.0);
-    }
-
-    #[test]
-    fn the_opacity_image_holds_the_values_in_16_bits() {
-        let bytes = grey_png(2, 1, &[0.0, 0.25]).unwrap();
-        let image = image::load_from_memory(&bytes).unwrap().to_luma16();
-        assert_eq!(image.into_raw(), [0, 16384]);
     }
 }

@@ -12,6 +12,7 @@ use glam::{Affine2, Mat2, Vec2};
 use super::{alpha, normal_scale};
 use crate::located::Located;
 use crate::native::schema::*;
+use crate::reader::{made_bytes, MadeFiles};
 
 /// A glTF material as glint names it, whether it emits, whether it is partly transparent
 /// (alpha `MASK` or `BLEND`), and the set of texture coordinates its textures read
@@ -28,7 +29,7 @@ pub struct MaterialInfo {
 pub fn translate(
     document: &gltf::Document,
     images: &[String],
-    made: &mut Vec<(String, Vec<u8>)>,
+    made: &mut MadeFiles,
     scene: &mut SceneFile,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<MaterialInfo>, String> {
@@ -178,14 +179,10 @@ pub fn translate(
                 if !scale.is_finite() {
                     return Err(format!("{name}: normalTexture.scale must be a finite number, got {scale}"));
                 }
-                let bytes = made
-                    .iter()
-                    .find(|(n, _)| *n == file)
-                    .map(|(_, b)| b)
-                    .ok_or_else(|| format!("{name}: no image {file}"))?;
+                let bytes = made_bytes(made, &file).ok_or_else(|| format!("{name}: no image {file}"))?;
                 let scaled = normal_scale::scaled_image(bytes, scale)
                     .map_err(|e| format!("{name}: its normal map `{file}`: {e}"))?;
-                let file = format!("gltf-normals-{index}.png");
+                let file = format!("gltf-normals-{index}");
                 made.push((file.clone(), scaled));
                 file
             };

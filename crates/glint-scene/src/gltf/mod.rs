@@ -16,8 +16,8 @@ use std::path::{Path, PathBuf};
 use base64::Engine;
 
 use crate::error::SceneError;
-use crate::reader::Translation;
-use crate::source::Source;
+use crate::reader::{MadeFiles, ReadScene, Translation};
+use crate::source::{MadeFile, Source};
 
 /// Extensions whose meaning glint reads; others in `extensionsUsed` are named in a warning,
 /// and a file that lists one of the others in `extensionsRequired` is refused.
@@ -41,11 +41,7 @@ pub struct GltfOptions {
 
 /// Reads a glTF 2.0 scene into its native description, with the search path for the files it
 /// names: its directory, then `search_path`.
-pub(crate) fn read_file(
-    path: &Path,
-    search_path: &[PathBuf],
-    options: GltfOptions,
-) -> Result<(Translation, Source<'static>), SceneError> {
+pub(crate) fn read_file(path: &Path, search_path: &[PathBuf], options: GltfOptions) -> ReadScene {
     let (bytes, directories) = crate::reader::read_scene_file(path, search_path)?;
     let source = Source::search_path(directories);
     Ok((translate_bytes(&bytes, path, &source, options)?, source))
@@ -87,7 +83,6 @@ pub(crate) fn translate_bytes(
     let reader = nodes::Reader::new(&gltf.document, &buffers, &images, name, options);
     let (file, mut more) = reader.translate(&mut made).map_err(error)?;
     warnings.append(&mut more);
-    let made = made.into_iter().map(|(name, bytes)| (name, crate::source::MadeFile::Bytes(bytes))).collect();
     Ok(Translation { made, warnings, ..Translation::new(file, String::new()) })
 }
 
@@ -218,7 +213,7 @@ fn read_images(
     gltf: &::gltf::Gltf,
     buffers: &[Vec<u8>],
     source: &Source,
-    made: &mut Vec<(String, Vec<u8>)>,
+    made: &mut MadeFiles,
 ) -> Result<Vec<String>, String> {
     let mut names = Vec::new();
     let mut total = 0u64;
@@ -253,7 +248,7 @@ fn read_images(
             ));
         }
         let name = format!("gltf-image-{}.{extension}", image.index());
-        made.push((name.clone(), bytes));
+        made.push((name.clone(), MadeFile::Bytes(bytes)));
         names.push(name);
     }
     Ok(names)

@@ -16,6 +16,7 @@ use super::materials::{self, MaterialInfo};
 use super::GltfOptions;
 use crate::located::Located;
 use crate::native::schema::*;
+use crate::reader::MadeFiles;
 
 /// glTF's photometric units (candela, lux) to glint's radiometric ones: 683 lm/W.
 const LUMENS_PER_WATT: f32 = 683.0;
@@ -50,7 +51,7 @@ impl<'a> Reader<'a> {
 
     /// The scene description and the warnings; `made` holds the images as files, and takes
     /// the opacity images that alpha makes.
-    pub fn translate(&self, made: &mut Vec<(String, Vec<u8>)>) -> Result<(SceneFile, Vec<String>), String> {
+    pub fn translate(&self, made: &mut MadeFiles) -> Result<(SceneFile, Vec<String>), String> {
         let mut warnings = Vec::new();
         let mut scene = SceneFile::new(
             framing_camera(None, 4.0 / 3.0),

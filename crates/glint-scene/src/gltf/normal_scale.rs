@@ -1,28 +1,21 @@
 //! A normal map's `scale` (glTF: the texture's normal n = 2·rgb − 1 becomes
-//! normalize(scale·n.x, scale·n.y, n.z)) baked into an image of its own: a 16-bit RGB PNG
-//! among the made files, read by glint's `normal-map` as any other. The scaled normal is
+//! normalize(scale·n.x, scale·n.y, n.z)) baked into an image of its own, decoded, among the
+//! made files, read by glint's `normal-map` as any other. The scaled normal is
 //! stored by its direction, which is all the normal map reads, in a form that stays within
 //! [−1, 1]: (s·x, s·y, z) for |s| ≤ 1, and its multiple by 1/|s|, (±x, ±y, z/|s|), beyond.
 
 use glam::Vec3;
 
+use crate::source::MadeFile;
+
 /// The image of the normal map `bytes` (PNG or JPEG, read raw) with `scale` applied.
-pub fn scaled_image(bytes: &[u8], scale: f32) -> Result<Vec<u8>, String> {
-    let (width, height, pixels) = crate::image::decode("normals.png", bytes, true)?;
-    let values: Vec<u16> = pixels
-        .iter()
-        .flat_map(|c| {
-            let n = scaled(2.0 * *c - Vec3::ONE, scale);
-            ((n + Vec3::ONE) * 0.5).to_array().map(|v| (v.clamp(0.0, 1.0) * 65535.0).round() as u16)
-        })
-        .collect();
-    let image = image::ImageBuffer::<image::Rgb<u16>, _>::from_raw(width, height, values)
-        .ok_or("a normal map of the wrong size")?;
-    let mut out = Vec::new();
-    image
-        .write_to(&mut std::io::Cursor::new(&mut out), image::ImageFormat::Png)
-        .map_err(|e| format!("cannot encode the scaled normal map: {e}"))?;
-    Ok(out)
+pub fn scaled_image(bytes: &[u8], scale: f32) -> Result<MadeFile, String> {
+    let (width, height, mut pixels) = crate::image::decode("normals.png", bytes, true)?;
+    for c in &mut pixels {
+        let n = scaled(2.0 * *c - Vec3::ONE, scale);
+        *c = ((n + Vec3::ONE) * 0.5).clamp(Vec3::ZERO, Vec3::ONE);
+    }
+    Ok(MadeFile::Image { width, height, pixels })
 }
 
 /// A vector in the direction of (s·x, s·y, z), each component within [−1, 1] when n's are.
@@ -59,10 +52,13 @@ mod tests {
             .unwrap()
             .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
             .unwrap();
-        let out = image::load_from_memory(&scaled_image(&png, 2.0).unwrap()).unwrap().to_rgb32f();
-        let n = 2.0 * Vec3::from(out.get_pixel(0, 0).0) - Vec3::ONE;
+        let MadeFile::Image { width: 1, height: 1, pixels } = scaled_image(&png, 2.0).unwrap() else {
+            panic!("not one decoded texel")
+        };
+        let n = 2.0 * pixels[0] - Vec3::ONE;
         // ∝ (1.2, 0, 0.8): the normal tilts further, as glTF's scale 2 makes it.
         let expected = Vec3::new(1.2, 0.0, 0.8).normalize();
         assert!((n.normalize() - expected).length() < 1e-4, "{n}");
+        assert!(pixels[0].cmpge(Vec3::ZERO).all() && pixels[0].cmple(Vec3::ONE).all());
     }
 }

@@ -9,18 +9,13 @@ mod xml;
 
 use std::path::{Path, PathBuf};
 
-use crate::error::SceneError;
-use crate::reader::Translation;
+use crate::reader::{ReadScene, Translation};
 use crate::source::Source;
 
 /// Reads a Mitsuba 3 scene into its native description, with the search path for the files it
 /// names: the scene's directory, its `<path>`s, then `search_path`. `defines` are
 /// `-D name=value` parameters, which override the file's `<default>`s.
-pub(crate) fn read_file(
-    path: &Path,
-    defines: &[(String, String)],
-    search_path: &[PathBuf],
-) -> Result<(Translation, Source<'static>), SceneError> {
+pub(crate) fn read_file(path: &Path, defines: &[(String, String)], search_path: &[PathBuf]) -> ReadScene {
     let (root, files) = xml::read_scene(path, defines, search_path)?;
     let translator = translate::Translator::new(&files, &root)?;
     let (file, translated_warnings) = translator.translate(&root)?;

@@ -17,7 +17,7 @@ use glint_core::scene::Scene;
 
 use crate::error::{with_suggestion, Location, SceneError};
 use crate::located::with_spans;
-use crate::reader::Translation;
+use crate::reader::{ReadScene, Translation};
 use crate::source::Source;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,7 +54,7 @@ pub struct LoadedScene {
 
 /// Reads a native scene file (TOML, or JSON by its extension) into its description, with the
 /// search path for the files it names: the scene's directory, then `search_path`.
-pub(crate) fn read_file(path: &Path, search_path: &[PathBuf]) -> Result<(Translation, Source<'static>), SceneError> {
+pub(crate) fn read_file(path: &Path, search_path: &[PathBuf]) -> ReadScene {
     let (bytes, directories) = crate::reader::read_scene_file(path, search_path)?;
     let text = crate::source::utf8_text(path, bytes)?;
     let format = match path.extension().and_then(|e| e.to_str()) {

@@ -16,12 +16,12 @@ mod translate;
 use std::path::{Path, PathBuf};
 
 use crate::error::SceneError;
-use crate::reader::Translation;
+use crate::reader::{ReadScene, Translation};
 use crate::source::Source;
 
 /// Reads a pbrt-v4 scene into its native description, with the search path for the files it
 /// names: the scene's directory, then `search_path`.
-pub(crate) fn read_file(path: &Path, search_path: &[PathBuf]) -> Result<(Translation, Source<'static>), SceneError> {
+pub(crate) fn read_file(path: &Path, search_path: &[PathBuf]) -> ReadScene {
     let (bytes, directories) = crate::reader::read_scene_file(path, search_path)?;
     let source = Source::search_path(directories);
     Ok((translate_bytes(path, bytes, &source)?, source))

@@ -48,9 +48,14 @@ pub(super) fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Textu
             scale: number("scale", *scale, 1.0)?,
         }),
         TextureDesc::Image { file, wrap, filter, scale, uv_transform, raw, channel, tint } => {
-            let bytes = source.read(file).map_err(|m| ("file", format!("image file: {m}")))?;
-            let (width, height, mut pixels) =
-                crate::image::decode(file, &bytes, *raw).map_err(|m| ("file", format!("image `{file}`: {m}")))?;
+            // An image a reader made decoded is linear already; a file is decoded here.
+            let (width, height, mut pixels) = match source.made_image(file) {
+                Some(image) => image,
+                None => {
+                    let bytes = source.read(file).map_err(|m| ("file", format!("image file: {m}")))?;
+                    crate::image::decode(file, &bytes, *raw).map_err(|m| ("file", format!("image `{file}`: {m}")))?
+                }
+            };
             if let Some(c) = *channel {
                 if c > 2 {
                     return Err(("channel", format!("`channel` is 0 (red), 1 (green) or 2 (blue), got {c}")));
