@@ -410,6 +410,105 @@ fn an_octahedral_environment_map_is_resampled_with_its_transform() {
     assert!(loaded.inputs.iter().any(|p| p.ends_with("sky.exr")), "{:?}", loaded.inputs);
 }
 
+/// An equal-area map (EXR bytes) of `n`² texels whose radiance is `f` of the texel's
+/// direction in the light's frame.
+fn octahedral_exr(n: u32, f: impl Fn(Vec3) -> f32) -> Vec<u8> {
+    let image = image::Rgb32FImage::from_fn(n, n, |x, y| {
+        let st = glam::Vec2::new((x as f32 + 0.5) / n as f32, (y as f32 + 0.5) / n as f32);
+        // pbrt's equal-area square to sphere (the reader's own is crate-private).
+        let (u, v) = (2.0 * st.x - 1.0, 2.0 * st.y - 1.0);
+        let (up, vp) = (u.abs(), v.abs());
+        let signed = 1.0 - (up + vp);
+        let r = 1.0 - signed.abs();
+        let phi = if r == 0.0 { 1.0 } else { (vp - up) / r + 1.0 } * std::f32::consts::FRAC_PI_4;
+        let z = (1.0 - r * r).copysign(signed);
+        let scale = r * (2.0 - r * r).max(0.0).sqrt();
+        let d = Vec3::new((phi.cos() * scale).copysign(u), (phi.sin() * scale).copysign(v), z);
+        let value = f(d);
+        image::Rgb([value, value, value])
+    });
+    let mut exr = Vec::new();
+    image::DynamicImage::ImageRgb32F(image)
+        .write_to(&mut std::io::Cursor::new(&mut exr), image::ImageFormat::OpenExr)
+        .unwrap();
+    exr
+}
+
+/// pbrt adds up every infinite light: two maps turned opposite ways and a constant make one
+/// map bright above and below, with the constant everywhere; its importance sampling follows
+/// the sum.
+#[test]
+fn several_infinite_lights_add_up() {
+    let upper = octahedral_exr(16, |d| if d.z > 0.5 { 2.0 } else { 0.0 });
+    let text = "WorldBegin
+AttributeBegin
+Rotate -90 1 0 0
+LightSource \"infinite\" \"string filename\" \"upper.exr\" \"float scale\" 3
+AttributeEnd
+AttributeBegin
+Rotate 90 1 0 0
+LightSource \"infinite\" \"string filename\" \"upper.exr\"
+AttributeEnd
+LightSource \"infinite\" \"rgb L\" [0.25 0.5 1]
+";
+    let path = scene_dir("several-infinite", &[("scene.pbrt", text.as_bytes()), ("upper.exr", &upper)]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let environment = loaded.scene.environment();
+    let map = environment.map.as_ref().expect("one map of the sum");
+    let constant = Rgb::new(0.25, 0.5, 1.0);
+    let close = |a: Rgb, b: Rgb| (a - b).abs().max_element() < 1e-5;
+    assert!(close(map.radiance(Vec3::Y), Rgb::splat(6.0) + constant), "{}", map.radiance(Vec3::Y));
+    assert!(close(map.radiance(-Vec3::Y), Rgb::splat(2.0) + constant), "{}", map.radiance(-Vec3::Y));
+    assert!(close(map.radiance(Vec3::X), constant), "{}", map.radiance(Vec3::X));
+    // Sampled by the sum: most samples go toward the two bright caps, the upper one three
+    // times as often as the lower (their radiance is 6 + ⅔·… against 2 + …, the constant's
+    // luminance 0.6 spread over the rest).
+    let (mut up, mut down, n) = (0, 0, 4000);
+    for i in 0..n {
+        let u = glam::Vec2::new((i as f32 + 0.5) / n as f32, (((i * 7919) % n) as f32 + 0.5) / n as f32);
+        let sample = environment.sample(u).expect("a direction");
+        if sample.direction.y > 0.5 {
+            up += 1;
+        } else if sample.direction.y < -0.5 {
+            down += 1;
+        }
+    }
+    assert!(up > 2 * down && down > n / 10, "up {up}, down {down}");
+}
+
+/// `illuminance` scales as pbrt-v4 does: a constant L to the illuminance E = π L on a surface
+/// facing it; an equal-area map so that pbrt's estimate of its upper hemisphere's (half the
+/// illuminance) is the value given.
+#[test]
+fn an_infinite_lights_illuminance_scales_it_as_pbrt_does() {
+    let text = "WorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1 1] \"float illuminance\" 6.2831853\n";
+    let path = scene_dir("illuminance-constant", &[("scene.pbrt", text.as_bytes())]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let background = loaded.scene.environment().background;
+    assert!((background - Rgb::splat(2.0)).abs().max_element() < 1e-5, "{background}");
+
+    // A uniform map of radiance 4: pbrt's estimate is 4 · (π/2) (at 32² texel centres, within
+    // 1 %), so illuminance π gives radiance 2, times the scale 3.
+    let uniform = octahedral_exr(32, |_| 4.0);
+    let text = "WorldBegin\nLightSource \"infinite\" \"string filename\" \"u.exr\" \"float illuminance\" 3.14159265 \"float scale\" 3\n";
+    let path = scene_dir("illuminance-map", &[("scene.pbrt", text.as_bytes()), ("u.exr", &uniform)]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let map = loaded.scene.environment().map.as_ref().expect("a map");
+    let radiance = map.radiance(Vec3::new(0.3, 0.5, 0.2).normalize());
+    assert!((radiance - Rgb::splat(6.0)).abs().max_element() < 0.06, "{radiance}");
+
+    let refused = [
+        ("\"rgb L\" [1 1 1] \"string filename\" \"u.exr\"", "`L` or `filename`, not both"),
+        ("\"float power\" 3", "not `power`"),
+    ];
+    for (params, expected) in refused {
+        let text = format!("WorldBegin\nLightSource \"infinite\" {params}\n");
+        let path = scene_dir("infinite-refused", &[("scene.pbrt", text.as_bytes()), ("u.exr", &uniform)]);
+        let error = load_scene(&path).err().expect("refused").to_string();
+        assert!(error.contains(expected) && error.contains("scene.pbrt:2:"), "{error}");
+    }
+}
+
 #[test]
 fn quadrics_and_patches_are_meshes_of_their_shape() {
     let text = "WorldBegin\nShape \"disk\" \"float radius\" 2 \"float innerradius\" 1\nShape \"sphere\" \"float radius\" 1 \"float phimax\" 180\n";

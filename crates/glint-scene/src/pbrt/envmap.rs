@@ -7,9 +7,7 @@
 use glam::{Mat3, Vec2, Vec3};
 use glint_core::Rgb;
 
-/// pbrt's `EqualAreaSquareToSphere`: a point of [0, 1]² to a unit direction (the tests' check
-/// of its inverse).
-#[cfg(test)]
+/// pbrt's `EqualAreaSquareToSphere`: a point of [0, 1]² to a unit direction.
 pub fn square_to_sphere(p: Vec2) -> Vec3 {
     let (u, v) = (2.0 * p.x - 1.0, 2.0 * p.y - 1.0);
     let (up, vp) = (u.abs(), v.abs());
@@ -46,17 +44,64 @@ pub fn sphere_to_square(d: Vec3) -> Vec2 {
     Vec2::new(0.5 * (u + 1.0), 0.5 * (v + 1.0))
 }
 
-/// A pbrt map (row 0 at the top) as glint's environment: `light_to_world` is the light's
-/// transform (its rotation part). Returns width, height and pixels.
-pub fn resample(width: u32, height: u32, pixels: &[Rgb], light_to_world: Mat3) -> Result<(u32, u32, Vec<Rgb>), String> {
-    let octahedral = width == height;
-    if !octahedral && width != 2 * height {
+/// Whether a map's size is one of pbrt's layouts: square (pbrt-v4's equal-area octahedral
+/// map) or twice as wide as high (latitude–longitude).
+pub fn check_layout(width: u32, height: u32) -> Result<(), String> {
+    if width != height && width != 2 * height {
         return Err(format!(
             "an environment map is square (pbrt-v4's equal-area octahedral map) or twice as wide as high (latitude–longitude), not {width}x{height}"
         ));
     }
+    Ok(())
+}
+
+/// The size of glint's map a pbrt map is resampled to by default: as many texels across
+/// each direction's circle.
+pub fn resampled_size(width: u32, height: u32) -> (u32, u32) {
+    if width == height {
+        (2 * width, height.max(2))
+    } else {
+        (width, height.max(2))
+    }
+}
+
+/// The illuminance pbrt-v4 gives an equal-area map (`illuminance`, scaled to by the
+/// parameter of that name): the luminance of the texels above its horizon (light-space +z)
+/// times their cosines, times 2π over the texel count. (That is half the map's illuminance
+/// on a surface facing +z, whose texels each span 4π over the count; glint scales as pbrt
+/// does, so that the scene renders as in pbrt.)
+pub fn illuminance(width: u32, height: u32, pixels: &[Rgb]) -> Result<f32, String> {
+    if width != height {
+        return Err("`illuminance` needs pbrt-v4's square (equal-area) map".into());
+    }
+    let mut sum = 0.0f64;
+    for y in 0..height {
+        for x in 0..width {
+            let st = Vec2::new((x as f32 + 0.5) / width as f32, (y as f32 + 0.5) / height as f32);
+            let w = square_to_sphere(st);
+            if w.z > 0.0 {
+                let c = pixels[(y * width + x) as usize];
+                sum += f64::from(c.dot(Rgb::new(0.2126, 0.7152, 0.0722)) * w.z);
+            }
+        }
+    }
+    Ok((sum * 2.0 * std::f64::consts::PI / (f64::from(width) * f64::from(height))) as f32)
+}
+
+/// A pbrt map (row 0 at the top) as glint's environment, on glint's grid of `size` (by
+/// default `resampled_size`'s): `light_to_world` is the light's transform (its rotation
+/// part). Returns width, height and pixels.
+pub fn resample(
+    width: u32,
+    height: u32,
+    pixels: &[Rgb],
+    light_to_world: Mat3,
+    size: Option<(u32, u32)>,
+) -> Result<(u32, u32, Vec<Rgb>), String> {
+    check_layout(width, height)?;
+    let octahedral = width == height;
     let world_to_light = light_to_world.inverse();
-    let (out_w, out_h) = if octahedral { (2 * width, height.max(2)) } else { (width, height.max(2)) };
+    let (out_w, out_h) = size.unwrap_or_else(|| resampled_size(width, height));
     let mut out = Vec::with_capacity((out_w * out_h) as usize);
     for y in 0..out_h {
         for x in 0..out_w {
@@ -155,7 +200,7 @@ mod tests {
             .collect();
         let rotation = Mat3::from_rotation_x(-std::f32::consts::FRAC_PI_2);
         assert!((rotation * Vec3::Z - Vec3::Y).length() < 1e-6);
-        let (w, h, out) = resample(n, n, &pixels, rotation).unwrap();
+        let (w, h, out) = resample(n, n, &pixels, rotation, None).unwrap();
         assert_eq!((w, h), (64, 32));
         let row_mean = |y: u32| (0..w).map(|x| out[(y * w + x) as usize].x).sum::<f32>() / w as f32;
         assert!(row_mean(0) > 0.95, "{}", row_mean(0));

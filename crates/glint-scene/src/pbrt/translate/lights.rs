@@ -1,5 +1,8 @@
-//! Lights: pbrt's point, spot, distant and infinite lights (an infinite light's map resampled
-//! into glint's environment), and diffuse area lights, which the shapes after them carry.
+//! Lights: pbrt's point, spot, distant and infinite lights, and diffuse area lights, which the
+//! shapes after them carry. glint's environment is one map or one constant; pbrt's infinite
+//! lights, as many as a scene has, add up into it: constants into the background, maps
+//! (each resampled with its transform and scaled) and constants into one map, which glint
+//! importance-samples by the sum's brightness.
 
 use glam::{Mat3, Vec3};
 
@@ -10,6 +13,19 @@ use crate::pbrt::params::Params;
 use crate::pbrt::parse::{At, Directive};
 use crate::pbrt::spectra;
 use crate::source::MadeFile;
+use glint_core::Rgb;
+
+/// An infinite light's map as read, kept until the scene's infinite lights are all known.
+pub(super) struct InfiniteMap {
+    file: String,
+    at: At,
+    width: u32,
+    height: u32,
+    /// Row 0 at the top, in pbrt's layout (equal-area square, or latitude–longitude).
+    pixels: Vec<Rgb>,
+    light_to_world: Mat3,
+    scale: f32,
+}
 
 #[derive(Clone)]
 pub(super) struct AreaLight {
@@ -80,19 +96,24 @@ impl Translator<'_> {
                 LightDesc::Directional { direction: ctm.transform_vector3(to - from).to_array(), color: colour, intensity: 1.0 }
             }
             "infinite" => {
-                let scale = p.float("scale", 1.0).map_err(|f| self.fail(f))?;
-                for refused in ["illuminance", "power"] {
-                    if p.float(refused, -1.0).map_err(|f| self.fail(f))? > 0.0 {
-                        return Err(self.parser.error(self.param_at(&p, refused), format!("an infinite light's `{refused}` is not supported; give `scale`")));
-                    }
+                if power > 0.0 {
+                    return Err(self.parser.error(self.param_at(&p, "power"), "an infinite light takes `illuminance` or `scale`, not `power`"));
                 }
-                if self.scene.environment.map.is_some() || (p.list.iter().any(|x| x.name == "filename") && self.scene.environment.background != [0.0; 3]) {
-                    return Err(self.parser.error(d.at, "glint's environment is one map or one constant: this infinite light would replace another"));
-                }
+                // pbrt-v4: the illuminance the light gives a surface facing its +z.
+                let illuminance = p.float("illuminance", -1.0).map_err(|f| self.fail(f))?;
                 match p.string("filename").map_err(|f| self.fail(f))? {
-                    Some(file) => self.environment_map(d.at, &file, scale, Mat3::from_mat4(ctm))?,
+                    Some(file) => {
+                        if p.list.iter().any(|x| x.name == "L") {
+                            return Err(self.parser.error(self.param_at(&p, "L"), "an infinite light takes `L` or `filename`, not both"));
+                        }
+                        let scale = p.float("scale", 1.0).map_err(|f| self.fail(f))?;
+                        self.infinite_map(d.at, &file, scale, illuminance, Mat3::from_mat4(ctm))?;
+                    }
                     None => {
-                        let colour = self.light_colour(&p, "L")?;
+                        let mut colour = self.light_colour(&p, "L")?;
+                        if illuminance > 0.0 {
+                            colour = colour.map(|c| c * illuminance / std::f32::consts::PI);
+                        }
                         let bg = &mut self.scene.environment.background;
                         *bg = [bg[0] + colour[0], bg[1] + colour[1], bg[2] + colour[2]];
                     }
@@ -115,20 +136,67 @@ impl Translator<'_> {
         Ok(())
     }
 
-    fn environment_map(&mut self, at: At, file: &str, scale: f32, light_to_world: Mat3) -> Result<()> {
-        if self.scene.environment.map.is_some() {
-            return Err(self.parser.error(at, "glint takes one environment map per scene"));
-        }
+    /// Reads an infinite light's map, kept for `environment` to add up with the others.
+    fn infinite_map(
+        &mut self,
+        at: At,
+        file: &str,
+        mut scale: f32,
+        illuminance: f32,
+        light_to_world: Mat3,
+    ) -> Result<()> {
         let bytes = self.source.read(file).map_err(|m| self.parser.error(at, m))?;
-        let (w, h, pixels) =
+        let (width, height, pixels) =
             crate::image::decode(file, &bytes, false).map_err(|m| self.parser.error(at, format!("`{file}`: {m}")))?;
-        let (width, height, pixels) = crate::pbrt::envmap::resample(w, h, &pixels, light_to_world)
+        crate::pbrt::envmap::check_layout(width, height)
             .map_err(|m| self.parser.error(at, format!("`{file}`: {m}")))?;
-        // Handed over decoded (it was encoded as EXR and decoded again).
-        let name = format!("pbrt-environment:{file}");
+        if illuminance > 0.0 {
+            let given = crate::pbrt::envmap::illuminance(width, height, &pixels)
+                .map_err(|m| self.parser.error(at, format!("`{file}`: {m}")))?;
+            if given.is_nan() || given <= 0.0 {
+                return Err(self.parser.error(
+                    at,
+                    format!("`{file}`: the map is black above its horizon, so no scale gives it an illuminance"),
+                ));
+            }
+            scale *= illuminance / given;
+        }
+        let file = file.to_string();
+        self.infinite_maps.push(InfiniteMap { file, at, width, height, pixels, light_to_world, scale });
+        Ok(())
+    }
+
+    /// glint's environment from the scene's infinite lights: a lone map as it is (with its
+    /// scale); several maps, or maps and constants, summed into one map on the finest of
+    /// their grids; constants alone stay the background they already add up to.
+    pub(super) fn environment(&mut self) -> Result<()> {
+        let maps = std::mem::take(&mut self.infinite_maps);
+        let constant = Rgb::from(self.scene.environment.background);
+        let resample = |m: &InfiniteMap, size: Option<(u32, u32)>| {
+            crate::pbrt::envmap::resample(m.width, m.height, &m.pixels, m.light_to_world, size)
+                .map_err(|e| self.parser.error(m.at, format!("`{}`: {e}", m.file)))
+        };
+        let (name, map_scale, (width, height, pixels)) = match maps.as_slice() {
+            [] => return Ok(()),
+            [only] if constant == Rgb::ZERO => {
+                (format!("pbrt-environment:{}", only.file), only.scale, resample(only, None)?)
+            }
+            _ => {
+                let size =
+                    maps.iter().map(|m| crate::pbrt::envmap::resampled_size(m.width, m.height)).max().unwrap_or((2, 2));
+                let mut sum = vec![constant; (size.0 * size.1) as usize];
+                for m in &maps {
+                    let (_, _, pixels) = resample(m, Some(size))?;
+                    sum.iter_mut().zip(pixels).for_each(|(s, p)| *s += p * m.scale);
+                }
+                self.scene.environment.background = [0.0; 3];
+                ("pbrt-environment:sum".to_string(), 1.0, (size.0, size.1, sum))
+            }
+        };
+        // Handed over decoded.
         self.made.push((name.clone(), MadeFile::Image { width, height, pixels }));
         self.scene.environment.map = Some(name);
-        self.scene.environment.map_scale = Some(scale);
+        self.scene.environment.map_scale = Some(map_scale);
         Ok(())
     }
 

@@ -53,6 +53,7 @@ pub fn translate(path: &Path, bytes: Vec<u8>, source: &Source) -> Result<(SceneF
             t.parser.files[at.file].text[at.offset..].chars().take_while(|c| c.is_alphanumeric()).collect();
         return Err(t.parser.error(at, format!("this {opened} is never closed")));
     }
+    t.environment()?;
     let file = t.finish()?;
     Ok((file, t.made, t.warnings))
 }
@@ -73,6 +74,8 @@ struct Translator<'s> {
     objects: HashMap<String, Vec<Located<ShapeDesc>>>,
     defining: Option<(String, Vec<Located<ShapeDesc>>, At)>,
     camera: Option<Camera>,
+    /// The infinite lights' maps, added up into the environment at the end.
+    infinite_maps: Vec<lights::InfiniteMap>,
     resolution: [u32; 2],
     /// The film's diagonal (mm), for a realistic camera.
     film_diagonal: f32,
@@ -109,6 +112,7 @@ impl<'s> Translator<'s> {
             objects: HashMap::new(),
             defining: None,
             camera: None,
+            infinite_maps: Vec::new(),
             resolution: [1280, 720],
             film_diagonal: 35.0,
             realistic_focal_length: None,
