@@ -335,8 +335,8 @@ fn errors_name_the_file_line_and_what_was_expected() {
         ("shape", "WorldBegin\nShape \"curve\" \"point3 P\" [ 0 0 0 ]\n", "shape `curve` is not supported"),
         (
             "medium",
-            "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n",
-            "scene.pbrt:1:1: participating media are not supported yet",
+            "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n",
+            "scene.pbrt:2:1: the medium `fog` is defined twice",
         ),
         (
             "unclosed",
@@ -504,6 +504,109 @@ fn an_infinite_lights_illuminance_scales_it_as_pbrt_does() {
     for (params, expected) in refused {
         let text = format!("WorldBegin\nLightSource \"infinite\" {params}\n");
         let path = scene_dir("infinite-refused", &[("scene.pbrt", text.as_bytes()), ("u.exr", &uniform)]);
+        let error = load_scene(&path).err().expect("refused").to_string();
+        assert!(error.contains(expected) && error.contains("scene.pbrt:2:"), "{error}");
+    }
+}
+
+/// pbrt's media onto glint's: a homogeneous medium inside an `interface` sphere and around
+/// the camera, a density grid and an RGB grid (σ_t and albedo where pbrt's lookup gives them,
+/// its fade to zero at the box's edge included).
+#[test]
+fn named_media_map_onto_glints() {
+    let text = r#"MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [0.1 0.2 0.3] "rgb sigma_s" [0.5 0.5 0.5] "float scale" 2 "float g" 0.4
+MediumInterface "" "fog"
+LookAt 0 0 -5  0 0 0  0 1 0
+Camera "perspective"
+WorldBegin
+MakeNamedMedium "smoke" "string type" "uniformgrid" "integer nx" 2 "integer ny" 1 "integer nz" 1
+    "float density" [1 3] "point3 p0" [0 0 0] "point3 p1" [2 1 1] "rgb sigma_a" [0.5 0.5 0.5] "rgb sigma_s" [1.5 1.5 1.5] "float scale" 2
+AttributeBegin
+Translate 10 0 0
+MakeNamedMedium "tint" "string type" "rgbgrid" "point3 p0" [0 0 0] "point3 p1" [1 1 1]
+    "rgb sigma_a" [0.1 0.2 0.3] "rgb sigma_s" [0.3 0.2 0.1]
+AttributeEnd
+AttributeBegin
+MediumInterface "smoke" "fog"
+Material "interface"
+Shape "sphere" "float radius" 1
+AttributeEnd
+LightSource "point" "rgb I" [1 1 1]
+"#;
+    let path = scene_dir("media", &[("scene.pbrt", text.as_bytes())]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = &loaded.scene;
+    let index = |name: &str| ["fog", "smoke", "tint"].iter().position(|n| *n == name).unwrap() as u32;
+    assert_eq!(scene.media().len(), 3);
+    assert_eq!(scene.camera_medium(), Some(index("fog")));
+    let interface = scene.medium_interface(0);
+    assert_eq!((interface.inside, interface.outside), (Some(index("smoke")), Some(index("fog"))));
+
+    let fog = &scene.media()[index("fog") as usize];
+    assert_eq!(fog.coefficients(Vec3::ZERO), (Rgb::splat(1.0), Rgb::new(0.2, 0.4, 0.6)));
+    assert!(matches!(fog.phase, glint_core::media::PhaseFunction::HenyeyGreenstein { g } if g == 0.4));
+
+    // σ_t = scale · (σ_a + σ_s) · density = 4 · density; albedo ¾. pbrt reads voxel centres
+    // (x = 0.5 and 1.5) and fades to 0 at the box's edge: at x = 0.1, 0.6 of the first.
+    let smoke = &scene.media()[index("smoke") as usize];
+    let sigma_t = |x: f32| {
+        let (s, a) = smoke.coefficients(Vec3::new(x, 0.5, 0.5));
+        s + a
+    };
+    for (x, expected) in [(0.5, 4.0), (1.5, 12.0), (1.0, 8.0), (0.1, 2.4), (1.9, 7.2)] {
+        assert!((sigma_t(x) - Rgb::splat(expected)).abs().max_element() < 1e-4, "σ_t({x}) = {}", sigma_t(x));
+    }
+    let (s, a) = smoke.coefficients(Vec3::new(1.5, 0.5, 0.5));
+    assert!((s / (s + a) - Rgb::splat(0.75)).abs().max_element() < 1e-6);
+    assert_eq!(sigma_t(-1.0), Rgb::ZERO);
+
+    // Placed by the transform at its definition: its centre at x = 10.5.
+    let tint = &scene.media()[index("tint") as usize];
+    let (s, a) = tint.coefficients(Vec3::new(10.5, 0.5, 0.5));
+    assert!((s + a - Rgb::splat(0.4)).abs().max_element() < 1e-6, "{}", s + a);
+    assert!((s / (s + a) - Rgb::new(0.75, 0.5, 0.25)).abs().max_element() < 1e-6);
+}
+
+/// A camera inside an absorbing medium sees an emitter through it dimmed by exp(−σ_a d).
+#[test]
+fn a_light_seen_through_an_absorbing_medium_is_dimmed_by_beers_law() {
+    let text = r#"MakeNamedMedium "ink" "string type" "homogeneous" "rgb sigma_a" [0.25 0.5 1] "rgb sigma_s" [0 0 0]
+MediumInterface "" "ink"
+LookAt 0 0 0  0 0 1  0 1 0
+Camera "perspective" "float fov" 1
+Film "rgb" "integer xresolution" 4 "integer yresolution" 4
+Integrator "volpath" "integer maxdepth" 4
+WorldBegin
+AreaLightSource "diffuse" "rgb L" [1 1 1]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point3 P" [-10 -10 2  -10 10 2  10 10 2  10 -10 2]
+"#;
+    let path = scene_dir("beer", &[("scene.pbrt", text.as_bytes())]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).unwrap();
+    let settings = RenderSettings { spp: 16, seed: 1, filter: Filter::Box, sampler: loaded.render.sampler };
+    let image = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film.to_rgb();
+    let mean = image.iter().sum::<Rgb>() / image.len() as f32;
+    // Over 2 units (the 1° view is straight on: 1/cos < 1.0001).
+    let expected = Rgb::new((-0.5f32).exp(), (-1.0f32).exp(), (-2.0f32).exp());
+    assert!(((mean - expected) / expected).abs().max_element() < 0.03, "{mean} vs {expected}");
+}
+
+/// What glint cannot read of pbrt's media is refused at its line, by name.
+#[test]
+fn media_glint_cannot_read_are_refused_by_name() {
+    let cases = [
+        ("MakeNamedMedium \"c\" \"string type\" \"cloud\"", "procedural noise"),
+        ("MakeNamedMedium \"v\" \"string type\" \"nanovdb\" \"string filename\" \"a.nvdb\"", "NanoVDB"),
+        ("MakeNamedMedium \"p\" \"string type\" \"homogeneous\" \"string preset\" \"Ketchup\"", "`preset`"),
+        (
+            "MakeNamedMedium \"g\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [1]",
+            "has 1 values",
+        ),
+        ("MediumInterface \"nowhere\" \"\"", "no medium named `nowhere`"),
+    ];
+    for (directive, expected) in cases {
+        let text = format!("WorldBegin\n{directive}\n");
+        let path = scene_dir("media-refused", &[("scene.pbrt", text.as_bytes())]);
         let error = load_scene(&path).err().expect("refused").to_string();
         assert!(error.contains(expected) && error.contains("scene.pbrt:2:"), "{error}");
     }

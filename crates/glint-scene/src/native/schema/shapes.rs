@@ -236,6 +236,18 @@ impl ShapeDesc {
         }
     }
 
+    /// The media inside and outside, to set; `None` for a shape that cannot bound media.
+    pub fn media_mut(&mut self) -> Option<(&mut Option<String>, &mut Option<String>)> {
+        match self {
+            ShapeDesc::Sphere { interior, exterior, .. }
+            | ShapeDesc::Box { interior, exterior, .. }
+            | ShapeDesc::Mesh { interior, exterior, .. }
+            | ShapeDesc::Quad { interior, exterior, .. }
+            | ShapeDesc::Instance { interior, exterior, .. } => Some((interior, exterior)),
+            _ => None,
+        }
+    }
+
     pub fn kind(&self) -> &'static str {
         match self {
             ShapeDesc::Sphere { .. } => "sphere",

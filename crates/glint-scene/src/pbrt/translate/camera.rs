@@ -19,6 +19,8 @@ pub(super) struct Camera {
     /// A realistic camera's paraxial focal length (mm): its field of view follows from the
     /// film's size, known at the end.
     focal_length_mm: Option<f64>,
+    /// The medium the camera is in: the outside of the `MediumInterface` in force.
+    medium: Option<String>,
     at: At,
 }
 
@@ -92,6 +94,7 @@ impl Translator<'_> {
             lens_radius,
             focal_distance,
             focal_length_mm,
+            medium: self.state.media.1.clone(),
             at: d.at,
         });
         Ok(())
@@ -145,6 +148,7 @@ impl Translator<'_> {
             lens_radius: 0.0,
             focal_distance: 1e6,
             focal_length_mm: None,
+            medium: None,
             at: At { file: 0, offset: 0 },
         });
         let mut camera = camera;
@@ -193,7 +197,7 @@ impl Translator<'_> {
                 focus_distance,
                 orthographic_height,
                 mirror,
-                medium: None,
+                medium: camera.medium.clone(),
             },
             span: None,
         };

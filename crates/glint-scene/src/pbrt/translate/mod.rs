@@ -8,6 +8,7 @@
 mod camera;
 mod lights;
 mod materials;
+mod media;
 mod render;
 mod shapes;
 mod state;
@@ -54,6 +55,10 @@ pub fn translate(path: &Path, bytes: Vec<u8>, source: &Source) -> Result<(SceneF
         return Err(t.parser.error(at, format!("this {opened} is never closed")));
     }
     t.environment()?;
+    t.check_medium_references()?;
+    if t.follows_media && !t.scene.media.is_empty() && t.scene.render.integrator == "path" {
+        t.scene.render.integrator = "volpath".into();
+    }
     let file = t.finish()?;
     Ok((file, t.made, t.warnings))
 }
@@ -74,6 +79,12 @@ struct Translator<'s> {
     objects: HashMap<String, Vec<Located<ShapeDesc>>>,
     defining: Option<(String, Vec<Located<ShapeDesc>>, At)>,
     camera: Option<Camera>,
+    /// The integrator asked for follows paths through media (pbrt's `volpath`, its default):
+    /// glint's `volpath` where the scene has media, its faster `path` (the same image) where
+    /// it has none.
+    follows_media: bool,
+    /// The media `MediumInterface`s name, checked at the end (a medium may come later).
+    medium_references: Vec<(String, At)>,
     /// The infinite lights' maps, added up into the environment at the end.
     infinite_maps: Vec<lights::InfiniteMap>,
     resolution: [u32; 2],
@@ -103,7 +114,13 @@ impl<'s> Translator<'s> {
             scene,
             warnings: Vec::new(),
             made: Vec::new(),
-            state: GraphicsState { ctm: Mat4::IDENTITY, reverse_orientation: false, material: None, area_light: None },
+            state: GraphicsState {
+                ctm: Mat4::IDENTITY,
+                reverse_orientation: false,
+                material: None,
+                area_light: None,
+                media: (None, None),
+            },
             stack: Vec::new(),
             coordinate_systems: HashMap::new(),
             named_materials: HashMap::new(),
@@ -113,6 +130,8 @@ impl<'s> Translator<'s> {
             defining: None,
             camera: None,
             infinite_maps: Vec::new(),
+            medium_references: Vec::new(),
+            follows_media: true,
             resolution: [1280, 720],
             film_diagonal: 35.0,
             realistic_focal_length: None,

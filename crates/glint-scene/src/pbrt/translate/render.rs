@@ -57,6 +57,7 @@ impl Translator<'_> {
     pub(super) fn integrator(&mut self, d: &Directive) -> Result<()> {
         let p = self.params(d);
         let kind = d.args[0].as_str();
+        self.follows_media = matches!(kind, "volpath" | "simplevolpath" | "bdpt" | "mlt");
         self.scene.render.integrator = match kind {
             "path" | "volpath" | "simplepath" | "simplevolpath" => "path",
             "lightpath" => "light",

@@ -164,7 +164,10 @@ impl Translator<'_> {
         }
     }
 
-    fn push_shape(&mut self, at: At, desc: ShapeDesc) -> Result<()> {
+    fn push_shape(&mut self, at: At, mut desc: ShapeDesc) -> Result<()> {
+        if let Some((interior, exterior)) = desc.media_mut() {
+            (*interior, *exterior) = self.state.media.clone();
+        }
         let shape = Located { value: desc, span: None };
         match &mut self.defining {
             Some((_, shapes, _)) => {

@@ -17,6 +17,9 @@ pub(super) struct GraphicsState {
     /// The glint material shapes get (`None`: pbrt's default, diffuse 0.5).
     pub(super) material: Option<String>,
     pub(super) area_light: Option<AreaLight>,
+    /// The media inside and outside the shapes made now (`MediumInterface`); the camera is
+    /// in the outside one.
+    pub(super) media: (Option<String>, Option<String>),
 }
 
 pub(super) fn matrix_op(m: Mat4) -> TransformOp {
@@ -205,14 +208,8 @@ impl Translator<'_> {
                     self.scene.shapes.push(shape);
                 }
             }
-            "MakeNamedMedium" => {
-                return Err(self.parser.error(d.at, "participating media are not supported yet (`MakeNamedMedium`)"))
-            }
-            "MediumInterface" => {
-                if d.args.iter().any(|a| !a.is_empty()) {
-                    return Err(self.parser.error(d.at, "participating media are not supported yet (`MediumInterface`)"));
-                }
-            }
+            "MakeNamedMedium" => self.make_named_medium(d)?,
+            "MediumInterface" => self.medium_interface(d)?,
             other => return Err(self.parser.error(d.at, format!("`{other}` is not supported"))),
         }
         Ok(())
