@@ -9,6 +9,10 @@
 //! Image conventions: pixel (0, 0) is the top-left, row 0 is the top row; image right is
 //! `forward × up`, image up is `right × forward`. Film coordinates are continuous: pixel
 //! (x, y) covers [x, x+1) × [y, y+1), its centre is (x + ½, y + ½).
+//!
+//! A crop window (pbrt's `cropwindow`, Mitsuba's film crop) renders a rectangle of the film:
+//! the image is that rectangle, its pixels those of the whole film at the same place, seen
+//! through the same rays.
 
 use glam::{Vec2, Vec3};
 use wide::f32x8;
@@ -41,6 +45,18 @@ pub struct Camera {
     up: Vec3,
     tan_half_fov: f32,
     pub lens: Lens,
+    /// The crop window: the whole film's resolution and where the image starts on it;
+    /// `None` when the image is the whole film.
+    crop: Option<Crop>,
+}
+
+/// A crop window of the film, in pixels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Crop {
+    film_width: u32,
+    film_height: u32,
+    x0: u32,
+    y0: u32,
 }
 
 impl Camera {
@@ -59,7 +75,39 @@ impl Camera {
             up,
             tan_half_fov: (0.5 * fov_degrees.to_radians()).tan(),
             lens: Lens::Pinhole,
+            crop: None,
         })
+    }
+
+    /// The same camera rendering only the film's pixels [x0, x1) × [y0, y1) (of its current
+    /// resolution, which becomes the whole film's): `None` if that rectangle is empty or not
+    /// on the film.
+    pub fn with_crop(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> Option<Self> {
+        let (film_width, film_height) = self.film_resolution();
+        if !(x0 < x1 && y0 < y1 && x1 <= film_width && y1 <= film_height) {
+            return None;
+        }
+        let crop = (x0, y0, x1, y1) != (0, 0, film_width, film_height);
+        let crop = crop.then_some(Crop { film_width, film_height, x0, y0 });
+        Some(Self { width: x1 - x0, height: y1 - y0, crop, ..self.clone() })
+    }
+
+    /// The whole film's resolution (the image's, unless cropped).
+    pub fn film_resolution(&self) -> (u32, u32) {
+        self.crop.map_or((self.width, self.height), |c| (c.film_width, c.film_height))
+    }
+
+    /// The crop window on the film, [x0, x1) × [y0, y1) in pixels, if the image is one.
+    pub fn crop_window(&self) -> Option<(u32, u32, u32, u32)> {
+        self.crop.map(|c| (c.x0, c.y0, c.x0 + self.width, c.y0 + self.height))
+    }
+
+    /// Film coordinates of the whole film from the image's (the same where uncropped).
+    fn on_film(&self, film_x: f32, film_y: f32) -> (f32, f32) {
+        match self.crop {
+            Some(c) => (film_x + c.x0 as f32, film_y + c.y0 as f32),
+            None => (film_x, film_y),
+        }
     }
 
     /// The same camera with its image mirrored left to right: right becomes up × forward, as
@@ -88,15 +136,25 @@ impl Camera {
     /// The side of a pixel's footprint on a surface `distance` along a camera ray, facing it:
     /// growing with distance through a lens, the film's pixel size for parallel rays.
     pub fn pixel_footprint(&self, distance: f32) -> f32 {
+        let film_height = self.film_resolution().1 as f32;
         match self.lens {
-            Lens::Orthographic { height } => height / self.height as f32,
-            Lens::Pinhole | Lens::Thin { .. } => 2.0 * self.tan_half_fov / self.height as f32 * distance,
+            Lens::Orthographic { height } => height / film_height,
+            Lens::Pinhole | Lens::Thin { .. } => 2.0 * self.tan_half_fov / film_height * distance,
         }
     }
 
-    /// The same camera at another resolution (the vertical field of view is kept).
+    /// The same camera at another resolution of its whole film (the vertical field of view is
+    /// kept); a crop window keeps its place on the film, scaled to the new resolution.
     pub fn with_resolution(&self, width: u32, height: u32) -> Self {
-        Self { width, height, ..self.clone() }
+        let whole = Self { width, height, crop: None, ..self.clone() };
+        let Some((x0, y0, x1, y1)) = self.crop_window() else { return whole };
+        let (film_width, film_height) = self.film_resolution();
+        let scale = |v: u32, to: u32, from: u32| ((v as u64 * to as u64 + from as u64 / 2) / from as u64) as u32;
+        let (x0, x1) =
+            (scale(x0, width, film_width), scale(x1, width, film_width).max(scale(x0, width, film_width) + 1));
+        let (y0, y1) =
+            (scale(y0, height, film_height), scale(y1, height, film_height).max(scale(y0, height, film_height) + 1));
+        whole.with_crop(x0.min(width - 1), y0.min(height - 1), x1.min(width), y1.min(height)).unwrap_or(whole)
     }
 
     /// The ray through film point (x, y), in pixels from the top-left corner, through the lens
@@ -111,7 +169,12 @@ impl Camera {
         if self.lens != Lens::Pinhole {
             return None;
         }
-        let (width, height) = (self.width as f32, self.height as f32);
+        let (width, height) = self.film_resolution();
+        let (width, height) = (width as f32, height as f32);
+        let (film_x, film_y) = match self.crop {
+            Some(c) => (film_x + f32x8::splat(c.x0 as f32), film_y + f32x8::splat(c.y0 as f32)),
+            None => (film_x, film_y),
+        };
         let (two, tan) = (f32x8::splat(2.0), f32x8::splat(self.tan_half_fov));
         let nx = two * film_x / f32x8::splat(width) - f32x8::ONE;
         let ny = f32x8::ONE - two * film_y / f32x8::splat(height);
@@ -135,10 +198,12 @@ impl Camera {
     /// The ray through film point (x, y) and the lens point `u_lens` (a uniform sample of the
     /// unit square, mapped to the aperture disk; (½, ½) is the lens centre).
     pub fn generate_ray_through_lens(&self, film_x: f32, film_y: f32, u_lens: Vec2) -> Ray {
-        let aspect = self.width as f32 / self.height as f32;
+        let (film_x, film_y) = self.on_film(film_x, film_y);
+        let (width, height) = self.film_resolution();
+        let aspect = width as f32 / height as f32;
         // Film position in [-1, 1] × [-1, 1], +y up.
-        let nx = 2.0 * film_x / self.width as f32 - 1.0;
-        let ny = 1.0 - 2.0 * film_y / self.height as f32;
+        let nx = 2.0 * film_x / width as f32 - 1.0;
+        let ny = 1.0 - 2.0 * film_y / height as f32;
         match self.lens {
             Lens::Orthographic { height } => {
                 let origin = self.position + (0.5 * height) * (nx * aspect * self.right + ny * self.up);
@@ -183,20 +248,36 @@ impl Camera {
     /// behind the camera or outside the image. A thin lens has no single point to connect to:
     /// `None` (light tracing refuses such cameras).
     pub fn project(&self, point: Vec3) -> Option<Projection> {
+        let projection = self.project_on_film(point)?;
+        let Some(c) = self.crop else { return Some(projection) };
+        let (film_x, film_y) = (projection.film_x - c.x0 as f32, projection.film_y - c.y0 as f32);
+        if !(0.0..self.width as f32).contains(&film_x) || !(0.0..self.height as f32).contains(&film_y) {
+            return None;
+        }
+        // The importance is over the image's area: the crop's share of the film's.
+        let share = (self.width as f64 * self.height as f64) / (c.film_width as f64 * c.film_height as f64);
+        Some(Projection { film_x, film_y, importance: projection.importance / share as f32, ..projection })
+    }
+
+    /// `project` onto the whole film.
+    fn project_on_film(&self, point: Vec3) -> Option<Projection> {
         let d = point - self.position;
         let depth = d.dot(self.forward);
         if depth <= 0.0 {
             return None;
         }
-        let aspect = self.width as f32 / self.height as f32;
+        let (width, height) = self.film_resolution();
+        let (width, height) = (width as f32, height as f32);
+        let aspect = width / height;
         match self.lens {
             Lens::Thin { radius, .. } if radius > 0.0 => return None,
-            Lens::Orthographic { height } => {
-                let film_x = (d.dot(self.right) / (0.5 * height * aspect) + 1.0) * 0.5 * self.width as f32;
-                let film_y = (1.0 - d.dot(self.up) / (0.5 * height)) * 0.5 * self.height as f32;
-                if !(0.0..self.width as f32).contains(&film_x) || !(0.0..self.height as f32).contains(&film_y) {
+            Lens::Orthographic { height: view_height } => {
+                let film_x = (d.dot(self.right) / (0.5 * view_height * aspect) + 1.0) * 0.5 * width;
+                let film_y = (1.0 - d.dot(self.up) / (0.5 * view_height)) * 0.5 * height;
+                if !(0.0..width).contains(&film_x) || !(0.0..height).contains(&film_y) {
                     return None;
                 }
+                let height = view_height;
                 return Some(Projection {
                     film_x,
                     film_y,
@@ -209,9 +290,9 @@ impl Camera {
         }
         let sx = d.dot(self.right) / depth;
         let sy = d.dot(self.up) / depth;
-        let film_x = (sx / (self.tan_half_fov * aspect) + 1.0) * 0.5 * self.width as f32;
-        let film_y = (1.0 - sy / self.tan_half_fov) * 0.5 * self.height as f32;
-        if !(0.0..self.width as f32).contains(&film_x) || !(0.0..self.height as f32).contains(&film_y) {
+        let film_x = (sx / (self.tan_half_fov * aspect) + 1.0) * 0.5 * width;
+        let film_y = (1.0 - sy / self.tan_half_fov) * 0.5 * height;
+        if !(0.0..width).contains(&film_x) || !(0.0..height).contains(&film_y) {
             return None;
         }
         let distance_squared = d.length_squared();
@@ -375,5 +456,55 @@ mod tests {
     fn degenerate_cameras_are_refused() {
         assert!(Camera::new(Vec3::ZERO, Vec3::ZERO, Vec3::Y, 45.0, 1, 1).is_none());
         assert!(Camera::new(Vec3::ZERO, Vec3::Y, Vec3::Y, 45.0, 1, 1).is_none());
+    }
+
+    /// A cropped camera's image is the window of the whole film's: the same rays, bit for bit
+    /// (one at a time and eight at a time, through a pinhole and a lens), and points project
+    /// to the same film places less the window's corner, with the importance of the window's
+    /// share of the film.
+    #[test]
+    fn a_crop_window_sees_the_films_pixels_there() {
+        let whole = Camera::new(Vec3::new(1.0, 2.0, -3.0), Vec3::new(0.2, 0.1, 0.0), Vec3::Y, 40.0, 64, 48).unwrap();
+        let crop = whole.with_crop(10, 5, 30, 45).unwrap();
+        assert_eq!((crop.width, crop.height), (20, 40));
+        assert_eq!(crop.film_resolution(), (64, 48));
+        assert_eq!(crop.crop_window(), Some((10, 5, 30, 45)));
+        for (x, y) in [(0.5f32, 0.5f32), (19.9, 39.9), (7.25, 13.5)] {
+            assert_eq!(crop.generate_ray(x, y), whole.generate_ray(x + 10.0, y + 5.0));
+            let u = Vec2::new(0.3, 0.8);
+            let lens = Lens::Thin { radius: 0.1, focus_distance: 4.0 };
+            assert_eq!(
+                crop.clone().with_lens(lens).generate_ray_through_lens(x, y, u),
+                whole.clone().with_lens(lens).generate_ray_through_lens(x + 10.0, y + 5.0, u)
+            );
+        }
+        let xs: [f32; 8] = std::array::from_fn(|k| k as f32 * 2.3 + 0.5);
+        let ys: [f32; 8] = std::array::from_fn(|k| 39.0 - k as f32 * 4.1);
+        let eight = crop.pinhole_rays8(f32x8::from(xs), f32x8::from(ys)).unwrap();
+        for k in 0..8 {
+            assert_eq!(eight[k], whole.generate_ray(xs[k] + 10.0, ys[k] + 5.0), "lane {k}");
+        }
+        let point = whole.generate_ray(20.5, 30.5).at(5.0);
+        let (p, q) = (whole.project(point).unwrap(), crop.project(point).unwrap());
+        assert!((q.film_x - (p.film_x - 10.0)).abs() < 1e-4 && (q.film_y - (p.film_y - 5.0)).abs() < 1e-4);
+        let share = (20.0 * 40.0) / (64.0 * 48.0);
+        assert!((q.importance * share - p.importance).abs() < 1e-6 * p.importance);
+        // Seen on the film but outside the window: not in the image.
+        assert!(crop.project(whole.generate_ray(5.5, 20.5).at(5.0)).is_none());
+        assert_eq!(crop.pixel_footprint(3.0), whole.pixel_footprint(3.0));
+    }
+
+    #[test]
+    fn crop_windows_off_the_film_or_empty_are_refused_and_rescale_with_it() {
+        let whole = Camera::new(Vec3::ZERO, Vec3::Z, Vec3::Y, 40.0, 64, 48).unwrap();
+        assert!(whole.with_crop(10, 5, 10, 45).is_none());
+        assert!(whole.with_crop(10, 5, 65, 45).is_none());
+        assert!(whole.with_crop(40, 5, 30, 45).is_none());
+        // The whole film is no crop at all.
+        assert_eq!(whole.with_crop(0, 0, 64, 48).unwrap(), whole);
+        // Twice the resolution: the window keeps its place on the film.
+        let crop = whole.with_crop(10, 5, 30, 45).unwrap().with_resolution(128, 96);
+        assert_eq!(crop.film_resolution(), (128, 96));
+        assert_eq!(crop.crop_window(), Some((20, 10, 60, 90)));
     }
 }

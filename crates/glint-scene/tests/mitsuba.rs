@@ -580,6 +580,27 @@ fn media_read_from_mitsuba_xml_keep_mitsubas_semantics() {
     assert!((mean - expected).abs().max_element() < 5e-3, "heterogeneous: {mean} vs {expected}");
 }
 
+/// A film's crop (`crop_offset_x`, `crop_offset_y`, `crop_width`, `crop_height`) renders that
+/// window of it, as Mitsuba does; one reaching past the film is refused at the film.
+#[test]
+fn a_films_crop_is_the_cameras_crop_window() {
+    let film = |crop: &str| {
+        format!(
+            r#"<scene version="3.0.0"><sensor type="perspective"><film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="30"/>{crop}</film></sensor>
+<emitter type="constant"/></scene>"#
+        )
+    };
+    let crop = r#"<integer name="crop_offset_x" value="5"/><integer name="crop_offset_y" value="10"/><integer name="crop_width" value="20"/><integer name="crop_height" value="15"/>"#;
+    let loaded = load_scene(&scene_file("crop", &film(crop))).unwrap_or_else(|e| panic!("{e}"));
+    let camera = loaded.scene.camera();
+    assert_eq!(camera.crop_window(), Some((5, 10, 25, 25)));
+    assert_eq!((camera.width, camera.height), (20, 15));
+    assert_eq!(camera.film_resolution(), (40, 30));
+    let past = r#"<integer name="crop_offset_x" value="30"/><integer name="crop_width" value="20"/>"#;
+    let error = load_scene(&scene_file("crop-past", &film(past))).err().expect("refused").to_string();
+    assert!(error.contains("crop-past.xml:1:") && error.contains("reaches past its 40×30 pixels"), "{error}");
+}
+
 #[test]
 fn unknown_properties_are_reported_not_silently_dropped() {
     let path = scene_file(

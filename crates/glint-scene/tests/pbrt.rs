@@ -612,6 +612,56 @@ fn media_glint_cannot_read_are_refused_by_name() {
     }
 }
 
+/// pbrt's `cropwindow` renders the film's pixels in the window (its bounds rounded up as
+/// pbrt rounds them), each as the whole film's render has it; `pixelbounds` gives them in
+/// pixels.
+#[test]
+fn a_crop_window_renders_the_films_pixels_there() {
+    let scene = |film: &str| {
+        format!(
+            r#"LookAt 0 0 -6  0 0 0  0 1 0
+Camera "perspective" "float fov" 50
+Film "rgb" "integer xresolution" 32 "integer yresolution" 24 {film}
+WorldBegin
+LightSource "point" "rgb I" [5 5 5] "point3 from" [2 3 -4]
+Material "diffuse" "rgb reflectance" [0.7 0.4 0.2]
+Shape "sphere" "float radius" 1.5
+Translate 1 -1 1
+Shape "sphere" "float radius" 1
+"#
+        )
+    };
+    let render_of = |film: &str, test: &str| {
+        let text = scene(film);
+        let path = scene_dir(test, &[("scene.pbrt", text.as_bytes())]);
+        let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+        let integrator = IntegratorKind::Whitted.create(&loaded.render.integrator_settings).unwrap();
+        let settings = RenderSettings { spp: 1, seed: 1, filter: Filter::Box, sampler: SamplerKind::Independent };
+        let film = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film;
+        (loaded.scene.camera().crop_window(), film)
+    };
+    let (none, whole) = render_of("", "crop-whole");
+    assert_eq!(none, None);
+    // x: ⌈32 · 0.25⌉ = 8 to ⌈32 · 0.75⌉ = 24; y: ⌈24 · 0.1⌉ = 3 to ⌈24 · 0.5⌉ = 12.
+    let (window, crop) = render_of(r#""float cropwindow" [0.25 0.75 0.1 0.5]"#, "crop-window");
+    assert_eq!(window, Some((8, 3, 24, 12)));
+    assert_eq!((crop.width, crop.height), (16, 9));
+    for y in 0..9 {
+        for x in 0..16 {
+            assert_eq!(crop.pixel(x, y), whole.pixel(x + 8, y + 3), "pixel ({x}, {y})");
+        }
+    }
+    assert!(crop.to_rgb().iter().any(|p| p.max_element() > 0.0), "the window sees the spheres");
+    let (window, _) = render_of(r#""integer pixelbounds" [4 20 0 24]"#, "crop-bounds");
+    assert_eq!(window, Some((4, 0, 20, 24)));
+    let error = {
+        let text = scene(r#""float cropwindow" [0.5 0.25 0 1]"#);
+        let path = scene_dir("crop-bad", &[("scene.pbrt", text.as_bytes())]);
+        load_scene(&path).err().expect("refused").to_string()
+    };
+    assert!(error.contains("scene.pbrt:3:") && error.contains("0 ≤ x0 < x1 ≤ 1"), "{error}");
+}
+
 #[test]
 fn quadrics_and_patches_are_meshes_of_their_shape() {
     let text = "WorldBegin\nShape \"disk\" \"float radius\" 2 \"float innerradius\" 1\nShape \"sphere\" \"float radius\" 1 \"float phimax\" 180\n";

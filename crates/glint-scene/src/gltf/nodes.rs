@@ -358,6 +358,7 @@ impl<'a> Reader<'a> {
             orthographic_height,
             mirror,
             medium: None,
+            crop: None,
         })
     }
 }
@@ -440,5 +441,6 @@ fn framing_camera(bounds: Option<(Vec3, Vec3)>, aspect: f32) -> CameraDesc {
         orthographic_height: None,
         mirror: false,
         medium: None,
+        crop: None,
     }
 }

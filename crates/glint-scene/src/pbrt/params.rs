@@ -56,6 +56,11 @@ impl<'d> Params<'d> {
         }
     }
 
+    /// Floats, as many as given.
+    pub fn floats(&self, name: &str) -> Result<Option<(Vec<f32>, At)>, Failure> {
+        Ok(self.numbers(name, &["float"])?.map(|(xs, at)| (xs.iter().map(|&x| x as f32).collect(), at)))
+    }
+
     pub fn float(&self, name: &str, default: f32) -> Result<f32, Failure> {
         Ok(self.one(name, &["float"])?.map_or(default, |x| x as f32))
     }

@@ -63,6 +63,7 @@ impl<'a> Translator<'a> {
             orthographic_height: None,
             mirror: false,
             medium: None,
+            crop: None,
         };
         let scene = SceneFile::new(
             camera,

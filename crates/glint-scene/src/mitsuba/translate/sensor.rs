@@ -22,6 +22,7 @@ impl<'a> Translator<'a> {
         let p = self.properties(sensor);
         // Film first: the field of view's axis needs the aspect ratio.
         let (mut width, mut height) = (768u32, 576u32);
+        let mut crop = None;
         let mut medium = None;
         for child in &sensor.children {
             // A sampler, film or medium declared at the top level, by reference.
@@ -47,9 +48,10 @@ impl<'a> Translator<'a> {
             };
             match target.tag.as_str() {
                 "film" => {
-                    let (w, h) = self.film(target)?;
+                    let (w, h, film_crop) = self.film(target)?;
                     width = w;
                     height = h;
+                    crop = film_crop;
                 }
                 "sampler" => self.sampler(target)?,
                 // The sensor's medium, nested or by reference.
@@ -129,6 +131,7 @@ impl<'a> Translator<'a> {
                 orthographic_height,
                 mirror,
                 medium,
+                crop,
             },
             span: sensor.position.span.clone(),
         };
@@ -136,7 +139,8 @@ impl<'a> Translator<'a> {
         Ok(())
     }
 
-    fn film(&mut self, film: &Element) -> Result<(u32, u32)> {
+    /// The film's resolution and its crop window ([x0, y0, x1, y1], if it has one).
+    fn film(&mut self, film: &Element) -> Result<(u32, u32, Option<[u32; 4]>)> {
         let kind = film.attribute("type").unwrap_or("");
         if kind != "hdrfilm" && kind != "specfilm" {
             return Err(self.error(&film.position, format!("<film type=\"{kind}\"> is not supported; use hdrfilm")));
@@ -189,13 +193,34 @@ impl<'a> Translator<'a> {
             }
         }
         self.scene.render.filter = filter;
+        // Mitsuba's crop: the offset 0 and the size the film's unless given.
+        let offset_x = p.integer(self, "crop_offset_x")?;
+        let offset_y = p.integer(self, "crop_offset_y")?;
+        let crop_width = p.integer(self, "crop_width")?;
+        let crop_height = p.integer(self, "crop_height")?;
         self.unused(&p);
-        let check = |v: i64, name: &str| -> Result<u32> {
-            u32::try_from(v).ok().filter(|v| (1..=32768).contains(v)).ok_or_else(|| {
-                self.error(&film.position, format!("film `{name}` must be between 1 and 32768, got {v}"))
+        let check = |v: i64, name: &str, least: u32| -> Result<u32> {
+            u32::try_from(v).ok().filter(|v| (least..=32768).contains(v)).ok_or_else(|| {
+                self.error(&film.position, format!("film `{name}` must be between {least} and 32768, got {v}"))
             })
         };
-        Ok((check(width, "width")?, check(height, "height")?))
+        let (width, height) = (check(width, "width", 1)?, check(height, "height", 1)?);
+        let crop = if [offset_x, offset_y, crop_width, crop_height].iter().any(Option::is_some) {
+            let (x0, y0) =
+                (check(offset_x.unwrap_or(0), "crop_offset_x", 0)?, check(offset_y.unwrap_or(0), "crop_offset_y", 0)?);
+            let w = check(crop_width.unwrap_or(i64::from(width)), "crop_width", 1)?;
+            let h = check(crop_height.unwrap_or(i64::from(height)), "crop_height", 1)?;
+            if x0 + w > width || y0 + h > height {
+                return Err(self.error(
+                    &film.position,
+                    format!("the film's crop ({w}×{h} at {x0}, {y0}) reaches past its {width}×{height} pixels"),
+                ));
+            }
+            Some([x0, y0, x0 + w, y0 + h])
+        } else {
+            None
+        };
+        Ok((width, height, crop))
     }
 
     fn sampler(&mut self, sampler: &Element) -> Result<()> {

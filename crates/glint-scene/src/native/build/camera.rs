@@ -55,5 +55,14 @@ pub(super) fn build_camera(cx: &Context, camera: &Located<CameraDesc>) -> Result
         _ => return Err(at("aperture_radius", "a thin lens needs both `aperture_radius` and `focus_distance`".into())),
     };
     let camera = camera.with_lens(lens);
+    let camera = match c.crop {
+        None => camera,
+        Some([x0, y0, x1, y1]) => camera.with_crop(x0, y0, x1, y1).ok_or_else(|| {
+            at(
+                "crop",
+                format!("`crop` [x0, y0, x1, y1] must be a rectangle of the {width}×{height} film with x0 < x1 and y0 < y1, got [{x0}, {y0}, {x1}, {y1}]"),
+            )
+        })?,
+    };
     Ok(if c.mirror { camera.mirrored() } else { camera })
 }

@@ -26,6 +26,9 @@ pub struct CameraDesc {
     pub mirror: bool,
     /// The medium the camera is in (a name in `[media]`).
     pub medium: Option<String>,
+    /// A crop window: render only the film's pixels [x0, x1) × [y0, y1), given as
+    /// [x0, y0, x1, y1]; the image is that rectangle, seen as on the whole film.
+    pub crop: Option<[u32; 4]>,
 }
 
 fn default_up() -> Vector {

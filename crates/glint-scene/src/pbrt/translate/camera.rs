@@ -7,7 +7,7 @@ use glam::{Mat4, Vec3};
 use super::{Result, Translator};
 use crate::located::Located;
 use crate::native::schema::*;
-use crate::pbrt::params::Failure;
+use crate::pbrt::params::{Failure, Params};
 use crate::pbrt::parse::{At, Directive};
 
 pub(super) struct Camera {
@@ -100,6 +100,46 @@ impl Translator<'_> {
         Ok(())
     }
 
+    /// The film's crop, [x0, y0, x1, y1] in pixels: `cropwindow` (fractions x0 x1 y0 y1 of
+    /// the image, each pixel bound rounded up as pbrt rounds it) over `pixelbounds` (pixels
+    /// x0 x1 y0 y1), as in pbrt; `None` for the whole image.
+    fn crop_of(&mut self, p: &Params) -> Result<Option<[u32; 4]>> {
+        let [w, h] = self.resolution;
+        let window = p.floats("cropwindow").map_err(|f| self.fail(f))?;
+        let bounds = p.ints("pixelbounds").map_err(|f| self.fail(f))?;
+        let crop = match (window, bounds) {
+            (Some((c, at)), bounds) => {
+                if bounds.is_some() {
+                    self.warn(at, "both `cropwindow` and `pixelbounds` are given: the crop window is used, as in pbrt");
+                }
+                let [x0, x1, y0, y1] = <[f32; 4]>::try_from(c.as_slice()).map_err(|_| {
+                    self.parser.error(at, format!("`cropwindow` takes four numbers x0 x1 y0 y1, got {}", c.len()))
+                })?;
+                if !(0.0 <= x0 && x0 < x1 && x1 <= 1.0 && 0.0 <= y0 && y0 < y1 && y1 <= 1.0) {
+                    return Err(self.parser.error(at, format!("`cropwindow` x0 x1 y0 y1 must satisfy 0 ≤ x0 < x1 ≤ 1 and 0 ≤ y0 < y1 ≤ 1, got {x0} {x1} {y0} {y1}")));
+                }
+                let pixel = |f: f32, n: u32| ((f64::from(n) * f64::from(f)).ceil() as u32).min(n);
+                [pixel(x0, w), pixel(y0, h), pixel(x1, w), pixel(y1, h)]
+            }
+            (None, Some((b, at))) => {
+                let [x0, x1, y0, y1] = <[i64; 4]>::try_from(b.as_slice()).map_err(|_| {
+                    self.parser.error(at, format!("`pixelbounds` takes four integers x0 x1 y0 y1, got {}", b.len()))
+                })?;
+                let clamp = |v: i64, n: u32| v.clamp(0, i64::from(n)) as u32;
+                let clamped = [clamp(x0, w), clamp(y0, h), clamp(x1, w), clamp(y1, h)];
+                if clamped != [x0, y0, x1, y1].map(|v| v.max(0) as u32) {
+                    self.warn(at, format!("`pixelbounds` reaches past the {w}×{h} image: cut to it"));
+                }
+                clamped
+            }
+            (None, None) => return Ok(None),
+        };
+        if crop[0] >= crop[2] || crop[1] >= crop[3] {
+            return Err(self.parser.error(p.at, format!("the film's crop holds no pixel of the {w}×{h} image")));
+        }
+        Ok((crop != [0, 0, w, h]).then_some(crop))
+    }
+
     pub(super) fn film(&mut self, d: &Directive) -> Result<()> {
         let p = self.params(d);
         if !matches!(d.args[0].as_str(), "rgb" | "gbuffer" | "spectral") {
@@ -128,13 +168,7 @@ impl Translator<'_> {
                 "the film's iso, exposuretime and whitebalance are ignored: glint records radiance as it is",
             );
         }
-        for refused in ["cropwindow", "pixelbounds"] {
-            if p.list.iter().any(|x| x.name == refused) {
-                return Err(self
-                    .parser
-                    .error(d.at, format!("the film's `{refused}` is not supported (glint renders the whole image)")));
-            }
-        }
+        self.crop = self.crop_of(&p)?;
         Ok(())
     }
 
@@ -198,6 +232,7 @@ impl Translator<'_> {
                 orthographic_height,
                 mirror,
                 medium: camera.medium.clone(),
+                crop: self.crop,
             },
             span: None,
         };
@@ -227,5 +262,6 @@ pub(super) fn default_camera() -> CameraDesc {
         orthographic_height: None,
         mirror: true,
         medium: None,
+        crop: None,
     }
 }

@@ -88,6 +88,8 @@ struct Translator<'s> {
     /// The infinite lights' maps, added up into the environment at the end.
     infinite_maps: Vec<lights::InfiniteMap>,
     resolution: [u32; 2],
+    /// The film's crop window, [x0, y0, x1, y1] in pixels.
+    crop: Option<[u32; 4]>,
     /// The film's diagonal (mm), for a realistic camera.
     film_diagonal: f32,
     realistic_focal_length: Option<f64>,
@@ -133,6 +135,7 @@ impl<'s> Translator<'s> {
             medium_references: Vec::new(),
             follows_media: true,
             resolution: [1280, 720],
+            crop: None,
             film_diagonal: 35.0,
             realistic_focal_length: None,
             end_time_only: false,
