@@ -50,7 +50,7 @@ const READERS: [Reader; 3] = [
         },
     },
     Reader {
-        extensions: &["pbrt"],
+        extensions: &["pbrt", "pbrt.gz"],
         takes_defines: false,
         read: |path, options| crate::pbrt::read_file(path, &options.search_path),
     },
@@ -76,7 +76,12 @@ pub fn load_scene_with(path: &Path, defines: &[(String, String)]) -> Result<Load
 
 /// `load_scene` with parameters and a search path.
 pub fn load_scene_with_options(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneError> {
-    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    // The last extension, or the last two of a gzipped file (`.pbrt.gz`).
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("").to_ascii_lowercase();
+    let extension = match name.strip_suffix(".gz") {
+        Some(stem) => Path::new(stem).extension().and_then(|e| e.to_str()).map(|e| format!("{e}.gz")),
+        None => Path::new(&name).extension().and_then(|e| e.to_str()).map(str::to_string),
+    };
     let claims = |reader: &&Reader| extension.as_deref().is_some_and(|e| reader.extensions.contains(&e));
     let reader = READERS.iter().find(claims).unwrap_or(&NATIVE);
     if let (false, Some((name, _))) = (reader.takes_defines, options.defines.first()) {

@@ -197,6 +197,24 @@ pub fn resolve(directories: &[PathBuf], path: &Path) -> PathBuf {
         .unwrap_or_else(|| directories.first().map_or_else(|| path.to_path_buf(), |dir| dir.join(path)))
 }
 
+/// Gzip data inflated, within the memory limit, or a message saying why not.
+pub(crate) fn gunzip(bytes: &[u8]) -> Result<Vec<u8>, String> {
+    let limit = crate::limits::memory_limit();
+    let mut out = Vec::new();
+    flate2::read::GzDecoder::new(bytes)
+        .take(limit.saturating_add(1))
+        .read_to_end(&mut out)
+        .map_err(|e| format!("not valid gzip data: {e}"))?;
+    if out.len() as u64 > limit {
+        return Err(format!(
+            "it inflates to more than {}, the memory limit ({})",
+            crate::limits::describe(limit),
+            crate::limits::RAISE
+        ));
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

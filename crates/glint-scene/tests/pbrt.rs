@@ -662,6 +662,42 @@ Shape "sphere" "float radius" 1
     assert!(error.contains("scene.pbrt:3:") && error.contains("0 ≤ x0 < x1 ≤ 1"), "{error}");
 }
 
+/// pbrt's two blocks: options before `WorldBegin`, the scene after it, each directive in its
+/// own (pbrt refuses the others; glint rendered them black or misplaced).
+#[test]
+fn directives_in_the_wrong_block_are_refused_as_pbrt_refuses_them() {
+    let cases = [
+        ("WorldBegin\nCamera \"perspective\"\n", "scene.pbrt:2:1: `Camera` after `WorldBegin`"),
+        ("WorldBegin\nWorldBegin\n", "scene.pbrt:2:1: a second `WorldBegin` after `WorldBegin`"),
+        ("Shape \"sphere\"\n", "scene.pbrt:1:1: `Shape` before `WorldBegin`"),
+        ("LightSource \"point\"\nWorldBegin\n", "scene.pbrt:1:1: `LightSource` before `WorldBegin`"),
+    ];
+    for (text, expected) in cases {
+        let error = error_of("blocks", text);
+        assert!(error.contains(expected), "{error}");
+    }
+}
+
+/// Gzipped scene files and includes (`.pbrt.gz`) are read as pbrt reads them.
+#[test]
+fn gzipped_scene_files_and_includes_are_read() {
+    let gzip = |text: &str| {
+        use std::io::Write;
+        let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+        encoder.write_all(text.as_bytes()).unwrap();
+        encoder.finish().unwrap()
+    };
+    let main = gzip("WorldBegin\nInclude \"part.pbrt.gz\"\n");
+    let part = gzip("LightSource \"point\" \"rgb I\" [1 2 3]\nShape \"sphere\" \"float radius\" 2\n");
+    let path = scene_dir("gzip", &[("scene.pbrt.gz", &main), ("part.pbrt.gz", &part)]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(loaded.scene.objects().len(), 1);
+    assert!(loaded.inputs.iter().any(|p| p.ends_with("part.pbrt.gz")), "{:?}", loaded.inputs);
+    let path = scene_dir("gzip-bad", &[("scene.pbrt.gz", b"not gzip")]);
+    let error = load_scene(&path).err().expect("refused").to_string();
+    assert!(error.contains("scene.pbrt.gz") && error.contains("gzip"), "{error}");
+}
+
 #[test]
 fn quadrics_and_patches_are_meshes_of_their_shape() {
     let text = "WorldBegin\nShape \"disk\" \"float radius\" 2 \"float innerradius\" 1\nShape \"sphere\" \"float radius\" 1 \"float phimax\" 180\n";

@@ -7,7 +7,6 @@ pub(crate) mod parametric;
 mod ply;
 mod serialized;
 
-use std::io::Read;
 use std::path::Path;
 
 use glint_core::shapes::Mesh;
@@ -21,22 +20,7 @@ pub fn read_mesh(name: &str, bytes: &[u8]) -> Result<Mesh, String> {
 /// one, index 0).
 pub fn read_mesh_part(name: &str, bytes: &[u8], shape_index: u32) -> Result<Mesh, String> {
     let (stem, data) = match name.strip_suffix(".gz") {
-        Some(stem) => {
-            let limit = crate::limits::memory_limit();
-            let mut out = Vec::new();
-            flate2::read::GzDecoder::new(bytes)
-                .take(limit.saturating_add(1))
-                .read_to_end(&mut out)
-                .map_err(|e| format!("not valid gzip data: {e}"))?;
-            if out.len() as u64 > limit {
-                return Err(format!(
-                    "it inflates to more than {}, the memory limit ({})",
-                    crate::limits::describe(limit),
-                    crate::limits::RAISE
-                ));
-            }
-            (stem, out)
-        }
+        Some(stem) => (stem, crate::source::gunzip(bytes)?),
         None => (name, bytes.to_vec()),
     };
     let extension = Path::new(stem).extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);

@@ -103,7 +103,11 @@ impl<'s> Parser<'s> {
         Ok(parser)
     }
 
+    /// Reads a scene file's text (gzipped where its name ends in `.gz`, as pbrt reads it).
     fn push_file(&mut self, path: PathBuf, bytes: Vec<u8>) -> Result<(), SceneError> {
+        let gzipped = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+        let bytes =
+            if gzipped { crate::source::gunzip(&bytes).map_err(|m| SceneError::new(&path, None, m))? } else { bytes };
         let (text, tokens) = decode(bytes)
             .map_err(|(text, offset, m)| SceneError::new(&path, Some(Location::from_offset(&text, offset)), m))?;
         self.files.push(File { path, text, tokens });

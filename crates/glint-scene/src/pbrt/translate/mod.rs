@@ -88,6 +88,8 @@ struct Translator<'s> {
     /// The infinite lights' maps, added up into the environment at the end.
     infinite_maps: Vec<lights::InfiniteMap>,
     resolution: [u32; 2],
+    /// After `WorldBegin`: the scene, no more rendering options.
+    in_world: bool,
     /// The film's crop window, [x0, y0, x1, y1] in pixels.
     crop: Option<[u32; 4]>,
     /// The film's diagonal (mm), for a realistic camera.
@@ -136,6 +138,7 @@ impl<'s> Translator<'s> {
             follows_media: true,
             resolution: [1280, 720],
             crop: None,
+            in_world: false,
             film_diagonal: 35.0,
             realistic_focal_length: None,
             end_time_only: false,

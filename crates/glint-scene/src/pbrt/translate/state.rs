@@ -43,6 +43,7 @@ impl Translator<'_> {
     }
 
     pub(super) fn directive(&mut self, d: &Directive) -> Result<()> {
+        self.check_block(d)?;
         let n = self.numbers(d);
         match d.name.as_str() {
             "Translate" => self.transform(Mat4::from_translation(Vec3::new(n[0], n[1], n[2]))),
@@ -99,6 +100,7 @@ impl Translator<'_> {
             },
             "ReverseOrientation" => self.state.reverse_orientation = !self.state.reverse_orientation,
             "WorldBegin" => {
+                self.in_world = true;
                 self.state.ctm = Mat4::IDENTITY;
                 self.coordinate_systems.insert("world".into(), Mat4::IDENTITY);
             }
@@ -230,5 +232,50 @@ impl Translator<'_> {
                 Located { value, span: shape.span }
             })
             .collect()
+    }
+}
+
+/// Directives of pbrt's options block (before `WorldBegin`) only.
+const OPTIONS_ONLY: [&str; 7] = ["Camera", "Film", "Sampler", "Integrator", "PixelFilter", "Accelerator", "WorldBegin"];
+/// Directives of the world block (after `WorldBegin`) only.
+const WORLD_ONLY: [&str; 14] = [
+    "Shape",
+    "LightSource",
+    "AreaLightSource",
+    "Material",
+    "MakeNamedMaterial",
+    "NamedMaterial",
+    "Texture",
+    "ObjectBegin",
+    "ObjectEnd",
+    "ObjectInstance",
+    "AttributeBegin",
+    "AttributeEnd",
+    "Attribute",
+    "ReverseOrientation",
+];
+
+impl Translator<'_> {
+    /// pbrt's two blocks: the rendering options, then `WorldBegin` and the scene. pbrt refuses
+    /// a directive in the wrong one (a camera after `WorldBegin` would render black, a shape
+    /// before it would sit under the camera's transform).
+    fn check_block(&self, d: &Directive) -> Result<()> {
+        let name = d.name.as_str();
+        if self.in_world && OPTIONS_ONLY.contains(&name) {
+            let what = if name == "WorldBegin" { "a second `WorldBegin`".to_string() } else { format!("`{name}`") };
+            return Err(self.parser.error(
+                d.at,
+                format!("{what} after `WorldBegin`: the rendering options (Camera, Film, Sampler, Integrator, PixelFilter) come before it"),
+            ));
+        }
+        if !self.in_world && WORLD_ONLY.contains(&name) {
+            return Err(self.parser.error(
+                d.at,
+                format!(
+                    "`{name}` before `WorldBegin`: shapes, lights, materials, textures and attributes come after it"
+                ),
+            ));
+        }
+        Ok(())
     }
 }
