@@ -698,6 +698,44 @@ fn gzipped_scene_files_and_includes_are_read() {
     assert!(error.contains("scene.pbrt.gz") && error.contains("gzip"), "{error}");
 }
 
+/// A shape's `alpha` cuts it out as pbrt does: present with that probability, so a black
+/// screen of alpha ¼ before a light lets ¾ of it through (0: none of it stops light; an
+/// alpha texture is read where the ray hits).
+#[test]
+fn alpha_cuts_shapes_out() {
+    let seen = |alpha: &str, test: &str| {
+        let text = format!(
+            r#"LookAt 0 0 0  0 0 1  0 1 0
+Camera "perspective" "float fov" 20
+Film "rgb" "integer xresolution" 8 "integer yresolution" 8
+Integrator "path" "integer maxdepth" 2
+WorldBegin
+Texture "quarter" "float" "constant" "float value" 0.25
+AttributeBegin
+AreaLightSource "diffuse" "rgb L" [2 2 2]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point3 P" [-10 -10 4  -10 10 4  10 10 4  10 -10 4]
+AttributeEnd
+Material "diffuse" "rgb reflectance" [0 0 0]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point3 P" [-10 -10 2  -10 10 2  10 10 2  10 -10 2] {alpha}
+"#
+        );
+        let path = scene_dir(test, &[("scene.pbrt", text.as_bytes())]);
+        let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+        let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).unwrap();
+        let settings = RenderSettings { spp: 64, seed: 3, filter: Filter::Box, sampler: SamplerKind::Independent };
+        let image = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film.to_rgb();
+        image.iter().sum::<Rgb>().x / image.len() as f32
+    };
+    assert_eq!(seen("", "alpha-none"), 0.0);
+    assert_eq!(seen(r#""float alpha" 1"#, "alpha-one"), 0.0);
+    assert_eq!(seen(r#""float alpha" 0"#, "alpha-zero"), 2.0);
+    // 4096 rays, each through with probability ¾: a standard deviation of 2 · 0.0068.
+    let quarter = seen(r#""float alpha" 0.25"#, "alpha-quarter");
+    assert!((quarter - 1.5).abs() < 0.05, "{quarter}");
+    let textured = seen(r#""texture alpha" "quarter""#, "alpha-texture");
+    assert!((textured - 1.5).abs() < 0.05, "{textured}");
+}
+
 #[test]
 fn quadrics_and_patches_are_meshes_of_their_shape() {
     let text = "WorldBegin\nShape \"disk\" \"float radius\" 2 \"float innerradius\" 1\nShape \"sphere\" \"float radius\" 1 \"float phimax\" 180\n";

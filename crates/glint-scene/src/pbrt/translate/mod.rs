@@ -88,6 +88,8 @@ struct Translator<'s> {
     /// The infinite lights' maps, added up into the environment at the end.
     infinite_maps: Vec<lights::InfiniteMap>,
     resolution: [u32; 2],
+    /// Masks made for `alpha`, by material and opacity.
+    alpha_masks: HashMap<(String, String), String>,
     /// After `WorldBegin`: the scene, no more rendering options.
     in_world: bool,
     /// The film's crop window, [x0, y0, x1, y1] in pixels.
@@ -139,6 +141,7 @@ impl<'s> Translator<'s> {
             resolution: [1280, 720],
             crop: None,
             in_world: false,
+            alpha_masks: HashMap::new(),
             film_diagonal: 35.0,
             realistic_focal_length: None,
             end_time_only: false,

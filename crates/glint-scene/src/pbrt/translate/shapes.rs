@@ -17,13 +17,16 @@ impl Translator<'_> {
     pub(super) fn shape(&mut self, d: &Directive) -> Result<()> {
         let p = self.params(d);
         let kind = d.args[0].as_str();
-        if let Some(alpha) = p.list.iter().find(|x| x.name == "alpha") {
-            let opaque = matches!(&alpha.values, crate::pbrt::parse::Values::Numbers(n) if n == &[1.0]);
-            alpha.used.set(true);
-            if !opaque {
-                return Err(self.parser.error(alpha.at, "alpha cut-outs (`alpha`) are not supported"));
+        // pbrt's alpha: the surface is there with that probability (0: a hole, 1: solid), for
+        // every ray, shadow rays too: glint's mask.
+        let alpha = match self.fraction(&p, "alpha")? {
+            Some(FractionDesc::Number(a)) if a >= 1.0 => None,
+            Some(FractionDesc::Number(a)) if a.is_nan() => {
+                return Err(self.parser.error(self.param_at(&p, "alpha"), "`alpha` must be a number, got NaN"))
             }
-        }
+            Some(FractionDesc::Number(a)) => Some(FractionDesc::Number(a.max(0.0))),
+            other => other,
+        };
         p.ignore(&["emissionfilename"]);
         let f = |r: std::result::Result<f32, Failure>| r.map_err(|x| self.fail(x));
         let (ctm, reverse) = (self.state.ctm, self.state.reverse_orientation);
@@ -41,7 +44,7 @@ impl Translator<'_> {
                     if reverse {
                         self.warn(d.at, "ReverseOrientation on a sphere is ignored (glint's spheres face out)");
                     }
-                    let material = self.shape_material();
+                    let material = self.shape_material(alpha);
                     // glint's sphere has its pole on +y (u about +y from +x); pbrt's on +z (u
                     // about +z from +x): swapping y and z gives pbrt's uv, hence its textures.
                     let swap = Mat4::from_cols(Vec4::X, Vec4::Z, Vec4::Y, Vec4::W);
@@ -129,7 +132,7 @@ impl Translator<'_> {
         }
         orient(&mut data, reverse);
         let smooth = data.normals.is_some() || kind == "loopsubdiv";
-        let material = self.shape_material();
+        let material = self.shape_material(alpha);
         let desc = ShapeDesc::Mesh {
             interior: None,
             exterior: None,
@@ -146,9 +149,24 @@ impl Translator<'_> {
         self.push_shape(d.at, desc)
     }
 
-    /// The current material, wrapped as an emitter under an area light.
-    fn shape_material(&mut self) -> String {
-        let material = self.current_material();
+    /// The current material, cut out by `alpha` where given, wrapped as an emitter under an
+    /// area light.
+    fn shape_material(&mut self, alpha: Option<FractionDesc>) -> String {
+        let mut material = self.current_material();
+        if let Some(opacity) = alpha {
+            // One mask per material and alpha, however many shapes share them.
+            let key = (material.clone(), format!("{opacity:?}"));
+            material = match self.alpha_masks.get(&key) {
+                Some(masked) => masked.clone(),
+                None => {
+                    let masked = format!("{material}, cut out by alpha {}", self.alpha_masks.len() + 1);
+                    let desc = MaterialDesc::Mask { opacity: Some(opacity), material };
+                    self.scene.materials.insert(masked.clone(), Located { value: desc, span: None });
+                    self.alpha_masks.insert(key, masked.clone());
+                    masked
+                }
+            };
+        }
         match self.state.area_light.clone() {
             Some(light) if self.defining.is_none() => {
                 let name = self.unique("emitter");
