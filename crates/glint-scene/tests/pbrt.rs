@@ -736,6 +736,21 @@ Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point3 P" [-10 -10 2  -10 
     assert!((textured - 1.5).abs() < 0.05, "{textured}");
 }
 
+/// pbrt resolves material names when the scene is complete: a shape may use a named
+/// material that a file included later makes (contemporary-bathroom's order), and a mix may
+/// name materials made after it.
+#[test]
+fn named_materials_may_be_made_after_their_use() {
+    let main = "WorldBegin\nNamedMaterial \"tiles\"\nShape \"sphere\"\nMakeNamedMaterial \"either\" \"string type\" \"mix\" \"string materials\" [\"tiles\" \"grout\"]\nInclude \"materials.pbrt\"\n";
+    let materials = "MakeNamedMaterial \"tiles\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.8 0.1 0.1]\nMakeNamedMaterial \"grout\" \"string type\" \"conductor\"\n";
+    let path =
+        scene_dir("late-materials", &[("scene.pbrt", main.as_bytes()), ("materials.pbrt", materials.as_bytes())]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let sphere = &loaded.scene.objects()[0];
+    let material = &loaded.scene.materials()[sphere.material as usize];
+    assert!(format!("{material:?}").contains("reflectance: Constant(Vec3(0.8, 0.1, 0.1))"), "{material:?}");
+}
+
 #[test]
 fn quadrics_and_patches_are_meshes_of_their_shape() {
     let text = "WorldBegin\nShape \"disk\" \"float radius\" 2 \"float innerradius\" 1\nShape \"sphere\" \"float radius\" 1 \"float phimax\" 180\n";

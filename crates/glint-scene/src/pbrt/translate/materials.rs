@@ -8,7 +8,7 @@ use super::{Result, Translator};
 use crate::located::Located;
 use crate::native::schema::*;
 use crate::pbrt::params::Params;
-use crate::pbrt::parse::Directive;
+use crate::pbrt::parse::{At, Directive};
 use crate::pbrt::spectra::{self, Spectrum};
 
 /// pbrt's `RoughnessToAlpha` (with `remaproughness`): α = √roughness.
@@ -21,6 +21,25 @@ fn alpha_of(roughness: f32, remap: bool) -> f32 {
 }
 
 impl Translator<'_> {
+    /// The glint material a named material becomes, named at `at`. pbrt resolves the names
+    /// when the scene is complete, so a material may be made after (or in a file included
+    /// after) its use; `check_material_references` finds the names never made.
+    pub(super) fn named_material(&mut self, name: &str, at: At) -> String {
+        self.material_references.push((name.to_string(), at));
+        format!("named:{name}")
+    }
+
+    /// Every named material used is made somewhere in the scene.
+    pub(super) fn check_material_references(&self) -> Result<()> {
+        for (name, at) in &self.material_references {
+            if !self.named_materials.contains_key(name) {
+                let hint = crate::error::did_you_mean_among_keys(name, self.named_materials.keys());
+                return Err(self.parser.error(*at, format!("no material named `{name}`{hint}")));
+            }
+        }
+        Ok(())
+    }
+
     pub(super) fn default_material(&mut self) -> String {
         let name = "pbrt-default".to_string();
         self.scene.materials.entry(name.clone()).or_insert_with(|| Located {
@@ -220,10 +239,8 @@ impl Translator<'_> {
                 let [first, second] = names.unwrap_or_default() else {
                     return Err(self.parser.error(d.at, "a mix material needs `\"string materials\" [ \"a\" \"b\" ]`, two named materials"));
                 };
-                let lookup = |n: &String| {
-                    self.named_materials.get(n).cloned().ok_or_else(|| self.parser.error(self.param_at(&p, "materials"), format!("no material named `{n}`")))
-                };
-                let (first, second) = (lookup(first)?, lookup(second)?);
+                let at = self.param_at(&p, "materials");
+                let (first, second) = (self.named_material(first, at), self.named_material(second, at));
                 MaterialDesc::Blend { weight: Some(self.fraction(&p, "amount")?.unwrap_or(FractionDesc::Number(0.5))), first, second }
             }
             "interface" | "none" | "" => {

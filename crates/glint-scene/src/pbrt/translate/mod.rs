@@ -56,6 +56,7 @@ pub fn translate(path: &Path, bytes: Vec<u8>, source: &Source) -> Result<(SceneF
     }
     t.environment()?;
     t.check_medium_references()?;
+    t.check_material_references()?;
     if t.follows_media && !t.scene.media.is_empty() && t.scene.render.integrator == "path" {
         t.scene.render.integrator = "volpath".into();
     }
@@ -88,6 +89,8 @@ struct Translator<'s> {
     /// The infinite lights' maps, added up into the environment at the end.
     infinite_maps: Vec<lights::InfiniteMap>,
     resolution: [u32; 2],
+    /// The named materials used, and where, checked at the end (pbrt resolves them then).
+    material_references: Vec<(String, At)>,
     /// Masks made for `alpha`, by material and opacity.
     alpha_masks: HashMap<(String, String), String>,
     /// After `WorldBegin`: the scene, no more rendering options.
@@ -142,6 +145,7 @@ impl<'s> Translator<'s> {
             crop: None,
             in_world: false,
             alpha_masks: HashMap::new(),
+            material_references: Vec::new(),
             film_diagonal: 35.0,
             realistic_focal_length: None,
             end_time_only: false,

@@ -164,13 +164,7 @@ impl Translator<'_> {
                 self.material(d, &kind, name.clone())?;
                 self.named_materials.insert(d.args[0].clone(), name);
             }
-            "NamedMaterial" => match self.named_materials.get(&d.args[0]) {
-                Some(name) => self.state.material = Some(name.clone()),
-                None => {
-                    let hint = crate::error::did_you_mean_among_keys(&d.args[0], self.named_materials.keys());
-                    return Err(self.parser.error(d.at, format!("no material named `{}`{hint}", d.args[0])));
-                }
-            },
+            "NamedMaterial" => self.state.material = Some(self.named_material(&d.args[0], d.at)),
             "Texture" => self.texture(d)?,
             "LightSource" => self.light(d)?,
             "AreaLightSource" => self.area_light(d)?,
