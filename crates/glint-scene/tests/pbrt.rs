@@ -751,6 +751,29 @@ fn named_materials_may_be_made_after_their_use() {
     assert!(format!("{material:?}").contains("reflectance: Constant(Vec3(0.8, 0.1, 0.1))"), "{material:?}");
 }
 
+/// Messages about what the translator made name the user's directive and line, not internal
+/// names; numbers beyond single precision are refused where they are written.
+#[test]
+fn messages_name_the_users_directives() {
+    let cases = [
+        ("WorldBegin\nShape \"sphere\" \"float radius\" 1e300\n", vec!["scene.pbrt:2:31: the number `1e300` is beyond single precision"]),
+        (
+            "WorldBegin\nScale 1e30 1e30 1e30\nShape \"sphere\"\n",
+            vec!["Shape \"sphere\" at ", "scene.pbrt:3:1", "more than single precision holds"],
+        ),
+        (
+            "WorldBegin\nTexture \"wood\" \"spectrum\" \"imagemap\" \"string filename\" \"missing.png\"\nMaterial \"diffuse\" \"texture reflectance\" \"wood\"\nShape \"sphere\"\n",
+            vec!["texture `texture \"wood\" at ", "scene.pbrt:2:1`", "missing.png"],
+        ),
+    ];
+    for (text, expected) in cases {
+        let error = error_of("messages", text);
+        for part in expected {
+            assert!(error.contains(part), "{part:?} not in: {error}");
+        }
+    }
+}
+
 #[test]
 fn quadrics_and_patches_are_meshes_of_their_shape() {
     let text = "WorldBegin\nShape \"disk\" \"float radius\" 2 \"float innerradius\" 1\nShape \"sphere\" \"float radius\" 1 \"float phimax\" 180\n";

@@ -95,6 +95,15 @@ enum Arguments {
     MediumNames,
 }
 
+/// A number glint can hold: finite in single precision, which glint computes in (pbrt too).
+fn check_range(x: f64, text: &str) -> Result<(), String> {
+    if x.is_finite() && (x as f32).is_finite() {
+        Ok(())
+    } else {
+        Err(format!("the number `{text}` is beyond single precision's range (±3.4e38), which glint computes in"))
+    }
+}
+
 impl<'s> Parser<'s> {
     /// A parser of the scene file at `path`, whose bytes are `bytes`.
     pub fn new(path: &Path, bytes: Vec<u8>, source: &'s Source<'s>) -> Result<Self, SceneError> {
@@ -275,6 +284,8 @@ impl<'s> Parser<'s> {
         match self.peek() {
             Some((file, t)) if t.kind == Kind::Word && self.text(file, t).parse::<f64>().is_ok() => {
                 let text = self.text(file, t).to_string();
+                check_range(text.parse::<f64>().unwrap_or(0.0), &text)
+                    .map_err(|m| self.error(At { file, offset: t.offset }, m))?;
                 self.advance();
                 Ok(text)
             }
@@ -374,7 +385,10 @@ impl<'s> Parser<'s> {
                 for (file, t) in tokens {
                     let text = self.text(file, t);
                     match (t.kind, text.parse::<f64>()) {
-                        (Kind::Word, Ok(x)) => numbers.push(x),
+                        (Kind::Word, Ok(x)) => {
+                            check_range(x, text).map_err(|m| self.error(At { file, offset: t.offset }, m))?;
+                            numbers.push(x)
+                        }
                         _ => {
                             return Err(self.error(
                                 At { file, offset: t.offset },

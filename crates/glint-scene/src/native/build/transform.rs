@@ -33,5 +33,12 @@ pub(super) fn build_transform(ops: &[TransformOp]) -> Result<Option<Transform>, 
         };
         matrix = m * matrix;
     }
-    Transform::from_matrix(matrix).map(Some).ok_or_else(|| "the transform is singular (a zero scale?)".to_string())
+    Transform::from_matrix(matrix).map(Some).ok_or_else(|| {
+        let determinant = matrix.determinant().abs();
+        if determinant.is_finite() {
+            "the transform is singular (a zero scale?)".to_string()
+        } else {
+            format!("the transform scales volumes by {determinant}: more than single precision holds (a huge scale?)")
+        }
+    })
 }

@@ -259,7 +259,7 @@ impl Translator<'_> {
             Some(file) => {
                 let inner = format!("{name}:base");
                 self.scene.materials.insert(inner.clone(), Located { value: desc, span: None });
-                let texture = self.unique("normalmap");
+                let texture = self.unique("normal map", d.at);
                 let image = TextureDesc::Image {
                     file,
                     wrap: WrapDesc::Repeat,

@@ -102,7 +102,8 @@ struct Translator<'s> {
     realistic_focal_length: Option<f64>,
     /// Transforms between `ActiveTransform EndTime` and `All` are for motion blur: skipped.
     end_time_only: bool,
-    counter: usize,
+    /// The names `unique` made, and how often each.
+    made_names: HashMap<String, usize>,
 }
 
 impl<'s> Translator<'s> {
@@ -149,7 +150,7 @@ impl<'s> Translator<'s> {
             film_diagonal: 35.0,
             realistic_focal_length: None,
             end_time_only: false,
-            counter: 0,
+            made_names: HashMap::new(),
         }
     }
 
@@ -162,9 +163,18 @@ impl<'s> Translator<'s> {
         self.warnings.push(format!("{place}: {message}"));
     }
 
-    fn unique(&mut self, prefix: &str) -> String {
-        self.counter += 1;
-        format!("{prefix}#{}", self.counter)
+    /// A name for what the translator makes, saying what it is and where it comes from, since
+    /// messages name it: `material at scene.pbrt:12:1` (with a count where a file included
+    /// twice makes the same place twice).
+    fn unique(&mut self, what: &str, at: At) -> String {
+        let name = format!("{what} at {}", self.parser.place(at));
+        let made = self.made_names.entry(name.clone()).or_insert(0);
+        *made += 1;
+        if *made == 1 {
+            name
+        } else {
+            format!("{name} ({made})")
+        }
     }
 
     fn params<'d>(&self, d: &'d Directive) -> Params<'d> {

@@ -44,11 +44,11 @@ impl Translator<'_> {
                     if reverse {
                         self.warn(d.at, "ReverseOrientation on a sphere is ignored (glint's spheres face out)");
                     }
-                    let material = self.shape_material(alpha);
+                    let material = self.shape_material(alpha, d.at);
                     // glint's sphere has its pole on +y (u about +y from +x); pbrt's on +z (u
                     // about +z from +x): swapping y and z gives pbrt's uv, hence its textures.
                     let swap = Mat4::from_cols(Vec4::X, Vec4::Z, Vec4::Y, Vec4::W);
-                    let desc = ShapeDesc::Sphere { interior: None, exterior: None, center: [0.0; 3], radius, material, transform: vec![matrix_op(swap), matrix_op(ctm)], name: None };
+                    let desc = ShapeDesc::Sphere { interior: None, exterior: None, center: [0.0; 3], radius, material, transform: vec![matrix_op(swap), matrix_op(ctm)], name: Some(self.shape_name(kind, d.at)) };
                     return self.push_shape(d.at, desc);
                 }
                 shapes::partial_sphere(radius, z_min, z_max, phi_max.to_radians())
@@ -132,7 +132,7 @@ impl Translator<'_> {
         }
         orient(&mut data, reverse);
         let smooth = data.normals.is_some() || kind == "loopsubdiv";
-        let material = self.shape_material(alpha);
+        let material = self.shape_material(alpha, d.at);
         let desc = ShapeDesc::Mesh {
             interior: None,
             exterior: None,
@@ -144,14 +144,14 @@ impl Translator<'_> {
             compute_normals: kind == "loopsubdiv",
             material,
             transform: vec![matrix_op(ctm)],
-            name: None,
+            name: Some(self.shape_name(kind, d.at)),
         };
         self.push_shape(d.at, desc)
     }
 
     /// The current material, cut out by `alpha` where given, wrapped as an emitter under an
     /// area light.
-    fn shape_material(&mut self, alpha: Option<FractionDesc>) -> String {
+    fn shape_material(&mut self, alpha: Option<FractionDesc>, at: At) -> String {
         let mut material = self.current_material();
         if let Some(opacity) = alpha {
             // One mask per material and alpha, however many shapes share them.
@@ -169,7 +169,7 @@ impl Translator<'_> {
         }
         match self.state.area_light.clone() {
             Some(light) if self.defining.is_none() => {
-                let name = self.unique("emitter");
+                let name = self.unique("area light", at);
                 let desc = MaterialDesc::Emitter {
                     radiance: ColorDesc::Rgb(light.radiance),
                     two_sided: light.two_sided,
@@ -180,6 +180,11 @@ impl Translator<'_> {
             }
             _ => material,
         }
+    }
+
+    /// A shape's name in messages and explanations: its directive and where it stands.
+    fn shape_name(&self, kind: &str, at: At) -> String {
+        format!("Shape \"{kind}\" at {}", self.parser.place(at))
     }
 
     fn push_shape(&mut self, at: At, mut desc: ShapeDesc) -> Result<()> {

@@ -148,7 +148,7 @@ impl Translator<'_> {
             "PixelFilter" => self.filter(d)?,
             "Integrator" => self.integrator(d)?,
             "Material" => {
-                let name = self.unique("material");
+                let name = self.unique(&format!("material \"{}\"", d.args[0]), d.at);
                 self.material(d, &d.args[0], name.clone())?;
                 self.state.material = Some(name);
             }

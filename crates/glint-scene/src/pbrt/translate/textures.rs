@@ -150,7 +150,7 @@ impl Translator<'_> {
                     channel: None,
                     tint: (scale != 1.0).then_some([scale; 3]),
                 };
-                let glint = self.unique(&format!("texture:{name}"));
+                let glint = self.unique(&format!("texture \"{name}\""), d.at);
                 self.scene.textures.insert(glint.clone(), Located { value: desc.clone(), span: None });
                 Tex::Glint(glint, Some(desc))
             }
@@ -182,7 +182,7 @@ impl Translator<'_> {
                             .error(d.at, format!("a checkerboard's dimension is 2 or 3, not {other}")))
                     }
                 };
-                let glint = self.unique(&format!("texture:{name}"));
+                let glint = self.unique(&format!("texture \"{name}\""), d.at);
                 self.scene.textures.insert(glint.clone(), Located { value: desc, span: None });
                 Tex::Glint(glint, None)
             }
@@ -213,7 +213,7 @@ impl Translator<'_> {
                             channel,
                             tint: Some([tint[0] * k[0], tint[1] * k[1], tint[2] * k[2]]),
                         };
-                        let glint = self.unique(&format!("texture:{name}"));
+                        let glint = self.unique(&format!("texture \"{name}\""), d.at);
                         self.scene.textures.insert(glint.clone(), Located { value: desc.clone(), span: None });
                         Tex::Glint(glint, Some(desc))
                     }
