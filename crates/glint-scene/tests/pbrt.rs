@@ -774,6 +774,38 @@ fn messages_name_the_users_directives() {
     }
 }
 
+/// A spectrum given as a `.spd` file (killeroos' gold) reads as the same pairs written inline;
+/// a file that is not pairs of numbers is refused at the parameter.
+#[test]
+fn spd_files_are_the_spectra_they_hold() {
+    let eta = "# gold-ish\n400 1.5\n500 0.9 # green\n600 0.3\n700 0.2\n";
+    let k = "400 1.9 500 2.0\n600 3.0 700 4.0\n";
+    let conductor = |params: &str, test: &str| {
+        let text = format!("WorldBegin\nMaterial \"conductor\" {params}\nShape \"sphere\"\n");
+        let path = scene_dir(
+            test,
+            &[
+                ("scene.pbrt", text.as_bytes()),
+                ("eta.spd", eta.as_bytes()),
+                ("k.spd", k.as_bytes()),
+                ("bad.spd", b"400 1.5 500"),
+            ],
+        );
+        load_scene(&path).map(|loaded| format!("{:?}", loaded.scene.materials()[0]))
+    };
+    let from_files =
+        conductor(r#""spectrum eta" "eta.spd" "spectrum k" "k.spd""#, "spd-files").unwrap_or_else(|e| panic!("{e}"));
+    let inline = conductor(
+        r#""spectrum eta" [400 1.5 500 0.9 600 0.3 700 0.2] "spectrum k" [400 1.9 500 2.0 600 3.0 700 4.0]"#,
+        "spd-inline",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(from_files, inline);
+    let error =
+        conductor(r#""spectrum eta" "bad.spd" "spectrum k" "k.spd""#, "spd-bad").expect_err("refused").to_string();
+    assert!(error.contains("scene.pbrt:2:") && error.contains("`bad.spd`: expected wavelength–value pairs"), "{error}");
+}
+
 #[test]
 fn quadrics_and_patches_are_meshes_of_their_shape() {
     let text = "WorldBegin\nShape \"disk\" \"float radius\" 2 \"float innerradius\" 1\nShape \"sphere\" \"float radius\" 1 \"float phimax\" 180\n";

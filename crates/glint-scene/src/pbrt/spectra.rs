@@ -106,6 +106,30 @@ pub fn metal(eta: &str, k: &str) -> Result<&'static str, String> {
     }
 }
 
+/// A `.spd` file's wavelength (nm)–value pairs, as pbrt reads them: numbers separated by
+/// white space, `#` to the end of a line a comment, wavelengths increasing.
+pub fn read_spd(text: &str) -> Result<Vec<(f64, f64)>, String> {
+    let mut numbers = Vec::new();
+    for line in text.lines() {
+        let line = line.split('#').next().unwrap_or("");
+        for word in line.split_whitespace() {
+            let x: f64 = word.parse().map_err(|_| format!("`{word}` is not a number"))?;
+            if !x.is_finite() {
+                return Err(format!("`{word}` is not a finite number"));
+            }
+            numbers.push(x);
+        }
+    }
+    if numbers.len() < 2 || numbers.len() % 2 != 0 {
+        return Err(format!("expected wavelength–value pairs, got {} numbers", numbers.len()));
+    }
+    let pairs: Vec<(f64, f64)> = numbers.chunks_exact(2).map(|c| (c[0], c[1])).collect();
+    if pairs.windows(2).any(|w| w[1].0 <= w[0].0) {
+        return Err("the wavelengths must increase".into());
+    }
+    Ok(pairs)
+}
+
 /// An unbounded value (η or k given as rgb or samples), per channel.
 pub fn unbounded(s: &Spectrum) -> Result<[f32; 3], String> {
     match s {

@@ -98,17 +98,32 @@ impl Translator<'_> {
         if p.list.iter().any(|x| x.name == name && x.ty == "float") {
             return p.float(name, default).map_err(|f| self.fail(f));
         }
-        match p.spectrum(name).map_err(|f| self.fail(f))? {
+        match self.spectrum_or_file(p, name)? {
             None => Ok(default),
             Some(s) => spectra::index(&s).map_err(|m| self.parser.error(at, format!("`{name}`: {m}"))),
+        }
+    }
+
+    /// A spectrum parameter, where a name ending in `.spd` is read as the file of
+    /// wavelength–value pairs pbrt reads there (`"spectrum eta" "spds/Au.eta.spd"`).
+    fn spectrum_or_file(&self, p: &Params, key: &str) -> Result<Option<Spectrum>> {
+        match p.spectrum(key).map_err(|f| self.fail(f))? {
+            Some(Spectrum::Named(file)) if file.to_ascii_lowercase().ends_with(".spd") => {
+                let at = self.param_at(p, key);
+                let bytes = self.source.read(&file).map_err(|m| self.parser.error(at, m))?;
+                let samples = spectra::read_spd(&String::from_utf8_lossy(&bytes))
+                    .map_err(|m| self.parser.error(at, format!("`{file}`: {m}")))?;
+                Ok(Some(Spectrum::Sampled(samples)))
+            }
+            other => Ok(other),
         }
     }
 
     /// Conductor η and k, from names, values or an artist's `reflectance`.
     fn conductor_optics(&self, p: &Params, prefix: &str) -> Result<(Option<String>, [f32; 3], [f32; 3])> {
         let (eta_key, k_key) = (format!("{prefix}eta"), format!("{prefix}k"));
-        let eta = p.spectrum(&eta_key).map_err(|f| self.fail(f))?;
-        let k = p.spectrum(&k_key).map_err(|f| self.fail(f))?;
+        let eta = self.spectrum_or_file(p, &eta_key)?;
+        let k = self.spectrum_or_file(p, &k_key)?;
         if let Some(r) = p.spectrum("reflectance").map_err(|f| self.fail(f))? {
             if eta.is_some() || k.is_some() {
                 return Err(self.parser.error(p.at, "give a conductor `reflectance` or its η and k, not both"));
