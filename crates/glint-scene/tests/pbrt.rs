@@ -806,6 +806,41 @@ fn spd_files_are_the_spectra_they_hold() {
     assert!(error.contains("scene.pbrt:2:") && error.contains("`bad.spd`: expected wavelength–value pairs"), "{error}");
 }
 
+/// pbrt's planar mapping reads a texture at the point's coordinates in the texture's space,
+/// whatever the surface's uv: a checkerboard of half-unit checks across a floor seen from
+/// above, under a uniform sky (each pixel is the check's albedo).
+#[test]
+fn a_planar_mapping_lays_a_checkerboard_by_position() {
+    let text = r#"LookAt 0 0 5  0 0 0  0 1 0
+Camera "orthographic"
+Film "rgb" "integer xresolution" 8 "integer yresolution" 8
+Integrator "path" "integer maxdepth" 1
+Sampler "independent" "integer pixelsamples" 1
+WorldBegin
+LightSource "infinite" "rgb L" [1 1 1]
+Texture "checks" "spectrum" "checkerboard" "string mapping" "planar" "vector3 v1" [2 0 0] "vector3 v2" [0 2 0] "rgb tex1" [0.9 0.9 0.9] "rgb tex2" [0.1 0.1 0.1]
+Material "diffuse" "texture reflectance" "checks"
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point3 P" [-5 -5 0  5 -5 0  5 5 0  -5 5 0] "point2 uv" [0 0 0 0 0 0 0 0]
+"#;
+    let path = scene_dir("planar", &[("scene.pbrt", text.as_bytes())]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).unwrap();
+    let settings = RenderSettings { spp: 256, seed: 5, filter: Filter::Box, sampler: SamplerKind::Independent };
+    let film = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film;
+    // 8 pixels across 2 units: each check (half a unit) is 2 × 2 pixels.
+    let bright = |x: u32, y: u32| film.pixel(x, y).x > 0.5;
+    for y in 0..8u32 {
+        for x in 0..8u32 {
+            let value = film.pixel(x, y).x;
+            assert!((value - 0.9).abs() < 0.15 || (value - 0.1).abs() < 0.05, "({x}, {y}): {value}");
+            assert_eq!(bright(x, y), bright(x ^ 1, y ^ 1), "({x}, {y}) within its check");
+            if x + 2 < 8 {
+                assert_ne!(bright(x, y), bright(x + 2, y), "({x}, {y}) against the next check");
+            }
+        }
+    }
+}
+
 #[test]
 fn quadrics_and_patches_are_meshes_of_their_shape() {
     let text = "WorldBegin\nShape \"disk\" \"float radius\" 2 \"float innerradius\" 1\nShape \"sphere\" \"float radius\" 1 \"float phimax\" 180\n";

@@ -82,7 +82,14 @@ impl Object {
             shape => shape.surface_at(prim, local, hit)?,
         };
         let mesh = self.mesh_point(prim, || local);
-        Some(TextureQuery { uv: surface.uv, point: object_point, dpdu: Vec3::ZERO, dpdv: Vec3::ZERO, mesh })
+        Some(TextureQuery {
+            uv: surface.uv,
+            point: object_point,
+            world_point: point,
+            dpdu: Vec3::ZERO,
+            dpdv: Vec3::ZERO,
+            mesh,
+        })
     }
 
     /// The point on triangle `prim` of a mesh with attributes (in the space of its vertices,

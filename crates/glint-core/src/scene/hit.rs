@@ -34,6 +34,7 @@ impl SurfaceHit {
         TextureQuery {
             uv: self.geometry.uv,
             point: self.object_point,
+            world_point: self.geometry.point,
             dpdu: Vec3::ZERO,
             dpdv: Vec3::ZERO,
             mesh: object.mesh_point(self.prim, || match &object.transform {

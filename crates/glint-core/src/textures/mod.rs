@@ -5,6 +5,7 @@
 mod attribute;
 mod checker;
 mod image;
+mod mapped;
 mod mix;
 mod noise;
 mod solid;
@@ -12,6 +13,7 @@ mod solid;
 pub use attribute::AttributeTexture;
 pub use checker::{Checker, SolidChecker};
 pub use image::{ImageTexture, TexelFilter, Wrap};
+pub use mapped::{Mapped, Projection};
 pub use mix::{fraction, Mix};
 pub use noise::{perlin_noise, turbulence};
 pub use solid::{Marble, Wood};
@@ -29,6 +31,8 @@ pub struct TextureQuery<'a> {
     pub uv: Vec2,
     /// The hit point in object space (world space for shapes without a transform).
     pub point: Vec3,
+    /// The hit point in world space, for textures mapped from a space of their own.
+    pub world_point: Vec3,
     /// The surface's ∂p/∂u in world space (zero if unknown): the tangent anisotropic
     /// materials align with.
     pub dpdu: Vec3,
@@ -59,6 +63,9 @@ pub enum Texture {
     Wood(Wood),
     /// Boxed: its name would make every texture larger.
     Attribute(Box<AttributeTexture>),
+    /// A texture read at coordinates made from the point (pbrt's spherical, cylindrical and
+    /// planar mappings).
+    Mapped(Box<Mapped>),
     Mix(Box<Mix>),
 }
 
@@ -84,6 +91,7 @@ impl Texture {
             Texture::Wood(t) => t.evaluate(query.point),
             Texture::Attribute(t) => t.evaluate(query),
             Texture::Mix(t) => t.evaluate(query),
+            Texture::Mapped(t) => t.evaluate(query),
         }
     }
 }
@@ -134,6 +142,7 @@ impl Texture {
             // Unknown until a mesh is hit: taken as colours are, at most 1 (times the scale).
             Texture::Attribute(t) => Rgb::splat(t.scale),
             Texture::Mix(t) => t.first.max_value().max(t.second.max_value()),
+            Texture::Mapped(t) => t.texture.max_value(),
         }
     }
 }

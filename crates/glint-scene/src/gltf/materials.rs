@@ -356,6 +356,7 @@ impl Textures<'_> {
             raw,
             channel,
             tint: (tint != [1.0; 3]).then_some(tint),
+            mapping: None,
         };
         self.scene_textures.push((name.clone(), desc));
         Ok(name)

@@ -381,12 +381,18 @@ impl<'a> Translator<'a> {
     /// where the half-checks differ), which its references show; the checker is copied with
     /// them swapped.
     fn scalar_texture(&mut self, name: &str) -> String {
-        let Some(Located { value: TextureDesc::Checker { even, odd, scale, uv_transform }, span }) =
+        let Some(Located { value: TextureDesc::Checker { even, odd, scale, uv_transform, mapping }, span }) =
             self.scene.textures.get(name)
         else {
             return name.to_string();
         };
-        let swapped = TextureDesc::Checker { even: *odd, odd: *even, scale: *scale, uv_transform: *uv_transform };
+        let swapped = TextureDesc::Checker {
+            even: *odd,
+            odd: *even,
+            scale: *scale,
+            uv_transform: *uv_transform,
+            mapping: mapping.clone(),
+        };
         let scalar = format!("{name}@scalar");
         let span = span.clone();
         self.scene.textures.insert(scalar.clone(), Located { value: swapped, span });

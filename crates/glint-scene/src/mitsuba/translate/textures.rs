@@ -68,6 +68,7 @@ impl Translator<'_> {
                     raw,
                     channel: None,
                     tint: None,
+                    mapping: None,
                 }
             }
             "checkerboard" => {
@@ -80,6 +81,7 @@ impl Translator<'_> {
                     odd,
                     scale: Some(Scale2Desc::Uniform(1.0)),
                     uv_transform: Some(rows(checks)),
+                    mapping: None,
                 }
             }
             "mesh_attribute" => {

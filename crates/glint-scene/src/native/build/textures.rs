@@ -4,14 +4,15 @@
 
 use std::sync::Arc;
 
-use glam::{Affine2, Vec2, Vec3};
+use glam::{Affine2, Affine3A, Vec2, Vec3};
 use glint_core::scene::Object;
 use glint_core::shapes::Shape;
 use glint_core::textures::{
-    AttributeTexture, Checker, ImageTexture, Marble, SolidChecker, TexelFilter, Texture, Wood, Wrap,
+    AttributeTexture, Checker, ImageTexture, Mapped, Marble, Projection, SolidChecker, TexelFilter, Texture, Wood, Wrap,
 };
 
 use super::checks::{non_negative, positive};
+use super::transform::build_transform;
 use super::Context;
 use crate::error::{did_you_mean, SceneError};
 use crate::native::schema::*;
@@ -19,6 +20,38 @@ use crate::source::Source;
 
 /// A texture, or the key its error is about and the message.
 pub(super) fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'static str, String)> {
+    let texture = build_unmapped(desc, source)?;
+    let (TextureDesc::Checker { mapping: Some(mapping), .. } | TextureDesc::Image { mapping: Some(mapping), .. }) =
+        desc
+    else {
+        return Ok(texture);
+    };
+    let (transform, projection) = match mapping {
+        MappingDesc::Spherical { transform } => (transform, Projection::Spherical),
+        MappingDesc::Cylindrical { transform } => (transform, Projection::Cylindrical),
+        MappingDesc::Planar { transform, s_axis, t_axis, s_offset, t_offset } => {
+            let axis = |key: &'static str, v: Option<Vector>, default: Vec3| -> Result<Vec3, (&'static str, String)> {
+                let v = v.map_or(default, Vec3::from);
+                if v.is_finite() && v != Vec3::ZERO {
+                    Ok(v)
+                } else {
+                    Err(("mapping", format!("a planar mapping's `{key}` must be a vector other than zero, got {v}")))
+                }
+            };
+            if !(s_offset.is_finite() && t_offset.is_finite()) {
+                return Err(("mapping", "a planar mapping's offsets must be finite".into()));
+            }
+            let (s_axis, t_axis) = (axis("s_axis", *s_axis, Vec3::X)?, axis("t_axis", *t_axis, Vec3::Y)?);
+            (transform, Projection::Planar { s_axis, t_axis, s_offset: *s_offset, t_offset: *t_offset })
+        }
+    };
+    let to_world = build_transform(transform).map_err(|m| ("mapping", format!("the mapping's transform: {m}")))?;
+    let to_texture = to_world.map_or(Affine3A::IDENTITY, |t| Affine3A::from_mat4(t.to_object));
+    Ok(Texture::Mapped(Box::new(Mapped { to_texture, projection, texture })))
+}
+
+/// A texture as its uv makes it.
+fn build_unmapped(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'static str, String)> {
     let rgb = |key: &'static str, v: Vector| non_negative(v).map_err(|m| (key, m));
     let number = |key: &'static str, x: Option<f32>, default: f32| -> Result<f32, (&'static str, String)> {
         let x = x.unwrap_or(default);
@@ -37,7 +70,7 @@ pub(super) fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Textu
         Ok(v)
     };
     Ok(match desc {
-        TextureDesc::Checker { even, odd, scale, uv_transform } => Texture::Checker(Box::new(Checker {
+        TextureDesc::Checker { even, odd, scale, uv_transform, .. } => Texture::Checker(Box::new(Checker {
             even: rgb("even", *even)?,
             odd: rgb("odd", *odd)?,
             uv_transform: uv_map(scale2(*scale, 8.0)?, uv_transform.as_ref())?,
@@ -47,7 +80,7 @@ pub(super) fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Textu
             odd: rgb("odd", *odd)?,
             scale: number("scale", *scale, 1.0)?,
         }),
-        TextureDesc::Image { file, wrap, filter, scale, uv_transform, raw, channel, tint } => {
+        TextureDesc::Image { file, wrap, filter, scale, uv_transform, raw, channel, tint, .. } => {
             // An image a reader made decoded is linear already; a file is decoded here.
             let (width, height, mut pixels) = match source.made_image(file) {
                 Some(image) => image,

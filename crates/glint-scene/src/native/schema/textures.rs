@@ -2,7 +2,7 @@
 
 use serde::Deserialize;
 
-use super::Vector;
+use super::{TransformOp, Vector};
 
 /// A number for both axes or one per axis.
 #[derive(Deserialize, Debug, Clone, Copy)]
@@ -21,6 +21,8 @@ pub enum TextureDesc {
         scale: Option<Scale2Desc>,
         /// An affine map of uv after `scale`: rows [a, b, c] and [d, e, f].
         uv_transform: Option<[[f32; 3]; 2]>,
+        /// Coordinates made from the point instead of the surface's uv.
+        mapping: Option<MappingDesc>,
     },
     SolidChecker {
         even: Vector,
@@ -43,6 +45,8 @@ pub enum TextureDesc {
         channel: Option<u8>,
         /// A factor for every texel (glTF's colour factors, pbrt's `scale`).
         tint: Option<Vector>,
+        /// Coordinates made from the point instead of the surface's uv.
+        mapping: Option<MappingDesc>,
     },
     Marble {
         base: Vector,
@@ -61,6 +65,33 @@ pub enum TextureDesc {
     MeshAttribute {
         name: String,
         scale: Option<f32>,
+    },
+}
+
+/// A 2D texture's coordinates made from the hit point, in a texture space that `transform`
+/// places in the world (pbrt's mappings): `spherical` (θ / π from +z, φ / 2π about it),
+/// `cylindrical` ((π + φ) / 2π about +z, and z), `planar` (offsets plus the point's
+/// projections on two axes).
+#[derive(Deserialize, Debug, Clone)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum MappingDesc {
+    Spherical {
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+    },
+    Cylindrical {
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+    },
+    Planar {
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        s_axis: Option<Vector>,
+        t_axis: Option<Vector>,
+        #[serde(default)]
+        s_offset: f32,
+        #[serde(default)]
+        t_offset: f32,
     },
 }
 

@@ -284,6 +284,7 @@ impl Translator<'_> {
                     raw: true,
                     channel: None,
                     tint: None,
+                    mapping: None,
                 };
                 self.scene.textures.insert(texture.clone(), Located { value: image, span: None });
                 MaterialDesc::NormalMap { normals: ColorDesc::Texture(texture), material: inner }

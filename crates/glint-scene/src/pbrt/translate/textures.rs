@@ -3,6 +3,7 @@
 
 use glam::Mat4;
 
+use super::state::matrix_op;
 use super::{Result, Translator};
 use crate::error::SceneError;
 use crate::located::Located;
@@ -87,16 +88,39 @@ impl Translator<'_> {
                 }
             }
         };
-        let uv_transform = |this: &Self| -> Result<[[f32; 3]; 2]> {
-            let mapping = p.string("mapping").map_err(|f| this.fail(f))?.unwrap_or_else(|| "uv".into());
-            if mapping != "uv" {
-                return Err(this.parser.error(
-                    this.param_at(&p, "mapping"),
-                    format!("texture mapping `{mapping}` is not supported; glint maps by uv"),
-                ));
-            }
+        // pbrt's texture mappings: `uv` (scaled and offset), or coordinates made from the point
+        // in the texture's space (the transform where the texture is made).
+        let mapping = |this: &Self| -> Result<([[f32; 3]; 2], Option<MappingDesc>)> {
+            let kind = p.string("mapping").map_err(|f| this.fail(f))?.unwrap_or_else(|| "uv".into());
             let g = |k: &str, dflt: f32| p.float(k, dflt).map_err(|f| this.fail(f));
-            Ok([[g("uscale", 1.0)?, 0.0, g("udelta", 0.0)?], [0.0, g("vscale", 1.0)?, g("vdelta", 0.0)?]])
+            let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+            let transform = vec![matrix_op(this.state.ctm)];
+            Ok(match kind.as_str() {
+                "uv" => {
+                    ([[g("uscale", 1.0)?, 0.0, g("udelta", 0.0)?], [0.0, g("vscale", 1.0)?, g("vdelta", 0.0)?]], None)
+                }
+                "spherical" => (identity, Some(MappingDesc::Spherical { transform })),
+                "cylindrical" => (identity, Some(MappingDesc::Cylindrical { transform })),
+                "planar" => {
+                    let v = |k: &str, dflt: [f32; 3]| p.triple(k, dflt).map_err(|f| this.fail(f));
+                    let planar = MappingDesc::Planar {
+                        transform,
+                        s_axis: Some(v("v1", [1.0, 0.0, 0.0])?),
+                        t_axis: Some(v("v2", [0.0, 1.0, 0.0])?),
+                        s_offset: g("udelta", 0.0)?,
+                        t_offset: g("vdelta", 0.0)?,
+                    };
+                    (identity, Some(planar))
+                }
+                other => {
+                    return Err(this.parser.error(
+                        this.param_at(&p, "mapping"),
+                        format!(
+                            "texture mapping `{other}` is not known; pbrt's are uv, spherical, cylindrical and planar"
+                        ),
+                    ))
+                }
+            })
         };
         let tex = match kind {
             "constant" => constant_of(self, "value", 1.0)?,
@@ -140,15 +164,17 @@ impl Translator<'_> {
                 }
                 let scale = p.float("scale", 1.0).map_err(|f| self.fail(f))?;
                 p.ignore(&["maxanisotropy"]);
+                let (uv_transform, mapping) = mapping(self)?;
                 let desc = TextureDesc::Image {
                     file,
                     wrap,
                     filter,
                     scale: None,
-                    uv_transform: Some(uv_transform(self)?),
+                    uv_transform: Some(uv_transform),
                     raw,
                     channel: None,
                     tint: (scale != 1.0).then_some([scale; 3]),
+                    mapping,
                 };
                 let glint = self.unique(&format!("texture \"{name}\""), d.at);
                 self.scene.textures.insert(glint.clone(), Located { value: desc.clone(), span: None });
@@ -164,12 +190,16 @@ impl Translator<'_> {
                         .error(d.at, "a checkerboard of textures is not supported: give tex1 and tex2 as values"));
                 };
                 let desc = match dimension {
-                    2 => TextureDesc::Checker {
-                        even,
-                        odd,
-                        scale: Some(Scale2Desc::Uniform(1.0)),
-                        uv_transform: Some(uv_transform(self)?),
-                    },
+                    2 => {
+                        let (uv_transform, mapping) = mapping(self)?;
+                        TextureDesc::Checker {
+                            even,
+                            odd,
+                            scale: Some(Scale2Desc::Uniform(1.0)),
+                            uv_transform: Some(uv_transform),
+                            mapping,
+                        }
+                    }
                     3 => {
                         if self.state.ctm != Mat4::IDENTITY {
                             self.warn(d.at, "a solid checkerboard's checks lie in the shape's own space, not the texture's transform");
@@ -198,7 +228,8 @@ impl Translator<'_> {
                 match (a, b) {
                     (Tex::Constant(x), Tex::Constant(y)) => Tex::Constant([x[0] * y[0], x[1] * y[1], x[2] * y[2]]),
                     (Tex::Glint(_, Some(image)), Tex::Constant(k)) | (Tex::Constant(k), Tex::Glint(_, Some(image))) => {
-                        let TextureDesc::Image { file, wrap, filter, scale, uv_transform, raw, channel, tint } = image
+                        let TextureDesc::Image { file, wrap, filter, scale, uv_transform, raw, channel, tint, mapping } =
+                            image
                         else {
                             unreachable!("only images keep their description")
                         };
@@ -212,6 +243,7 @@ impl Translator<'_> {
                             raw,
                             channel,
                             tint: Some([tint[0] * k[0], tint[1] * k[1], tint[2] * k[2]]),
+                            mapping,
                         };
                         let glint = self.unique(&format!("texture \"{name}\""), d.at);
                         self.scene.textures.insert(glint.clone(), Located { value: desc.clone(), span: None });
