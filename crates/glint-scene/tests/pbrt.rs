@@ -841,6 +841,37 @@ Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point3 P" [-5 -5 0  5 -5 0
     }
 }
 
+/// A material's `displacement` bump-maps it, as pbrt-v4's does: the material about a normal
+/// tilted by the height texture's slope; a constant height tilts nothing, and a normal map
+/// wins over it (with a warning).
+#[test]
+fn a_materials_displacement_bump_maps_it() {
+    let mut png = Vec::new();
+    image::GrayImage::from_fn(4, 4, |x, _| image::Luma([(x * 60) as u8]))
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    let load = |material: &str, test: &str| {
+        let text = format!(
+            "WorldBegin\nTexture \"bumps\" \"float\" \"imagemap\" \"string filename\" \"bumps.png\"\n{material}\nShape \"sphere\"\n"
+        );
+        let path = scene_dir(test, &[("scene.pbrt", text.as_bytes()), ("bumps.png", &png), ("normals.png", &png)]);
+        let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+        let sphere = &loaded.scene.objects()[0];
+        (loaded.scene.materials()[sphere.material as usize].clone(), loaded.warnings)
+    };
+    let (bumped, _) = load("Material \"diffuse\" \"texture displacement\" \"bumps\"", "bump");
+    let Material::BumpMap(bump) = &bumped else { panic!("{bumped:?}") };
+    assert!(format!("{:?}", bump.material).contains("Diffuse"), "{:?}", bump.material);
+    let (flat, _) = load("Material \"diffuse\" \"float displacement\" 0.3", "bump-constant");
+    assert!(!format!("{flat:?}").contains("Bump"), "{flat:?}");
+    let (normal, warnings) = load(
+        "Material \"diffuse\" \"texture displacement\" \"bumps\" \"string normalmap\" \"normals.png\"",
+        "bump-normal",
+    );
+    assert!(matches!(normal, Material::NormalMap(_)), "{normal:?}");
+    assert!(warnings.iter().any(|w| w.contains("ignores its `displacement`")), "{warnings:?}");
+}
+
 #[test]
 fn quadrics_and_patches_are_meshes_of_their_shape() {
     let text = "WorldBegin\nShape \"disk\" \"float radius\" 2 \"float innerradius\" 1\nShape \"sphere\" \"float radius\" 1 \"float phimax\" 180\n";

@@ -4,10 +4,11 @@
 
 use glam::Vec3;
 
+use super::textures::Tex;
 use super::{Result, Translator};
 use crate::located::Located;
 use crate::native::schema::*;
-use crate::pbrt::params::Params;
+use crate::pbrt::params::{Params, Textured};
 use crate::pbrt::parse::{At, Directive};
 use crate::pbrt::spectra::{self, Spectrum};
 
@@ -164,9 +165,16 @@ impl Translator<'_> {
     pub(super) fn material(&mut self, d: &Directive, kind: &str, name: String) -> Result<()> {
         let p = self.params(d);
         p.ignore(&["type"]);
-        if p.list.iter().any(|x| x.name == "displacement") {
-            return Err(self.parser.error(self.param_at(&p, "displacement"), "displacement is not supported"));
-        }
+        // pbrt-v4's `displacement` bump-maps the surface: the shading normal tilts with the
+        // height's slope in uv (a constant height tilts nothing).
+        let bump = match p.float_or_texture("displacement").map_err(|f| self.fail(f))? {
+            Some(Textured::Texture(t)) => match self.float_textures.get(&t) {
+                Some(Tex::Glint(texture, _)) => Some(texture.clone()),
+                Some(Tex::Constant(_)) => None,
+                None => return Err(self.unknown_texture(&p, "displacement", &t)),
+            },
+            Some(Textured::Value(_)) | None => None,
+        };
         let desc = match kind {
             "diffuse" => MaterialDesc::Diffuse {
                 reflectance: Some(self.colour(&p, "reflectance", [0.5; 3], true)?),
@@ -269,9 +277,18 @@ impl Translator<'_> {
                 ))
             }
         };
-        let desc = match p.string("normalmap").map_err(|f| self.fail(f))? {
-            None => desc,
-            Some(file) => {
+        let normal_map = p.string("normalmap").map_err(|f| self.fail(f))?;
+        let desc = match (normal_map, bump) {
+            (None, None) => desc,
+            (None, Some(height)) => {
+                let inner = format!("{name}:base");
+                self.scene.materials.insert(inner.clone(), Located { value: desc, span: None });
+                MaterialDesc::BumpMap { height, scale: 1.0, material: inner }
+            }
+            (Some(file), bump) => {
+                if bump.is_some() {
+                    self.warn(d.at, "a material with a `normalmap` ignores its `displacement`, as pbrt does");
+                }
                 let inner = format!("{name}:base");
                 self.scene.materials.insert(inner.clone(), Located { value: desc, span: None });
                 let texture = self.unique("normal map", d.at);

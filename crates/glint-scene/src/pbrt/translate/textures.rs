@@ -51,7 +51,7 @@ impl Translator<'_> {
         })
     }
 
-    fn unknown_texture(&self, p: &Params, name: &str, texture: &str) -> SceneError {
+    pub(super) fn unknown_texture(&self, p: &Params, name: &str, texture: &str) -> SceneError {
         let names = self.float_textures.keys().chain(self.spectrum_textures.keys());
         let hint = crate::error::did_you_mean_among_keys(texture, names);
         self.parser.error(self.param_at(p, name), format!("`{name}`: no texture named `{texture}`{hint}"))
