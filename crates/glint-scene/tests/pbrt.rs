@@ -872,6 +872,30 @@ fn a_materials_displacement_bump_maps_it() {
     assert!(warnings.iter().any(|w| w.contains("ignores its `displacement`")), "{warnings:?}");
 }
 
+/// A coateddiffuse's roughness that glint's one-α coat cannot hold is approximated, with a
+/// warning: an anisotropic pair by its geometric mean, a texture by its mean value.
+#[test]
+fn a_coated_diffuses_anisotropic_or_textured_roughness_becomes_one_alpha() {
+    let alpha = |params: &str, test: &str| {
+        let text = format!(
+            "WorldBegin\nTexture \"r\" \"float\" \"checkerboard\" \"float tex1\" 0.1 \"float tex2\" 0.3\nMaterial \"coateddiffuse\" \"bool remaproughness\" false {params}\nShape \"sphere\"\n"
+        );
+        let path = scene_dir(test, &[("scene.pbrt", text.as_bytes())]);
+        let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+        let sphere = &loaded.scene.objects()[0];
+        let material = format!("{:?}", loaded.scene.materials()[sphere.material as usize]);
+        let alpha =
+            material.split("alpha: ").nth(1).and_then(|s| s.split(',').next()).map(|s| s.parse::<f32>().unwrap());
+        (alpha.unwrap_or_else(|| panic!("{material}")), loaded.warnings.join("\n"))
+    };
+    let (a, warnings) = alpha("\"float uroughness\" 0.04 \"float vroughness\" 0.16", "coat-aniso");
+    assert!((a - 0.08).abs() < 1e-6, "{a}");
+    assert!(warnings.contains("geometric mean"), "{warnings}");
+    let (a, warnings) = alpha("\"texture roughness\" \"r\"", "coat-texture");
+    assert!((a - 0.2).abs() < 1e-6, "{a}");
+    assert!(warnings.contains("the texture's mean, α = 0.2"), "{warnings}");
+}
+
 #[test]
 fn quadrics_and_patches_are_meshes_of_their_shape() {
     let text = "WorldBegin\nShape \"disk\" \"float radius\" 2 \"float innerradius\" 1\nShape \"sphere\" \"float radius\" 1 \"float phimax\" 180\n";

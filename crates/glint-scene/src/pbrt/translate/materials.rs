@@ -30,6 +30,36 @@ impl Translator<'_> {
         format!("named:{name}")
     }
 
+    /// A number as it is, or a texture's mean value (a coat that takes one number), with a
+    /// warning saying so.
+    fn mean_fraction(&mut self, fraction: &FractionDesc, at: At) -> Result<f32> {
+        let texture = match fraction {
+            FractionDesc::Number(x) => return Ok(*x),
+            FractionDesc::Texture(t) => t.clone(),
+        };
+        let mean = match self.scene.textures.get(&texture).map(|t| &t.value) {
+            Some(TextureDesc::Image { file, raw, channel, tint, .. }) => {
+                let bytes = self.source.read(file).map_err(|m| self.parser.error(at, m))?;
+                let (_, _, pixels) = crate::image::decode(file, &bytes, *raw)
+                    .map_err(|m| self.parser.error(at, format!("`{file}`: {m}")))?;
+                let value = |p: &glint_core::Rgb| match channel {
+                    Some(c) => p[*c as usize],
+                    None => (p.x + p.y + p.z) / 3.0,
+                };
+                let mean = pixels.iter().map(|p| f64::from(value(p))).sum::<f64>() / pixels.len().max(1) as f64;
+                mean as f32 * tint.map_or(1.0, |t| (t[0] + t[1] + t[2]) / 3.0)
+            }
+            Some(TextureDesc::Checker { even, odd, .. }) => (even[0] + odd[0]) / 2.0,
+            _ => {
+                return Err(self
+                    .parser
+                    .error(at, "a coated material's roughness texture must be an image or a checkerboard"))
+            }
+        };
+        self.warn(at, format!("glint's coat takes one roughness: the texture's mean, α = {mean}, is used everywhere"));
+        Ok(mean)
+    }
+
     /// Every named material used is made somewhere in the scene.
     pub(super) fn check_material_references(&self) -> Result<()> {
         for (name, at) in &self.material_references {
@@ -213,11 +243,25 @@ impl Translator<'_> {
             "coateddiffuse" => {
                 let reflectance = self.colour(&p, "reflectance", [0.5; 3], true)?;
                 let eta = self.index(&p, "eta", 1.5)?;
+                // glint's rough plastic takes one α: an anisotropic pair becomes its geometric
+                // mean, a texture its mean value, with a warning.
                 let alpha = match self.roughness(&p, "")? {
                     None => None,
-                    Some((FractionDesc::Number(a), None)) => Some(a),
-                    Some(_) => {
-                        return Err(self.parser.error(d.at, "a coateddiffuse's roughness must be one number (glint's rough plastic is isotropic and untextured)"))
+                    Some((u, v)) => {
+                        let at = self.param_at(&p, "roughness");
+                        let u = self.mean_fraction(&u, at)?;
+                        let v = match &v {
+                            Some(v) => self.mean_fraction(v, at)?,
+                            None => u,
+                        };
+                        if u != v {
+                            self.warn(at, format!("glint's coat is isotropic: the roughnesses α = {u} and {v} become their geometric mean"));
+                        }
+                        let alpha = (u * v).sqrt();
+                        if alpha.is_nan() {
+                            return Err(self.parser.error(at, "a coateddiffuse's roughness must be a number ≥ 0"));
+                        }
+                        Some(alpha)
                     }
                 };
                 p.ignore(&["thickness", "g", "maxdepth", "nsamples"]);
