@@ -724,7 +724,7 @@ fn required_extensions_glint_cannot_read_are_refused_by_name() {
         ("KHR_draco_mesh_compression", "no decoder"),
         ("EXT_meshopt_compression", "no decoder"),
         ("KHR_texture_basisu", "KTX2/Basis"),
-        ("KHR_materials_unlit", "does not read"),
+        ("KHR_materials_pbrSpecularGlossiness", "does not read"),
     ] {
         let mut required = document.clone();
         required["extensionsUsed"] = json!([extension]);
@@ -805,6 +805,32 @@ fn alpha_masks_and_blends_the_surface() {
     for pixel in image {
         assert!((pixel - Rgb::ONE).abs().max_element() < 1e-5, "{pixel}");
     }
+}
+
+/// KHR_materials_unlit shows the base colour whatever the light: an emitter of it over a
+/// surface that scatters nothing (one-sided unless the material is double-sided).
+#[test]
+fn an_unlit_material_shows_its_base_colour() {
+    let mut b = Builder::default();
+    let mut quad = b.quad();
+    quad["material"] = json!(0);
+    let document = json!({
+        "extensionsUsed": ["KHR_materials_unlit"],
+        "extensionsRequired": ["KHR_materials_unlit"],
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "mesh": 0 }],
+        "meshes": [{ "primitives": [quad] }],
+        "materials": [{ "pbrMetallicRoughness": { "baseColorFactor": [0.2, 0.4, 0.6, 1.0] }, "extensions": { "KHR_materials_unlit": {} } }]
+    });
+    let (document, _) = b.finish(document, Some("data"));
+    let loaded = load_scene(&write_json("unlit", &document)).unwrap_or_else(|e| panic!("{e}"));
+    assert!(!loaded.warnings.join("\n").contains("KHR_materials_unlit"), "{:?}", loaded.warnings);
+    let scene = &loaded.scene;
+    let i = scene.material_names().iter().position(|n| n == "material 0: emitting").unwrap();
+    let Material::Emitter(emitter) = &scene.materials()[i] else { panic!("{:?}", scene.materials()[i]) };
+    let shown = format!("{emitter:?}");
+    assert!(shown.contains("Constant(Vec3(0.2, 0.4, 0.6))"), "{shown}");
+    assert!(shown.contains("Diffuse { reflectance: Constant(Vec3(0.0, 0.0, 0.0)) }"), "{shown}");
 }
 
 /// A normal map's `scale` tilts its normals as glTF defines: normalize(s·x, s·y, z).

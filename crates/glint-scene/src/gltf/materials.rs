@@ -65,6 +65,7 @@ pub fn translate(
             Some(info) => ColorDesc::Texture(textures.get(&info, "base colour", false, None, [r, g, b])?),
             None => ColorDesc::Rgb([r, g, b]),
         };
+        let unlit_colour = m.extension_value("KHR_materials_unlit").map(|_| base_color.clone());
         let fraction = |textures: &mut Textures,
                         info: Option<gltf::texture::Info>,
                         what: &str,
@@ -149,8 +150,22 @@ pub fn translate(
             },
         };
         let transmits = matches!(principled, MaterialDesc::PrincipledThin { .. }) || transmission.is_some();
+        // KHR_materials_unlit: the base colour as it is, whatever the light: an emitter of it
+        // over a surface that scatters nothing.
+        let unlit = unlit_colour.is_some();
+        let surface = if unlit {
+            let black = Some(ColorDesc::Rgb([0.0; 3]));
+            MaterialDesc::Diffuse {
+                reflectance: black,
+                emission: None,
+                two_sided_emission: false,
+                two_sided: Some(true),
+            }
+        } else {
+            principled
+        };
         let mut current = format!("{name}: surface");
-        scene.materials.insert(current.clone(), Located { value: principled, span: None });
+        scene.materials.insert(current.clone(), Located { value: surface, span: None });
         // glTF shades a double-sided surface from behind as from the front; glint's principled
         // BSDF is dark from behind unless it transmits.
         if m.double_sided() && !transmits {
@@ -212,9 +227,10 @@ pub fn translate(
             );
         }
         let [er, eg, eb] = factor.map(|c| c.max(0.0) * strength);
-        let emits = er > 0.0 || eg > 0.0 || eb > 0.0;
+        let emits = unlit || er > 0.0 || eg > 0.0 || eb > 0.0;
         if emits {
             let radiance = match m.emissive_texture() {
+                _ if unlit => unlit_colour.clone().expect("kept for unlit materials"),
                 Some(info) => ColorDesc::Texture(textures.get(&info, "emission", false, None, [er, eg, eb])?),
                 None => ColorDesc::Rgb([er, eg, eb]),
             };

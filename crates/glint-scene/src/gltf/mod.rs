@@ -21,7 +21,7 @@ use crate::source::{MadeFile, Source};
 
 /// Extensions whose meaning glint reads; others in `extensionsUsed` are named in a warning,
 /// and a file that lists one of the others in `extensionsRequired` is refused.
-const READ_EXTENSIONS: [&str; 8] = [
+const READ_EXTENSIONS: [&str; 9] = [
     "KHR_lights_punctual",
     "KHR_mesh_quantization",
     "KHR_materials_transmission",
@@ -30,6 +30,7 @@ const READ_EXTENSIONS: [&str; 8] = [
     "KHR_materials_clearcoat",
     "KHR_materials_volume",
     "KHR_texture_transform",
+    "KHR_materials_unlit",
 ];
 
 /// What the caller chooses about a glTF scene beyond its file.
