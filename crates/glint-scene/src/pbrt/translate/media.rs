@@ -79,17 +79,7 @@ impl Translator<'_> {
                 let values = density.iter().flat_map(|d| sigma_t.map(|s| d * s)).collect();
                 let file = self.made_grid(&name, "sigma_t", resolution, 3, values);
                 let emission = self.medium_emission(&p)?;
-                MediumDesc::Grid {
-                    file: Some(file),
-                    value: None,
-                    min: None,
-                    max: None,
-                    transform: placement,
-                    albedo: Some(AlbedoDesc::Constant(albedo)),
-                    scale,
-                    phase,
-                    emission,
-                }
+                grid_medium(file, placement, AlbedoDesc::Constant(albedo), scale, phase, emission)
             }
             "rgbgrid" => {
                 let (resolution, placement) = self.grid_placement(&p)?;
@@ -107,17 +97,7 @@ impl Translator<'_> {
                 let file = self.made_grid(&name, "sigma_t", resolution, 3, sigma_t);
                 let albedo =
                     AlbedoField { file: albedo_file, min: None, max: None, transform: placement.clone() };
-                MediumDesc::Grid {
-                    file: Some(file),
-                    value: None,
-                    min: None,
-                    max: None,
-                    transform: placement,
-                    albedo: Some(AlbedoDesc::Field(albedo)),
-                    scale,
-                    phase,
-                    emission: None,
-                }
+                grid_medium(file, placement, AlbedoDesc::Field(albedo), scale, phase, None)
             }
             "cloud" => {
                 return Err(self.parser.error(
@@ -272,5 +252,27 @@ impl Translator<'_> {
         let name = format!("pbrt-medium:{medium}:{what}.vol");
         self.made.push((name.clone(), MadeFile::Bytes(write_vol(&grid))));
         name
+    }
+}
+
+/// A grid medium of the extinction grid `file`, placed by `placement` over glint's unit cube.
+fn grid_medium(
+    file: String,
+    placement: Vec<TransformOp>,
+    albedo: AlbedoDesc,
+    scale: Option<f32>,
+    phase: Option<PhaseDesc>,
+    emission: Option<[f32; 3]>,
+) -> MediumDesc {
+    MediumDesc::Grid {
+        file: Some(file),
+        value: None,
+        min: None,
+        max: None,
+        transform: placement,
+        albedo: Some(albedo),
+        scale,
+        phase,
+        emission,
     }
 }
