@@ -148,6 +148,9 @@ impl Camera {
     pub fn with_resolution(&self, width: u32, height: u32) -> Self {
         let whole = Self { width, height, crop: None, ..self.clone() };
         let Some((x0, y0, x1, y1)) = self.crop_window() else { return whole };
+        if width == 0 || height == 0 {
+            return whole;
+        }
         let (film_width, film_height) = self.film_resolution();
         let scale = |v: u32, to: u32, from: u32| ((v as u64 * to as u64 + from as u64 / 2) / from as u64) as u32;
         let (x0, x1) =

@@ -77,7 +77,7 @@ pub fn load_scene_with(path: &Path, defines: &[(String, String)]) -> Result<Load
 /// `load_scene` with parameters and a search path.
 pub fn load_scene_with_options(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneError> {
     // The last extension, or the last two of a gzipped file (`.pbrt.gz`).
-    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("").to_ascii_lowercase();
+    let name = path.file_name().map(|n| n.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
     let extension = match name.strip_suffix(".gz") {
         Some(stem) => Path::new(stem).extension().and_then(|e| e.to_str()).map(|e| format!("{e}.gz")),
         None => Path::new(&name).extension().and_then(|e| e.to_str()).map(str::to_string),

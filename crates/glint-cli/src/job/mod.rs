@@ -119,14 +119,15 @@ impl SceneOverrides {
     }
 }
 
-/// The scene's camera at the requested size; a missing side keeps the scene's aspect ratio.
+/// The scene's camera at the requested size of its whole film (a crop window keeps its place
+/// on it); a missing side keeps the film's aspect ratio.
 pub fn resize_camera(scene: &mut Scene, width: Option<u32>, height: Option<u32>) {
-    let (w, h) = (scene.camera().width, scene.camera().height);
+    let (w, h) = scene.camera().film_resolution();
     let (width, height) = match (width, height) {
         (Some(width), Some(height)) => (width, height),
         (Some(width), None) => (width, ((width as f64 * h as f64 / w as f64).round() as u32).max(1)),
         (None, Some(height)) => (((height as f64 * w as f64 / h as f64).round() as u32).max(1), height),
-        (None, None) => (w, h),
+        (None, None) => return,
     };
     scene.set_camera(scene.camera().with_resolution(width, height));
 }
@@ -207,6 +208,21 @@ mod tests {
 
     fn identity(job: &Job, request: &Request) -> u64 {
         job.plan(request, 8 * GIB).unwrap().0.identity.expect("a part's identity")
+    }
+
+    /// A cropped scene keeps its window through the job (no override leaves the camera as
+    /// the scene made it); a width override scales the whole film, and the window with it.
+    #[test]
+    fn a_crop_window_survives_the_jobs_resize() {
+        let mut scene = glint_scene::default_scene().expect("the built-in scene").scene;
+        let film = scene.camera().film_resolution();
+        let cropped = scene.camera().with_crop(10, 5, 30, 45).unwrap();
+        scene.set_camera(cropped.clone());
+        resize_camera(&mut scene, None, None);
+        assert_eq!(scene.camera(), &cropped);
+        resize_camera(&mut scene, Some(film.0 * 2), None);
+        assert_eq!(scene.camera().film_resolution(), (film.0 * 2, film.1 * 2));
+        assert_eq!(scene.camera().crop_window(), Some((20, 10, 60, 90)));
     }
 
     /// Parts from either front end are parts of one render: the identity is the request's,

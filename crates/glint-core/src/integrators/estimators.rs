@@ -123,7 +123,8 @@ pub(super) fn roulette(
     recorder: &mut impl PathRecorder,
 ) -> bool {
     let survival = (throughput.max_element() * eta_scale).min(0.95);
-    // Written as the test for ending, so a NaN survival draws and goes on as it always did.
+    // Written as the test for ending, so a NaN survival draws and goes on, as the path tracer
+    // always did (volpath's own roulette ended such a path; its throughput is NaN already).
     let survived = !(survival <= 0.0 || BounceDraws::roulette(&mut context.sampler) >= survival);
     recorder.roulette(survival, survived);
     if survived {

@@ -118,7 +118,8 @@ impl Translator<'_> {
                 if !(0.0 <= x0 && x0 < x1 && x1 <= 1.0 && 0.0 <= y0 && y0 < y1 && y1 <= 1.0) {
                     return Err(self.parser.error(at, format!("`cropwindow` x0 x1 y0 y1 must satisfy 0 ≤ x0 < x1 ≤ 1 and 0 ≤ y0 < y1 ≤ 1, got {x0} {x1} {y0} {y1}")));
                 }
-                let pixel = |f: f32, n: u32| ((f64::from(n) * f64::from(f)).ceil() as u32).min(n);
+                // In single precision, as pbrt computes it (0.1 × 1000 is 100 there, not 101).
+                let pixel = |f: f32, n: u32| ((n as f32 * f).ceil() as u32).min(n);
                 [pixel(x0, w), pixel(y0, h), pixel(x1, w), pixel(y1, h)]
             }
             (None, Some((b, at))) => {
@@ -127,7 +128,7 @@ impl Translator<'_> {
                 })?;
                 let clamp = |v: i64, n: u32| v.clamp(0, i64::from(n)) as u32;
                 let clamped = [clamp(x0, w), clamp(y0, h), clamp(x1, w), clamp(y1, h)];
-                if clamped != [x0, y0, x1, y1].map(|v| v.max(0) as u32) {
+                if clamped.map(i64::from) != [x0, y0, x1, y1] {
                     self.warn(at, format!("`pixelbounds` reaches past the {w}×{h} image: cut to it"));
                 }
                 clamped

@@ -30,9 +30,9 @@ impl Translator<'_> {
         format!("named:{name}")
     }
 
-    /// A number as it is, or a texture's mean value (a coat that takes one number), with a
-    /// warning saying so.
-    fn mean_fraction(&mut self, fraction: &FractionDesc, at: At) -> Result<f32> {
+    /// An α as it is, or a roughness texture's mean value made an α as pbrt makes numbers
+    /// (`remap`: its square root), for a coat that takes one number, with a warning saying so.
+    fn mean_fraction(&mut self, fraction: &FractionDesc, at: At, remap: bool) -> Result<f32> {
         let texture = match fraction {
             FractionDesc::Number(x) => return Ok(*x),
             FractionDesc::Texture(t) => t.clone(),
@@ -56,8 +56,12 @@ impl Translator<'_> {
                     .error(at, "a coated material's roughness texture must be an image or a checkerboard"))
             }
         };
-        self.warn(at, format!("glint's coat takes one roughness: the texture's mean, α = {mean}, is used everywhere"));
-        Ok(mean)
+        let alpha = alpha_of(mean, remap);
+        self.warn(
+            at,
+            format!("glint's coat takes one roughness: the texture's mean {mean}, α = {alpha}, is used everywhere"),
+        );
+        Ok(alpha)
     }
 
     /// Every named material used is made somewhere in the scene.
@@ -249,9 +253,10 @@ impl Translator<'_> {
                     None => None,
                     Some((u, v)) => {
                         let at = self.param_at(&p, "roughness");
-                        let u = self.mean_fraction(&u, at)?;
+                        let remap = p.bool("remaproughness", true).map_err(|f| self.fail(f))?;
+                        let u = self.mean_fraction(&u, at, remap)?;
                         let v = match &v {
-                            Some(v) => self.mean_fraction(v, at)?,
+                            Some(v) => self.mean_fraction(v, at, remap)?,
                             None => u,
                         };
                         if u != v {

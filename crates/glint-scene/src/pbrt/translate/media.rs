@@ -229,8 +229,10 @@ impl Translator<'_> {
         Ok(values.iter().map(|&v| v as f32).collect())
     }
 
-    /// A grid of `channels` as a `.vol` file among the made files, with a layer of zero
-    /// voxels around it; returns its name.
+    /// A grid of `channels` as a `.vol` file among the made files, with a layer of voxels
+    /// around it: zeros (an extinction, which pbrt fades to zero at the box), or copies of the
+    /// edge (an albedo, which pbrt's ratio of σ_s to σ_t keeps up to the box's faces); returns
+    /// its name.
     fn made_grid(
         &mut self,
         medium: &str,
@@ -240,12 +242,21 @@ impl Translator<'_> {
         values: Vec<f32>,
     ) -> String {
         let padded = [nx + 2, ny + 2, nz + 2];
-        let mut out = vec![0.0f32; padded.iter().product::<usize>() * channels];
-        for z in 0..nz {
-            for y in 0..ny {
-                let from = ((z * ny + y) * nx) * channels;
-                let to = (((z + 1) * padded[1] + y + 1) * padded[0] + 1) * channels;
-                out[to..to + nx * channels].copy_from_slice(&values[from..from + nx * channels]);
+        let edges = what == "albedo";
+        let mut out = Vec::with_capacity(padded.iter().product::<usize>() * channels);
+        // Voxel i of the padded axis is voxel i − 1 of the grid's, if it has one.
+        let source = |i: usize, n: usize| if (1..=n).contains(&i) || edges { Some(i.clamp(1, n) - 1) } else { None };
+        for z in 0..padded[2] {
+            for y in 0..padded[1] {
+                for x in 0..padded[0] {
+                    match (source(x, nx), source(y, ny), source(z, nz)) {
+                        (Some(x), Some(y), Some(z)) => {
+                            let from = ((z * ny + y) * nx + x) * channels;
+                            out.extend_from_slice(&values[from..from + channels]);
+                        }
+                        _ => out.extend(std::iter::repeat_n(0.0, channels)),
+                    }
+                }
             }
         }
         let grid = VolumeGrid { resolution: padded, channels, min: Vec3::ZERO, max: Vec3::ONE, values: out };

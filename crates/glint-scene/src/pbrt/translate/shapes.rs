@@ -188,8 +188,11 @@ impl Translator<'_> {
     }
 
     fn push_shape(&mut self, at: At, mut desc: ShapeDesc) -> Result<()> {
-        if let Some((interior, exterior)) = desc.media_mut() {
-            (*interior, *exterior) = self.state.media.clone();
+        // Only a transition (inside ≠ outside) changes a ray's medium, as in pbrt; a shape in
+        // one medium on both sides keeps whatever medium the ray is in.
+        let (inside, outside) = self.state.media.clone();
+        if let (Some((interior, exterior)), true) = (desc.media_mut(), inside != outside) {
+            (*interior, *exterior) = (inside, outside);
         }
         let shape = Located { value: desc, span: None };
         match &mut self.defining {
