@@ -77,7 +77,7 @@ impl Translator<'_> {
                 let albedo = std::array::from_fn(|c| if sigma_t[c] > 0.0 { sigma_s[c] / sigma_t[c] } else { 0.0 });
                 // Extinction per voxel: the density times σ_a + σ_s (σ_t's colour in the grid).
                 let values = density.iter().flat_map(|d| sigma_t.map(|s| d * s)).collect();
-                let file = self.made_grid(&name, "sigma_t", resolution, 3, values);
+                let file = self.made_grid(&name, "sigma_t", resolution, 3, values, false);
                 let emission = self.medium_emission(&p)?;
                 grid_medium(file, placement, AlbedoDesc::Constant(albedo), scale, phase, emission)
             }
@@ -93,8 +93,8 @@ impl Translator<'_> {
                 }
                 let sigma_t: Vec<f32> = sigma_a.iter().zip(&sigma_s).map(|(a, s)| a + s).collect();
                 let albedo = sigma_s.iter().zip(&sigma_t).map(|(s, t)| if *t > 0.0 { s / t } else { 0.0 }).collect();
-                let albedo_file = self.made_grid(&name, "albedo", resolution, 3, albedo);
-                let file = self.made_grid(&name, "sigma_t", resolution, 3, sigma_t);
+                let albedo_file = self.made_grid(&name, "albedo", resolution, 3, albedo, true);
+                let file = self.made_grid(&name, "sigma_t", resolution, 3, sigma_t, false);
                 let albedo =
                     AlbedoField { file: albedo_file, min: None, max: None, transform: placement.clone() };
                 grid_medium(file, placement, AlbedoDesc::Field(albedo), scale, phase, None)
@@ -230,9 +230,9 @@ impl Translator<'_> {
     }
 
     /// A grid of `channels` as a `.vol` file among the made files, with a layer of voxels
-    /// around it: zeros (an extinction, which pbrt fades to zero at the box), or copies of the
-    /// edge (an albedo, which pbrt's ratio of σ_s to σ_t keeps up to the box's faces); returns
-    /// its name.
+    /// around it: zeros (an extinction, which pbrt fades to zero at the box), or with `edges`
+    /// copies of the edge (an albedo, which pbrt's ratio of σ_s to σ_t keeps up to the box's
+    /// faces); returns its name.
     fn made_grid(
         &mut self,
         medium: &str,
@@ -240,9 +240,9 @@ impl Translator<'_> {
         [nx, ny, nz]: [usize; 3],
         channels: usize,
         values: Vec<f32>,
+        edges: bool,
     ) -> String {
         let padded = [nx + 2, ny + 2, nz + 2];
-        let edges = what == "albedo";
         let mut out = Vec::with_capacity(padded.iter().product::<usize>() * channels);
         // Voxel i of the padded axis is voxel i − 1 of the grid's, if it has one.
         let source = |i: usize, n: usize| if (1..=n).contains(&i) || edges { Some(i.clamp(1, n) - 1) } else { None };
