@@ -1001,3 +1001,74 @@ fn a_realistic_camera_is_the_thin_lens_of_its_focal_length() {
         other => panic!("{other:?}"),
     }
 }
+
+/// pbrt's procedural textures load as glint's: a bilerp of four values across a floor seen
+/// from above renders each pixel as the blend at its uv (an analytic check through the whole
+/// reader and renderer), every noise texture makes a material (marble's colour, fbm and
+/// windy as a roughness-free reflectance scale, wrinkled as a bump), and ptex is refused by
+/// name.
+#[test]
+fn pbrts_procedural_textures_load_and_bilerp_renders_its_blend() {
+    let text = r#"LookAt 0 0 5  0 0 0  0 1 0
+Camera "orthographic"
+Film "rgb" "integer xresolution" 4 "integer yresolution" 4
+Integrator "path" "integer maxdepth" 1
+Sampler "independent" "integer pixelsamples" 1
+WorldBegin
+LightSource "infinite" "rgb L" [1 1 1]
+Texture "blend" "spectrum" "bilerp" "rgb v00" [0.1 0.1 0.1] "rgb v10" [0.9 0.9 0.9] "rgb v01" [0.1 0.1 0.1] "rgb v11" [0.9 0.9 0.9]
+Material "diffuse" "texture reflectance" "blend"
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point3 P" [-1 -1 0  1 -1 0  1 1 0  -1 1 0] "point2 uv" [0 0 1 0 1 1 0 1]
+"#;
+    let path = scene_dir("bilerp", &[("scene.pbrt", text.as_bytes())]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).unwrap();
+    let settings = RenderSettings { spp: 64, seed: 5, filter: Filter::Box, sampler: SamplerKind::Independent };
+    let film = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film;
+    // Under a white sky of radiance 1, a diffuse floor returns its albedo: 0.1 + 0.8 s, s the
+    // pixel's mean u (columns at 1/8, 3/8, 5/8, 7/8; pbrt's screen x runs along world −x seen
+    // from +z, so the columns may come mirrored: either order passes, each within the noise).
+    let columns: Vec<f32> = (0..4).map(|x| (0..4).map(|y| film.pixel(x, y).x).sum::<f32>() / 4.0).collect();
+    let expected: Vec<f32> = [1.0, 3.0, 5.0, 7.0].iter().map(|s| 0.1 + 0.8 * s / 8.0).collect();
+    let mirrored: Vec<f32> = expected.iter().rev().copied().collect();
+    let near = |a: &[f32], b: &[f32]| a.iter().zip(b).all(|(a, b)| (a - b).abs() < 0.03);
+    assert!(near(&columns, &expected) || near(&columns, &mirrored), "{columns:?} against {expected:?}");
+
+    let load = |texture: &str, material: &str, test: &str| {
+        let text = format!("WorldBegin\nTranslate 1 2 3\n{texture}\nMaterial {material}\nShape \"sphere\"\n");
+        let path = scene_dir(test, &[("scene.pbrt", text.as_bytes())]);
+        load_scene(&path).map(|loaded| format!("{:?}", loaded.scene.materials()[0]))
+    };
+    let marble = load(
+        r#"Texture "m" "spectrum" "marble" "float scale" 4 "float variation" 0.5 "integer octaves" 5"#,
+        r#""diffuse" "texture reflectance" "m""#,
+        "marble",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(marble.contains("Marble { omega: 0.5, octaves: 5, scale: 4.0, variation: 0.5 }"), "{marble}");
+    // The texture's space is the one in force where it is made: the translation's inverse.
+    assert!(marble.contains("-1.0, -2.0, -3.0"), "{marble}");
+    let wrinkled = load(
+        r#"Texture "w" "float" "wrinkled" "float roughness" 0.7"#,
+        r#""diffuse" "texture displacement" "w""#,
+        "wrinkled",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(wrinkled.starts_with("BumpMap") && wrinkled.contains("Wrinkled { omega: 0.7, octaves: 8 }"), "{wrinkled}");
+    for (kind, pattern) in [("fbm", "Fbm { omega: 0.5, octaves: 8 }"), ("windy", "Windy")] {
+        let material =
+            load(&format!(r#"Texture "t" "float" "{kind}""#), r#""diffuse" "texture displacement" "t""#, kind)
+                .unwrap_or_else(|e| panic!("{e}"));
+        assert!(material.contains(pattern), "{kind}: {material}");
+    }
+    let dots = load(
+        r#"Texture "d" "spectrum" "dots" "float uscale" 8 "rgb inside" [0.8 0.1 0.1] "rgb outside" [0.9 0.9 0.9]"#,
+        r#""diffuse" "texture reflectance" "d""#,
+        "dots",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(dots.contains("Dots") && dots.contains("8.0"), "{dots}");
+    let ptex = load(r#"Texture "p" "spectrum" "ptex" "string filename" "a.ptx""#, r#""diffuse""#, "ptex")
+        .expect_err("refused");
+    assert!(ptex.to_string().contains("scene.pbrt:3:") && ptex.to_string().contains("no Ptex reader"), "{ptex}");
+}

@@ -8,6 +8,7 @@ mod image;
 mod mapped;
 mod mix;
 mod noise;
+mod procedural;
 mod solid;
 
 pub use attribute::AttributeTexture;
@@ -15,7 +16,8 @@ pub use checker::{Checker, SolidChecker};
 pub use image::{ImageTexture, TexelFilter, Wrap};
 pub use mapped::{Mapped, Projection};
 pub use mix::{fraction, Mix};
-pub use noise::{perlin_noise, turbulence};
+pub use noise::{fbm, perlin_noise, turbulence};
+pub use procedural::{Bilerp, Dots, Noise, NoisePattern};
 pub use solid::{Marble, Wood};
 
 use std::sync::Arc;
@@ -67,6 +69,10 @@ pub enum Texture {
     /// planar mappings).
     Mapped(Box<Mapped>),
     Mix(Box<Mix>),
+    /// pbrt's solid textures from noise. Boxed: its transform would make every texture larger.
+    Noise(Box<Noise>),
+    Dots(Box<Dots>),
+    Bilerp(Box<Bilerp>),
 }
 
 impl Texture {
@@ -92,6 +98,9 @@ impl Texture {
             Texture::Attribute(t) => t.evaluate(query),
             Texture::Mix(t) => t.evaluate(query),
             Texture::Mapped(t) => t.evaluate(query),
+            Texture::Noise(t) => t.evaluate(query),
+            Texture::Dots(t) => t.evaluate(query.uv),
+            Texture::Bilerp(t) => t.evaluate(query.uv),
         }
     }
 }
@@ -103,20 +112,47 @@ pub fn luminance(c: Rgb) -> f32 {
 }
 
 impl Texture {
-    /// The gradient in uv of the texture's luminance at `query`, for a bump map: zero for
-    /// constants and for the 2D checkerboard (flat between its edges), zero for the solid
-    /// textures too, which vary with the point rather than the uv (`has_uv_gradient` says so,
-    /// and the readers refuse them as heights).
+    /// The gradient in uv of the texture's luminance at `query`, for a bump map: an image's
+    /// from its texels; zero for constants and for the 2D checkerboard (flat between its
+    /// edges); for pbrt's procedural textures and mapped ones, a finite difference along u
+    /// and v, the point moved along ∂p/∂u and ∂p/∂v with the uv (pbrt's bump mapping, whose
+    /// step without ray differentials is this one). The solid textures of the object's own
+    /// space and mesh attributes have none (`has_uv_gradient` says so, and the readers refuse
+    /// them as heights).
     pub fn luminance_gradient(&self, query: &TextureQuery) -> Vec2 {
         match self {
             Texture::Image(t) => t.luminance_gradient(query.uv),
+            Texture::Noise(_) | Texture::Dots(_) | Texture::Bilerp(_) | Texture::Mapped(_) | Texture::Mix(_) => {
+                const STEP: f32 = 0.0005;
+                let height = |uv: Vec2, along: Vec3| {
+                    let moved = TextureQuery {
+                        uv,
+                        point: query.point + STEP * along,
+                        world_point: query.world_point + STEP * along,
+                        ..*query
+                    };
+                    luminance(self.evaluate(&moved))
+                };
+                let here = luminance(self.evaluate(query));
+                Vec2::new(
+                    (height(query.uv + Vec2::new(STEP, 0.0), query.dpdu) - here) / STEP,
+                    (height(query.uv + Vec2::new(0.0, STEP), query.dpdv) - here) / STEP,
+                )
+            }
             _ => Vec2::ZERO,
         }
     }
 
-    /// The texture is a function of uv, so `luminance_gradient` is its slope.
+    /// The texture is a function of uv or of the world point, so `luminance_gradient` is its
+    /// slope.
     pub fn has_uv_gradient(&self) -> bool {
-        matches!(self, Texture::Constant(_) | Texture::Checker(_) | Texture::Image(_))
+        match self {
+            Texture::Constant(_) | Texture::Checker(_) | Texture::Image(_) => true,
+            Texture::Noise(_) | Texture::Dots(_) | Texture::Bilerp(_) => true,
+            Texture::Mapped(t) => t.texture.has_uv_gradient(),
+            Texture::Mix(t) => [&t.weight, &t.first, &t.second].iter().all(|t| t.has_uv_gradient()),
+            _ => false,
+        }
     }
 
     /// The mean over the unit uv square (an image's texels, a checker's two colours), or the
@@ -143,6 +179,10 @@ impl Texture {
             Texture::Attribute(t) => Rgb::splat(t.scale),
             Texture::Mix(t) => t.first.max_value().max(t.second.max_value()),
             Texture::Mapped(t) => t.texture.max_value(),
+            Texture::Noise(t) => t.max_value(),
+            Texture::Dots(t) => t.inside.max(t.outside),
+            // Within the unit square of (s, t), where the blend does not extrapolate.
+            Texture::Bilerp(t) => t.v00.max(t.v01).max(t.v10).max(t.v11),
         }
     }
 }

@@ -24,7 +24,7 @@ pub struct Marble {
 
 impl Marble {
     pub fn evaluate(&self, p: Vec3) -> Rgb {
-        let phase = self.scale * p.x + self.turbulence * turbulence(p * self.scale * 0.5, self.octaves);
+        let phase = self.scale * p.x + self.turbulence * turbulence(p * self.scale * 0.5, 0.5, self.octaves);
         let t = 0.5 + 0.5 * phase.sin();
         self.base.lerp(self.vein, t * t)
     }

@@ -1,6 +1,6 @@
-//! The `[textures]` table: checkerboards, images, marble, wood and mesh attributes, their uv
-//! maps, colours that name a texture, and the check that every mesh attribute a texture
-//! reads is there.
+//! The `[textures]` table: checkerboards, images, marble, wood, mesh attributes and pbrt's
+//! procedural textures, their uv maps, colours that name a texture, and the check that every
+//! mesh attribute a texture reads is there.
 
 use std::sync::Arc;
 
@@ -8,7 +8,8 @@ use glam::{Affine2, Affine3A, Vec2, Vec3};
 use glint_core::scene::Object;
 use glint_core::shapes::Shape;
 use glint_core::textures::{
-    AttributeTexture, Checker, ImageTexture, Mapped, Marble, Projection, SolidChecker, TexelFilter, Texture, Wood, Wrap,
+    AttributeTexture, Bilerp, Checker, Dots, ImageTexture, Mapped, Marble, Noise, NoisePattern, Projection,
+    SolidChecker, TexelFilter, Texture, Wood, Wrap,
 };
 
 use super::checks::{non_negative, positive};
@@ -21,8 +22,10 @@ use crate::source::Source;
 /// A texture, or the key its error is about and the message.
 pub(super) fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'static str, String)> {
     let texture = build_unmapped(desc, source)?;
-    let (TextureDesc::Checker { mapping: Some(mapping), .. } | TextureDesc::Image { mapping: Some(mapping), .. }) =
-        desc
+    let (TextureDesc::Checker { mapping: Some(mapping), .. }
+    | TextureDesc::Image { mapping: Some(mapping), .. }
+    | TextureDesc::Dots { mapping: Some(mapping), .. }
+    | TextureDesc::Bilerp { mapping: Some(mapping), .. }) = desc
     else {
         return Ok(texture);
     };
@@ -45,9 +48,14 @@ pub(super) fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Textu
             (transform, Projection::Planar { s_axis, t_axis, s_offset: *s_offset, t_offset: *t_offset })
         }
     };
-    let to_world = build_transform(transform).map_err(|m| ("mapping", format!("the mapping's transform: {m}")))?;
-    let to_texture = to_world.map_or(Affine3A::IDENTITY, |t| Affine3A::from_mat4(t.to_object));
+    let to_texture = texture_space(transform).map_err(|m| ("mapping", format!("the mapping's transform: {m}")))?;
     Ok(Texture::Mapped(Box::new(Mapped { to_texture, projection, texture })))
+}
+
+/// World space → the space a texture's `transform` places in the world.
+fn texture_space(transform: &[TransformOp]) -> Result<Affine3A, String> {
+    let to_world = build_transform(transform)?;
+    Ok(to_world.map_or(Affine3A::IDENTITY, |t| Affine3A::from_mat4(t.to_object)))
 }
 
 /// A texture as its uv makes it.
@@ -128,6 +136,36 @@ fn build_unmapped(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'sta
             rings: number("rings", *rings, 8.0)?,
             turbulence: number("turbulence", *turbulence, 0.3)?,
         }),
+        TextureDesc::Fbm { roughness, octaves, transform } => {
+            let (omega, octaves) = noise_octaves(*roughness, *octaves)?;
+            noise(transform, NoisePattern::Fbm { omega, octaves })?
+        }
+        TextureDesc::Wrinkled { roughness, octaves, transform } => {
+            let (omega, octaves) = noise_octaves(*roughness, *octaves)?;
+            noise(transform, NoisePattern::Wrinkled { omega, octaves })?
+        }
+        TextureDesc::Windy { transform } => noise(transform, NoisePattern::Windy)?,
+        TextureDesc::PbrtMarble { roughness, octaves, scale, variation, transform } => {
+            let (omega, octaves) = noise_octaves(*roughness, *octaves)?;
+            let variation = variation.unwrap_or(0.2);
+            if !variation.is_finite() {
+                return Err(("variation", format!("`variation` must be finite, got {variation}")));
+            }
+            let scale = number("scale", *scale, 1.0)?;
+            noise(transform, NoisePattern::Marble { omega, octaves, scale, variation })?
+        }
+        TextureDesc::Dots { inside, outside, uv_transform, .. } => Texture::Dots(Box::new(Dots {
+            inside: rgb("inside", *inside)?,
+            outside: rgb("outside", *outside)?,
+            uv_transform: uv_map(Vec2::ONE, uv_transform.as_ref())?,
+        })),
+        TextureDesc::Bilerp { v00, v01, v10, v11, uv_transform, .. } => Texture::Bilerp(Box::new(Bilerp {
+            v00: finite("v00", *v00)?,
+            v01: finite("v01", *v01)?,
+            v10: finite("v10", *v10)?,
+            v11: finite("v11", *v11)?,
+            uv_transform: uv_map(Vec2::ONE, uv_transform.as_ref())?,
+        })),
         TextureDesc::MeshAttribute { name, scale } => {
             if !(name.starts_with("vertex_") || name.starts_with("face_")) {
                 return Err(("name", format!("a mesh attribute is named `vertex_…` or `face_…`, got `{name}`")));
@@ -139,6 +177,36 @@ fn build_unmapped(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'sta
             Texture::Attribute(Box::new(AttributeTexture { name: name.clone(), scale }))
         }
     })
+}
+
+/// pbrt's `roughness` (ω, each octave's weight over the last's; default ½) and `octaves`
+/// (default 8).
+fn noise_octaves(roughness: Option<f32>, octaves: Option<u32>) -> Result<(f32, u32), (&'static str, String)> {
+    let omega = roughness.unwrap_or(0.5);
+    if !omega.is_finite() {
+        return Err(("roughness", format!("`roughness` must be finite, got {omega}")));
+    }
+    let octaves = octaves.unwrap_or(8);
+    if !(1..=32).contains(&octaves) {
+        return Err(("octaves", format!("`octaves` must be 1 to 32, got {octaves}")));
+    }
+    Ok((omega, octaves))
+}
+
+/// A noise pattern in the space its `transform` places.
+fn noise(transform: &[TransformOp], pattern: NoisePattern) -> Result<Texture, (&'static str, String)> {
+    let to_texture = texture_space(transform).map_err(|m| ("transform", format!("the texture's transform: {m}")))?;
+    Ok(Texture::Noise(Box::new(Noise { to_texture, pattern })))
+}
+
+/// A value that may be negative (a bilinear blend's corners), but finite.
+fn finite(key: &'static str, v: Vector) -> Result<glint_core::Rgb, (&'static str, String)> {
+    let v = glint_core::Rgb::from(v);
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err((key, format!("`{key}` must be finite, got {v}")))
+    }
 }
 
 pub(in crate::native) fn resolve_colour(c: &ColorDesc, textures: &[(String, Texture)]) -> Result<Texture, String> {

@@ -42,7 +42,7 @@ impl Builder<'_> {
                 if !height.has_uv_gradient() {
                     return Err(p.at(
                         "height",
-                        "a bump map's height must vary with uv: an image, a checkerboard or a constant (solid textures vary with the point and have no uv slope)".into(),
+                        "a bump map's height must vary with uv or the world point: an image, a checkerboard, a constant or one of pbrt's procedural textures (marble, wood, the solid checkerboard and mesh attributes have no slope along uv)".into(),
                     ));
                 }
                 if !scale.is_finite() {

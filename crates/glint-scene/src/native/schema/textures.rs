@@ -1,4 +1,5 @@
-//! The `[textures]` table: checkerboards, images, marble, wood and mesh attributes.
+//! The `[textures]` table: checkerboards, images, marble, wood, mesh attributes, and pbrt's
+//! procedural textures (noise patterns, polka dots, bilinear blends).
 
 use serde::Deserialize;
 
@@ -65,6 +66,50 @@ pub enum TextureDesc {
     MeshAttribute {
         name: String,
         scale: Option<f32>,
+    },
+    /// pbrt's `fbm`: fractional Brownian motion of the point in the texture's space.
+    Fbm {
+        roughness: Option<f32>,
+        octaves: Option<u32>,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+    },
+    /// pbrt's `wrinkled`: turbulence of the point in the texture's space.
+    Wrinkled {
+        roughness: Option<f32>,
+        octaves: Option<u32>,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+    },
+    /// pbrt's `windy`: waves scaled by the wind's strength.
+    Windy {
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+    },
+    /// pbrt's `marble`: layers along y bent by fbm, through its spline of greys.
+    PbrtMarble {
+        roughness: Option<f32>,
+        octaves: Option<u32>,
+        scale: Option<f32>,
+        variation: Option<f32>,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+    },
+    /// pbrt's `dots`: polka dots in uv.
+    Dots {
+        inside: Vector,
+        outside: Vector,
+        uv_transform: Option<[[f32; 3]; 2]>,
+        mapping: Option<MappingDesc>,
+    },
+    /// pbrt's `bilerp`: four values blended bilinearly over the unit square of uv.
+    Bilerp {
+        v00: Vector,
+        v01: Vector,
+        v10: Vector,
+        v11: Vector,
+        uv_transform: Option<[[f32; 3]; 2]>,
+        mapping: Option<MappingDesc>,
     },
 }
 

@@ -1,5 +1,6 @@
-//! Textures: pbrt's imagemap, checkerboard, scale, mix and constant textures, and the
-//! colour and fraction parameters of materials, which name a texture or give a value.
+//! Textures: pbrt's imagemap, checkerboard, scale, mix and constant textures, its procedural
+//! ones (fbm, wrinkled, windy, marble, dots, bilerp), and the colour and fraction parameters
+//! of materials, which name a texture or give a value.
 
 use glam::Mat4;
 
@@ -49,6 +50,13 @@ impl Translator<'_> {
                 None => return Err(self.unknown_texture(p, name, &t)),
             },
         })
+    }
+
+    /// A procedural texture made under a name of its own.
+    fn procedural(&mut self, name: &str, d: &Directive, desc: TextureDesc) -> Tex {
+        let glint = self.unique(&format!("texture \"{name}\""), d.at);
+        self.scene.textures.insert(glint.clone(), Located { value: desc, span: None });
+        Tex::Glint(glint, None)
     }
 
     pub(super) fn unknown_texture(&self, p: &Params, name: &str, texture: &str) -> SceneError {
@@ -271,11 +279,71 @@ impl Translator<'_> {
                     }
                 }
             }
+            "fbm" | "wrinkled" | "windy" | "marble" => {
+                // Solid textures: the point in the texture's space, the transform in force here.
+                let transform = vec![matrix_op(self.state.ctm)];
+                let roughness = Some(p.float("roughness", 0.5).map_err(|f| self.fail(f))?);
+                let octaves = p.int("octaves", 8).map_err(|f| self.fail(f))?;
+                let octaves = Some(u32::try_from(octaves).map_err(|_| {
+                    self.parser.error(self.param_at(&p, "octaves"), format!("`octaves` must be positive, got {octaves}"))
+                })?);
+                let desc = match kind {
+                    "fbm" => TextureDesc::Fbm { roughness, octaves, transform },
+                    "wrinkled" => TextureDesc::Wrinkled { roughness, octaves, transform },
+                    "windy" => TextureDesc::Windy { transform },
+                    _ => TextureDesc::PbrtMarble {
+                        roughness,
+                        octaves,
+                        scale: Some(p.float("scale", 1.0).map_err(|f| self.fail(f))?),
+                        variation: Some(p.float("variation", 0.2).map_err(|f| self.fail(f))?),
+                        transform,
+                    },
+                };
+                self.procedural(&name, d, desc)
+            }
+            "dots" | "bilerp" => {
+                let (uv_transform, mapping) = mapping(self)?;
+                let desc = if kind == "dots" {
+                    let (Tex::Constant(inside), Tex::Constant(outside)) =
+                        (constant_of(self, "inside", 1.0)?, constant_of(self, "outside", 0.0)?)
+                    else {
+                        return Err(self.parser.error(
+                            d.at,
+                            "dots of textures are not supported: give `inside` and `outside` as values",
+                        ));
+                    };
+                    TextureDesc::Dots { inside, outside, uv_transform: Some(uv_transform), mapping }
+                } else {
+                    let corner = |this: &Self, key: &str, default: f32| -> Result<[f32; 3]> {
+                        match constant_of(this, key, default)? {
+                            Tex::Constant(v) => Ok(v),
+                            Tex::Glint(..) => Err(this
+                                .parser
+                                .error(this.param_at(&p, key), format!("a bilerp's `{key}` must be a value"))),
+                        }
+                    };
+                    TextureDesc::Bilerp {
+                        v00: corner(self, "v00", 0.0)?,
+                        v01: corner(self, "v01", 1.0)?,
+                        v10: corner(self, "v10", 0.0)?,
+                        v11: corner(self, "v11", 1.0)?,
+                        uv_transform: Some(uv_transform),
+                        mapping,
+                    }
+                };
+                self.procedural(&name, d, desc)
+            }
+            "ptex" => {
+                return Err(self.parser.error(
+                    d.at,
+                    "`ptex` textures are not supported: glint has no Ptex reader (bake the texture to an image)",
+                ))
+            }
             other => {
                 return Err(self.parser.error(
                     d.at,
                     format!(
-                    "texture `{other}` is not supported; glint reads imagemap, checkerboard, scale, mix and constant"
+                    "texture `{other}` is not supported; glint reads imagemap, checkerboard, scale, mix, constant, fbm, wrinkled, windy, marble, dots and bilerp"
                 ),
                 ))
             }
