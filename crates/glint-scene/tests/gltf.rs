@@ -902,3 +902,55 @@ fn textures_on_the_second_uv_set_read_it() {
         assert!((h.geometry.uv - glam::Vec2::new(0.0005, 0.0005)).length() < 1e-3, "{}", h.geometry.uv);
     }
 }
+
+/// COLOR_0 multiplies the base colour, as glTF defines: an unlit quad whose base colour
+/// (0.5, 1, 1) meets vertex colours (0.8, 0.4, 0.2) in floats shows (0.4, 0.4, 0.2); a
+/// primitive without a material gets glTF's default material with its normalised 8-bit colours
+/// as the base colour (the alpha is warned of); a primitive without colours keeps the plain
+/// material.
+#[test]
+fn vertex_colours_multiply_the_base_colour() {
+    let mut b = Builder::default();
+    let mut unlit = b.quad();
+    let colours = b.floats(&[[0.8, 0.4, 0.2]; 4]);
+    unlit["attributes"]["COLOR_0"] = json!(colours);
+    unlit["material"] = json!(0);
+    let mut plain = b.quad();
+    plain["material"] = json!(0);
+    let mut default = b.quad();
+    let bytes: Vec<u8> = [255u8, 128, 0, 100].repeat(4);
+    let rgba = b.accessor(&bytes, 4, "VEC4", 5121, None);
+    b.accessors[rgba]["normalized"] = json!(true);
+    default["attributes"]["COLOR_0"] = json!(rgba);
+    let document = json!({
+        "extensionsUsed": ["KHR_materials_unlit"],
+        "scenes": [{ "nodes": [0, 1, 2, 3] }],
+        "nodes": [
+            { "mesh": 0 },
+            { "mesh": 1, "translation": [0, 0, -50] },
+            { "mesh": 2, "translation": [0, 0, -60] },
+            { "camera": 0, "translation": [0, 0, 5] }
+        ],
+        "cameras": [{ "type": "perspective", "perspective": { "yfov": 0.5, "znear": 0.1 } }],
+        "meshes": [{ "primitives": [unlit] }, { "primitives": [default] }, { "primitives": [plain] }],
+        "materials": [{ "pbrMetallicRoughness": { "baseColorFactor": [0.5, 1.0, 1.0, 1.0] }, "extensions": { "KHR_materials_unlit": {} } }]
+    });
+    let (document, _) = b.finish(document, Some("data"));
+    let loaded = load_scene(&write_json("vertex-colours", &document)).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.warnings.iter().any(|w| w.contains("alpha is not read")), "{:?}", loaded.warnings);
+    let scene = &loaded.scene;
+    let material_of = |o: usize| scene.material_names()[scene.objects()[o].material as usize].clone();
+    assert_eq!(material_of(0), "material 0 × vertex colours: emitting");
+    assert_eq!(material_of(1), "glTF default × vertex colours");
+    assert_eq!(material_of(2), "material 0: emitting");
+    let Shape::Mesh(mesh) = &scene.objects()[1].shape else { panic!("a mesh") };
+    let attribute = mesh.attributes.iter().find(|a| a.name == "vertex_color").expect("the colours");
+    assert_eq!(&attribute.values[..3], &[1.0, 128.0 / 255.0, 0.0]);
+
+    // The unlit quad seen head-on at the image's centre: its emission, base × vertex colour.
+    let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).unwrap();
+    let settings = RenderSettings { spp: 4, ..RenderSettings::default() };
+    let film = render(scene, integrator.as_ref(), &settings, &|| {}).film;
+    let centre = film.pixel(film.width / 2, film.height / 2);
+    assert!((centre - Rgb::new(0.4, 0.4, 0.2)).abs().max_element() < 1e-4, "{centre}");
+}

@@ -1,7 +1,9 @@
-//! Two textures mixed by a third: (1 − w)·first + w·second, w the weight's luminance clamped
-//! to [0, 1] (`fraction`), as a blend of two materials weighs them. The scene readers make it
-//! of a `blend` of two Lambert materials, which is Lambert's lobe with the mixed colour: the
-//! same BSDF and the same sampling density, which the path tracer's lanes then shade.
+//! Textures made of others. `Mix`: two textures mixed by a third, (1 − w)·first + w·second,
+//! w the weight's luminance clamped to [0, 1] (`fraction`), as a blend of two materials weighs
+//! them; the scene readers make it of a `blend` of two Lambert materials, which is Lambert's
+//! lobe with the mixed colour: the same BSDF and the same sampling density, which the path
+//! tracer's lanes then shade. `Product`: two textures multiplied channel by channel (glTF's
+//! base colour times its vertex colours).
 
 use super::{Texture, TextureQuery};
 use crate::Rgb;
@@ -17,6 +19,17 @@ impl Mix {
     pub fn evaluate(&self, query: &TextureQuery) -> Rgb {
         let w = fraction(self.weight.evaluate(query));
         (1.0 - w) * self.first.evaluate(query) + w * self.second.evaluate(query)
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Product {
+    pub factors: [Texture; 2],
+}
+
+impl Product {
+    pub fn evaluate(&self, query: &TextureQuery) -> Rgb {
+        self.factors[0].evaluate(query) * self.factors[1].evaluate(query)
     }
 }
 
@@ -43,5 +56,14 @@ mod tests {
         assert!(close(mix(0.25).evaluate(&q), Rgb::new(0.25, 0.625, 0.375)));
         assert!(close(mix(-1.0).evaluate(&q), Rgb::new(0.0, 0.5, 0.5)));
         assert!(close(mix(3.0).evaluate(&q), Rgb::new(1.0, 1.0, 0.0)));
+    }
+
+    /// By hand: the channels multiply.
+    #[test]
+    fn products_multiply_channel_by_channel() {
+        let product = Product {
+            factors: [Texture::Constant(Rgb::new(0.5, 2.0, 0.0)), Texture::Constant(Rgb::new(0.5, 0.25, 9.0))],
+        };
+        assert_eq!(product.evaluate(&TextureQuery::default()), Rgb::new(0.25, 0.5, 0.0));
     }
 }

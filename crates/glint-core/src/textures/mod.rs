@@ -15,7 +15,7 @@ pub use attribute::AttributeTexture;
 pub use checker::{Checker, SolidChecker};
 pub use image::{ImageTexture, TexelFilter, Wrap};
 pub use mapped::{Mapped, Projection};
-pub use mix::{fraction, Mix};
+pub use mix::{fraction, Mix, Product};
 pub use noise::{fbm, perlin_noise, turbulence};
 pub use procedural::{Bilerp, Dots, Noise, NoisePattern};
 pub use solid::{Marble, Wood};
@@ -69,6 +69,7 @@ pub enum Texture {
     /// planar mappings).
     Mapped(Box<Mapped>),
     Mix(Box<Mix>),
+    Product(Box<Product>),
     /// pbrt's solid textures from noise. Boxed: its transform would make every texture larger.
     Noise(Box<Noise>),
     Dots(Box<Dots>),
@@ -97,6 +98,7 @@ impl Texture {
             Texture::Wood(t) => t.evaluate(query.point),
             Texture::Attribute(t) => t.evaluate(query),
             Texture::Mix(t) => t.evaluate(query),
+            Texture::Product(t) => t.evaluate(query),
             Texture::Mapped(t) => t.evaluate(query),
             Texture::Noise(t) => t.evaluate(query),
             Texture::Dots(t) => t.evaluate(query.uv),
@@ -178,6 +180,7 @@ impl Texture {
             // Unknown until a mesh is hit: taken as colours are, at most 1 (times the scale).
             Texture::Attribute(t) => Rgb::splat(t.scale),
             Texture::Mix(t) => t.first.max_value().max(t.second.max_value()),
+            Texture::Product(t) => t.factors[0].max_value() * t.factors[1].max_value(),
             Texture::Mapped(t) => t.texture.max_value(),
             Texture::Noise(t) => t.max_value(),
             Texture::Dots(t) => t.inside.max(t.outside),

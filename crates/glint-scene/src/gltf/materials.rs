@@ -7,6 +7,8 @@
 //! it; normal maps. Texture factors become the texture's tint; KHR_texture_transform and
 //! glTF's downward v become the texture's uv map.
 
+use std::collections::BTreeSet;
+
 use glam::{Affine2, Mat2, Vec2};
 
 use super::{alpha, normal_scale};
@@ -22,20 +24,28 @@ pub struct MaterialInfo {
     pub emits: bool,
     pub alpha: bool,
     pub uv_set: u32,
+    /// The same material with its base colour times the primitive's vertex colours, for
+    /// primitives that have them.
+    pub vertex_coloured: Option<String>,
 }
+
+/// The texture of a primitive's vertex colours (its mesh's `vertex_color` attribute).
+const VERTEX_COLOURS: &str = "glTF vertex colours";
 
 /// The materials: index 0 is glTF's default material (white, metallic 1, roughness 1), index
 /// i + 1 the document's material i.
 pub fn translate(
     document: &gltf::Document,
     images: &[String],
+    coloured: &BTreeSet<usize>,
     made: &mut MadeFiles,
     scene: &mut SceneFile,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<MaterialInfo>, String> {
     let mut out = Vec::new();
-    let default = MaterialDesc::Principled {
-        base_color: Some(ColorDesc::Rgb([1.0; 3])),
+    // glTF's default material: white, metallic 1, roughness 1.
+    let default = |base_color: ColorDesc| MaterialDesc::Principled {
+        base_color: Some(base_color),
         roughness: Some(FractionDesc::Number(1.0)),
         anisotropic: None,
         metallic: Some(FractionDesc::Number(1.0)),
@@ -49,21 +59,52 @@ pub fn translate(
         clearcoat: None,
         clearcoat_gloss: None,
     };
-    scene.materials.insert("glTF default".into(), Located { value: default, span: None });
-    out.push(MaterialInfo { name: "glTF default".into(), emits: false, alpha: false, uv_set: 0 });
+    if !coloured.is_empty() {
+        let attribute = TextureDesc::MeshAttribute { name: "vertex_color".into(), scale: None };
+        scene.textures.insert(VERTEX_COLOURS.into(), Located { value: attribute, span: None });
+    }
+    // Its white base colour times the vertex colours is the vertex colours.
+    let default_coloured = coloured.contains(&0).then(|| {
+        let name = "glTF default × vertex colours".to_string();
+        let variant = default(ColorDesc::Texture(VERTEX_COLOURS.into()));
+        scene.materials.insert(name.clone(), Located { value: variant, span: None });
+        name
+    });
+    scene.materials.insert("glTF default".into(), Located { value: default(ColorDesc::Rgb([1.0; 3])), span: None });
+    out.push(MaterialInfo {
+        name: "glTF default".into(),
+        emits: false,
+        alpha: false,
+        uv_set: 0,
+        vertex_coloured: default_coloured,
+    });
     let mut textures = Textures { images, scene_textures: Vec::new(), uv_sets: Vec::new() };
-    for m in document.materials() {
+    // Each material, and again with vertex colours where a primitive with them uses it.
+    let variants = document.materials().flat_map(|m| {
+        let with_colours = coloured.contains(&(m.index().unwrap_or(0) + 1));
+        [Some((m.clone(), false)), with_colours.then_some((m, true))].into_iter().flatten()
+    });
+    for (m, vertex_coloured) in variants {
         let index = m.index().unwrap_or(0);
         let name = match m.name() {
             Some(n) => format!("material {index} ({n})"),
             None => format!("material {index}"),
         };
+        let name = if vertex_coloured { format!("{name} × vertex colours") } else { name };
         let say = |warnings: &mut Vec<String>, what: &str| warnings.push(format!("{name}: {what}"));
         let pbr = m.pbr_metallic_roughness();
         let [r, g, b, _] = pbr.base_color_factor();
         let base_color = match pbr.base_color_texture() {
             Some(info) => ColorDesc::Texture(textures.get(&info, "base colour", false, None, [r, g, b])?),
             None => ColorDesc::Rgb([r, g, b]),
+        };
+        let base_color = if vertex_coloured {
+            let product = format!("{name}: base colour");
+            let desc = TextureDesc::Product { factors: [base_color, ColorDesc::Texture(VERTEX_COLOURS.into())] };
+            scene.textures.insert(product.clone(), Located { value: desc, span: None });
+            ColorDesc::Texture(product)
+        } else {
+            base_color
         };
         let unlit_colour = m.extension_value("KHR_materials_unlit").map(|_| base_color.clone());
         let fraction = |textures: &mut Textures,
@@ -255,7 +296,10 @@ pub fn translate(
                 ),
             );
         }
-        out.push(MaterialInfo { name: current, emits, alpha, uv_set });
+        match (vertex_coloured, out.last_mut()) {
+            (true, Some(plain)) => plain.vertex_coloured = Some(current),
+            _ => out.push(MaterialInfo { name: current, emits, alpha, uv_set, vertex_coloured: None }),
+        }
     }
     for (name, desc) in textures.scene_textures {
         scene.textures.insert(name, Located { value: desc, span: None });

@@ -4,7 +4,7 @@
 //! camera met (or, without one, a camera that frames the scene), and KHR_lights_punctual (or,
 //! without a punctual light, the default environment).
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::path::Path;
 
 use glam::{Mat4, Vec3};
@@ -57,7 +57,16 @@ impl<'a> Reader<'a> {
             framing_camera(None, 4.0 / 3.0),
             RenderDesc { integrator: "path".into(), spp: 64, max_depth: -1, ..RenderDesc::default() },
         );
-        let materials = materials::translate(self.document, self.images, made, &mut scene, &mut warnings)?;
+        // The materials some primitive with vertex colours uses (0: glTF's default), which
+        // get a variant whose base colour is multiplied by them.
+        let coloured: BTreeSet<usize> = self
+            .document
+            .meshes()
+            .flat_map(|m| m.primitives())
+            .filter(|p| p.get(&gltf::Semantic::Colors(0)).is_some())
+            .map(|p| p.material().index().map_or(0, |i| i + 1))
+            .collect();
+        let materials = materials::translate(self.document, self.images, &coloured, made, &mut scene, &mut warnings)?;
         // Shadow rays pass a cut-out or blended surface only under volpath (the path tracer
         // stops them at any surface, so a punctual light would cast a cut-out's whole quad).
         if materials.iter().any(|m| m.alpha) {
@@ -123,12 +132,18 @@ impl<'a> Reader<'a> {
                         bounds = (bounds.0.min(w), bounds.1.max(w));
                     }
                     let info: &MaterialInfo = &materials[primitive.material];
+                    let material = match (&primitive.data.colors, &info.vertex_coloured) {
+                        (Some(_), Some(coloured)) => coloured.clone(),
+                        _ => info.name.clone(),
+                    };
                     let transform = vec![TransformOp::Matrix(world.transpose().to_cols_array_2d())];
                     let name = Some(
                         node.name().or(mesh.name()).map_or_else(|| format!("node {}", node.index()), str::to_string),
                     );
                     let smooth = primitive.data.normals.is_some();
-                    let desc = if uses[&mesh.index()] > 1 && !info.emits {
+                    // Vertex colours are read through the mesh's own attributes, so a coloured
+                    // primitive is placed as a mesh of its own.
+                    let desc = if uses[&mesh.index()] > 1 && !info.emits && primitive.data.colors.is_none() {
                         let library = format!("mesh {} primitive {p}", mesh.index());
                         scene.meshes.entry(library.clone()).or_insert_with(|| Located {
                             value: MeshDesc {
@@ -141,14 +156,7 @@ impl<'a> Reader<'a> {
                             },
                             span: None,
                         });
-                        ShapeDesc::Instance {
-                            interior: None,
-                            exterior: None,
-                            mesh: library,
-                            material: info.name.clone(),
-                            transform,
-                            name,
-                        }
+                        ShapeDesc::Instance { interior: None, exterior: None, mesh: library, material, transform, name }
                     } else {
                         ShapeDesc::Mesh {
                             interior: None,
@@ -159,7 +167,7 @@ impl<'a> Reader<'a> {
                             smooth,
                             flip_v: false,
                             compute_normals: false,
-                            material: info.name.clone(),
+                            material,
                             transform,
                             name,
                         }
@@ -236,9 +244,7 @@ impl<'a> Reader<'a> {
                     self.name.display()
                 ));
             }
-            if primitive.get(&gltf::Semantic::Colors(0)).is_some() {
-                warnings.push(format!("{}: {at}: vertex colours (COLOR_0) are not read", self.name.display()));
-            }
+
             if primitive.morph_targets().next().is_some() {
                 warnings.push(format!("{}: {at}: morph targets are not read", self.name.display()));
             }
@@ -269,6 +275,25 @@ impl<'a> Reader<'a> {
             let uv_set = materials.get(material).map_or(0, |m| m.uv_set);
             let uvs: Option<Vec<[f32; 2]>> = read(gltf::Semantic::TexCoords(uv_set), &TEXCOORDS)?
                 .map(|t| t.chunks_exact(2).map(|t| [t[0], 1.0 - t[1]]).collect());
+            // Linear RGB, multiplying the base colour (their alpha, glTF's, is not read).
+            let colors: Option<Vec<[f32; 3]>> = match primitive.get(&gltf::Semantic::Colors(0)) {
+                None => None,
+                Some(accessor) => {
+                    if accessor.data_type() != DataType::F32 && !accessor.normalized() {
+                        return Err(format!("{at}: COLOR_0 of integers must be `normalized` (glTF requires it)"));
+                    }
+                    let dim = if accessor.dimensions() == Dimensions::Vec4 { 4 } else { 3 };
+                    let values = accessors::read(&accessor, self.buffers, &COLORS, |x| x as f32)
+                        .map_err(|m| format!("{at}: COLOR_0: {m}"))?;
+                    if dim == 4 && values.chunks_exact(4).any(|c| c[3] < 1.0) {
+                        warnings.push(format!(
+                            "{}: {at}: the vertex colours' alpha is not read (their colours are)",
+                            self.name.display()
+                        ));
+                    }
+                    Some(values.chunks_exact(dim).map(|c| [c[0], c[1], c[2]]).collect())
+                }
+            };
             let indices: Vec<u32> = match primitive.indices() {
                 Some(a) => accessors::read(&a, self.buffers, &INDICES, |x| x as u32)
                     .map_err(|m| format!("{at}: indices: {m}"))?,
@@ -288,7 +313,7 @@ impl<'a> Reader<'a> {
                 warnings.push(format!("{}: {at}: no triangles; left out", self.name.display()));
                 continue;
             }
-            out.push(Primitive { data: MeshData { positions, indices: triangles, normals, uvs }, material });
+            out.push(Primitive { data: MeshData { positions, indices: triangles, normals, uvs, colors }, material });
         }
         Ok(out)
     }
@@ -414,6 +439,8 @@ const TEXCOORDS: Allowed = Allowed {
     dimensions: &[Dimensions::Vec2],
     types: &[DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16],
 };
+const COLORS: Allowed =
+    Allowed { dimensions: &[Dimensions::Vec3, Dimensions::Vec4], types: &[DataType::F32, DataType::U8, DataType::U16] };
 const INDICES: Allowed =
     Allowed { dimensions: &[Dimensions::Scalar], types: &[DataType::U8, DataType::U16, DataType::U32] };
 

@@ -9,7 +9,7 @@ mod serialized;
 
 use std::path::Path;
 
-use glint_core::shapes::Mesh;
+use glint_core::shapes::{Mesh, MeshAttribute};
 
 /// Reads a mesh from its bytes, choosing the format by the file name.
 pub fn read_mesh(name: &str, bytes: &[u8]) -> Result<Mesh, String> {
@@ -60,11 +60,24 @@ pub fn from_data(data: &crate::native::schema::MeshData) -> Result<Mesh, String>
     if let Some(uvs) = &data.uvs {
         per_vertex("uvs", uvs.len())?;
     }
+    if let Some(colors) = &data.colors {
+        per_vertex("colors", colors.len())?;
+        if let Some(i) = colors.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
+            return Err(format!("color {i} is not finite: {:?}", colors[i]));
+        }
+    }
+    let attributes = data.colors.iter().map(|colors| MeshAttribute {
+        name: "vertex_color".into(),
+        values: colors.iter().flatten().copied().collect(),
+        dim: 3,
+        per_vertex: true,
+    });
     let mesh = Mesh {
         positions: data.positions.iter().map(|&p| p.into()).collect(),
         normals: data.normals.as_ref().map(|ns| ns.iter().map(|&v| glam::Vec3::from(v).normalize_or_zero()).collect()),
         uvs: data.uvs.as_ref().map(|uvs| uvs.iter().map(|&uv| uv.into()).collect()),
         indices: data.indices.clone(),
+        attributes: attributes.collect(),
         ..Mesh::default()
     };
     validate(&mesh)?;

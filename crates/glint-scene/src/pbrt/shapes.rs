@@ -144,6 +144,7 @@ pub fn loop_subdivide(positions: &[Vec3], triangles: &[[u32; 3]], levels: u32) -
         indices: triangles,
         normals: None,
         uvs: None,
+        colors: None,
     })
 }
 

@@ -22,6 +22,7 @@ use std::path::Path;
 use glint_core::lights::Environment;
 use glint_core::scene::SceneBuilder;
 use glint_core::shapes::IntersectMethods;
+use glint_core::textures::{Product, Texture};
 use glint_core::Named;
 
 use self::camera::build_camera;
@@ -85,11 +86,27 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         map: build_environment_map(&file.environment, source).map_err(|(key, m)| cx.error_at_key(key, m))?,
     };
 
+    // Products last: they name the others.
     let mut textures = Vec::new();
-    for (name, entry) in &file.textures {
+    let (products, others): (Vec<_>, Vec<_>) =
+        file.textures.iter().partition(|(_, entry)| matches!(entry.value, TextureDesc::Product { .. }));
+    for (name, entry) in others {
         let texture = build_texture(&entry.value, source)
             .map_err(|(key, m)| cx.error(&entry.span, Some(key), format!("texture `{name}`: {m}")))?;
         textures.push((name.clone(), texture));
+    }
+    for &(name, entry) in &products {
+        let TextureDesc::Product { factors } = &entry.value else { unreachable!("partitioned") };
+        let factor = |c: &ColorDesc| match c {
+            ColorDesc::Texture(other) if products.iter().any(|(p, _)| *p == other) => {
+                Err(format!("texture `{name}`: a product's factor `{other}` is itself a product"))
+            }
+            _ => resolve_colour(c, &textures).map_err(|m| format!("texture `{name}`: {m}")),
+        };
+        let factors = [factor(&factors[0]), factor(&factors[1])];
+        let [first, second] = factors.map(|f| f.map_err(|m| cx.error(&entry.span, Some("factors"), m)));
+        let product = Texture::Product(Box::new(Product { factors: [first?, second?] }));
+        textures.push((name.clone(), product));
     }
 
     let materials = super::materials::build_materials(&cx, &file.materials, &textures)?;

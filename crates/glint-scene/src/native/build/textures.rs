@@ -166,6 +166,9 @@ fn build_unmapped(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'sta
             v11: finite("v11", *v11)?,
             uv_transform: uv_map(Vec2::ONE, uv_transform.as_ref())?,
         })),
+        TextureDesc::Product { .. } => {
+            return Err(("factors", "a product is made after the textures it names (see `build`)".into()))
+        }
         TextureDesc::MeshAttribute { name, scale } => {
             if !(name.starts_with("vertex_") || name.starts_with("face_")) {
                 return Err(("name", format!("a mesh attribute is named `vertex_…` or `face_…`, got `{name}`")));

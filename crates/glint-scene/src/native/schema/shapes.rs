@@ -285,7 +285,8 @@ pub struct MeshDesc {
 }
 
 /// A triangle mesh written in the scene itself (pbrt's `trianglemesh`, glTF's primitives):
-/// `normals` and `uvs`, if given, one per position.
+/// `normals`, `uvs` and `colors`, if given, one per position; the colours are the mesh's
+/// `vertex_color` attribute (a `mesh-attribute` texture reads them).
 #[derive(Deserialize, Debug, Clone, Default)]
 #[serde(deny_unknown_fields)]
 pub struct MeshData {
@@ -293,4 +294,5 @@ pub struct MeshData {
     pub indices: Vec<[u32; 3]>,
     pub normals: Option<Vec<Vector>>,
     pub uvs: Option<Vec<[f32; 2]>>,
+    pub colors: Option<Vec<Vector>>,
 }

@@ -3,7 +3,7 @@
 
 use serde::Deserialize;
 
-use super::{TransformOp, Vector};
+use super::{ColorDesc, TransformOp, Vector};
 
 /// A number for both axes or one per axis.
 #[derive(Deserialize, Debug, Clone, Copy)]
@@ -66,6 +66,11 @@ pub enum TextureDesc {
     MeshAttribute {
         name: String,
         scale: Option<f32>,
+    },
+    /// Two colours or textures multiplied channel by channel (glTF's base colour times its
+    /// vertex colours); the textures it names cannot be products themselves.
+    Product {
+        factors: [ColorDesc; 2],
     },
     /// pbrt's `fbm`: fractional Brownian motion of the point in the texture's space.
     Fbm {

@@ -110,6 +110,8 @@ impl Translator<'_> {
                     indices: mesh.indices,
                     normals: mesh.normals.map(|ns| ns.iter().map(|n| n.to_array()).collect()),
                     uvs: mesh.uvs.map(|uv| uv.iter().map(|t| t.to_array()).collect()),
+                    // pbrt reads no other vertex values.
+                    colors: None,
                 }
             }
             other => {
@@ -249,7 +251,7 @@ impl Translator<'_> {
                 }
             }
         }
-        Ok(MeshData { positions, indices, normals, uvs })
+        Ok(MeshData { positions, indices, normals, uvs, colors: None })
     }
 
     fn bilinear_mesh(&self, p: &Params) -> Result<MeshData> {
