@@ -7,7 +7,8 @@ use common::{object, scene, scene_with_methods, TestRng};
 use glint_core::geometry::Ray;
 use glint_core::scene::Scene;
 use glint_core::shapes::{
-    AaBox, Csg, CsgOperation, CsgTree, IntersectMethods, Mesh, Plane, Polygon, Shape, Sphere, Triangle, TriangleMethod,
+    AaBox, Csg, CsgOperation, CsgTree, CurveBasis, Curves, IntersectMethods, Mesh, Plane, Polygon, Shape, Sphere,
+    Triangle, TriangleMethod,
 };
 use glint_core::Vec3;
 
@@ -19,7 +20,7 @@ fn random_objects(rng: &mut TestRng, n: usize) -> Vec<glint_core::scene::Object>
     let mut objects = Vec::new();
     for _ in 0..n {
         let c = rng.vec3(-5.0, 5.0);
-        let shape = match rng.below(7) {
+        let shape = match rng.below(8) {
             0 => Shape::Sphere(Sphere::new(c, rng.range(0.05, 1.0))),
             1 => Shape::Triangle(Triangle::new(c, c + rng.vec3(-1.0, 1.0), c + rng.vec3(-1.0, 1.0))),
             2 => Shape::AaBox(AaBox::new(c, c + rng.vec3(0.05, 1.5))),
@@ -56,6 +57,17 @@ fn random_objects(rng: &mut TestRng, n: usize) -> Vec<glint_core::scene::Object>
                     ],
                 );
                 Shape::Csg(Box::new(Csg::new(CsgTree::Combine(CsgOperation::Union, vec![die, lens])).unwrap()))
+            }
+            6 => {
+                // Curves of every basis through random points, tapering.
+                let basis = [CurveBasis::Linear, CurveBasis::BSpline, CurveBasis::Bezier][rng.below(3) as usize];
+                let points = (0..7)
+                    .map(|_| {
+                        let p = c + rng.vec3(-1.0, 1.0);
+                        [p.x, p.y, p.z, rng.range(0.0, 0.3)]
+                    })
+                    .collect();
+                Shape::Curves(std::sync::Arc::new(Curves::new(basis, &[points]).unwrap()))
             }
             _ => {
                 // A small mesh with a duplicated (coincident) triangle.

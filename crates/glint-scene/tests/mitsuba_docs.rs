@@ -249,9 +249,15 @@ fn polarization_plugins_are_refused_as_such() {
         assert!(e.contains(&format!("{name}.xml:{line}:")) && e.contains("polariz"), "{e}");
     }
     // Other plugins glint lacks: named at their line, with what is missing.
+    let e = error_of(
+        "ellipsoids",
+        &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"ellipsoids\"/>\n</scene>\n"),
+    );
+    assert!(e.contains("ellipsoids.xml:3:") && e.contains("no ellipsoid"), "{e}");
+    // A curve without its file: named at its line, with what it needs.
     let e =
         error_of("curve", &format!("<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"linearcurve\"/>\n</scene>\n"));
-    assert!(e.contains("curve.xml:3:") && e.contains("<shape type=\"linearcurve\">") && e.contains("no curve"), "{e}");
+    assert!(e.contains("curve.xml:3:") && e.contains("needs a `filename`"), "{e}");
 }
 
 /// Mitsuba gives a shape without a BSDF a diffuse 0.5, but an emitting one a black diffuse

@@ -332,7 +332,8 @@ fn errors_name_the_file_line_and_what_was_expected() {
             "WorldBegin\nNamedMaterial \"glod\"\nMakeNamedMaterial \"gold\" \"string type\" \"conductor\"\n",
             "scene.pbrt:2:1: no material named `glod`",
         ),
-        ("shape", "WorldBegin\nShape \"curve\" \"point3 P\" [ 0 0 0 ]\n", "shape `curve` is not supported"),
+        ("shape", "WorldBegin\nShape \"cone\" \"float radius\" 1\n", "shape `cone` is not supported"),
+        ("curve", "WorldBegin\nShape \"curve\" \"point3 P\" [ 0 0 0 ]\n", "`P` holds 1 point(s), which make no bezier segments"),
         (
             "medium",
             "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n",
@@ -1071,4 +1072,56 @@ Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point3 P" [-1 -1 0  1 -1 0
     let ptex = load(r#"Texture "p" "spectrum" "ptex" "string filename" "a.ptx""#, r#""diffuse""#, "ptex")
         .expect_err("refused");
     assert!(ptex.to_string().contains("scene.pbrt:3:") && ptex.to_string().contains("no Ptex reader"), "{ptex}");
+}
+
+/// pbrt's curves load as round tubes of their width: a straight cubic Bézier along x, width
+/// 0.5 growing to 1 under a transform that doubles it (widths scale too), is hit from above
+/// at its radius; a B-spline and a quadratic load; a flat curve warns that it is rendered
+/// round; points that make no segments are refused at their line.
+#[test]
+fn pbrts_curves_load_as_tubes_of_their_width() {
+    let load = |shape: &str, test: &str| {
+        let text = format!("WorldBegin\nScale 2 2 2\n{shape}\n");
+        let path = scene_dir(test, &[("scene.pbrt", text.as_bytes())]);
+        load_scene(&path)
+    };
+    let loaded = load(
+        r#"Shape "curve" "string type" "cylinder" "point3 P" [0 0 0  1 0 0  2 0 0  3 0 0] "float width0" 0.5 "float width1" 1"#,
+        "curve",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(!loaded.warnings.iter().any(|w| w.contains("curve")), "{:?}", loaded.warnings);
+    let Shape::Curves(curves) = &loaded.scene.objects()[0].shape else { panic!("curves") };
+    assert_eq!(curves.segment_count(), 1);
+    // At x = 3 (u = ½ after the scale by 2) the width is 0.75, scaled to 1.5: radius 0.75.
+    // The swept sphere's surface over a radius that grows by k = 0.5 / 6 per unit stands
+    // √(1 + k²) farther out than the radius at the point below it.
+    let ray = Ray::new(Vec3::new(3.0, 0.0, 10.0), -Vec3::Z);
+    let hit = loaded.scene.intersect(&ray).expect("the tube");
+    let expected = 0.75 * (1.0f32 + (0.5f32 / 6.0).powi(2)).sqrt();
+    assert!((hit.t - (10.0 - expected)).abs() < 1e-4, "{}", hit.t);
+
+    let flat =
+        load(r#"Shape "curve" "point3 P" [0 0 0  1 1 0  2 -1 0  3 0 0  4 1 0] "string basis" "bspline""#, "flat")
+            .unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        flat.warnings.iter().any(|w| w.contains("`flat` curve is rendered as a round tube")),
+        "{:?}",
+        flat.warnings
+    );
+    let Shape::Curves(curves) = &flat.scene.objects()[0].shape else { panic!("curves") };
+    assert_eq!(curves.segment_count(), 2);
+    let quadratic = load(
+        r#"Shape "curve" "string type" "cylinder" "integer degree" 2 "point3 P" [0 0 0  1 1 0  2 0 0]"#,
+        "quadratic",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(matches!(quadratic.scene.objects()[0].shape, Shape::Curves(_)));
+    let Err(error) = load(r#"Shape "curve" "point3 P" [0 0 0  1 1 0  2 0 0  3 0 0  4 0 0]"#, "bad-curve") else {
+        panic!("five points make no cubic Bézier segments")
+    };
+    assert!(
+        error.to_string().contains("scene.pbrt:3:") && error.to_string().contains("which make no bezier segments"),
+        "{error}"
+    );
 }

@@ -13,6 +13,7 @@
 
 mod aabox;
 mod csg;
+mod curves;
 mod instance;
 mod mesh;
 mod plane;
@@ -23,6 +24,7 @@ mod triangle;
 
 pub use aabox::{AaBox, BoxMethod};
 pub use csg::{Csg, CsgError, CsgOperation, CsgSolid, CsgTree};
+pub use curves::{CurveBasis, Curves};
 pub use instance::{Instance, InstancedGeometry};
 pub use mesh::{Mesh, MeshAttribute};
 pub use plane::Plane;
@@ -118,6 +120,9 @@ pub enum Shape {
     /// The zero set of a grid of signed distances, one primitive per voxel it crosses
     /// (shared: the grid can be large).
     SdfGrid(std::sync::Arc<SdfGrid>),
+    /// Tubes along polylines and splines, one primitive per straight piece (shared: hair can
+    /// be large).
+    Curves(std::sync::Arc<Curves>),
 }
 
 impl Shape {
@@ -126,6 +131,7 @@ impl Shape {
         match self {
             Shape::Mesh(m) => m.triangle_count() as u32,
             Shape::SdfGrid(g) => g.primitive_count(),
+            Shape::Curves(c) => c.primitive_count(),
             _ => 1,
         }
     }
@@ -142,6 +148,7 @@ impl Shape {
             Shape::Instance(i) => Some(i.bounds()),
             Shape::Csg(c) => Some(c.bounds()),
             Shape::SdfGrid(g) => Some(g.bounds(prim)),
+            Shape::Curves(c) => Some(c.bounds(prim)),
         }
     }
 
@@ -157,6 +164,7 @@ impl Shape {
             Shape::Instance(i) => i.intersect(ray),
             Shape::Csg(c) => c.intersect(ray, methods),
             Shape::SdfGrid(g) => g.intersect(prim, ray),
+            Shape::Curves(c) => c.intersect(prim, ray),
         }
     }
 
@@ -173,6 +181,7 @@ impl Shape {
             Shape::AaBox(b) => b.tangents(normal),
             Shape::Mesh(m) => m.tangents(prim as usize),
             Shape::Instance(_) | Shape::SdfGrid(_) => (Vec3::ZERO, Vec3::ZERO),
+            Shape::Curves(c) => c.tangents(prim, point),
             // `prim` is the solid (a hit's `inner`).
             Shape::Csg(c) => c.tangents(prim, point, normal),
         }
@@ -192,13 +201,14 @@ impl Shape {
             Shape::Instance(i) => i.surface(ray, hit),
             Shape::Csg(c) => c.surface(ray, hit),
             Shape::SdfGrid(g) => g.surface(prim, ray, hit),
+            Shape::Curves(c) => c.surface(prim, ray, hit),
         }
     }
 
     /// The surface at `point` (in the shape's space) of primitive `prim`, a triangle's point
     /// read from `hit`'s barycentric coordinates instead: what a hit there finds, for a point
     /// no ray found (one sampled on a light). `None` for an instance and a CSG object, whose
-    /// surfaces need the ray, and for an SDF grid, which has no sampling routine.
+    /// surfaces need the ray, and for an SDF grid and curves, which have no sampling routine.
     #[inline]
     pub fn surface_at(&self, prim: u32, point: Vec3, hit: &PrimHit) -> Option<SurfaceGeometry> {
         Some(match self {
@@ -208,7 +218,7 @@ impl Shape {
             Shape::Polygon(p) => p.surface(point),
             Shape::AaBox(b) => b.surface(point),
             Shape::Mesh(m) => m.surface(prim as usize, hit),
-            Shape::Instance(_) | Shape::Csg(_) | Shape::SdfGrid(_) => return None,
+            Shape::Instance(_) | Shape::Csg(_) | Shape::SdfGrid(_) | Shape::Curves(_) => return None,
         })
     }
 
@@ -224,6 +234,7 @@ impl Shape {
             Shape::Instance(_) => "instance",
             Shape::Csg(_) => "csg",
             Shape::SdfGrid(_) => "sdfgrid",
+            Shape::Curves(_) => "curves",
         }
     }
 }

@@ -2,6 +2,7 @@
 //! (`.ply.gz`, `.obj.gz`), and Mitsuba's `.serialized` meshes. Errors are plain messages; the
 //! caller adds the scene location.
 
+mod curves;
 mod obj;
 pub(crate) mod parametric;
 mod ply;
@@ -12,6 +13,8 @@ use std::path::Path;
 use glint_core::shapes::{Mesh, MeshAttribute};
 
 /// Reads a mesh from its bytes, choosing the format by the file name.
+pub use curves::read_curves;
+
 pub fn read_mesh(name: &str, bytes: &[u8]) -> Result<Mesh, String> {
     read_mesh_part(name, bytes, 0)
 }

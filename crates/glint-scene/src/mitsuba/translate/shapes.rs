@@ -203,16 +203,28 @@ impl<'a> Translator<'a> {
                 }
                 ShapeDesc::SdfGrid { file, normals, material, transform, name }
             }
+            "linearcurve" | "bsplinecurve" => {
+                if emits || has_media || flip_normals {
+                    return Err(self.error(
+                        &shape.position,
+                        format!("a {kind} can be neither an emitter (it has no sampling routine) nor a medium's boundary, nor have its normals flipped"),
+                    ));
+                }
+                let file = p.string(self, "filename")?.ok_or_else(|| {
+                    self.error(&shape.position, format!("<shape type=\"{kind}\"> needs a `filename` (a curve file)"))
+                })?;
+                let basis = Some(if kind == "linearcurve" { "linear" } else { "bspline" }.to_string());
+                ShapeDesc::Curves { basis, file: Some(file), data: None, material, transform, name }
+            }
             _ => {
                 let why = match kind {
-                    "bsplinecurve" | "linearcurve" => " (glint has no curve primitive)",
                     "ellipsoids" | "ellipsoidsmesh" => " (glint has no ellipsoid primitives)",
                     _ => "",
                 };
                 return Err(self.error(
                     &shape.position,
                     format!(
-                        "<shape type=\"{kind}\"> is not supported{why}; glint reads obj, ply, serialized, rectangle, cube, sphere, disk, cylinder and sdfgrid"
+                        "<shape type=\"{kind}\"> is not supported{why}; glint reads obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, sdfgrid, linearcurve and bsplinecurve"
                     ),
                 ))
             }

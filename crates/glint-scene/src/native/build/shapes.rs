@@ -8,7 +8,8 @@ use glam::{Vec2, Vec3};
 use glint_core::materials::Material;
 use glint_core::scene::{Geometry, Object};
 use glint_core::shapes::{
-    AaBox, Csg, Instance, IntersectMethods, Mesh, Plane, Polygon, SdfGrid, SdfNormals, Shape, Sphere, Triangle,
+    AaBox, Csg, CurveBasis, Curves, Instance, IntersectMethods, Mesh, Plane, Polygon, SdfGrid, SdfNormals, Shape,
+    Sphere, Triangle,
 };
 use glint_core::Named;
 
@@ -172,6 +173,34 @@ pub(super) fn build_object(
                     Shape::SdfGrid(sdf)
                 }
             }
+        }
+        ShapeDesc::Curves { basis, file, data, .. } => {
+            let basis = match basis.as_deref() {
+                None => CurveBasis::default(),
+                Some(name) => CurveBasis::from_name(name)
+                    .ok_or_else(|| at("basis", format!("unknown basis `{name}`: expected {}", CurveBasis::names())))?,
+            };
+            let mut curves = match (file, data) {
+                (Some(file), None) => {
+                    let bytes = source.read(file).map_err(|m| at("file", format!("curve file: {m}")))?;
+                    crate::mesh::read_curves(&bytes).map_err(|m| at("file", format!("`{file}`: {m}")))?
+                }
+                (None, Some(data)) => data.clone(),
+                (Some(_), Some(_)) => {
+                    return Err(at("data", "give the curves' `file` or their `data`, not both".into()))
+                }
+                (None, None) => return Err(at("file", "curves need a `file` (or their points in `data`)".into())),
+            };
+            // In world space, as meshes: the transform places the points; radii stay as given.
+            if let Some(t) = &transform {
+                for point in curves.iter_mut().flatten() {
+                    let p = t.point(Vec3::new(point[0], point[1], point[2]));
+                    point[..3].copy_from_slice(&p.to_array());
+                }
+            }
+            let curves = Curves::new(basis, &curves).map_err(|m| at("data", m))?;
+            let label = name.map_or(label, str::to_string);
+            return Ok(Object { name: label, shape: Shape::Curves(Arc::new(curves)), transform: None, material });
         }
         ShapeDesc::Mesh { file, data, shape_index, smooth, flip_v, compute_normals, .. } => {
             let (mut mesh, origin) =

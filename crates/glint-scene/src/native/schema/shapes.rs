@@ -114,6 +114,21 @@ pub enum ShapeDesc {
         transform: Vec<TransformOp>,
         name: Option<String>,
     },
+    /// Tubes along curves (hair, fur, wires): `basis` `linear` (straight segments, round
+    /// joints and ends; the default), `bspline` (uniform cubic B-spline, open ends) or
+    /// `bezier` (cubic Bézier segments); the control points (x, y, z, radius) from `file`
+    /// (Mitsuba's curve files: one point a line, a blank line between curves) or `data` (a
+    /// list of curves, each a list of points). `transform` places the points; radii are in
+    /// world units, as given.
+    Curves {
+        basis: Option<String>,
+        file: Option<String>,
+        data: Option<Vec<Vec<[f32; 4]>>>,
+        material: String,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+        name: Option<String>,
+    },
     /// Constructive solid geometry: `operation` (`union`, `intersection`, or `difference`: the
     /// first operand less the others) over two or more closed `operands`.
     Csg {
@@ -179,7 +194,8 @@ impl ShapeDesc {
             | ShapeDesc::Quad { material, transform, name, .. }
             | ShapeDesc::Instance { material, transform, name, .. }
             | ShapeDesc::Csg { material, transform, name, .. }
-            | ShapeDesc::SdfGrid { material, transform, name, .. } => (material, transform, name.as_deref()),
+            | ShapeDesc::SdfGrid { material, transform, name, .. }
+            | ShapeDesc::Curves { material, transform, name, .. } => (material, transform, name.as_deref()),
         }
     }
 
@@ -195,7 +211,8 @@ impl ShapeDesc {
             | ShapeDesc::Quad { transform, name, .. }
             | ShapeDesc::Instance { transform, name, .. }
             | ShapeDesc::Csg { transform, name, .. }
-            | ShapeDesc::SdfGrid { transform, name, .. } => (transform, name),
+            | ShapeDesc::SdfGrid { transform, name, .. }
+            | ShapeDesc::Curves { transform, name, .. } => (transform, name),
         }
     }
 
@@ -260,6 +277,7 @@ impl ShapeDesc {
             ShapeDesc::Instance { .. } => "instance",
             ShapeDesc::Csg { .. } => "csg",
             ShapeDesc::SdfGrid { .. } => "sdf-grid",
+            ShapeDesc::Curves { .. } => "curves",
         }
     }
 }

@@ -1,7 +1,7 @@
 //! Shapes: pbrt's sphere, disk, cylinder, triangle and bilinear meshes, Loop subdivision
-//! surfaces and PLY meshes, each made in its own space (quadrics and patches as meshes, by
-//! `pbrt/shapes.rs`), placed by the current transform, given the current material (an
-//! emitter under an area light) and wound as pbrt faces it.
+//! surfaces, PLY meshes and curves, each made in its own space (quadrics and patches as
+//! meshes, by `pbrt/shapes.rs`), placed by the current transform, given the current material
+//! (an emitter under an area light) and wound as pbrt faces it.
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
@@ -30,6 +30,9 @@ impl Translator<'_> {
         p.ignore(&["emissionfilename"]);
         let f = |r: std::result::Result<f32, Failure>| r.map_err(|x| self.fail(x));
         let (ctm, reverse) = (self.state.ctm, self.state.reverse_orientation);
+        if kind == "curve" {
+            return self.curve(d, &p, alpha);
+        }
         // Shapes are made in their own space and placed by the current transform.
         let mut data = match kind {
             "sphere" => {
@@ -117,7 +120,7 @@ impl Translator<'_> {
             other => {
                 return Err(self.parser.error(
                     d.at,
-                    format!("shape `{other}` is not supported; glint reads trianglemesh, plymesh, sphere, disk, cylinder, bilinearmesh and loopsubdiv"),
+                    format!("shape `{other}` is not supported; glint reads trianglemesh, plymesh, sphere, disk, cylinder, bilinearmesh, loopsubdiv and curve"),
                 ))
             }
         };
@@ -185,6 +188,99 @@ impl Translator<'_> {
     }
 
     /// A shape's name in messages and explanations: its directive and where it stands.
+    /// pbrt's `curve`: cubic (or quadratic) Bézier or B-spline segments of points `P`, their
+    /// width running from `width0` to `width1` along the curve, as glint's round curves in
+    /// cubic Bézier form. pbrt's `cylinder` curves are flat ribbons shaded as if round, which a
+    /// tube of the same width is; `flat` and `ribbon` ones (facing the ray, or turned by `N`)
+    /// are rendered round too, with a warning. Widths scale with the transform, as pbrt's.
+    fn curve(&mut self, d: &Directive, p: &Params, alpha: Option<FractionDesc>) -> Result<()> {
+        let f = |r: std::result::Result<f32, Failure>| r.map_err(|x| self.fail(x));
+        let points: Vec<Vec3> = p
+            .triples("P")
+            .map_err(|x| self.fail(x))?
+            .ok_or_else(|| self.parser.error(d.at, "a curve needs its control points `P`"))?
+            .into_iter()
+            .map(Vec3::from)
+            .collect();
+        let degree = p.int("degree", 3).map_err(|x| self.fail(x))?;
+        let basis = p.string("basis").map_err(|x| self.fail(x))?.unwrap_or_else(|| "bezier".into());
+        let kind = p.string("type").map_err(|x| self.fail(x))?.unwrap_or_else(|| "flat".into());
+        let width = f(p.float("width", 1.0))?;
+        let (width0, width1) = (f(p.float("width0", width))?, f(p.float("width1", width))?);
+        p.ignore(&["splitdepth", "N"]);
+        if !(width0 >= 0.0 && width1 >= 0.0 && width0.is_finite() && width1.is_finite()) {
+            return Err(self.parser.error(d.at, format!("a curve's widths must be ≥ 0, got {width0} and {width1}")));
+        }
+        if kind != "cylinder" {
+            self.warn(
+                d.at,
+                format!("a `{kind}` curve is rendered as a round tube of its width (pbrt's is a flat ribbon {}); shading differs, the outline does not", if kind == "ribbon" { "turned by its normals" } else { "facing the ray" }),
+            );
+        }
+        // Each segment's cubic Bézier control points.
+        let segments: Vec<[Vec3; 4]> = match (basis.as_str(), degree) {
+            ("bezier", 3) if points.len() >= 4 && (points.len() - 1).is_multiple_of(3) => (0..points.len() - 1)
+                .step_by(3)
+                .map(|i| [points[i], points[i + 1], points[i + 2], points[i + 3]])
+                .collect(),
+            ("bezier", 2) if points.len() >= 3 && (points.len() - 1).is_multiple_of(2) => {
+                (0..points.len() - 1).step_by(2).map(|i| elevate([points[i], points[i + 1], points[i + 2]])).collect()
+            }
+            ("bspline", 3) if points.len() >= 4 => (0..points.len() - 3)
+                .map(|i| {
+                    let [p0, p1, p2, p3] = [points[i], points[i + 1], points[i + 2], points[i + 3]];
+                    [
+                        (p0 + 4.0 * p1 + p2) / 6.0,
+                        (2.0 * p1 + p2) / 3.0,
+                        (p1 + 2.0 * p2) / 3.0,
+                        (p1 + 4.0 * p2 + p3) / 6.0,
+                    ]
+                })
+                .collect(),
+            ("bspline", 2) if points.len() >= 3 => (0..points.len() - 2)
+                .map(|i| {
+                    let [p0, p1, p2] = [points[i], points[i + 1], points[i + 2]];
+                    elevate([(p0 + p1) / 2.0, p1, (p1 + p2) / 2.0])
+                })
+                .collect(),
+            ("bezier" | "bspline", 2 | 3) => {
+                return Err(self.parser.error(
+                    self.param_at(p, "P"),
+                    format!("`P` holds {} point(s), which make no {basis} segments of degree {degree}", points.len()),
+                ))
+            }
+            _ => {
+                return Err(self.parser.error(
+                    d.at,
+                    format!("a curve's basis is bezier or bspline and its degree 2 or 3, got {basis} and {degree}"),
+                ))
+            }
+        };
+        // Widths scale with the transform (by its mean scale where it is not uniform).
+        let ctm = self.state.ctm;
+        let scale = ctm.determinant().abs().cbrt();
+        let n = segments.len() as f32;
+        let radius = |at: f32| 0.5 * scale * (width0 + (width1 - width0) * at);
+        let mut curve: Vec<[f32; 4]> = Vec::with_capacity(3 * segments.len() + 1);
+        for (s, segment) in segments.iter().enumerate() {
+            let (ra, rb) = (radius(s as f32 / n), radius((s + 1) as f32 / n));
+            for (k, point) in segment.iter().enumerate().skip(usize::from(s > 0)) {
+                let r = ra + (rb - ra) * k as f32 / 3.0;
+                curve.push([point.x, point.y, point.z, r]);
+            }
+        }
+        let material = self.shape_material(alpha, d.at);
+        let desc = ShapeDesc::Curves {
+            basis: Some("bezier".into()),
+            file: None,
+            data: Some(vec![curve]),
+            material,
+            transform: vec![matrix_op(ctm)],
+            name: Some(self.shape_name("curve", d.at)),
+        };
+        self.push_shape(d.at, desc)
+    }
+
     fn shape_name(&self, kind: &str, at: At) -> String {
         format!("Shape \"{kind}\" at {}", self.parser.place(at))
     }
@@ -323,4 +419,9 @@ fn orient(data: &mut MeshData, reverse: bool) {
             data.indices[k] = [a, c, b];
         }
     }
+}
+
+/// A quadratic Bézier's control points as a cubic's (degree elevation).
+fn elevate([c0, c1, c2]: [Vec3; 3]) -> [Vec3; 4] {
+    [c0, c0 + (2.0 / 3.0) * (c1 - c0), c1 + (1.0 / 3.0) * (c2 - c1), c2]
 }
