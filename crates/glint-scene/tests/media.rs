@@ -7,6 +7,7 @@ use std::path::PathBuf;
 
 use glint_core::integrators::IntegratorKind;
 use glint_core::render::{render, render_with, RenderSettings};
+use glint_core::media::MediumKind;
 use glint_core::Rgb;
 use glint_scene::load_scene;
 
@@ -489,4 +490,38 @@ fn media_errors_name_what_is_wrong() {
         "not both",
     );
     bad("flat", "[media.fog]\ntype = \"grid\"\nvalue = [1, 1, 1]\ntransform = [{ scale = [1, 0, 1] }]", "singular");
+}
+
+/// Mitsuba's homogeneous medium with an albedo volume that repeats (`wrap_mode` `repeat`,
+/// its documentation's textured subsurface bunny): σ_t constant everywhere, the albedo read
+/// at each point from the volume repeated past its unit box. Two voxels along x, albedo 0.2
+/// and 0.8: x = 0.25 + k reads 0.2 and x = 0.75 + k reads 0.8 for any whole k.
+#[test]
+fn a_homogeneous_medium_with_a_repeating_albedo_volume() {
+    let albedo = vol([2, 1, 1], &[0.2, 0.8], [0.0; 3], [1.0; 3]);
+    let xml = r#"<scene version="3.0.0">
+    <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
+    <medium id="m" type="homogeneous">
+        <float name="scale" value="2"/>
+        <rgb name="sigma_t" value="3"/>
+        <volume name="albedo" type="gridvolume">
+            <string name="wrap_mode" value="repeat"/>
+            <string name="filename" value="albedo.vol"/>
+        </volume>
+    </medium>
+    <shape type="sphere"><float name="radius" value="100"/><ref id="m" name="interior"/><bsdf type="null"/></shape>
+</scene>
+"#;
+    let path = scene("repeat-albedo", xml, &[("albedo.vol", albedo)]);
+    let path = path.with_file_name("scene.xml");
+    std::fs::write(&path, xml).unwrap();
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let MediumKind::Grid(grid) = &loaded.scene.media()[0].kind else { panic!("a grid medium") };
+    for k in [-7.0f32, 0.0, 3.0, 40.0] {
+        let p = |x: f32| glint_core::Vec3::new(x + k, 0.5 + 2.0 * k, 0.5 - k);
+        assert!((grid.albedo_at(p(0.25)).x - 0.2).abs() < 1e-6, "{k}");
+        assert!((grid.albedo_at(p(0.75)).x - 0.8).abs() < 1e-6, "{k}");
+        // σ_t = scale × 3 wherever the scene is.
+        assert_eq!(grid.sigma_t(p(0.3)), Rgb::splat(6.0));
+    }
 }

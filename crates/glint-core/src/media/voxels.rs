@@ -19,6 +19,9 @@ pub struct VoxelField {
     to_local: Affine3A,
     /// The largest value of any channel.
     max: f32,
+    /// Lookups outside the box read the field repeated (Mitsuba's `wrap_mode` `repeat`),
+    /// rather than its nearest edge.
+    repeat: bool,
 }
 
 impl VoxelField {
@@ -35,12 +38,18 @@ impl VoxelField {
             return None;
         }
         let max = values.iter().fold(0.0f32, |m, &v| m.max(v));
-        Some(Self { resolution, channels, values, to_local: to_world.inverse(), max })
+        Some(Self { resolution, channels, values, to_local: to_world.inverse(), max, repeat: false })
     }
 
     /// One value everywhere in the box `to_world` places (Mitsuba's `constvolume`).
     pub fn constant(value: Rgb, to_world: Affine3A) -> Option<Self> {
         Self::new([1, 1, 1], 3, value.to_array().to_vec(), to_world)
+    }
+
+    /// The same field, repeated past its box in every direction, voxels interpolated across
+    /// the seams with the opposite side's.
+    pub fn repeating(self) -> Self {
+        Self { repeat: true, ..self }
     }
 
     pub fn max(&self) -> f32 {
@@ -54,11 +63,20 @@ impl VoxelField {
     }
 
     /// The value at the world point `p`: trilinear between voxel centres, clamped to the
-    /// nearest edge outside them (and outside the box).
+    /// nearest edge outside them (and outside the box), or read from the repeated field.
     pub fn eval(&self, p: Vec3) -> Rgb {
         let local = self.to_local.transform_point3(p);
         let [nx, ny, nz] = self.resolution;
+        let repeat = self.repeat;
         let at = |axis: f32, n: usize| {
+            if repeat {
+                let x = axis * n as f32 - 0.5;
+                // NaN (a point at infinity) reads the first voxel.
+                let x = if x.is_finite() { x } else { 0.0 };
+                let floor = x.floor();
+                let i = (floor as i64).rem_euclid(n as i64) as usize;
+                return (i, (i + 1) % n, x - floor);
+            }
             let x = (axis * n as f32 - 0.5).clamp(0.0, (n - 1) as f32);
             // NaN (a point at infinity) clamps to the first voxel.
             let x = if x.is_nan() { 0.0 } else { x };
@@ -132,6 +150,28 @@ mod tests {
         assert_eq!(at(7.0), Rgb::new(4.0, 1.0, 0.0));
         assert_eq!(field.max(), 4.0);
         assert!(field.contains(Vec3::new(1.9, 0.1, 0.9)) && !field.contains(Vec3::new(2.1, 0.5, 0.5)));
+    }
+
+    /// Repeated, the field reads the same one box over, and between the last voxel's centre
+    /// and the next box's first it blends the two.
+    #[test]
+    fn a_repeated_field_wraps_around() {
+        let field = VoxelField::new(
+            [2, 1, 1],
+            3,
+            vec![0.0, 1.0, 2.0, 4.0, 1.0, 0.0],
+            box_to_world(Vec3::ZERO, Vec3::new(2.0, 1.0, 1.0)),
+        )
+        .unwrap()
+        .repeating();
+        let at = |x: f32| field.eval(Vec3::new(x, 0.5, 0.5));
+        assert_eq!(at(0.75), Rgb::new(1.0, 1.0, 1.5));
+        assert_eq!(at(0.75 + 2.0), at(0.75));
+        assert_eq!(at(0.75 - 4.0), at(0.75));
+        // Halfway between the second voxel's centre (x = 1½) and the next box's first (2½).
+        assert_eq!(at(2.0), Rgb::new(2.0, 1.0, 1.0));
+        // A point at infinity reads a voxel, not NaN.
+        assert!(field.eval(Vec3::new(f32::INFINITY, 0.5, 0.5)).is_finite());
     }
 
     #[test]

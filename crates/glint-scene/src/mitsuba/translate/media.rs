@@ -19,9 +19,14 @@ use crate::native::schema::{AlbedoDesc, AlbedoField, MediumDesc, PhaseDesc, Tran
 enum Value {
     /// A number or colour; a `constvolume` keeps its box.
     Constant([f32; 3], Option<Mat4>),
-    /// A `gridvolume`'s file, placed by its `to_world` (`None`: the file's own box).
-    Grid(String, Option<Mat4>),
+    /// A `gridvolume`'s file, placed by its `to_world` (`None`: the file's own box), and
+    /// whether it repeats past its box (`wrap_mode` `repeat`).
+    Grid(String, Option<Mat4>, bool),
 }
+
+/// Half the side of the box a homogeneous medium with an albedo volume fills: the medium is
+/// unbounded, the grid medium that renders it is not, and any shape it lies in is far smaller.
+const UNBOUNDED: f32 = 1e6;
 
 impl<'a> Translator<'a> {
     /// The native medium made for a `<medium>` element (once per element), by name.
@@ -46,6 +51,39 @@ impl<'a> Translator<'a> {
         let sigma_t = self.medium_value(&p, element, "sigma_t")?;
         let albedo = self.medium_value(&p, element, "albedo")?;
         let desc = match kind {
+            // σ_t constant and the albedo a volume (Mitsuba reads it at each collision): a grid
+            // medium of one density over a box holding the scene, the albedo its field.
+            "homogeneous" if matches!(albedo, Some(Value::Grid(..))) => {
+                let sigma_t = match sigma_t {
+                    None => [1.0; 3],
+                    Some(Value::Constant(v, _)) => v,
+                    Some(Value::Grid(..)) => {
+                        return Err(self.error(
+                            &element.position,
+                            "a homogeneous medium's `sigma_t` is a constant, not a grid volume",
+                        ))
+                    }
+                };
+                let Some(Value::Grid(file, to_world, repeat)) = albedo else { unreachable!("matched above") };
+                let wrap = Some(if repeat { "repeat" } else { "clamp" }.to_string());
+                MediumDesc::Grid {
+                    file: None,
+                    value: Some(sigma_t),
+                    min: Some([-UNBOUNDED; 3]),
+                    max: Some([UNBOUNDED; 3]),
+                    transform: Vec::new(),
+                    albedo: Some(AlbedoDesc::Field(AlbedoField {
+                        file,
+                        min: None,
+                        max: None,
+                        transform: ops(to_world),
+                        wrap,
+                    })),
+                    scale,
+                    phase: Some(phase),
+                    emission: None,
+                }
+            }
             "homogeneous" => {
                 let constant = |value: Option<Value>, name: &str, default: f32| match value {
                     None => Ok([default; 3]),
@@ -69,13 +107,17 @@ impl<'a> Translator<'a> {
                 // A constant σ_t is a constvolume over the unit cube, as Mitsuba makes it.
                 let (file, value, to_world) = match sigma_t.unwrap_or(Value::Constant([1.0; 3], None)) {
                     Value::Constant(v, to_world) => (None, Some(v), Some(to_world.unwrap_or(Mat4::IDENTITY))),
-                    Value::Grid(file, to_world) => (Some(file), None, to_world),
+                    Value::Grid(file, to_world, _) => (Some(file), None, to_world),
                 };
                 let albedo = match albedo.unwrap_or(Value::Constant([0.75; 3], None)) {
                     Value::Constant(v, _) => AlbedoDesc::Constant(v),
-                    Value::Grid(file, to_world) => {
-                        AlbedoDesc::Field(AlbedoField { file, min: None, max: None, transform: ops(to_world) })
-                    }
+                    Value::Grid(file, to_world, repeat) => AlbedoDesc::Field(AlbedoField {
+                        file,
+                        min: None,
+                        max: None,
+                        transform: ops(to_world),
+                        wrap: repeat.then(|| "repeat".to_string()),
+                    }),
                 };
                 MediumDesc::Grid {
                     file,
@@ -165,28 +207,38 @@ impl<'a> Translator<'a> {
                     .string(self, "filename")?
                     .ok_or_else(|| self.error(&volume.position, "a gridvolume needs a `filename`"))?;
                 let use_grid_bbox = q.boolean(self, "use_grid_bbox")?.unwrap_or(false);
-                for (key, expected) in [("filter_type", "trilinear"), ("wrap_mode", "clamp")] {
-                    if let Some(v) = q.string(self, key)? {
-                        if v != expected {
-                            return Err(self.error(
-                                &volume.position,
-                                format!("`{key}` `{v}` is not supported; glint reads grids {expected}"),
-                            ));
-                        }
+                if let Some(v) = q.string(self, "filter_type")? {
+                    if v != "trilinear" {
+                        return Err(self.error(
+                            &volume.position,
+                            format!("`filter_type` `{v}` is not supported; glint reads grids trilinear"),
+                        ));
                     }
                 }
+                let repeat = match q.string(self, "wrap_mode")?.as_deref() {
+                    None | Some("clamp") => false,
+                    // A repeated density would matter only in the half voxel at its box's
+                    // faces; an albedo is read everywhere the medium is.
+                    Some("repeat") if name == "albedo" => true,
+                    Some(v) => {
+                        return Err(self.error(
+                            &volume.position,
+                            format!("`wrap_mode` `{v}` is not supported here; glint reads grids clamped, and an albedo also repeated"),
+                        ))
+                    }
+                };
                 // Data in RGB variants either way; the accelerated lookup is the same lookup.
                 q.boolean(self, "raw")?;
                 q.boolean(self, "accel")?;
                 match (use_grid_bbox, to_world) {
-                    (true, None) => Value::Grid(file, None),
+                    (true, None) => Value::Grid(file, None, repeat),
                     (true, Some(_)) => {
                         return Err(self.error(
                             &volume.position,
                             "`use_grid_bbox` with a `to_world` is not supported: give the box by `to_world` alone",
                         ))
                     }
-                    (false, to_world) => Value::Grid(file, Some(to_world.unwrap_or(Mat4::IDENTITY))),
+                    (false, to_world) => Value::Grid(file, Some(to_world.unwrap_or(Mat4::IDENTITY)), repeat),
                 }
             }
             other => {

@@ -102,10 +102,17 @@ fn build_medium(desc: &MediumDesc, source: &Source) -> Result<Medium, (&'static 
             let albedo = match albedo {
                 None => Albedo::Constant(albedo_of(None, 0.8)?),
                 Some(AlbedoDesc::Constant(a)) => Albedo::Constant(albedo_of(Some(*a), 0.8)?),
-                Some(AlbedoDesc::Field(f)) => Albedo::Field(
-                    voxel_field(Some(&f.file), None, (f.min, f.max), &f.transform, source)
-                        .map_err(|(_, m)| ("albedo", format!("albedo: {m}")))?,
-                ),
+                Some(AlbedoDesc::Field(f)) => {
+                    let field = voxel_field(Some(&f.file), None, (f.min, f.max), &f.transform, source)
+                        .map_err(|(_, m)| ("albedo", format!("albedo: {m}")))?;
+                    Albedo::Field(match f.wrap.as_deref() {
+                        None | Some("clamp") => field,
+                        Some("repeat") => field.repeating(),
+                        Some(other) => {
+                            return Err(("albedo", format!("albedo: `wrap` is `clamp` or `repeat`, not `{other}`")))
+                        }
+                    })
+                }
             };
             let medium = GridMedium::new(density, scale(*s)?, albedo)
                 .ok_or(("scale", "the grid's largest density times `scale` is not finite".to_string()))?;

@@ -54,6 +54,9 @@ pub struct AlbedoField {
     pub max: Option<Vector>,
     #[serde(default)]
     pub transform: Vec<TransformOp>,
+    /// `clamp` (the default: outside its box, the nearest edge) or `repeat` (the field
+    /// repeated past its box, Mitsuba's `wrap_mode`).
+    pub wrap: Option<String>,
 }
 
 #[derive(Deserialize, Debug, Clone, Copy)]

@@ -96,7 +96,7 @@ impl Translator<'_> {
                 let albedo_file = self.made_grid(&name, "albedo", resolution, 3, albedo, true);
                 let file = self.made_grid(&name, "sigma_t", resolution, 3, sigma_t, false);
                 let albedo =
-                    AlbedoField { file: albedo_file, min: None, max: None, transform: placement.clone() };
+                    AlbedoField { file: albedo_file, min: None, max: None, transform: placement.clone(), wrap: None };
                 grid_medium(file, placement, AlbedoDesc::Field(albedo), scale, phase, None)
             }
             "cloud" => {
