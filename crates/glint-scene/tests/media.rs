@@ -6,8 +6,8 @@
 use std::path::PathBuf;
 
 use glint_core::integrators::IntegratorKind;
-use glint_core::render::{render, render_with, RenderSettings};
 use glint_core::media::MediumKind;
+use glint_core::render::{render, render_with, RenderSettings};
 use glint_core::Rgb;
 use glint_scene::load_scene;
 
