@@ -236,11 +236,40 @@ fn an_aov_integrator_renders_its_nested_integrators_image() {
 
 /// Plugins that exist only for Mitsuba's polarized variants are refused at their line, saying
 /// so (glint renders RGB without polarization); so are other plugins glint lacks.
+/// Mitsuba's polarizer and pplastic render as its RGB variants render them, with a warning
+/// that polarization is not simulated: the polarizer a clear sheet passing half the light
+/// (half its transmittance, textured too), pplastic glint's Fresnel plastic (Beckmann, η 1.49
+/// over air by default).
+#[test]
+fn polarizers_and_pplastic_render_as_without_polarization() {
+    let load = |name: &str, bsdf: &str| {
+        let text =
+            format!("<scene version=\"3.0.0\">\n{SENSOR}\n<shape type=\"sphere\">\n{bsdf}\n</shape>\n</scene>\n");
+        let loaded = glint_scene::load_scene(&scene_file(name, &text)).unwrap_or_else(|e| panic!("{e}"));
+        let material = format!("{:?}", loaded.scene.materials()[loaded.scene.objects()[0].material as usize]);
+        (material, loaded.warnings)
+    };
+    let (polarizer, warnings) = load(
+        "polarizer",
+        r#"<bsdf type="polarizer"><float name="theta" value="45"/><rgb name="transmittance" value="0.8"/></bsdf>"#,
+    );
+    assert!(polarizer.contains("ThinDielectric") && polarizer.contains("Vec3(0.4, 0.4, 0.4)"), "{polarizer}");
+    assert!(warnings.iter().any(|w| w.contains("half of the light")), "{warnings:?}");
+    let (plastic, warnings) = load(
+        "pplastic",
+        r#"<bsdf type="pplastic"><rgb name="diffuse_reflectance" value="0.05, 0.03, 0.1"/><float name="alpha" value="0.06"/></bsdf>"#,
+    );
+    assert!(
+        plastic.contains("FresnelPlastic") && plastic.contains("Beckmann") && plastic.contains("alpha_u: 0.06"),
+        "{plastic}"
+    );
+    assert!(plastic.contains(&format!("eta: {}", 1.49f32 / 1.000277)), "{plastic}");
+    assert!(warnings.iter().any(|w| w.contains("without polarization")), "{warnings:?}");
+}
+
 #[test]
 fn polarization_plugins_are_refused_as_such() {
     for (name, element) in [
-        ("pplastic", "<shape type=\"sphere\">\n<bsdf type=\"pplastic\"/>\n</shape>"),
-        ("polarizer", "<shape type=\"sphere\">\n<bsdf type=\"polarizer\"/>\n</shape>"),
         ("measured-polarized", "<shape type=\"sphere\">\n<bsdf type=\"measured_polarized\"/>\n</shape>"),
         ("stokes", "<integrator type=\"stokes\">\n<integrator type=\"path\"/>\n</integrator>"),
     ] {

@@ -19,6 +19,7 @@ use super::conductor::ConductorBsdf;
 use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
 use super::diffuse_transmission::DiffuseTransmissionBsdf;
+use super::fresnel_plastic::FresnelPlasticBsdf;
 use super::mask::NullBsdf;
 use super::mixed::MixedBsdf;
 use super::plastic::PlasticBsdf;
@@ -212,6 +213,7 @@ pub(super) enum Leaf<'a> {
     ThinDielectric(ThinDielectricBsdf),
     Plastic(PlasticBsdf),
     RoughPlastic(RoughPlasticBsdf<'a>),
+    FresnelPlastic(FresnelPlasticBsdf),
     Principled(PrincipledBsdf),
     PrincipledThin(PrincipledThinBsdf),
     Null(NullBsdf),
@@ -230,6 +232,7 @@ macro_rules! dispatch {
             Leaf::ThinDielectric($b) => $call,
             Leaf::Plastic($b) => $call,
             Leaf::RoughPlastic($b) => $call,
+            Leaf::FresnelPlastic($b) => $call,
             Leaf::Principled($b) => $call,
             Leaf::PrincipledThin($b) => $call,
             Leaf::Null($b) => $call,

@@ -15,6 +15,7 @@ mod conductor;
 mod dielectric;
 mod diffuse;
 mod diffuse_transmission;
+mod fresnel_plastic;
 mod mask;
 mod microfacet;
 mod mixed;
@@ -39,6 +40,7 @@ pub use conductor::{fresnel_conductor, named_metal, Conductor, METAL_NAMES};
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use diffuse_transmission::DiffuseTransmission;
+pub use fresnel_plastic::FresnelPlastic;
 pub use mask::Mask;
 pub use microfacet::{Distribution, Microfacet};
 pub use normal_map::NormalMap;
@@ -75,6 +77,8 @@ pub enum Material {
     ThinDielectric(ThinDielectric),
     Plastic(Plastic),
     RoughPlastic(RoughPlastic),
+    /// A rough specular reflection over a Fresnel-weighted Lambert term (Mitsuba's `pplastic`).
+    FresnelPlastic(Box<FresnelPlastic>),
     Principled(Box<Principled>),
     PrincipledThin(Box<PrincipledThin>),
     Blend(Box<Blend>),
@@ -169,6 +173,7 @@ impl Material {
             Material::ThinDielectric(m) => (m.bsdf(query, frame()), weight),
             Material::Plastic(m) => (m.bsdf(query, wo, frame()), weight),
             Material::RoughPlastic(m) => (m.bsdf(query, wo, frame()), weight),
+            Material::FresnelPlastic(m) => (m.bsdf(query, frame()), weight),
             Material::Principled(m) => (m.bsdf(query, frame()), weight),
             Material::PrincipledThin(m) => (m.bsdf(query, frame()), weight),
             Material::Blend(b) => {
@@ -280,6 +285,7 @@ impl Material {
             Material::ThinDielectric(m) => m.whitted(query, cos),
             Material::Plastic(m) => m.whitted(query, outside, cos),
             Material::RoughPlastic(m) => m.whitted(query, outside, cos),
+            Material::FresnelPlastic(m) => m.whitted(query, outside, cos),
             Material::Principled(m) => m.whitted(query, outside, cos),
             Material::PrincipledThin(m) => m.whitted(query, cos),
             Material::Blend(b) => {
@@ -390,6 +396,7 @@ impl Material {
                 | Material::RoughDielectric(_)
                 | Material::Plastic(_)
                 | Material::RoughPlastic(_)
+                | Material::FresnelPlastic(_)
                 | Material::Principled(_)
                 | Material::PrincipledThin(_)
         )
@@ -491,6 +498,7 @@ impl Material {
             Material::ThinDielectric(m) => max(&m.sheet.specular_reflectance).max(max(&m.sheet.specular_transmittance)),
             Material::Plastic(m) => max(&m.diffuse).max(max(&m.specular)),
             Material::RoughPlastic(m) => max(&m.plastic.diffuse).max(max(&m.plastic.specular)),
+            Material::FresnelPlastic(m) => max(&m.diffuse).max(max(&m.specular)),
             Material::Principled(m) => max(&m.base_color),
             Material::PrincipledThin(m) => max(&m.base_color),
             Material::Blend(b) => b.first.largest_factor().max(b.second.largest_factor()),

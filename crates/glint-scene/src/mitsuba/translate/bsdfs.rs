@@ -321,7 +321,62 @@ impl<'a> Translator<'a> {
                     }
                 }
             }
-            "pplastic" | "polarizer" | "measured_polarized" | "retarder" => {
+            // Without polarization Mitsuba's polarizer is a clear sheet that passes half of the
+            // light (its RGB variants' reading): a thin sheet of index 1 (no reflection) whose
+            // transmittance is half the polarizer's, whatever its angle.
+            "polarizer" => {
+                p.float(self, "theta")?;
+                p.boolean(self, "polarizing")?;
+                self.warn(
+                    &bsdf.position,
+                    "glint renders light without polarization: a polarizer passes half of the light whatever its angle, as in Mitsuba's RGB variants",
+                );
+                let half = match p.color(self, "transmittance")? {
+                    None => ColorDesc::Rgb([0.5; 3]),
+                    Some(ColorDesc::Rgb(c)) => ColorDesc::Rgb(c.map(|x| 0.5 * x)),
+                    Some(ColorDesc::Texture(texture)) => {
+                        let name = format!("half of {texture}");
+                        let factors = [ColorDesc::Rgb([0.5; 3]), ColorDesc::Texture(texture)];
+                        let desc = TextureDesc::Product { factors };
+                        self.scene.textures.insert(name.clone(), Located { value: desc, span: None });
+                        ColorDesc::Texture(name)
+                    }
+                };
+                MaterialDesc::ThinDielectric {
+                    int_ior: Some(1.0),
+                    ext_ior: Some(1.0),
+                    specular_reflectance: Some(ColorDesc::Rgb([0.0; 3])),
+                    specular_transmittance: Some(half),
+                }
+            }
+            // Without polarization, pplastic's Mueller matrices reduce to the Fresnel
+            // reflectance and transmittance of unpolarized light: glint's Fresnel plastic.
+            "pplastic" => {
+                self.warn(
+                    &bsdf.position,
+                    "glint renders light without polarization: pplastic is rendered as Mitsuba's RGB variants render it",
+                );
+                if p.find("eta").is_some() && (p.find("int_ior").is_some() || p.find("ext_ior").is_some()) {
+                    return Err(self.error(&bsdf.position, "give pplastic's `eta` or `int_ior`/`ext_ior`, not both"));
+                }
+                let eta = match p.float(self, "eta")? {
+                    Some(eta) => eta,
+                    None => self.ior_ratio(&p, 1.49)?,
+                };
+                MaterialDesc::FresnelPlastic {
+                    diffuse_reflectance: Some(
+                        p.color(self, "diffuse_reflectance")?.unwrap_or(ColorDesc::Rgb([0.5; 3])),
+                    ),
+                    specular_reflectance: p.color(self, "specular_reflectance")?,
+                    int_ior: Some(eta),
+                    ext_ior: Some(1.0),
+                    alpha: p.float(self, "alpha")?,
+                    alpha_u: p.float(self, "alpha_u")?,
+                    alpha_v: p.float(self, "alpha_v")?,
+                    distribution: Some(self.distribution(&p)?),
+                }
+            }
+            "measured_polarized" | "retarder" => {
                 return Err(self.error(&bsdf.position, polarized(&format!("<bsdf type=\"{kind}\">"))))
             }
             _ => {

@@ -116,6 +116,7 @@ impl Builder<'_> {
             MaterialDesc::ThinDielectric { .. } => dielectric::thin_dielectric(&p, desc),
             MaterialDesc::Plastic { .. } => plastic::plastic(&p, desc),
             MaterialDesc::RoughPlastic { .. } => plastic::rough_plastic(&p, desc),
+            MaterialDesc::FresnelPlastic { .. } => plastic::fresnel_plastic(&p, desc),
             MaterialDesc::Principled { .. } => principled::principled(&p, desc),
             MaterialDesc::PrincipledThin { .. } => principled::principled_thin(&p, desc),
             MaterialDesc::Blend { .. }

@@ -115,6 +115,19 @@ pub enum MaterialDesc {
         distribution: Option<String>,
         two_sided: Option<bool>,
     },
+    /// A rough specular reflection over a Lambert term weighed by the Fresnel transmittance
+    /// in and out (Mitsuba's `pplastic` without polarization); one-sided.
+    FresnelPlastic {
+        diffuse_reflectance: Option<ColorDesc>,
+        specular_reflectance: Option<ColorDesc>,
+        int_ior: Option<f32>,
+        ext_ior: Option<f32>,
+        alpha: Option<f32>,
+        alpha_u: Option<f32>,
+        alpha_v: Option<f32>,
+        /// `"beckmann"` (default) or `"ggx"`.
+        distribution: Option<String>,
+    },
     /// Disney's principled BSDF (Mitsuba's `principled`): each weight a number in [0, 1] or a
     /// texture's luminance; `specular` (in [0, 1]) or `eta` sets the index.
     Principled {
