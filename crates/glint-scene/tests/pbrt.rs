@@ -1125,3 +1125,53 @@ fn pbrts_curves_load_as_tubes_of_their_width() {
         "{error}"
     );
 }
+
+/// Textures of textures: `scale` of two textures is their product, `mix` of textures by a
+/// textured amount a mix, `directionmix` a mix by |n · dir| with `dir` in the texture's space
+/// (turned here by a rotation of 90° about z: +y becomes −x). A floor facing +z under a white
+/// sky, dir along +z after no rotation, shows the first texture (an analytic render).
+#[test]
+fn textures_of_textures_load_and_directionmix_picks_by_the_normal() {
+    let text = r#"WorldBegin
+Texture "checks" "spectrum" "checkerboard" "float uscale" 4 "float vscale" 4 "rgb tex1" [0.2 0.2 0.2] "rgb tex2" [0.6 0.6 0.6]
+Texture "bumps" "float" "fbm"
+Texture "scaled" "spectrum" "scale" "texture tex" "checks" "texture scale" "bumps"
+Texture "mixed" "spectrum" "mix" "texture tex1" "checks" "rgb tex2" [1 0 0] "texture amount" "bumps"
+Rotate 90 0 0 1
+Texture "facing" "spectrum" "directionmix" "texture tex1" "checks" "rgb tex2" [0 0 1]
+Material "diffuse" "texture reflectance" "scaled"
+Shape "sphere"
+Material "diffuse" "texture reflectance" "mixed"
+Shape "sphere"
+Material "diffuse" "texture reflectance" "facing"
+Shape "sphere"
+"#;
+    let path = scene_dir("texture-of-textures", &[("scene.pbrt", text.as_bytes())]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let material = |o: usize| format!("{:?}", loaded.scene.materials()[loaded.scene.objects()[o].material as usize]);
+    assert!(material(0).contains("Product") && material(0).contains("Noise"), "{}", material(0));
+    assert!(material(1).contains("Mix") && material(1).contains("Fbm"), "{}", material(1));
+    let facing = material(2);
+    assert!(facing.contains("DirectionMix") && facing.contains("direction: Vec3(-1.0, "), "{facing}");
+
+    // dir +z (no rotation) on a floor facing +z: all of the first texture, grey 0.5.
+    let floor = r#"LookAt 0 0 5  0 0 0  0 1 0
+Camera "orthographic"
+Film "rgb" "integer xresolution" 4 "integer yresolution" 4
+Integrator "path" "integer maxdepth" 1
+Sampler "independent" "integer pixelsamples" 1
+WorldBegin
+LightSource "infinite" "rgb L" [1 1 1]
+Texture "facing" "spectrum" "directionmix" "rgb tex1" [0.5 0.5 0.5] "rgb tex2" [0 0 1] "vector3 dir" [0 0 1]
+Material "diffuse" "texture reflectance" "facing"
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point3 P" [-5 -5 0  5 -5 0  5 5 0  -5 5 0]
+"#;
+    let path = scene_dir("directionmix-floor", &[("scene.pbrt", floor.as_bytes())]);
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let integrator = loaded.render.integrator.create(&loaded.render.integrator_settings).unwrap();
+    let settings = RenderSettings { spp: 64, seed: 5, filter: Filter::Box, sampler: SamplerKind::Independent };
+    let film = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film;
+    // Grey within the noise, and no blue of the second texture in it.
+    let pixel = film.pixel(1, 2);
+    assert!((pixel.x - 0.5).abs() < 0.03 && pixel.z == pixel.x, "{pixel}");
+}

@@ -82,10 +82,15 @@ impl Object {
             shape => shape.surface_at(prim, local, hit)?,
         };
         let mesh = self.mesh_point(prim, || local);
+        let normal = match &self.transform {
+            Some(t) => t.normal(surface.geometric_normal),
+            None => surface.geometric_normal,
+        };
         Some(TextureQuery {
             uv: surface.uv,
             point: object_point,
             world_point: point,
+            normal,
             dpdu: Vec3::ZERO,
             dpdv: Vec3::ZERO,
             mesh,

@@ -35,6 +35,7 @@ impl SurfaceHit {
             uv: self.geometry.uv,
             point: self.object_point,
             world_point: self.geometry.point,
+            normal: self.geometry.geometric_normal,
             dpdu: Vec3::ZERO,
             dpdv: Vec3::ZERO,
             mesh: object.mesh_point(self.prim, || match &object.transform {

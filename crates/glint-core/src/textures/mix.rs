@@ -3,7 +3,8 @@
 //! them; the scene readers make it of a `blend` of two Lambert materials, which is Lambert's
 //! lobe with the mixed colour: the same BSDF and the same sampling density, which the path
 //! tracer's lanes then shade. `Product`: two textures multiplied channel by channel (glTF's
-//! base colour times its vertex colours).
+//! base colour times its vertex colours). `DirectionMix`: two textures mixed by how squarely
+//! the surface faces a direction (pbrt's `directionmix`).
 
 use super::{Texture, TextureQuery};
 use crate::Rgb;
@@ -30,6 +31,24 @@ pub struct Product {
 impl Product {
     pub fn evaluate(&self, query: &TextureQuery) -> Rgb {
         self.factors[0].evaluate(query) * self.factors[1].evaluate(query)
+    }
+}
+
+/// |n · direction|·first + (1 − |n · direction|)·second, n the surface's geometric normal: the
+/// first texture where the surface faces `direction` (or its opposite), the second where it
+/// lies along it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DirectionMix {
+    /// A unit vector in world space.
+    pub direction: glam::Vec3,
+    pub first: Texture,
+    pub second: Texture,
+}
+
+impl DirectionMix {
+    pub fn evaluate(&self, query: &TextureQuery) -> Rgb {
+        let w = query.normal.dot(self.direction).abs().min(1.0);
+        w * self.first.evaluate(query) + (1.0 - w) * self.second.evaluate(query)
     }
 }
 
@@ -65,5 +84,22 @@ mod tests {
             factors: [Texture::Constant(Rgb::new(0.5, 2.0, 0.0)), Texture::Constant(Rgb::new(0.5, 0.25, 9.0))],
         };
         assert_eq!(product.evaluate(&TextureQuery::default()), Rgb::new(0.25, 0.5, 0.0));
+    }
+
+    /// By hand: facing the direction, the first texture; square to it, the second; at 60°,
+    /// half of each.
+    #[test]
+    fn direction_mixes_by_the_normals_cosine() {
+        let mix = DirectionMix {
+            direction: glam::Vec3::Z,
+            first: Texture::Constant(Rgb::ONE),
+            second: Texture::Constant(Rgb::ZERO),
+        };
+        let at = |n: glam::Vec3| mix.evaluate(&TextureQuery { normal: n, ..Default::default() }).x;
+        assert_eq!(at(glam::Vec3::Z), 1.0);
+        assert_eq!(at(-glam::Vec3::Z), 1.0);
+        assert_eq!(at(glam::Vec3::X), 0.0);
+        let tilted = glam::Vec3::new(3f32.sqrt() / 2.0, 0.0, 0.5);
+        assert!((at(tilted) - 0.5).abs() < 1e-6);
     }
 }

@@ -15,7 +15,7 @@ pub use attribute::AttributeTexture;
 pub use checker::{Checker, SolidChecker};
 pub use image::{ImageTexture, TexelFilter, Wrap};
 pub use mapped::{Mapped, Projection};
-pub use mix::{fraction, Mix, Product};
+pub use mix::{fraction, DirectionMix, Mix, Product};
 pub use noise::{fbm, perlin_noise, turbulence};
 pub use procedural::{Bilerp, Dots, Noise, NoisePattern};
 pub use solid::{Marble, Wood};
@@ -35,6 +35,9 @@ pub struct TextureQuery<'a> {
     pub point: Vec3,
     /// The hit point in world space, for textures mapped from a space of their own.
     pub world_point: Vec3,
+    /// The surface's geometric normal in world space (zero if unknown), for textures that
+    /// depend on which way the surface faces (pbrt's `directionmix`).
+    pub normal: Vec3,
     /// The surface's ∂p/∂u in world space (zero if unknown): the tangent anisotropic
     /// materials align with.
     pub dpdu: Vec3,
@@ -70,6 +73,7 @@ pub enum Texture {
     Mapped(Box<Mapped>),
     Mix(Box<Mix>),
     Product(Box<Product>),
+    DirectionMix(Box<DirectionMix>),
     /// pbrt's solid textures from noise. Boxed: its transform would make every texture larger.
     Noise(Box<Noise>),
     Dots(Box<Dots>),
@@ -99,6 +103,7 @@ impl Texture {
             Texture::Attribute(t) => t.evaluate(query),
             Texture::Mix(t) => t.evaluate(query),
             Texture::Product(t) => t.evaluate(query),
+            Texture::DirectionMix(t) => t.evaluate(query),
             Texture::Mapped(t) => t.evaluate(query),
             Texture::Noise(t) => t.evaluate(query),
             Texture::Dots(t) => t.evaluate(query.uv),
@@ -124,7 +129,13 @@ impl Texture {
     pub fn luminance_gradient(&self, query: &TextureQuery) -> Vec2 {
         match self {
             Texture::Image(t) => t.luminance_gradient(query.uv),
-            Texture::Noise(_) | Texture::Dots(_) | Texture::Bilerp(_) | Texture::Mapped(_) | Texture::Mix(_) => {
+            Texture::Noise(_)
+            | Texture::Dots(_)
+            | Texture::Bilerp(_)
+            | Texture::Mapped(_)
+            | Texture::Mix(_)
+            | Texture::Product(_)
+            | Texture::DirectionMix(_) => {
                 const STEP: f32 = 0.0005;
                 let height = |uv: Vec2, along: Vec3| {
                     let moved = TextureQuery {
@@ -153,6 +164,8 @@ impl Texture {
             Texture::Noise(_) | Texture::Dots(_) | Texture::Bilerp(_) => true,
             Texture::Mapped(t) => t.texture.has_uv_gradient(),
             Texture::Mix(t) => [&t.weight, &t.first, &t.second].iter().all(|t| t.has_uv_gradient()),
+            Texture::Product(t) => t.factors.iter().all(Texture::has_uv_gradient),
+            Texture::DirectionMix(t) => t.first.has_uv_gradient() && t.second.has_uv_gradient(),
             _ => false,
         }
     }
@@ -181,6 +194,7 @@ impl Texture {
             Texture::Attribute(t) => Rgb::splat(t.scale),
             Texture::Mix(t) => t.first.max_value().max(t.second.max_value()),
             Texture::Product(t) => t.factors[0].max_value() * t.factors[1].max_value(),
+            Texture::DirectionMix(t) => t.first.max_value().max(t.second.max_value()),
             Texture::Mapped(t) => t.texture.max_value(),
             Texture::Noise(t) => t.max_value(),
             Texture::Dots(t) => t.inside.max(t.outside),

@@ -22,7 +22,6 @@ use std::path::Path;
 use glint_core::lights::Environment;
 use glint_core::scene::SceneBuilder;
 use glint_core::shapes::IntersectMethods;
-use glint_core::textures::{Product, Texture};
 use glint_core::Named;
 
 use self::camera::build_camera;
@@ -35,7 +34,7 @@ use self::media::build_media;
 use self::render::build_render;
 use self::shapes::{build_object, MeshLibrary};
 pub(super) use self::textures::resolve_colour;
-use self::textures::{build_texture, check_mesh_attributes};
+use self::textures::{build_textures, check_mesh_attributes};
 use super::schema::*;
 use super::{find_key, LoadedScene};
 use crate::error::{Location, SceneError};
@@ -86,28 +85,7 @@ pub(crate) fn build(file: SceneFile, text: &str, path: &Path, source: &Source) -
         map: build_environment_map(&file.environment, source).map_err(|(key, m)| cx.error_at_key(key, m))?,
     };
 
-    // Products last: they name the others.
-    let mut textures = Vec::new();
-    let (products, others): (Vec<_>, Vec<_>) =
-        file.textures.iter().partition(|(_, entry)| matches!(entry.value, TextureDesc::Product { .. }));
-    for (name, entry) in others {
-        let texture = build_texture(&entry.value, source)
-            .map_err(|(key, m)| cx.error(&entry.span, Some(key), format!("texture `{name}`: {m}")))?;
-        textures.push((name.clone(), texture));
-    }
-    for &(name, entry) in &products {
-        let TextureDesc::Product { factors } = &entry.value else { unreachable!("partitioned") };
-        let factor = |c: &ColorDesc| match c {
-            ColorDesc::Texture(other) if products.iter().any(|(p, _)| *p == other) => {
-                Err(format!("texture `{name}`: a product's factor `{other}` is itself a product"))
-            }
-            _ => resolve_colour(c, &textures).map_err(|m| format!("texture `{name}`: {m}")),
-        };
-        let factors = [factor(&factors[0]), factor(&factors[1])];
-        let [first, second] = factors.map(|f| f.map_err(|m| cx.error(&entry.span, Some("factors"), m)));
-        let product = Texture::Product(Box::new(Product { factors: [first?, second?] }));
-        textures.push((name.clone(), product));
-    }
+    let textures = build_textures(&cx, &file, source)?;
 
     let materials = super::materials::build_materials(&cx, &file.materials, &textures)?;
 

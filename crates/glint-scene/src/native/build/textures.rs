@@ -8,8 +8,8 @@ use glam::{Affine2, Affine3A, Vec2, Vec3};
 use glint_core::scene::Object;
 use glint_core::shapes::Shape;
 use glint_core::textures::{
-    AttributeTexture, Bilerp, Checker, Dots, ImageTexture, Mapped, Marble, Noise, NoisePattern, Projection,
-    SolidChecker, TexelFilter, Texture, Wood, Wrap,
+    AttributeTexture, Bilerp, Checker, DirectionMix, Dots, ImageTexture, Mapped, Marble, Mix, Noise, NoisePattern,
+    Product, Projection, SolidChecker, TexelFilter, Texture, Wood, Wrap,
 };
 
 use super::checks::{non_negative, positive};
@@ -18,6 +18,69 @@ use super::Context;
 use crate::error::{did_you_mean, SceneError};
 use crate::native::schema::*;
 use crate::source::Source;
+
+/// Every texture of the `[textures]` table, by name; those made of others (products, mixes)
+/// after the rest, which they name.
+pub(super) fn build_textures(
+    cx: &Context,
+    file: &SceneFile,
+    source: &Source,
+) -> Result<Vec<(String, Texture)>, SceneError> {
+    // Textures made of others last: they name the others.
+    let mut textures = Vec::new();
+    let (composites, others): (Vec<_>, Vec<_>) = file.textures.iter().partition(|(_, entry)| {
+        matches!(entry.value, TextureDesc::Product { .. } | TextureDesc::Mix { .. } | TextureDesc::DirectionMix { .. })
+    });
+    for (name, entry) in others {
+        let texture = build_texture(&entry.value, source)
+            .map_err(|(key, m)| cx.error(&entry.span, Some(key), format!("texture `{name}`: {m}")))?;
+        textures.push((name.clone(), texture));
+    }
+    let mut built = Vec::new();
+    for &(name, entry) in &composites {
+        let part = |key: &'static str, c: &ColorDesc| match c {
+            ColorDesc::Texture(other) if composites.iter().any(|(p, _)| *p == other) => Err(cx.error(
+                &entry.span,
+                Some(key),
+                format!("texture `{name}`: `{other}` is itself made of other textures, which a `{key}` cannot name"),
+            )),
+            _ => resolve_colour(c, &textures)
+                .map_err(|m| cx.error(&entry.span, Some(key), format!("texture `{name}`: {m}"))),
+        };
+        let texture = match &entry.value {
+            TextureDesc::Product { factors: [a, b] } => {
+                Texture::Product(Box::new(Product { factors: [part("factors", a)?, part("factors", b)?] }))
+            }
+            TextureDesc::Mix { first, second, amount } => Texture::Mix(Box::new(Mix {
+                weight: part("amount", amount)?,
+                first: part("first", first)?,
+                second: part("second", second)?,
+            })),
+            TextureDesc::DirectionMix { first, second, direction, transform } => {
+                let to_world = build_transform(transform)
+                    .map_err(|m| cx.error(&entry.span, Some("transform"), format!("texture `{name}`: {m}")))?;
+                let direction = Vec3::from(*direction);
+                let direction =
+                    to_world.map_or(direction, |t| t.vector(direction)).try_normalize().ok_or_else(|| {
+                        cx.error(
+                            &entry.span,
+                            Some("direction"),
+                            format!("texture `{name}`: `direction` must be a nonzero vector"),
+                        )
+                    })?;
+                Texture::DirectionMix(Box::new(DirectionMix {
+                    direction,
+                    first: part("first", first)?,
+                    second: part("second", second)?,
+                }))
+            }
+            _ => unreachable!("partitioned"),
+        };
+        built.push((name.clone(), texture));
+    }
+    textures.extend(built);
+    Ok(textures)
+}
 
 /// A texture, or the key its error is about and the message.
 pub(super) fn build_texture(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'static str, String)> {
@@ -166,8 +229,8 @@ fn build_unmapped(desc: &TextureDesc, source: &Source) -> Result<Texture, (&'sta
             v11: finite("v11", *v11)?,
             uv_transform: uv_map(Vec2::ONE, uv_transform.as_ref())?,
         })),
-        TextureDesc::Product { .. } => {
-            return Err(("factors", "a product is made after the textures it names (see `build`)".into()))
+        TextureDesc::Product { .. } | TextureDesc::Mix { .. } | TextureDesc::DirectionMix { .. } => {
+            return Err(("type", "a texture made of others is made after them (see `build`)".into()))
         }
         TextureDesc::MeshAttribute { name, scale } => {
             if !(name.starts_with("vertex_") || name.starts_with("face_")) {

@@ -72,6 +72,23 @@ pub enum TextureDesc {
     Product {
         factors: [ColorDesc; 2],
     },
+    /// (1 − w)·first + w·second, w the `amount`'s luminance clamped to [0, 1] (pbrt's `mix`);
+    /// the textures it names cannot be products or mixes themselves.
+    Mix {
+        first: ColorDesc,
+        second: ColorDesc,
+        amount: ColorDesc,
+    },
+    /// |n · direction|·first + (1 − |n · direction|)·second, n the surface's geometric normal
+    /// and `direction` placed by `transform` (pbrt's `directionmix`); the textures it names
+    /// cannot be products or mixes themselves.
+    DirectionMix {
+        first: ColorDesc,
+        second: ColorDesc,
+        direction: Vector,
+        #[serde(default)]
+        transform: Vec<TransformOp>,
+    },
     /// pbrt's `fbm`: fractional Brownian motion of the point in the texture's space.
     Fbm {
         roughness: Option<f32>,

@@ -21,6 +21,16 @@ pub(super) enum Tex {
     Glint(String, Option<TextureDesc>),
 }
 
+impl Tex {
+    /// The value or the texture's name, as a colour parameter gives it.
+    fn colour(self) -> ColorDesc {
+        match self {
+            Tex::Constant(c) => ColorDesc::Rgb(c),
+            Tex::Glint(name, _) => ColorDesc::Texture(name),
+        }
+    }
+}
+
 impl Translator<'_> {
     /// A colour parameter: a value, or a texture (a constant one folded in).
     pub(super) fn colour(&self, p: &Params, name: &str, default: [f32; 3], albedo: bool) -> Result<ColorDesc> {
@@ -257,27 +267,41 @@ impl Translator<'_> {
                         self.scene.textures.insert(glint.clone(), Located { value: desc.clone(), span: None });
                         Tex::Glint(glint, Some(desc))
                     }
-                    _ => {
-                        return Err(self.parser.error(
-                            d.at,
-                            "a scale texture is supported for a value times a value or an image, not of two textures",
-                        ))
+                    (a, b) => {
+                        let desc = TextureDesc::Product { factors: [a.colour(), b.colour()] };
+                        self.procedural(&name, d, desc)
                     }
                 }
             }
             "mix" => {
                 let (a, b) = (constant_of(self, "tex1", 0.0)?, constant_of(self, "tex2", 1.0)?);
-                let amount = p.float("amount", 0.5).map_err(|f| self.fail(f))?;
-                match (a, b) {
-                    (Tex::Constant(x), Tex::Constant(y)) => {
-                        Tex::Constant([0, 1, 2].map(|i| (1.0 - amount) * x[i] + amount * y[i]))
+                let amount = match p.float_or_texture("amount").map_err(|f| self.fail(f))? {
+                    None => Tex::Constant([0.5; 3]),
+                    Some(Textured::Value(x)) => Tex::Constant([x; 3]),
+                    Some(Textured::Texture(t)) => {
+                        self.float_textures.get(&t).cloned().ok_or_else(|| self.unknown_texture(&p, "amount", &t))?
                     }
-                    _ => {
-                        return Err(self
-                            .parser
-                            .error(d.at, "a mix texture is supported for two values (glint's textures do not blend)"))
+                };
+                match (a, b, amount) {
+                    (Tex::Constant(x), Tex::Constant(y), Tex::Constant([w, ..])) => {
+                        Tex::Constant([0, 1, 2].map(|i| (1.0 - w) * x[i] + w * y[i]))
+                    }
+                    (a, b, amount) => {
+                        let desc = TextureDesc::Mix { first: a.colour(), second: b.colour(), amount: amount.colour() };
+                        self.procedural(&name, d, desc)
                     }
                 }
+            }
+            "directionmix" => {
+                let (a, b) = (constant_of(self, "tex1", 0.0)?, constant_of(self, "tex2", 1.0)?);
+                let direction = p.triple("dir", [0.0, 1.0, 0.0]).map_err(|f| self.fail(f))?;
+                let desc = TextureDesc::DirectionMix {
+                    first: a.colour(),
+                    second: b.colour(),
+                    direction,
+                    transform: vec![matrix_op(self.state.ctm)],
+                };
+                self.procedural(&name, d, desc)
             }
             "fbm" | "wrinkled" | "windy" | "marble" => {
                 // Solid textures: the point in the texture's space, the transform in force here.
@@ -343,7 +367,7 @@ impl Translator<'_> {
                 return Err(self.parser.error(
                     d.at,
                     format!(
-                    "texture `{other}` is not supported; glint reads imagemap, checkerboard, scale, mix, constant, fbm, wrinkled, windy, marble, dots and bilerp"
+                    "texture `{other}` is not supported; glint reads imagemap, checkerboard, scale, mix, directionmix, constant, fbm, wrinkled, windy, marble, dots and bilerp"
                 ),
                 ))
             }
