@@ -954,3 +954,42 @@ fn vertex_colours_multiply_the_base_colour() {
     let centre = film.pixel(film.width / 2, film.height / 2);
     assert!((centre - Rgb::new(0.4, 0.4, 0.2)).abs().max_element() < 1e-4, "{centre}");
 }
+
+/// KHR_materials_volume's attenuation becomes an absorbing medium inside the material's
+/// meshes: colour ½ over a distance 2 is σ_a = ln 2 / 2 per unit (and colour 1 absorbs
+/// nothing); the scene is rendered with volpath, and a material without attenuation makes no
+/// medium.
+#[test]
+fn volume_attenuation_is_an_absorbing_interior_medium() {
+    let mut b = Builder::default();
+    let mut glass = b.quad();
+    glass["material"] = json!(0);
+    let mut plain = b.quad();
+    plain["material"] = json!(1);
+    let transmissive = |attenuation: bool| {
+        let mut volume = json!({ "thicknessFactor": 1.0 });
+        if attenuation {
+            volume["attenuationColor"] = json!([0.5, 0.25, 1.0]);
+            volume["attenuationDistance"] = json!(2.0);
+        }
+        json!({
+            "pbrMetallicRoughness": { "metallicFactor": 0.0 },
+            "extensions": { "KHR_materials_transmission": { "transmissionFactor": 1.0 }, "KHR_materials_volume": volume }
+        })
+    };
+    let document = json!({
+        "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_volume"],
+        "scenes": [{ "nodes": [0, 1] }],
+        "nodes": [{ "mesh": 0 }, { "mesh": 1, "translation": [3, 0, 0] }],
+        "meshes": [{ "primitives": [glass] }, { "primitives": [plain] }],
+        "materials": [transmissive(true), transmissive(false)]
+    });
+    let (document, _) = b.finish(document, Some("data"));
+    let loaded = load_scene(&write_json("volume", &document)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(loaded.render.integrator, IntegratorKind::VolPath);
+    let scene = &loaded.scene;
+    assert_eq!(scene.media().len(), 1);
+    let shown = format!("{:?}", scene.media()[0]);
+    let sigma = |c: f32| (1.0 / c).ln() / 2.0;
+    assert!(shown.contains(&format!("{:?}", Rgb::new(sigma(0.5), sigma(0.25), 0.0))), "{shown}");
+}

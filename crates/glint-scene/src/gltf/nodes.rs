@@ -69,7 +69,8 @@ impl<'a> Reader<'a> {
         let materials = materials::translate(self.document, self.images, &coloured, made, &mut scene, &mut warnings)?;
         // Shadow rays pass a cut-out or blended surface only under volpath (the path tracer
         // stops them at any surface, so a punctual light would cast a cut-out's whole quad).
-        if materials.iter().any(|m| m.alpha) {
+        // So do media (KHR_materials_volume's attenuation).
+        if materials.iter().any(|m| m.alpha || m.interior.is_some()) {
             scene.render.integrator = "volpath".into();
         }
 
@@ -156,10 +157,17 @@ impl<'a> Reader<'a> {
                             },
                             span: None,
                         });
-                        ShapeDesc::Instance { interior: None, exterior: None, mesh: library, material, transform, name }
+                        ShapeDesc::Instance {
+                            interior: info.interior.clone(),
+                            exterior: None,
+                            mesh: library,
+                            material,
+                            transform,
+                            name,
+                        }
                     } else {
                         ShapeDesc::Mesh {
-                            interior: None,
+                            interior: info.interior.clone(),
                             exterior: None,
                             file: None,
                             data: Some(primitive.data.clone()),
