@@ -993,3 +993,47 @@ fn volume_attenuation_is_an_absorbing_interior_medium() {
     let sigma = |c: f32| (1.0 / c).ln() / 2.0;
     assert!(shown.contains(&format!("{:?}", Rgb::new(sigma(0.5), sigma(0.25), 0.0))), "{shown}");
 }
+
+/// EXT_mesh_gpu_instancing places a node's mesh once per instance, by each instance's
+/// translation, rotation and scale within the node: three instances of a quad, the second
+/// turned a quarter about x (edge-on to the view, facing y) and the third scaled by 2, under a
+/// node moved along z.
+#[test]
+fn gpu_instancing_places_the_mesh_per_instance() {
+    let mut b = Builder::default();
+    let quad = b.quad();
+    let translations = b.floats(&[[0.0, 0.0, 0.0], [5.0, 0.0, 0.0], [10.0, 0.0, 0.0]]);
+    let half = std::f32::consts::FRAC_1_SQRT_2;
+    let rotation_bytes: Vec<u8> = [[0.0, 0.0, 0.0, 1.0], [half, 0.0, 0.0, half], [0.0, 0.0, 0.0, 1.0]]
+        .iter()
+        .flatten()
+        .flat_map(|x: &f32| x.to_le_bytes())
+        .collect();
+    let rotations = b.accessor(&rotation_bytes, 3, "VEC4", 5126, None);
+    let scales = b.floats(&[[1.0; 3], [1.0; 3], [2.0; 3]]);
+    let document = json!({
+        "extensionsUsed": ["EXT_mesh_gpu_instancing"],
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{
+            "mesh": 0,
+            "translation": [0, 0, -3],
+            "extensions": { "EXT_mesh_gpu_instancing": { "attributes": { "TRANSLATION": translations, "ROTATION": rotations, "SCALE": scales } } }
+        }],
+        "meshes": [{ "primitives": [quad] }]
+    });
+    let (document, _) = b.finish(document, Some("data"));
+    let loaded = load_scene(&write_json("gpu-instancing", &document)).unwrap_or_else(|e| panic!("{e}"));
+    assert!(!loaded.warnings.iter().any(|w| w.contains("EXT_mesh_gpu_instancing")), "{:?}", loaded.warnings);
+    let scene = &loaded.scene;
+    assert_eq!(scene.objects().len(), 3);
+    // The quad spans ±1 in x and y: seen along −z through each instance's corner region.
+    let hit_at = |x: f32, y: f32| scene.intersect(&Ray::new(Vec3::new(x, y, 5.0), -Vec3::Z)).map(|h| h.t);
+    assert_eq!(hit_at(0.5, 0.5), Some(8.0));
+    // Turned about x: edge-on along −z, met along −y at y = 0 (z from −4 to −2).
+    assert!(hit_at(5.5, 0.9).is_none());
+    let down = scene.intersect(&Ray::new(Vec3::new(5.5, 5.0, -3.5), -Vec3::Y)).map(|h| h.t);
+    assert!(down.is_some_and(|t| (t - 5.0).abs() < 1e-4), "{down:?}");
+    // Scaled by 2: reaches x = 10 + 1.9.
+    assert!(hit_at(11.9, 0.0).is_some_and(|t| (t - 8.0).abs() < 1e-4));
+    assert!(hit_at(2.5, 0.0).is_none());
+}

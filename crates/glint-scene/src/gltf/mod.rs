@@ -21,8 +21,9 @@ use crate::source::{MadeFile, Source};
 
 /// Extensions whose meaning glint reads; others in `extensionsUsed` are named in a warning,
 /// and a file that lists one of the others in `extensionsRequired` is refused.
-const READ_EXTENSIONS: [&str; 9] = [
+const READ_EXTENSIONS: [&str; 10] = [
     "KHR_lights_punctual",
+    "EXT_mesh_gpu_instancing",
     "KHR_mesh_quantization",
     "KHR_materials_transmission",
     "KHR_materials_ior",

@@ -103,11 +103,19 @@ impl<'a> Reader<'a> {
             ));
         }
 
+        // EXT_mesh_gpu_instancing: a node's mesh placed once per instance, each by its own
+        // translation, rotation and scale within the node.
+        let mut instanced: HashMap<usize, Vec<Mat4>> = HashMap::new();
+        for (node, _) in &placed {
+            if let (Some(_), Some(extension)) = (node.mesh(), node.extension_value("EXT_mesh_gpu_instancing")) {
+                instanced.insert(node.index(), self.gpu_instances(node.index(), extension)?);
+            }
+        }
         let mut primitives: HashMap<usize, Vec<Primitive>> = HashMap::new();
         let mut uses: HashMap<usize, usize> = HashMap::new();
         for (node, _) in &placed {
             if let Some(mesh) = node.mesh() {
-                *uses.entry(mesh.index()).or_default() += 1;
+                *uses.entry(mesh.index()).or_default() += instanced.get(&node.index()).map_or(1, Vec::len);
                 if let std::collections::hash_map::Entry::Vacant(entry) = primitives.entry(mesh.index()) {
                     entry.insert(self.primitives(&mesh, &materials, &mut warnings)?);
                 }
@@ -117,72 +125,80 @@ impl<'a> Reader<'a> {
         let mut bounds = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
         let mut camera = None;
         let mut hidden = 0;
-        for (node, world) in &placed {
-            if !world.is_finite() {
+        for (node, node_world) in &placed {
+            if !node_world.is_finite() {
                 return Err(format!("node {}: its transform is not finite", node.index()));
             }
-            // A zero scale hides a node (a common way to switch parts off).
-            if node.mesh().is_some() && world.determinant() == 0.0 {
-                hidden += 1;
-                continue;
-            }
-            if let Some(mesh) = node.mesh() {
-                for (p, primitive) in primitives[&mesh.index()].iter().enumerate() {
-                    for &q in &primitive.data.positions {
-                        let w = world.transform_point3(Vec3::from(q));
-                        bounds = (bounds.0.min(w), bounds.1.max(w));
-                    }
-                    let info: &MaterialInfo = &materials[primitive.material];
-                    let material = match (&primitive.data.colors, &info.vertex_coloured) {
-                        (Some(_), Some(coloured)) => coloured.clone(),
-                        _ => info.name.clone(),
-                    };
-                    let transform = vec![TransformOp::Matrix(world.transpose().to_cols_array_2d())];
-                    let name = Some(
-                        node.name().or(mesh.name()).map_or_else(|| format!("node {}", node.index()), str::to_string),
-                    );
-                    let smooth = primitive.data.normals.is_some();
-                    // Vertex colours are read through the mesh's own attributes, so a coloured
-                    // primitive is placed as a mesh of its own.
-                    let desc = if uses[&mesh.index()] > 1 && !info.emits && primitive.data.colors.is_none() {
-                        let library = format!("mesh {} primitive {p}", mesh.index());
-                        scene.meshes.entry(library.clone()).or_insert_with(|| Located {
-                            value: MeshDesc {
+            let one = [Mat4::IDENTITY];
+            let instances = instanced.get(&node.index()).map_or(&one[..], Vec::as_slice);
+            for world in instances.iter().map(|instance| *node_world * *instance) {
+                let world = &world;
+                // A zero scale hides a node (a common way to switch parts off).
+                if node.mesh().is_some() && world.determinant() == 0.0 {
+                    hidden += 1;
+                    continue;
+                }
+                if let Some(mesh) = node.mesh() {
+                    for (p, primitive) in primitives[&mesh.index()].iter().enumerate() {
+                        for &q in &primitive.data.positions {
+                            let w = world.transform_point3(Vec3::from(q));
+                            bounds = (bounds.0.min(w), bounds.1.max(w));
+                        }
+                        let info: &MaterialInfo = &materials[primitive.material];
+                        let material = match (&primitive.data.colors, &info.vertex_coloured) {
+                            (Some(_), Some(coloured)) => coloured.clone(),
+                            _ => info.name.clone(),
+                        };
+                        let transform = vec![TransformOp::Matrix(world.transpose().to_cols_array_2d())];
+                        let name = Some(
+                            node.name()
+                                .or(mesh.name())
+                                .map_or_else(|| format!("node {}", node.index()), str::to_string),
+                        );
+                        let smooth = primitive.data.normals.is_some();
+                        // Vertex colours are read through the mesh's own attributes, so a coloured
+                        // primitive is placed as a mesh of its own.
+                        let desc = if uses[&mesh.index()] > 1 && !info.emits && primitive.data.colors.is_none() {
+                            let library = format!("mesh {} primitive {p}", mesh.index());
+                            scene.meshes.entry(library.clone()).or_insert_with(|| Located {
+                                value: MeshDesc {
+                                    file: None,
+                                    data: Some(primitive.data.clone()),
+                                    shape_index: 0,
+                                    smooth,
+                                    flip_v: false,
+                                    compute_normals: false,
+                                },
+                                span: None,
+                            });
+                            ShapeDesc::Instance {
+                                interior: info.interior.clone(),
+                                exterior: None,
+                                mesh: library,
+                                material,
+                                transform,
+                                name,
+                            }
+                        } else {
+                            ShapeDesc::Mesh {
+                                interior: info.interior.clone(),
+                                exterior: None,
                                 file: None,
                                 data: Some(primitive.data.clone()),
                                 shape_index: 0,
                                 smooth,
                                 flip_v: false,
                                 compute_normals: false,
-                            },
-                            span: None,
-                        });
-                        ShapeDesc::Instance {
-                            interior: info.interior.clone(),
-                            exterior: None,
-                            mesh: library,
-                            material,
-                            transform,
-                            name,
-                        }
-                    } else {
-                        ShapeDesc::Mesh {
-                            interior: info.interior.clone(),
-                            exterior: None,
-                            file: None,
-                            data: Some(primitive.data.clone()),
-                            shape_index: 0,
-                            smooth,
-                            flip_v: false,
-                            compute_normals: false,
-                            material,
-                            transform,
-                            name,
-                        }
-                    };
-                    scene.shapes.push(Located { value: desc, span: None });
+                                material,
+                                transform,
+                                name,
+                            }
+                        };
+                        scene.shapes.push(Located { value: desc, span: None });
+                    }
                 }
             }
+            let world = node_world;
             if let (Some(c), None) = (node.camera(), &camera) {
                 camera = Some(self.camera(&c, world)?);
             }
@@ -193,7 +209,7 @@ impl<'a> Reader<'a> {
             }
         }
         if hidden > 0 {
-            warnings.push(format!("{}: {hidden} nodes scaled to zero are left out", self.name.display()));
+            warnings.push(format!("{}: {hidden} nodes or instances scaled to zero are left out", self.name.display()));
         }
         let framed = (bounds.0.cmple(bounds.1).all()).then_some(bounds);
         scene.camera.value = match camera {
@@ -210,6 +226,41 @@ impl<'a> Reader<'a> {
             ));
         }
         Ok((scene, warnings))
+    }
+
+    /// The instances of EXT_mesh_gpu_instancing on node `node`: each a transform from its
+    /// `TRANSLATION`, `ROTATION` (a unit quaternion) and `SCALE` accessors (any of them may be
+    /// missing), all of one count.
+    fn gpu_instances(&self, node: usize, extension: &serde_json::Value) -> Result<Vec<Mat4>, String> {
+        let at = format!("node {node}: EXT_mesh_gpu_instancing");
+        let attribute = |name: &str, allowed: &Allowed| -> Result<Option<Vec<f32>>, String> {
+            let Some(index) = extension.get("attributes").and_then(|a| a.get(name)) else { return Ok(None) };
+            let accessor = index
+                .as_u64()
+                .and_then(|i| self.document.accessors().nth(i as usize))
+                .ok_or_else(|| format!("{at}: {name} names no accessor"))?;
+            accessors::read(&accessor, self.buffers, allowed, |x| x as f32)
+                .map(Some)
+                .map_err(|m| format!("{at}: {name}: {m}"))
+        };
+        let translations = attribute("TRANSLATION", &INSTANCE_VECTORS)?;
+        let rotations = attribute("ROTATION", &INSTANCE_ROTATIONS)?;
+        let scales = attribute("SCALE", &INSTANCE_VECTORS)?;
+        let counts = [(&translations, 3), (&rotations, 4), (&scales, 3)].map(|(v, n)| v.as_ref().map(|v| v.len() / n));
+        let count = counts.iter().flatten().copied().max().ok_or_else(|| format!("{at}: no attributes"))?;
+        if counts.iter().flatten().any(|&c| c != count) {
+            return Err(format!("{at}: its attributes hold different numbers of instances ({counts:?})"));
+        }
+        Ok((0..count)
+            .map(|i| {
+                let t = translations.as_ref().map_or(Vec3::ZERO, |v| Vec3::from_slice(&v[3 * i..]));
+                let r = rotations.as_ref().map_or(glam::Quat::IDENTITY, |v| {
+                    glam::Quat::from_xyzw(v[4 * i], v[4 * i + 1], v[4 * i + 2], v[4 * i + 3]).normalize()
+                });
+                let s = scales.as_ref().map_or(Vec3::ONE, |v| Vec3::from_slice(&v[3 * i..]));
+                Mat4::from_scale_rotation_translation(s, r, t)
+            })
+            .collect())
     }
 
     fn primitives(
@@ -449,6 +500,11 @@ const TEXCOORDS: Allowed = Allowed {
 };
 const COLORS: Allowed =
     Allowed { dimensions: &[Dimensions::Vec3, Dimensions::Vec4], types: &[DataType::F32, DataType::U8, DataType::U16] };
+/// EXT_mesh_gpu_instancing's translations and scales (floats), and rotations (floats or
+/// normalised integers).
+const INSTANCE_VECTORS: Allowed = Allowed { dimensions: &[Dimensions::Vec3], types: &[DataType::F32] };
+const INSTANCE_ROTATIONS: Allowed =
+    Allowed { dimensions: &[Dimensions::Vec4], types: &[DataType::F32, DataType::I8, DataType::I16] };
 const INDICES: Allowed =
     Allowed { dimensions: &[Dimensions::Scalar], types: &[DataType::U8, DataType::U16, DataType::U32] };
 
