@@ -234,8 +234,6 @@ fn an_aov_integrator_renders_its_nested_integrators_image() {
     assert!(e.contains("aov-alone.xml:3:") && e.contains("no nested <integrator>"), "{e}");
 }
 
-/// Plugins that exist only for Mitsuba's polarized variants are refused at their line, saying
-/// so (glint renders RGB without polarization); so are other plugins glint lacks.
 /// Mitsuba's polarizer and pplastic render as its RGB variants render them, with a warning
 /// that polarization is not simulated: the polarizer a clear sheet passing half the light
 /// (half its transmittance, textured too), pplastic glint's Fresnel plastic (Beckmann, η 1.49
@@ -267,6 +265,8 @@ fn polarizers_and_pplastic_render_as_without_polarization() {
     assert!(warnings.iter().any(|w| w.contains("without polarization")), "{warnings:?}");
 }
 
+/// Plugins that exist only for Mitsuba's polarized variants are refused at their line, saying
+/// so (glint renders RGB without polarization); so are other plugins glint lacks.
 #[test]
 fn polarization_plugins_are_refused_as_such() {
     for (name, element) in [

@@ -1027,13 +1027,11 @@ Shape "trianglemesh" "integer indices" [0 1 2 0 2 3] "point3 P" [-1 -1 0  1 -1 0
     let settings = RenderSettings { spp: 64, seed: 5, filter: Filter::Box, sampler: SamplerKind::Independent };
     let film = render(&loaded.scene, integrator.as_ref(), &settings, &|| {}).film;
     // Under a white sky of radiance 1, a diffuse floor returns its albedo: 0.1 + 0.8 s, s the
-    // pixel's mean u (columns at 1/8, 3/8, 5/8, 7/8; pbrt's screen x runs along world −x seen
-    // from +z, so the columns may come mirrored: either order passes, each within the noise).
+    // pixel's mean u. pbrt's LookAt from +z with y up puts the camera's +x along world −x
+    // (right = up × view), so the image's first column sees u = 7/8 and its last u = 1/8.
     let columns: Vec<f32> = (0..4).map(|x| (0..4).map(|y| film.pixel(x, y).x).sum::<f32>() / 4.0).collect();
-    let expected: Vec<f32> = [1.0, 3.0, 5.0, 7.0].iter().map(|s| 0.1 + 0.8 * s / 8.0).collect();
-    let mirrored: Vec<f32> = expected.iter().rev().copied().collect();
-    let near = |a: &[f32], b: &[f32]| a.iter().zip(b).all(|(a, b)| (a - b).abs() < 0.03);
-    assert!(near(&columns, &expected) || near(&columns, &mirrored), "{columns:?} against {expected:?}");
+    let expected: Vec<f32> = [7.0, 5.0, 3.0, 1.0].iter().map(|s| 0.1 + 0.8 * s / 8.0).collect();
+    assert!(columns.iter().zip(&expected).all(|(a, b)| (a - b).abs() < 0.03), "{columns:?} against {expected:?}");
 
     let load = |texture: &str, material: &str, test: &str| {
         let text = format!("WorldBegin\nTranslate 1 2 3\n{texture}\nMaterial {material}\nShape \"sphere\"\n");

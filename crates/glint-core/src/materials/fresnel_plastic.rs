@@ -61,8 +61,10 @@ impl FresnelPlastic {
     }
 
     pub(super) fn bsdf(&self, query: &TextureQuery, frame: Frame) -> Leaf<'static> {
+        let anisotropic = self.alpha_u != self.alpha_v;
         Leaf::FresnelPlastic(FresnelPlasticBsdf {
-            frame,
+            // α_u along ∂p/∂u, as the other anisotropic members.
+            frame: if anisotropic { frame.along(query.dpdu) } else { frame },
             diffuse: self.diffuse.evaluate(query),
             specular: self.specular.evaluate(query),
             eta: self.eta,

@@ -231,6 +231,7 @@ impl Material {
         match self {
             Material::RoughConductor(m) => m.alpha_u != m.alpha_v,
             Material::RoughDielectric(m) => m.alpha_u != m.alpha_v,
+            Material::FresnelPlastic(m) => m.alpha_u != m.alpha_v,
             Material::Principled(m) => m.anisotropic != Texture::Constant(Rgb::ZERO),
             Material::PrincipledThin(m) => m.anisotropic != Texture::Constant(Rgb::ZERO),
             Material::Blend(b) => b.first.needs_tangent() || b.second.needs_tangent(),

@@ -13,14 +13,16 @@
 //! Each straight segment is intersected exactly: the swept sphere of a segment whose radius
 //! changes linearly is a cone tangent to its two end spheres, a quadric, so the ray meets it
 //! at the roots of a quadratic. A cubic segment is cut into straight pieces fine enough that
-//! the tube's axis strays from the cubic by at most 2 % of its radius (the chord's distance
-//! from a cubic over a parameter step h is at most max|c″| h² / 8), joined by spheres, and
-//! shaded with the cubic's own normal, so that neither silhouette nor shading shows the
-//! pieces. Every piece is a primitive of the BVH.
+//! the tube's axis strays from the cubic by at most 2 % of the segment's largest radius (the
+//! chord's distance from a cubic over a parameter step h is at most max|c″| h² / 8; at most 64
+//! pieces), joined by spheres, and shaded with the normal of the sphere swept along the cubic
+//! itself, so that neither silhouette nor shading shows the pieces. Every piece is a
+//! primitive of the BVH.
 //!
 //! Only the outside is a surface: a ray that starts inside a tube leaves it unseen (Embree's
 //! round curves, and so Mitsuba's, do the same), so a ray leaving the surface never meets it
-//! again from within.
+//! again from within. A piece's entry point that lies within its neighbours on the curve is
+//! inside the tube, so the joints and bends are not seen from within either.
 //!
 //! Parameterisation (Mitsuba's): v runs along the curves, from 0 at the start of the first
 //! segment to 1 at the end of the last (all curves of the shape in order), u around the tube,
@@ -104,6 +106,9 @@ struct Piece {
     r1: f32,
     /// Bit 0: the sphere at p0 is part of the surface; bit 1: the one at p1.
     caps: u8,
+    /// Whether the pieces before and after this one (in `Curves::pieces`) belong to the same
+    /// curve: a point within them is inside the tube, not on its surface.
+    joined: [bool; 2],
     segment: u32,
     v0: f32,
     v1: f32,
@@ -202,8 +207,12 @@ impl Curves {
                         CurveBasis::Linear => 0b11,
                         _ => u8::from(pieces.len() > first_piece),
                     };
-                    pieces.push(Piece { p0, p1, r0, r1, caps, segment: s as u32, v0, v1 });
+                    let joined = [pieces.len() > first_piece, true];
+                    pieces.push(Piece { p0, p1, r0, r1, caps, joined, segment: s as u32, v0, v1 });
                 }
+            }
+            if let Some(last) = pieces.last_mut() {
+                last.joined[1] = false;
             }
         }
         Ok(Self { basis, segments, pieces })
@@ -236,8 +245,10 @@ impl Curves {
     pub fn intersect(&self, prim: u32, ray: &Ray) -> Option<PrimHit> {
         let p = &self.pieces[prim as usize];
         let mut best: Option<f32> = None;
+        // A point within the neighbouring pieces is inside the tube (a ray from inside, at a
+        // joint or a bend), not on its surface.
         let mut consider = |t: f32| {
-            if ray.contains(t) && best.is_none_or(|b| t < b) {
+            if ray.contains(t) && best.is_none_or(|b| t < b) && !self.within_neighbours(prim as usize, ray.at(t)) {
                 best = Some(t);
             }
         };
@@ -255,6 +266,13 @@ impl Curves {
         }
         let t = best?;
         Some(PrimHit { t, u: p.foot(ray.at(t)), v: 0.0, inner: 0 })
+    }
+
+    /// `point` lies strictly within the piece before or after piece `i` on its curve.
+    fn within_neighbours(&self, i: usize, point: Vec3) -> bool {
+        let piece = &self.pieces[i];
+        (piece.joined[0] && self.pieces[i - 1].holds(point, 0))
+            || (piece.joined[1] && self.pieces[i + 1].holds(point, 0))
     }
 
     /// The surface where the ray hit piece `prim`.
@@ -286,13 +304,12 @@ impl Curves {
         }
     }
 
-    /// The cubic's own normal at parameter v seen from `point` (the circle sweep's, with its
-    /// curvature and taper: Mitsuba's), on `geometric`'s side; `geometric` where it
-    /// degenerates.
+    /// The swept sphere's normal over the cubic itself: from the cubic's point at parameter
+    /// v (the touching sphere's centre, where the pieces' chords stray from it) to `point`,
+    /// on `geometric`'s side; `geometric` where it degenerates. Continuous across the pieces,
+    /// and on a straight segment the geometric normal.
     fn shading_normal(&self, segment: &Segment, v: f32, point: Vec3, geometric: Vec3) -> Vec3 {
-        let (d1, d2, dr) = segment.derivatives(v);
-        let w = point - segment.point(v);
-        let n = ((d1.length_squared() - w.dot(d2)) * w - segment.radius(v) * dr * d1).normalize_or(geometric);
+        let n = (point - segment.point(v)).normalize_or(geometric);
         if n.dot(geometric) > 0.0 {
             n
         } else {
@@ -317,15 +334,18 @@ impl Curves {
 }
 
 impl Piece {
-    /// `point` lies strictly within the piece's cone or within its other cap (than `cap`).
+    /// `point` lies strictly within the piece's cone or within one of its caps other than
+    /// `cap` (a bit of `caps`; 0: any of them).
     fn holds(&self, point: Vec3, cap: u8) -> bool {
         let within = |distance: f32, radius: f32| distance < radius * (1.0 - 1e-4);
         let tau = self.foot(point);
         let in_cone = tau > 0.0
             && tau < 1.0
             && within((point - self.p0.lerp(self.p1, tau)).length(), self.r0 + (self.r1 - self.r0) * tau);
-        let (other, centre, radius) = if cap == 1 { (2, self.p1, self.r1) } else { (1, self.p0, self.r0) };
-        in_cone || (self.caps & other != 0 && within((point - centre).length(), radius))
+        let in_cap = |bit: u8, centre: Vec3, radius: f32| {
+            bit != cap && self.caps & bit != 0 && within((point - centre).length(), radius)
+        };
+        in_cone || in_cap(1, self.p0, self.r0) || in_cap(2, self.p1, self.r1)
     }
 
     /// The parameter along the axis (clamped to [0, 1]) of the sphere whose surface holds
@@ -484,13 +504,26 @@ mod tests {
         }
     }
 
-    /// Rays from inside a tube leave it unseen (only the outside is a surface).
+    /// Rays from inside a tube leave it unseen (only the outside is a surface): through one
+    /// segment, past the joints of a straight and a bent polyline, and along a bent B-spline.
     #[test]
     fn rays_from_inside_pass_out() {
         let curves = Curves::new(CurveBasis::Linear, &[vec![[-1.0, 0.0, 0.0, 0.5], [1.0, 0.0, 0.0, 0.5]]]).unwrap();
         for direction in [Vec3::Z, Vec3::X, Vec3::new(0.3, -0.5, 0.8).normalize()] {
             assert!(hit(&curves, &Ray::new(Vec3::ZERO, direction)).is_none(), "{direction}");
         }
+        let straight = vec![[-1.0, 0.0, 0.0, 0.5], [0.0, 0.0, 0.0, 0.5], [1.0, 0.0, 0.0, 0.5], [2.0, 0.0, 0.0, 0.5]];
+        let curves = Curves::new(CurveBasis::Linear, &[straight]).unwrap();
+        assert!(hit(&curves, &Ray::new(Vec3::new(-0.9, 0.3, 0.0), Vec3::X)).is_none(), "past the joints");
+        let bent = vec![[0.0, 0.0, 0.0, 0.3], [1.0, 0.0, 0.0, 0.3], [1.5, 0.8, 0.0, 0.3]];
+        let curves = Curves::new(CurveBasis::Linear, &[bent]).unwrap();
+        assert!(hit(&curves, &Ray::new(Vec3::new(0.2, 0.1, 0.0), Vec3::X)).is_none(), "through the bend");
+        let spline = vec![[0.0, 0.0, 0.0, 0.3], [1.0, 0.0, 0.0, 0.3], [2.0, 0.5, 0.0, 0.3], [3.0, 1.5, 0.0, 0.3]];
+        let curves = Curves::new(CurveBasis::BSpline, &[spline]).unwrap();
+        assert!(curves.primitive_count() > 1);
+        let start = curves.segments[0].point(0.1);
+        let along = curves.segments[0].point(0.9) - start;
+        assert!(hit(&curves, &Ray::new(start, along.normalize())).is_none(), "along the spline");
     }
 
     /// A B-spline through collinear, evenly spaced points is a straight tube open at its ends:

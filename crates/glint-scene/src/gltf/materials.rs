@@ -94,6 +94,9 @@ pub fn translate(
             None => format!("material {index}"),
         };
         let name = if vertex_coloured { format!("{name} × vertex colours") } else { name };
+        // The variant's warnings are the plain material's, said once.
+        let mut repeated = Vec::new();
+        let warnings: &mut Vec<String> = if vertex_coloured { &mut repeated } else { &mut *warnings };
         let say = |warnings: &mut Vec<String>, what: &str| warnings.push(format!("{name}: {what}"));
         let pbr = m.pbr_metallic_roughness();
         let [r, g, b, _] = pbr.base_color_factor();
@@ -152,8 +155,9 @@ pub fn translate(
         // of the distance over `attenuationDistance` (world units), an absorbing medium of
         // σ_a = −ln(colour) / distance in the material's meshes (the extension's meshes are
         // closed). A colour channel of 0 absorbs as if 10⁻⁶.
+        // (The variant shares the plain material's MaterialInfo, and so its medium.)
         let interior = match &volume {
-            Some(v) if v.attenuation_distance().is_finite() && v.attenuation_distance() > 0.0 => {
+            Some(v) if !vertex_coloured && v.attenuation_distance().is_finite() && v.attenuation_distance() > 0.0 => {
                 if v.thickness_texture().is_some() {
                     say(warnings, "the volume's thickness texture is not read (glint traces the mesh's own thickness)");
                 }

@@ -251,7 +251,7 @@ impl<'a> Reader<'a> {
         if counts.iter().flatten().any(|&c| c != count) {
             return Err(format!("{at}: its attributes hold different numbers of instances ({counts:?})"));
         }
-        Ok((0..count)
+        let instances: Vec<Mat4> = (0..count)
             .map(|i| {
                 let t = translations.as_ref().map_or(Vec3::ZERO, |v| Vec3::from_slice(&v[3 * i..]));
                 let r = rotations.as_ref().map_or(glam::Quat::IDENTITY, |v| {
@@ -260,7 +260,13 @@ impl<'a> Reader<'a> {
                 let s = scales.as_ref().map_or(Vec3::ONE, |v| Vec3::from_slice(&v[3 * i..]));
                 Mat4::from_scale_rotation_translation(s, r, t)
             })
-            .collect())
+            .collect();
+        match instances.iter().position(|m| !m.is_finite()) {
+            Some(i) => {
+                Err(format!("{at}: instance {i}'s transform is not finite (a zero rotation, or a value past f32)"))
+            }
+            None => Ok(instances),
+        }
     }
 
     fn primitives(

@@ -12,9 +12,9 @@ use std::path::Path;
 
 use glint_core::shapes::{Mesh, MeshAttribute};
 
-/// Reads a mesh from its bytes, choosing the format by the file name.
 pub use curves::read_curves;
 
+/// Reads a mesh from its bytes, choosing the format by the file name.
 pub fn read_mesh(name: &str, bytes: &[u8]) -> Result<Mesh, String> {
     read_mesh_part(name, bytes, 0)
 }

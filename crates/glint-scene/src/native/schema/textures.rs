@@ -68,12 +68,13 @@ pub enum TextureDesc {
         scale: Option<f32>,
     },
     /// Two colours or textures multiplied channel by channel (glTF's base colour times its
-    /// vertex colours); the textures it names cannot be products themselves.
+    /// vertex colours); the textures it names cannot themselves be made of others (products,
+    /// mixes, direction mixes).
     Product {
         factors: [ColorDesc; 2],
     },
     /// (1 − w)·first + w·second, w the `amount`'s luminance clamped to [0, 1] (pbrt's `mix`);
-    /// the textures it names cannot be products or mixes themselves.
+    /// the textures it names cannot themselves be made of others.
     Mix {
         first: ColorDesc,
         second: ColorDesc,
@@ -81,7 +82,7 @@ pub enum TextureDesc {
     },
     /// |n · direction|·first + (1 − |n · direction|)·second, n the surface's geometric normal
     /// and `direction` placed by `transform` (pbrt's `directionmix`); the textures it names
-    /// cannot be products or mixes themselves.
+    /// cannot themselves be made of others.
     DirectionMix {
         first: ColorDesc,
         second: ColorDesc,

@@ -187,7 +187,6 @@ impl Translator<'_> {
         }
     }
 
-    /// A shape's name in messages and explanations: its directive and where it stands.
     /// pbrt's `curve`: cubic (or quadratic) Bézier or B-spline segments of points `P`, their
     /// width running from `width0` to `width1` along the curve, as glint's round curves in
     /// cubic Bézier form. pbrt's `cylinder` curves are flat ribbons shaded as if round, which a
@@ -281,6 +280,7 @@ impl Translator<'_> {
         self.push_shape(d.at, desc)
     }
 
+    /// A shape's name in messages and explanations: its directive and where it stands.
     fn shape_name(&self, kind: &str, at: At) -> String {
         format!("Shape \"{kind}\" at {}", self.parser.place(at))
     }
