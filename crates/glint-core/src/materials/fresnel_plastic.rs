@@ -23,10 +23,8 @@
 use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
-use super::microfacet::Distribution;
+use super::microfacet::{Distribution, GlossyOrDiffuse};
 use super::{fresnel_dielectric, Microfacet, PhongPoint};
-use crate::geometry::reflect;
-use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
@@ -68,8 +66,10 @@ impl FresnelPlastic {
             diffuse: self.diffuse.evaluate(query),
             specular: self.specular.evaluate(query),
             eta: self.eta,
-            microfacet: Microfacet::separable(self.alpha_u, self.alpha_v).with(self.distribution),
-            p_specular: self.specular_probability,
+            lobes: GlossyOrDiffuse {
+                microfacet: Microfacet::separable(self.alpha_u, self.alpha_v).with(self.distribution),
+                p_glossy: self.specular_probability,
+            },
         })
     }
 
@@ -97,8 +97,7 @@ pub(super) struct FresnelPlasticBsdf {
     diffuse: Rgb,
     specular: Rgb,
     eta: f32,
-    microfacet: Microfacet,
-    p_specular: f32,
+    lobes: GlossyOrDiffuse,
 }
 
 impl Lobes for FresnelPlasticBsdf {
@@ -109,7 +108,8 @@ impl Lobes for FresnelPlasticBsdf {
         let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
         let h = (o + i).normalize();
         let inverse = 1.0 / self.eta;
-        let specular = self.specular * (fresnel_dielectric(o.dot(h), inverse) * self.microfacet.reflection_eval(o, i));
+        let specular =
+            self.specular * (fresnel_dielectric(o.dot(h), inverse) * self.lobes.microfacet.reflection_eval(o, i));
         let through = (1.0 - fresnel_dielectric(o.z, inverse)) * (1.0 - fresnel_dielectric(i.z, inverse));
         specular + self.diffuse * (through * i.z * std::f32::consts::FRAC_1_PI)
     }
@@ -119,19 +119,14 @@ impl Lobes for FresnelPlasticBsdf {
             return 0.0;
         }
         let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        self.p_specular * self.microfacet.reflection_pdf(o, i) + (1.0 - self.p_specular) * cosine_hemisphere_pdf(i)
+        self.lobes.pdf(o, i)
     }
 
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
         if !self.frame.outside {
             return None;
         }
-        let wi = if u_lobe < self.p_specular {
-            let o = self.frame.to_local(wo);
-            self.frame.to_world(reflect(-o, self.microfacet.sample_normal(o, u)))
-        } else {
-            self.frame.to_world(square_to_cosine_hemisphere(u))
-        };
+        let wi = self.frame.to_world(self.lobes.sample(self.frame.to_local(wo), u_lobe, u));
         self.weighed(wo, wi, 1.0)
     }
 

@@ -14,6 +14,9 @@ use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
+use crate::geometry::reflect;
+use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Microfacet {
     pub alpha_x: f32,
@@ -328,6 +331,30 @@ fn erf_inv(x: f32) -> f32 {
         .fold(0.0, |p, c| c + p * w)
     };
     p * x
+}
+
+/// How the plastics sample: a glossy reflection off the microfacets with probability
+/// `p_glossy` (by visible normals), else Lambert's lobe (by the cosine). Local directions.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct GlossyOrDiffuse {
+    pub microfacet: Microfacet,
+    pub p_glossy: f32,
+}
+
+impl GlossyOrDiffuse {
+    /// The density of `i` drawn for `o`.
+    pub(super) fn pdf(&self, o: Vec3, i: Vec3) -> f32 {
+        self.p_glossy * self.microfacet.reflection_pdf(o, i) + (1.0 - self.p_glossy) * cosine_hemisphere_pdf(i)
+    }
+
+    /// A direction for `o`: the glossy lobe's where `u_lobe` < `p_glossy`.
+    pub(super) fn sample(&self, o: Vec3, u_lobe: f32, u: Vec2) -> Vec3 {
+        if u_lobe < self.p_glossy {
+            reflect(-o, self.microfacet.sample_normal(o, u))
+        } else {
+            square_to_cosine_hemisphere(u)
+        }
+    }
 }
 
 #[cfg(test)]

@@ -22,11 +22,10 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
-use super::microfacet::Distribution;
+use super::microfacet::{Distribution, GlossyOrDiffuse};
 use super::plastic::Coat;
 use super::{fresnel_dielectric, Microfacet, PhongPoint, Plastic};
 use crate::geometry::{reflect, refract};
-use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::textures::TextureQuery;
 use crate::Rgb;
 
@@ -68,10 +67,12 @@ impl RoughPlastic {
         Leaf::RoughPlastic(RoughPlasticBsdf {
             frame,
             coat,
-            microfacet: Microfacet::separable(self.alpha, self.alpha).with(self.distribution),
+            lobes: GlossyOrDiffuse {
+                microfacet: Microfacet::separable(self.alpha, self.alpha).with(self.distribution),
+                p_glossy: p_specular,
+            },
             tables: &self.coat,
             t_o,
-            p_specular,
         })
     }
 
@@ -168,12 +169,12 @@ fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 pub(super) struct RoughPlasticBsdf<'a> {
     frame: Frame,
     coat: Coat,
-    microfacet: Microfacet,
+    /// The coat's lobe and the base's, and how they are sampled (the coat's probability 0
+    /// from behind: then nothing is sampled).
+    lobes: GlossyOrDiffuse,
     tables: &'a CoatTables,
     /// The coat's transmittance toward the viewer, t(cos θ_o).
     t_o: f32,
-    /// The probability of the coat's lobe (0 from behind: then nothing is sampled).
-    p_specular: f32,
 }
 
 impl Lobes for RoughPlasticBsdf<'_> {
@@ -184,7 +185,7 @@ impl Lobes for RoughPlasticBsdf<'_> {
         let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
         let h = (o + i).normalize();
         let specular = self.coat.specular
-            * (fresnel_dielectric(o.dot(h), 1.0 / self.coat.eta) * self.microfacet.reflection_eval(o, i));
+            * (fresnel_dielectric(o.dot(h), 1.0 / self.coat.eta) * self.lobes.microfacet.reflection_eval(o, i));
         let through = self.t_o * self.tables.lookup(i.z) / (self.coat.eta * self.coat.eta);
         specular + self.coat.diffuse * (i.z * std::f32::consts::FRAC_1_PI * through)
     }
@@ -194,19 +195,14 @@ impl Lobes for RoughPlasticBsdf<'_> {
             return 0.0;
         }
         let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        self.p_specular * self.microfacet.reflection_pdf(o, i) + (1.0 - self.p_specular) * cosine_hemisphere_pdf(i)
+        self.lobes.pdf(o, i)
     }
 
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
         if !self.frame.outside {
             return None;
         }
-        let wi = if u_lobe < self.p_specular {
-            let o = self.frame.to_local(wo);
-            self.frame.to_world(reflect(-o, self.microfacet.sample_normal(o, u)))
-        } else {
-            self.frame.to_world(square_to_cosine_hemisphere(u))
-        };
+        let wi = self.frame.to_world(self.lobes.sample(self.frame.to_local(wo), u_lobe, u));
         self.weighed(wo, wi, 1.0)
     }
 
