@@ -17,8 +17,8 @@
 use glam::{Vec2, Vec3};
 use wide::f32x8;
 
-use crate::geometry::lanes::{Vec3x8, LANES};
 use crate::geometry::Ray;
+use crate::lanes::{LaneVec3, Lanes, LANES};
 use crate::sampling::warp::square_to_disk;
 
 /// How rays leave the camera.
@@ -102,14 +102,6 @@ impl Camera {
         self.crop.map(|c| (c.x0, c.y0, c.x0 + self.width, c.y0 + self.height))
     }
 
-    /// Film coordinates of the whole film from the image's (the same where uncropped).
-    fn on_film(&self, film_x: f32, film_y: f32) -> (f32, f32) {
-        match self.crop {
-            Some(c) => (film_x + c.x0 as f32, film_y + c.y0 as f32),
-            None => (film_x, film_y),
-        }
-    }
-
     /// The same camera with its image mirrored left to right: right becomes up × forward, as
     /// in left-handed formats (pbrt's).
     pub fn mirrored(self) -> Self {
@@ -167,24 +159,35 @@ impl Camera {
     }
 
     /// `generate_ray` through eight film points at once, for a pinhole camera: the same rays,
-    /// bit for bit, the arithmetic in lanes (`None` for other lenses).
+    /// bit for bit (`None` for other lenses).
     pub(crate) fn pinhole_rays8(&self, film_x: f32x8, film_y: f32x8) -> Option<[Ray; LANES]> {
         if self.lens != Lens::Pinhole {
             return None;
         }
-        let (width, height) = self.film_resolution();
-        let (width, height) = (width as f32, height as f32);
+        let direction = self.pinhole_direction(film_x, film_y);
+        Some(std::array::from_fn(|k| Ray::new(self.position, direction.lane(k))))
+    }
+
+    /// The film point (x, y) in [-1, 1] × [-1, 1], +y up, the crop's offset added.
+    #[inline(always)]
+    fn normalized_film<L: Lanes>(&self, film_x: L, film_y: L) -> (L, L) {
         let (film_x, film_y) = match self.crop {
-            Some(c) => (film_x + f32x8::splat(c.x0 as f32), film_y + f32x8::splat(c.y0 as f32)),
+            Some(c) => (film_x + L::splat(c.x0 as f32), film_y + L::splat(c.y0 as f32)),
             None => (film_x, film_y),
         };
-        let (two, tan) = (f32x8::splat(2.0), f32x8::splat(self.tan_half_fov));
-        let nx = two * film_x / f32x8::splat(width) - f32x8::ONE;
-        let ny = f32x8::ONE - two * film_y / f32x8::splat(height);
-        let (sx, sy) = (nx * tan * f32x8::splat(width / height), ny * tan);
-        let direction =
-            (Vec3x8::splat(self.forward) + Vec3x8::splat(self.right) * sx + Vec3x8::splat(self.up) * sy).normalize();
-        Some(std::array::from_fn(|k| Ray::new(self.position, direction.lane(k))))
+        let (width, height) = self.film_resolution();
+        let two = L::splat(2.0);
+        (two * film_x / L::splat(width as f32) - L::ONE, L::ONE - two * film_y / L::splat(height as f32))
+    }
+
+    /// The unit direction of the pinhole's ray through film point (x, y).
+    #[inline(always)]
+    fn pinhole_direction<L: Lanes>(&self, film_x: L, film_y: L) -> LaneVec3<L> {
+        let (nx, ny) = self.normalized_film(film_x, film_y);
+        let (width, height) = self.film_resolution();
+        let tan = L::splat(self.tan_half_fov);
+        let (sx, sy) = (nx * tan * L::splat(width as f32 / height as f32), ny * tan);
+        (LaneVec3::splat(self.forward) + LaneVec3::splat(self.right) * sx + LaneVec3::splat(self.up) * sy).normalize()
     }
 
     /// The ray of one camera sample through film point (x, y): `next` draws the lens sample's
@@ -201,21 +204,16 @@ impl Camera {
     /// The ray through film point (x, y) and the lens point `u_lens` (a uniform sample of the
     /// unit square, mapped to the aperture disk; (½, ½) is the lens centre).
     pub fn generate_ray_through_lens(&self, film_x: f32, film_y: f32, u_lens: Vec2) -> Ray {
-        let (film_x, film_y) = self.on_film(film_x, film_y);
-        let (width, height) = self.film_resolution();
-        let aspect = width as f32 / height as f32;
-        // Film position in [-1, 1] × [-1, 1], +y up.
-        let nx = 2.0 * film_x / width as f32 - 1.0;
-        let ny = 1.0 - 2.0 * film_y / height as f32;
         match self.lens {
-            Lens::Orthographic { height } => {
-                let origin = self.position + (0.5 * height) * (nx * aspect * self.right + ny * self.up);
+            Lens::Orthographic { height: view_height } => {
+                let (nx, ny) = self.normalized_film(film_x, film_y);
+                let (width, height) = self.film_resolution();
+                let aspect = width as f32 / height as f32;
+                let origin = self.position + (0.5 * view_height) * (nx * aspect * self.right + ny * self.up);
                 Ray::new(origin, self.forward)
             }
             Lens::Pinhole | Lens::Thin { .. } => {
-                let sx = nx * self.tan_half_fov * aspect;
-                let sy = ny * self.tan_half_fov;
-                let direction = (self.forward + sx * self.right + sy * self.up).normalize();
+                let direction = Vec3::from(self.pinhole_direction(film_x, film_y));
                 let Lens::Thin { radius, focus_distance } = self.lens else {
                     return Ray::new(self.position, direction);
                 };

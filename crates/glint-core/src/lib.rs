@@ -12,6 +12,7 @@ pub mod film;
 pub mod filter;
 pub mod geometry;
 pub mod integrators;
+pub mod lanes;
 pub mod lights;
 pub mod materials;
 pub mod media;

@@ -7,8 +7,8 @@ use glam::Vec3;
 use super::{
     Bvh, Bvh8, BvhStats, NoCounter, TraversalCounter, TraversalCounts, Triangle8, WatertightRay8, EMPTY, GENERIC, LANES,
 };
-use crate::geometry::lanes::Vec3x8;
 use crate::geometry::{Aabb, Ray, Transform};
+use crate::lanes::Vec3x8;
 use crate::shapes::{
     intersect_cramer, moller_trumbore_edges, InstancedGeometry, IntersectMethods, PrimHit, Shape, SurfaceGeometry,
     TriangleMethod,

@@ -6,39 +6,34 @@
 //! the direction's length, which is what lets transformed rays keep the same `t`.
 
 mod aabb;
-pub(crate) mod lanes;
 mod ray;
 mod robust;
 mod transform;
 
 pub use aabb::Aabb;
 pub use ray::Ray;
-pub(crate) use robust::offset_ray_origin8;
+pub(crate) use robust::offset_ray_origin_lanes;
 pub use robust::{gamma, next_float_down, next_float_up, offset_ray_origin, transform_point_with_error};
 pub use transform::Transform;
 
+use crate::lanes::{LaneVec3, Lanes};
 use glam::Vec3;
-use wide::f32x8;
-
-use lanes::{negate, Vec3x8};
 
 /// Two unit vectors perpendicular to `n` and to each other (Duff et al. 2017,
 /// "Building an Orthonormal Basis, Revisited"): branch-free and exact at the poles.
 pub fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
-    let sign = 1.0f32.copysign(n.z);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
+    let (tangent, bitangent) = orthonormal_basis_lanes(LaneVec3::<f32>::from(n));
+    (tangent.into(), bitangent.into())
 }
 
-/// `orthonormal_basis` in lanes (Duff et al. 2017): two tangents completing the unit `n`.
+/// `orthonormal_basis` in lanes: two tangents completing the unit `n`.
 #[inline(always)]
-pub(crate) fn orthonormal_basis8(n: Vec3x8) -> (Vec3x8, Vec3x8) {
-    let sign = f32x8::ONE.copysign(n.z);
-    let a = f32x8::splat(-1.0) / (sign + n.z);
+pub(crate) fn orthonormal_basis_lanes<L: Lanes>(n: LaneVec3<L>) -> (LaneVec3<L>, LaneVec3<L>) {
+    let sign = L::ONE.copysign(n.z);
+    let a = L::splat(-1.0) / (sign + n.z);
     let b = n.x * n.y * a;
-    let tangent = Vec3x8 { x: f32x8::ONE + sign * n.x * n.x * a, y: sign * b, z: negate(sign) * n.x };
-    let bitangent = Vec3x8 { x: b, y: sign + n.y * n.y * a, z: negate(n.y) };
+    let tangent = LaneVec3::new(L::ONE + sign * n.x * n.x * a, sign * b, sign.negate() * n.x);
+    let bitangent = LaneVec3::new(b, sign + n.y * n.y * a, n.y.negate());
     (tangent, bitangent)
 }
 
@@ -66,7 +61,7 @@ pub fn refract(incident: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::lanes::testing::{assert_lanes_equal, random_vectors};
+    use crate::lanes::testing::{assert_lanes_equal, random_vectors};
 
     #[test]
     fn basis_is_orthonormal_everywhere() {
@@ -98,16 +93,16 @@ mod tests {
         assert_eq!(r, Vec3::new(1.0, 1.0, 0.0));
     }
 
-    /// The lane version computes the scalar one's bits, the poles included.
+    /// Eight lanes compute one lane's bits, the poles included.
     #[test]
-    fn orthonormal_basis8_equals_the_scalar_routine() {
+    fn orthonormal_basis_in_eight_lanes_equals_one_lane() {
         let mut rng = crate::sampling::Rng::new(11, 5);
         for round in 0..2_000 {
             let mut n = random_vectors(&mut rng, 1.0).map(|v| v.normalize_or(Vec3::Z));
             if round == 0 {
                 n[..4].copy_from_slice(&[Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(0.0, -0.0, -1.0)]);
             }
-            let (t, s) = orthonormal_basis8(Vec3x8::from_fn(|k| n[k]));
+            let (t, s) = orthonormal_basis_lanes(crate::lanes::Vec3x8::from_fn(|k| n[k]));
             let basis = n.map(orthonormal_basis);
             assert_lanes_equal(t, basis.map(|(t, _)| t), "tangent");
             assert_lanes_equal(s, basis.map(|(_, s)| s), "bitangent");

@@ -9,10 +9,8 @@
 //! short (`SurfaceHit::spawn_ray_to_surface`), since the light's own intersection routine may
 //! find its surface a few ulps before the sampled point.
 
+use crate::lanes::{LaneVec3, Lanes};
 use glam::{Mat4, Vec3};
-use wide::{f32x8, i32x8, CmpEq, CmpGt, CmpLt};
-
-use super::lanes::Vec3x8;
 
 /// Half an ulp of 1: the unit roundoff of f32.
 const MACHINE_EPSILON: f32 = f32::EPSILON * 0.5;
@@ -45,36 +43,23 @@ pub fn next_float_down(x: f32) -> f32 {
 /// The origin for a ray leaving `point` (with error bound `error`) in direction `direction`,
 /// on that direction's side of the surface with geometric normal `normal`.
 pub fn offset_ray_origin(point: Vec3, error: Vec3, normal: Vec3, direction: Vec3) -> Vec3 {
-    let distance = normal.abs().dot(error);
-    let mut offset = distance * normal;
-    if direction.dot(normal) < 0.0 {
-        offset = -offset;
-    }
-    step_toward3(point + offset, offset)
+    let lanes = LaneVec3::<f32>::from;
+    offset_ray_origin_lanes(lanes(point), lanes(error), lanes(normal), lanes(direction)).into()
 }
 
-/// `offset_ray_origin` in eight lanes, operation for operation: the origin for a ray leaving `point` (error bound `error`)
+/// `offset_ray_origin` in lanes: the origin for a ray leaving `point` (error bound `error`)
 /// toward `direction`, past the error box along `normal` and one ulp further.
 #[inline(always)]
-pub(crate) fn offset_ray_origin8(point: Vec3x8, error: Vec3x8, normal: Vec3x8, direction: Vec3x8) -> Vec3x8 {
+pub(crate) fn offset_ray_origin_lanes<L: Lanes>(
+    point: LaneVec3<L>,
+    error: LaneVec3<L>,
+    normal: LaneVec3<L>,
+    direction: LaneVec3<L>,
+) -> LaneVec3<L> {
     let distance = normal.abs().dot(error);
     let offset = normal * distance;
-    let offset = Vec3x8::select(direction.dot(normal).cmp_lt(f32x8::ZERO), -offset, offset);
-    let moved = point + offset;
-    Vec3x8 {
-        x: step_toward8(moved.x, offset.x),
-        y: step_toward8(moved.y, offset.y),
-        z: step_toward8(moved.z, offset.z),
-    }
-}
-
-/// `step_toward` on each axis, in three lanes of `step_toward8` (bit for bit the scalar step,
-/// tested): selects instead of the scalar step's branches on random signs.
-#[inline(always)]
-fn step_toward3(x: Vec3, sign: Vec3) -> Vec3 {
-    let lanes = |v: Vec3| f32x8::from([v.x, v.y, v.z, 0.0, 0.0, 0.0, 0.0, 0.0]);
-    let stepped = step_toward8(lanes(x), lanes(sign)).to_array();
-    Vec3::new(stepped[0], stepped[1], stepped[2])
+    let offset = LaneVec3::select(direction.dot(normal).lt(L::ZERO), -offset, offset);
+    L::step_toward(point + offset, offset)
 }
 
 /// `next_float_up(x)` where `sign > 0`, `next_float_down(x)` where `sign < 0`, `x` where it is
@@ -99,26 +84,6 @@ fn step_toward(x: f32, sign: f32) -> f32 {
     f32::from_bits((x.to_bits() & keep) | (stepped & !keep))
 }
 
-/// `step_toward` in eight lanes, operation for operation (for the path tracer's SIMD lanes).
-#[inline(always)]
-pub(crate) fn step_toward8(x: f32x8, sign: f32x8) -> f32x8 {
-    let bits = |v: f32x8| -> i32x8 { bytemuck::cast(v) };
-    let zero = f32x8::ZERO;
-    let up = sign.cmp_gt(zero);
-    // A zero steps from the zero of the side it leaves: +0 going up, −0 going down.
-    let from = x.cmp_eq(zero).blend(up.blend(zero, f32x8::splat(-0.0)), x);
-    let from = bits(from);
-    // Away from zero when `from` is positive going up or negative going down: all ones where
-    // its sign mask (all ones for negative) differs from `up`.
-    let away = (from >> 31) ^ bits(up);
-    // +1 away from zero, −1 toward it: −1 − 2·away.
-    let stepped = from + (i32x8::splat(-1) - (away + away));
-    let infinite = (from & i32x8::splat(i32::MAX)).cmp_eq(i32x8::splat(0x7F80_0000));
-    // NaN: not equal to itself (`cmp_ne` is ordered on AVX, unordered on SSE).
-    let keep: i32x8 = bits(sign.cmp_eq(zero) | !sign.cmp_eq(sign)) | (infinite & away);
-    bytemuck::cast(keep.blend(bits(x), stepped))
-}
-
 /// Transforms a point and its error bound (pbrt-v4 §6.8.6, eq. 6.30).
 pub fn transform_point_with_error(m: &Mat4, point: Vec3, error: Vec3) -> (Vec3, Vec3) {
     let p = m.transform_point3(point);
@@ -133,8 +98,8 @@ pub fn transform_point_with_error(m: &Mat4, point: Vec3, error: Vec3) -> (Vec3, 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::lanes::testing::{assert_lanes_equal, random_vectors};
-    use crate::geometry::lanes::{Vec3x8, LANES};
+    use crate::lanes::testing::{assert_lanes_equal, random_vectors};
+    use crate::lanes::{step_toward8, Vec3x8, LANES};
 
     /// The branch-free step equals `next_float_up` and `next_float_down` bit for bit, zeros,
     /// subnormals, the largest floats and infinities included.
@@ -173,7 +138,7 @@ mod tests {
             let x: [f32; 8] = chunk.try_into().unwrap();
             for rotation in 0..8 {
                 let sign: [f32; 8] = std::array::from_fn(|k| signs[(k + rotation) % 8]);
-                let lanes = step_toward8(f32x8::from(x), f32x8::from(sign)).to_array();
+                let lanes = step_toward8(wide::f32x8::from(x), wide::f32x8::from(sign)).to_array();
                 for k in 0..8 {
                     let expected = step_toward(x[k], sign[k]);
                     assert_eq!(lanes[k].to_bits(), expected.to_bits(), "{:e} toward {}", x[k], sign[k]);
@@ -182,9 +147,10 @@ mod tests {
         }
     }
 
-    /// The three-lane step equals the scalar one lane by lane, whatever the other lanes hold.
+    /// The one-lane step (three coordinates in lanes of the eight-lane step) equals the scalar
+    /// one lane by lane.
     #[test]
-    fn step_toward3_equals_the_scalar_step() {
+    fn one_lane_step_equals_the_scalar_step() {
         let mut values =
             vec![0.0, -0.0, f32::MIN_POSITIVE, -1e-45, f32::MAX, f32::MIN, f32::INFINITY, f32::NEG_INFINITY];
         values.extend([f32::NAN, 1.0, -1.0, 3.5e-3]);
@@ -197,7 +163,7 @@ mod tests {
         for (i, &x) in values.iter().enumerate() {
             let xs = Vec3::new(x, values[(i * 7 + 1) % values.len()], values[(i * 13 + 5) % values.len()]);
             let sign = Vec3::new(signs[i % signs.len()], signs[(i / 3) % signs.len()], signs[(i / 7) % signs.len()]);
-            let stepped = step_toward3(xs, sign).to_array();
+            let stepped = Vec3::from(f32::step_toward(xs.into(), sign.into())).to_array();
             for axis in 0..3 {
                 let expected = step_toward(xs[axis], sign[axis]);
                 assert_eq!(stepped[axis].to_bits(), expected.to_bits(), "{:e} toward {:e}", xs[axis], sign[axis]);
@@ -225,9 +191,9 @@ mod tests {
         assert_eq!((up.x, up.z), (p.x, p.z));
     }
 
-    /// The lane version computes the scalar one's bits, on random inputs of many scales.
+    /// Eight lanes compute one lane's bits, on random inputs of many scales.
     #[test]
-    fn offset_ray_origin8_equals_the_scalar_routine() {
+    fn offset_ray_origin_in_eight_lanes_equals_one_lane() {
         let mut rng = crate::sampling::Rng::new(11, 5);
         for round in 0..2_000 {
             let scale = 10f32.powi(round % 9 - 4);
@@ -236,7 +202,8 @@ mod tests {
             let (e, n) = (e.map(Vec3::abs), d.map(|v| (v + Vec3::splat(0.01)).normalize()));
             let lanes = |v: [Vec3; LANES]| Vec3x8::from_fn(|k| v[k]);
             let scalar = std::array::from_fn(|k| offset_ray_origin(p[k], e[k], n[k], d[k]));
-            assert_lanes_equal(offset_ray_origin8(lanes(p), lanes(e), lanes(n), lanes(d)), scalar, "offset_ray_origin");
+            let eight = offset_ray_origin_lanes(lanes(p), lanes(e), lanes(n), lanes(d));
+            assert_lanes_equal(eight, scalar, "offset_ray_origin");
         }
     }
 }

@@ -6,8 +6,8 @@
 //! and SPPM call these; the wavefront's lanes compute the same bits (their lane versions, with
 //! an `8`, sit beside them).
 
+use crate::lanes::Lanes;
 use glam::Vec3;
-use wide::{f32x8, CmpEq};
 
 use super::path::BounceDraws;
 use super::path_record::{LightSampleRecord, PathRecorder};
@@ -19,19 +19,15 @@ use crate::Rgb;
 
 /// The power heuristic (β = 2) for the strategy with density `a` against one with `b`.
 pub fn power_heuristic(a: f32, b: f32) -> f32 {
-    let (a2, b2) = (a * a, b * b);
-    if a2 + b2 == 0.0 || !a2.is_finite() {
-        return if a2.is_infinite() { 1.0 } else { 0.0 };
-    }
-    a2 / (a2 + b2)
+    power_heuristic_lanes(a, b)
 }
 
-/// `power_heuristic` in lanes.
+/// `power_heuristic` in lanes: an infinite density (a delta lobe) weighs 1, two zero densities 0.
 #[inline(always)]
-pub(crate) fn power_heuristic8(a: f32x8, b: f32x8) -> f32x8 {
+pub(crate) fn power_heuristic_lanes<L: Lanes>(a: L, b: L) -> L {
     let (a2, b2) = (a * a, b * b);
-    let special = (a2 + b2).cmp_eq(f32x8::ZERO) | !a2.is_finite();
-    special.blend(a2.is_inf().blend(f32x8::ONE, f32x8::ZERO), a2 / (a2 + b2))
+    let special = (a2 + b2).eq(L::ZERO) | !a2.is_finite();
+    L::select(special, L::select(a2.is_infinite(), L::ONE, L::ZERO), a2 / (a2 + b2))
 }
 
 /// A scattering event that sampled the ray now traced: what the MIS weight of light found
@@ -269,15 +265,15 @@ mod tests {
         assert!((power_heuristic(3.0, 1.0) + power_heuristic(1.0, 3.0) - 1.0).abs() < 1e-6);
     }
 
-    /// The lane version computes the scalar one's bits, special values included (NaN, ±0,
+    /// Eight lanes compute one lane's bits, special values included (NaN, ±0,
     /// infinities).
     #[test]
-    fn power_heuristic8_equals_the_scalar_routine() {
+    fn power_heuristic_in_eight_lanes_equals_one_lane() {
         let specials = [0.0, -0.0, 1.0, 0.5, f32::INFINITY, f32::NAN, 1e-30, 3.0e30, 2.0, -1.0];
         for i in 0..specials.len() {
             for &y in &specials {
                 let lanes: [f32; 8] = std::array::from_fn(|k| specials[(i + k) % specials.len()]);
-                let heuristic = power_heuristic8(f32x8::from(lanes), f32x8::splat(y)).to_array();
+                let heuristic = power_heuristic_lanes(wide::f32x8::from(lanes), wide::f32x8::splat(y)).to_array();
                 for k in 0..8 {
                     let expected = power_heuristic(lanes[k], y);
                     assert_eq!(heuristic[k].to_bits(), expected.to_bits(), "heuristic of {}, {y}", lanes[k]);

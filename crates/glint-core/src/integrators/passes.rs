@@ -22,7 +22,7 @@ use crate::Rgb;
 /// The side of the square image tiles, the unit of parallel work.
 const TILE_SIZE: u32 = 16;
 
-const _: () = assert!(Sampler::LANES == crate::geometry::lanes::LANES);
+const _: () = assert!(Sampler::LANES == crate::lanes::LANES);
 
 /// What a progressive render repeats: a pass adds one more estimate of every pixel to the
 /// film. Camera integrators take one camera sample per pixel (`CameraPasses`); the particle

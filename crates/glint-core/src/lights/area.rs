@@ -31,12 +31,11 @@
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
-use wide::{f32x8, CmpGt};
 
 use super::{Asked, LightEnd, LightSample};
 use crate::accel::Object;
-use crate::geometry::lanes::Vec3x8;
 use crate::geometry::{orthonormal_basis, Transform};
+use crate::lanes::{LaneVec3, Lanes};
 use crate::materials::Material;
 use crate::sampling::spherical::SphericalTriangle;
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
@@ -502,34 +501,39 @@ fn spherical_triangle(strategy: TriangleSampling, from: Vec3, corners: [Vec3; 3]
 /// `normal`), as a solid-angle density seen from `from`: pdf_ω = pdf_A · d² / |cos θ_light|;
 /// `None` when the light is seen edge on.
 pub(crate) fn area_to_solid_angle(selection: f32, area: f32, from: Vec3, point: Vec3, normal: Vec3) -> Option<f32> {
-    let to_light = point - from;
-    let distance_squared = to_light.length_squared();
-    // d² / |cos θ| = d³ / |n · (point − from)|: one division on the path, not two.
-    let projected = normal.dot(to_light).abs();
-    (projected > 0.0).then(|| selection * distance_squared * distance_squared.sqrt() / (projected * area))
+    let to_light = LaneVec3::<f32>::from(point - from);
+    let (pdf, seen) = area_to_solid_angle_lanes(selection, area, to_light, normal.into());
+    seen.then_some(pdf)
 }
 
-/// `area_to_solid_angle` in lanes: the density `selection / area` of a point
-/// on a light as a density in solid angle, seen across `to_light` (the point minus the
-/// receiver), and the mask of lanes where the light is not seen edge on.
+/// `area_to_solid_angle` in lanes: the density `selection / area` of a point on a light as a
+/// density in solid angle, seen across `to_light` (the point minus the receiver), and the mask
+/// of lanes where the light is not seen edge on.
 #[inline(always)]
-pub(crate) fn area_to_solid_angle8(selection: f32x8, area: f32x8, to_light: Vec3x8, normal: Vec3x8) -> (f32x8, f32x8) {
+pub(crate) fn area_to_solid_angle_lanes<L: Lanes>(
+    selection: L,
+    area: L,
+    to_light: LaneVec3<L>,
+    normal: LaneVec3<L>,
+) -> (L, L::Mask) {
     let distance_squared = to_light.dot(to_light);
+    // d² / |cos θ| = d³ / |n · (point − from)|: one division on the path, not two.
     let projected = normal.dot(to_light).abs();
-    (selection * distance_squared * distance_squared.sqrt() / (projected * area), projected.cmp_gt(f32x8::ZERO))
+    (selection * distance_squared * distance_squared.sqrt() / (projected * area), projected.gt(L::ZERO))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::lanes::testing::random_vectors;
-    use crate::geometry::lanes::LANES;
     use crate::geometry::Aabb;
+    use crate::lanes::testing::random_vectors;
+    use crate::lanes::{Vec3x8, LANES};
     use crate::lights::{Environment, Lights};
     use crate::materials::Phong;
     use crate::sampling::chi2::chi2_test_with_resolution;
     use crate::shapes::test_util::ray_meets_triangle;
     use crate::shapes::{Sphere, Triangle};
+    use wide::f32x8;
 
     /// The area lights of `objects` alone.
     fn lights_of(objects: &[Object], materials: &[Material]) -> Lights {
@@ -776,9 +780,9 @@ mod tests {
         assert!((spheres - n as f64 * p_sphere).abs() < 4.0 * sigma, "{spheres} of {n} vs p = {p_sphere}");
     }
 
-    /// The lane version computes the scalar one's bits and says "edge on" where it does.
+    /// Eight lanes compute one lane's bits and says "edge on" where it does.
     #[test]
-    fn area_to_solid_angle8_equals_the_scalar_routine() {
+    fn area_to_solid_angle_in_eight_lanes_equals_one_lane() {
         let mut rng = crate::sampling::Rng::new(3, 9);
         for _ in 0..500 {
             let from = random_vectors(&mut rng, 10.0);
@@ -790,7 +794,7 @@ mod tests {
             });
             let (selection, area) = (rng.next_f32(), rng.next_f32() * 4.0);
             let to_light = Vec3x8::from_fn(|k| point[k] - from[k]);
-            let (pdf, seen) = area_to_solid_angle8(
+            let (pdf, seen) = area_to_solid_angle_lanes(
                 f32x8::splat(selection),
                 f32x8::splat(area),
                 to_light,

@@ -29,7 +29,7 @@ mod point;
 mod set;
 mod spot;
 
-pub(crate) use area::area_to_solid_angle8;
+pub(crate) use area::area_to_solid_angle_lanes;
 pub(crate) use area::TriangleEmitter;
 pub use area::{AreaEmission, AreaLight, TriangleSampling};
 pub use directional::DirectionalLight;

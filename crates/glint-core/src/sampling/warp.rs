@@ -4,24 +4,29 @@
 
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
 
+use crate::lanes::{LaneVec3, Lanes};
 use glam::{Vec2, Vec3};
-use wide::{f32x8, CmpEq, CmpGt};
-
-use crate::geometry::lanes::Vec3x8;
 
 /// Shirley–Chiu concentric map of [0,1)² onto the unit disk (area-preserving, low distortion).
 pub fn square_to_disk(u: Vec2) -> Vec2 {
-    let p = 2.0 * u - Vec2::ONE;
+    let (x, y) = square_to_disk_lanes(u.x, u.y);
+    Vec2::new(x, y)
+}
+
+/// `square_to_disk` in lanes.
+#[inline(always)]
+fn square_to_disk_lanes<L: Lanes>(u: L, v: L) -> (L, L) {
+    let two = L::splat(2.0);
+    let (px, py) = (two * u - L::ONE, two * v - L::ONE);
     // θ = φ in the left and right quadrants, π/2 − φ in the others, with |φ| ≤ π/4; there
     // cos θ = sin φ and sin θ = cos φ. Selects, not branches: which quadrant is random.
-    let sideways = p.x.abs() > p.y.abs();
-    let (r, q) = if sideways { (p.x, p.y) } else { (p.y, p.x) };
-    if r == 0.0 {
-        return Vec2::ZERO; // |r| = max(|x|, |y|): the centre
-    }
-    let (sin, cos) = sin_cos_quarter(FRAC_PI_4 * (q / r));
-    let (x, y) = if sideways { (cos, sin) } else { (sin, cos) };
-    r * Vec2::new(x, y)
+    let sideways = px.abs().gt(py.abs());
+    let (r, q) = (L::select(sideways, px, py), L::select(sideways, py, px));
+    let (sin, cos) = sin_cos_quarter(L::splat(FRAC_PI_4) * (q / r));
+    let (x, y) = (L::select(sideways, cos, sin), L::select(sideways, sin, cos));
+    // |r| = max(|x|, |y|) is 0 at the centre.
+    let centre = r.eq(L::ZERO);
+    (L::select(centre, L::ZERO, r * x), L::select(centre, L::ZERO, r * y))
 }
 
 /// (sin x, cos x) for |x| ≤ π/4 by their Taylor polynomials to x⁹ and x¹⁰, whose remainders
@@ -29,18 +34,8 @@ pub fn square_to_disk(u: Vec2) -> Vec2 {
 /// this is a few multiply-adds instead of a call to the library's sincos (2.7 % of a path
 /// tracer's time, for the concentric map of every diffuse bounce).
 #[inline(always)]
-fn sin_cos_quarter(x: f32) -> (f32, f32) {
-    let x2 = x * x;
-    let sin = x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (1.0 / 362_880.0)))));
-    let cos =
-        1.0 + x2 * (-0.5 + x2 * (1.0 / 24.0 + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40_320.0 + x2 * (-1.0 / 3_628_800.0)))));
-    (sin, cos)
-}
-
-/// `sin_cos_quarter` in lanes: the same Taylor polynomials for |x| ≤ π/4.
-#[inline(always)]
-fn sin_cos_quarter8(x: f32x8) -> (f32x8, f32x8) {
-    let c = f32x8::splat;
+fn sin_cos_quarter<L: Lanes>(x: L) -> (L, L) {
+    let c = L::splat;
     let x2 = x * x;
     let sin =
         x * (c(1.0) + x2 * (c(-1.0 / 6.0) + x2 * (c(1.0 / 120.0) + x2 * (c(-1.0 / 5040.0) + x2 * c(1.0 / 362_880.0)))));
@@ -70,24 +65,15 @@ pub fn disk_to_square(d: Vec2) -> Vec2 {
 
 /// Cosine-weighted hemisphere (Malley's method: project the disk up).
 pub fn square_to_cosine_hemisphere(u: Vec2) -> Vec3 {
-    let d = square_to_disk(u);
-    let z = (1.0 - d.length_squared()).max(0.0).sqrt();
-    Vec3::new(d.x, d.y, z)
+    square_to_cosine_hemisphere_lanes(u.x, u.y).into()
 }
 
 /// `square_to_cosine_hemisphere` in lanes: Shirley and Chiu's concentric disk, lifted.
 #[inline(always)]
-pub(crate) fn square_to_cosine_hemisphere8(u: f32x8, v: f32x8) -> Vec3x8 {
-    let two = f32x8::splat(2.0);
-    let (px, py) = (two * u - f32x8::ONE, two * v - f32x8::ONE);
-    let sideways = px.abs().cmp_gt(py.abs());
-    let (r, q) = (sideways.blend(px, py), sideways.blend(py, px));
-    let (sin, cos) = sin_cos_quarter8(f32x8::splat(std::f32::consts::FRAC_PI_4) * (q / r));
-    let (x, y) = (sideways.blend(cos, sin), sideways.blend(sin, cos));
-    let centre = r.cmp_eq(f32x8::ZERO);
-    let (dx, dy) = (centre.blend(f32x8::ZERO, r * x), centre.blend(f32x8::ZERO, r * y));
-    let z = (f32x8::ONE - (dx * dx + dy * dy)).fast_max(f32x8::ZERO).sqrt();
-    Vec3x8 { x: dx, y: dy, z }
+pub(crate) fn square_to_cosine_hemisphere_lanes<L: Lanes>(u: L, v: L) -> LaneVec3<L> {
+    let (x, y) = square_to_disk_lanes(u, v);
+    let z = (L::ONE - (x * x + y * y)).max(L::ZERO).sqrt();
+    LaneVec3::new(x, y, z)
 }
 
 pub fn cosine_hemisphere_pdf(w: Vec3) -> f32 {
@@ -177,8 +163,8 @@ pub fn bilinear_to_square(p: Vec2, w: [f32; 4]) -> Vec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::lanes::testing::{assert_lanes_equal, random_floats};
-    use crate::geometry::lanes::LANES;
+    use crate::lanes::testing::{assert_lanes_equal, random_floats};
+    use crate::lanes::LANES;
     use crate::sampling::Rng;
 
     /// Within two ulps of the correctly rounded sine and cosine over the whole quarter, and
@@ -269,13 +255,17 @@ mod tests {
         assert!((sum - 1.0).abs() < 1e-3, "{sum}");
     }
 
-    /// The lane version computes the scalar one's bits, at random and at the disk's centre and
+    /// Eight lanes compute one lane's bits, at random and at the disk's centre and
     /// the diagonals where the quadrant choice flips.
     #[test]
-    fn square_to_cosine_hemisphere8_equals_the_scalar_routine() {
+    fn square_to_cosine_hemisphere_in_eight_lanes_equals_one_lane() {
         let check = |u: [f32; LANES], v: [f32; LANES], what: &str| {
             let scalar = std::array::from_fn(|k| square_to_cosine_hemisphere(Vec2::new(u[k], v[k])));
-            assert_lanes_equal(square_to_cosine_hemisphere8(f32x8::from(u), f32x8::from(v)), scalar, what);
+            assert_lanes_equal(
+                square_to_cosine_hemisphere_lanes(wide::f32x8::from(u), wide::f32x8::from(v)),
+                scalar,
+                what,
+            );
         };
         let mut rng = Rng::new(11, 5);
         for _ in 0..2_000 {

@@ -33,7 +33,7 @@ pub use sdf_grid::{SdfGrid, SdfNormals};
 pub(crate) use sphere::{sample_sphere, sample_sphere_seen_from, sphere_solid_angle_from, Ellipsoid};
 pub use sphere::{Sphere, SphereMethod};
 pub(crate) use triangle::{
-    barycentric_point8, barycentrics, plane_distance, sample_triangle, triangle_point_along, TriangleSurface,
+    barycentric_point_lanes, barycentrics, plane_distance, sample_triangle, triangle_point_along, TriangleSurface,
 };
 pub use triangle::{intersect_cramer, moller_trumbore_edges, Triangle, TriangleMethod, WatertightRay};
 

@@ -15,11 +15,10 @@
 //! plane (determinant 0) misses.
 
 use glam::{Vec2, Vec3, Vec3A};
-use wide::f32x8;
 
 use super::{PrimHit, SurfaceGeometry};
-use crate::geometry::lanes::Vec3x8;
 use crate::geometry::{gamma, Aabb, Ray};
+use crate::lanes::{LaneVec3, Lanes};
 use crate::Named;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -330,18 +329,21 @@ pub(crate) fn triangle_tangents([a, b, c]: [Vec3; 3], uvs: Option<[Vec2; 3]>) ->
 /// The point with barycentric weights (1 − b1 − b2, b1, b2) of the corners, and the bound on
 /// its error from interpolating (pbrt-v4 eq. 6.17).
 pub(crate) fn barycentric_point([a, b, c]: [Vec3; 3], b1: f32, b2: f32) -> (Vec3, Vec3) {
-    let b0 = 1.0 - b1 - b2;
-    let point = b0 * a + b1 * b + b2 * c;
-    (point, gamma(7) * ((b0 * a).abs() + (b1 * b).abs() + (b2 * c).abs()))
+    let corners = [a, b, c].map(LaneVec3::<f32>::from);
+    let (point, error) = barycentric_point_lanes(corners, b1, b2);
+    (point.into(), error.into())
 }
 
-/// `barycentric_point` in lanes: the point with weights (1 − b1 − b2, b1, b2) of the corners,
-/// and the bound on its error from interpolating.
+/// `barycentric_point` in lanes.
 #[inline(always)]
-pub(crate) fn barycentric_point8([a, b, c]: [Vec3x8; 3], b1: f32x8, b2: f32x8) -> (Vec3x8, Vec3x8) {
-    let b0 = f32x8::ONE - b1 - b2;
+pub(crate) fn barycentric_point_lanes<L: Lanes>(
+    [a, b, c]: [LaneVec3<L>; 3],
+    b1: L,
+    b2: L,
+) -> (LaneVec3<L>, LaneVec3<L>) {
+    let b0 = L::ONE - b1 - b2;
     let (pa, pb, pc) = (a * b0, b * b1, c * b2);
-    (pa + pb + pc, (pa.abs() + pb.abs() + pc.abs()) * f32x8::splat(gamma(7)))
+    (pa + pb + pc, (pa.abs() + pb.abs() + pc.abs()) * L::splat(gamma(7)))
 }
 
 /// A point uniform on the triangle's area, for sampling it as a light: `u` warped to
@@ -419,9 +421,10 @@ pub(crate) fn triangle_point_along(from: Vec3, w: Vec3, [a, b, c]: [Vec3; 3]) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::lanes::testing::{assert_lanes_equal, random_floats, random_vectors};
-    use crate::geometry::lanes::LANES;
+    use crate::lanes::testing::{assert_lanes_equal, random_floats, random_vectors};
+    use crate::lanes::{Vec3x8, LANES};
     use crate::shapes::test_util::TestRng;
+    use wide::f32x8;
 
     const METHODS: [TriangleMethod; 3] =
         [TriangleMethod::Cramer, TriangleMethod::MollerTrumbore, TriangleMethod::Watertight];
@@ -567,16 +570,16 @@ mod tests {
         u.abs().min(w.abs()).min((1.0 - u - w).abs()).min(tt.abs()).min(det.abs())
     }
 
-    /// The lane version computes the scalar one's bits, point and error bound.
+    /// Eight lanes compute one lane's bits, point and error bound.
     #[test]
-    fn barycentric_point8_equals_the_scalar_routine() {
+    fn barycentric_point_in_eight_lanes_equals_one_lane() {
         let mut rng = crate::sampling::Rng::new(11, 5);
         for round in 0..2_000 {
             let scale = 10f32.powi(round % 9 - 4);
             let corners = [(); 3].map(|_| random_vectors(&mut rng, scale));
             let (b1, b2) = (random_floats(&mut rng, 0.5), random_floats(&mut rng, 0.5));
             let lanes = corners.map(|c| Vec3x8::from_fn(|k| c[k]));
-            let (point, error) = barycentric_point8(lanes, f32x8::from(b1), f32x8::from(b2));
+            let (point, error) = barycentric_point_lanes(lanes, f32x8::from(b1), f32x8::from(b2));
             let scalar: [(Vec3, Vec3); LANES] =
                 std::array::from_fn(|k| barycentric_point([corners[0][k], corners[1][k], corners[2][k]], b1[k], b2[k]));
             assert_lanes_equal(point, scalar.map(|(p, _)| p), "barycentric point");

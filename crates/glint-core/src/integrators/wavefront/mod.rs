@@ -24,17 +24,17 @@ use std::f32::consts::FRAC_1_PI;
 use glam::{Vec2, Vec3};
 use wide::{f32x8, i32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
-use super::estimators::{escaped, power_heuristic8, Scatter};
+use super::estimators::{escaped, power_heuristic_lanes, Scatter};
 use super::path::{BounceDraws, PathState, PathTracer};
 use super::{CameraExplanation, Integrator, RayCounts, SampleContext};
-use crate::geometry::lanes::{negate, Vec3x8, LANES};
-use crate::geometry::{offset_ray_origin8, orthonormal_basis8, Ray};
-use crate::lights::{area_to_solid_angle8, LightSample, TriangleEmitter, TriangleSampling};
+use crate::geometry::{offset_ray_origin_lanes, orthonormal_basis_lanes, Ray};
+use crate::lanes::{negate, Vec3x8, LANES};
+use crate::lights::{area_to_solid_angle_lanes, LightSample, TriangleEmitter, TriangleSampling};
 use crate::materials::{luminance, Material};
-use crate::sampling::warp::square_to_cosine_hemisphere8;
+use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
 use crate::sampling::Sampler;
 use crate::scene::{PrimitiveHit, Scene, Spawn, SHADOW_EPSILON};
-use crate::shapes::barycentric_point8;
+use crate::shapes::barycentric_point_lanes;
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
@@ -338,7 +338,7 @@ impl<'a> Wavefront<'a> {
                                 .unwrap_or(none)]
                         });
                         let to_light = point - Vec3x8::from_fn(|k| path(k).last_point);
-                        let (pdf, seen) = area_to_solid_angle8(
+                        let (pdf, seen) = area_to_solid_angle_lanes(
                             per_lane(|k| emitter[k].selection),
                             per_lane(|k| emitter[k].area),
                             to_light,
@@ -359,7 +359,7 @@ impl<'a> Wavefront<'a> {
                         )
                     }),
                 };
-                power_heuristic8(per_lane(|k| path(k).last_pdf), light_pdf)
+                power_heuristic_lanes(per_lane(|k| path(k).last_pdf), light_pdf)
             };
             radiance = Vec3x8::select(found, radiance + throughput.mul_lanes(emitted) * weight, radiance);
         }
@@ -420,7 +420,7 @@ impl<'a> Wavefront<'a> {
             );
             let traced = (sampled & light_radiance.nonzero() & f.nonzero() & pdf.cmp_gt(zero)).move_mask();
             let bsdf_pdf = (above.cmp_gt(zero) & cos.cmp_gt(zero)).blend(cos * f32x8::splat(FRAC_1_PI), zero);
-            let weight = delta.blend(f32x8::ONE, power_heuristic8(pdf, bsdf_pdf));
+            let weight = delta.blend(f32x8::ONE, power_heuristic_lanes(pdf, bsdf_pdf));
             let contribution = Vec3x8::ZERO + f.mul_lanes(light_radiance) * (weight / pdf);
             shadow_rays_traced = traced.count_ones();
             let unoccluded = mask(|k| traced & (1 << k) != 0 && !scene.occluded(&shadow_rays[k]));
@@ -431,8 +431,8 @@ impl<'a> Wavefront<'a> {
         // The BSDF sample: cosine-weighted, weight k_d.
         // The lobe (`LOBE`) is not read: the diffuse lobe's probability is 1 and every sampler's
         // numbers are below 1, so the scalar code always picks it.
-        let local = square_to_cosine_hemisphere8(draw(DIRECTION), draw(DIRECTION + 1));
-        let (tangent, bitangent) = orthonormal_basis8(normal);
+        let local = square_to_cosine_hemisphere_lanes(draw(DIRECTION), draw(DIRECTION + 1));
+        let (tangent, bitangent) = orthonormal_basis_lanes(normal);
         let wi = tangent * local.x + bitangent * local.y + normal * local.z;
         let scattered = !(local.z.cmp_le(zero) | wi.dot(facing).cmp_le(zero));
         let pdf = local.z.cmp_gt(zero).blend(local.z * f32x8::splat(FRAC_1_PI), zero);
@@ -449,7 +449,7 @@ impl<'a> Wavefront<'a> {
         let survivor = Vec3x8 { x: throughput.x / survival, y: throughput.y / survival, z: throughput.z / survival };
         throughput = Vec3x8::select(roulette, survivor, throughput);
         let continues = (on & scattered & !killed & throughput.nonzero()).move_mask();
-        let origin = offset_ray_origin8(point, error, geometric, wi);
+        let origin = offset_ray_origin_lanes(point, error, geometric, wi);
 
         for (k, &i) in index.iter().enumerate().take(n) {
             let path = &mut paths[i];
@@ -510,7 +510,7 @@ impl<'a> Wavefront<'a> {
             .triangles8(std::array::from_fn(|k| (path(k).hit.object, path(k).hit.prim)))
             .expect("flat surfaces are triangles");
         let (b1, b2) = (per_lane(|k| path(k).hit.at.u), per_lane(|k| path(k).hit.at.v));
-        let (point, error) = barycentric_point8([a, b, c], b1, b2);
+        let (point, error) = barycentric_point_lanes([a, b, c], b1, b2);
         let geometric = (b - a).cross(c - a).normalize_or(Vec3x8::splat(Vec3::Z));
         let shading =
             if geometry.has_vertex_normals() { self.smooth_normals(path, (b1, b2), geometric) } else { geometric };
@@ -607,9 +607,9 @@ impl<'a> Wavefront<'a> {
         let behind = |corner: Vec3x8| normal.dot(corner - from).cmp_gt(zero);
         let hidden = !two_sided & behind(la) & behind(lb) & behind(lc);
         let s = draws[LIGHT_POINT].sqrt();
-        let (point, error) = barycentric_point8([la, lb, lc], f32x8::ONE - s, draws[LIGHT_POINT + 1] * s);
+        let (point, error) = barycentric_point_lanes([la, lb, lc], f32x8::ONE - s, draws[LIGHT_POINT + 1] * s);
         let to_light = point - from;
-        let (pdf, seen) = area_to_solid_angle8(selection, area, to_light, normal);
+        let (pdf, seen) = area_to_solid_angle_lanes(selection, area, to_light, normal);
         let cos_light = negate(normal.dot(to_light));
         let sampled = !unchosen
             & !hidden
@@ -620,8 +620,8 @@ impl<'a> Wavefront<'a> {
             & !cos_light.cmp_eq(zero);
         let radiance = Vec3x8::select(two_sided | cos_light.cmp_gt(zero), radiance, Vec3x8::ZERO);
         // The shadow ray, each end offset off its surface toward the other (`Spawn::ray_to_surface`).
-        let origin = offset_ray_origin8(from, from_error, from_normal, to_light);
-        let end = offset_ray_origin8(point, error, normal, from - point);
+        let origin = offset_ray_origin_lanes(from, from_error, from_normal, to_light);
+        let end = offset_ray_origin_lanes(point, error, normal, from - point);
         let toward = end - origin;
         // All eight written before the first is traced: a query that loads a ray as vectors
         // while its fields' stores are still on their way to the cache stalls until they
