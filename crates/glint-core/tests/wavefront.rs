@@ -316,6 +316,72 @@ fn the_wavefront_serves_mirrors_glass_glossy_and_mixed_materials() {
     }
 }
 
+/// Rough conductors shaded in the lanes (`RoughConductorLanes` at eight lanes, the scalar
+/// BSDF at one): a metal wall among the room's triangles (the lanes compute the surfaces),
+/// metal spheres with a textured width and colour (surfaces from the scalar code), anisotropic
+/// ones (the frame turned to ∂p/∂u lane by lane, where the widths differ) and Beckmann's
+/// (visible normals by Newton's method, lanes stopping as they converge), beside a smooth
+/// conductor the scalar code shades; at depth limits and roulette from the first bounce too.
+#[test]
+fn the_wavefront_shades_rough_conductors_in_lanes() {
+    use glint_core::materials::{named_metal, Conductor, Distribution, RoughConductor};
+    let metal = |name: &str, alpha_u: Texture, alpha_v: Texture, distribution: Distribution| {
+        let (eta, k) = named_metal(name).expect("a named metal");
+        Material::RoughConductor(RoughConductor {
+            conductor: Conductor { eta, k, specular: Texture::Constant(Rgb::new(0.9, 0.85, 0.8)) },
+            alpha_u,
+            alpha_v,
+            distribution,
+        })
+    };
+    let ggx = |name: &str, alpha: f32| metal(name, alpha.into(), alpha.into(), Distribution::Ggx);
+    let checker = || Texture::Checker(Box::new(Checker::new(Rgb::splat(0.05), Rgb::splat(0.6), Vec2::splat(4.0))));
+    let metal_wall = room_where(|_, materials| materials[2] = ggx("Au", 0.3));
+    let spheres = |extra: Vec<Material>| {
+        room_where(move |objects, materials| {
+            let mut textured = metal("Cu", checker(), checker(), Distribution::Ggx);
+            let Material::RoughConductor(m) = &mut textured else { unreachable!("a rough conductor") };
+            m.conductor.specular = checker();
+            let centres = [Vec3::new(0.45, -0.65, 0.3), Vec3::new(-0.4, -0.6, 0.5), Vec3::new(0.1, 0.3, 0.6)];
+            for (j, material) in [ggx("Al", 0.05), textured].into_iter().chain(extra).enumerate() {
+                materials.push(material);
+                let id = materials.len() as u32 - 1;
+                objects.push(object_with(Shape::Sphere(Sphere::new(centres[j % 3], 0.25)), id));
+            }
+        })
+    };
+    let (eta, k) = named_metal("Au").expect("gold");
+    let smooth = Material::Conductor(Conductor { eta, k, specular: Texture::Constant(Rgb::ONE) });
+    let beckmann = || {
+        vec![
+            metal("Cr", 0.2.into(), 0.2.into(), Distribution::Beckmann),
+            metal("Ag", checker(), 0.3.into(), Distribution::Beckmann),
+            smooth.clone(),
+        ]
+    };
+    let scenes = [
+        (metal_wall, "a gold wall among triangles"),
+        (spheres(vec![metal("Ag", 0.1.into(), 0.4.into(), Distribution::Ggx)]), "GGX spheres"),
+        (spheres(beckmann()), "Beckmann spheres and a smooth metal"),
+    ];
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
+    for (scene, what) in &scenes {
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in [(5, 0), (19, 7)] {
+                let lit = assert_same(scene, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+            }
+        }
+    }
+    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0)] {
+        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
+        for seed in 0..2 {
+            assert_same(&scenes[2].0, &tracer, SamplerKind::Sobol, seed, seed as u32);
+            assert_same(&scenes[0].0, &tracer, SamplerKind::Independent, seed, seed as u32);
+        }
+    }
+}
+
 /// Every kind of light in the lanes (sampled by the scalar code lane by lane, its shadow ray
 /// spawned as the scalar code spawns it): point, spot and directional lights, a constant
 /// environment and a map, a sphere light, and all of them with the room's triangle lights,

@@ -40,7 +40,7 @@ pub(crate) fn orthonormal_basis_lanes<L: Lanes>(n: LaneVec3<L>) -> (LaneVec3<L>,
 /// Mirror reflection of the incident direction `incident` about the normal `n`:
 /// R = I − 2(I·N)N (both pointing "through" the surface as the course draws them).
 pub fn reflect(incident: Vec3, n: Vec3) -> Vec3 {
-    incident - 2.0 * incident.dot(n) * n
+    crate::lanes::reflect(LaneVec3::<f32>::from(incident), n.into()).into()
 }
 
 /// Refraction of the unit incident direction `incident` (pointing toward the surface) through a

@@ -29,7 +29,8 @@ use super::rough_conductor::RoughConductorBsdf;
 use super::rough_dielectric::RoughDielectricBsdf;
 use super::rough_plastic::RoughPlasticBsdf;
 use super::thin_dielectric::ThinDielectricBsdf;
-use crate::geometry::orthonormal_basis;
+use crate::geometry::orthonormal_basis_lanes;
+use crate::lanes::{LaneVec3, Lanes};
 use crate::Rgb;
 
 /// The most leaves one BSDF flattens into (a blend of blends, masks): the scene builder refuses
@@ -77,14 +78,16 @@ impl Frame {
     /// The frame at a hit: `wo` toward the viewer, `shading_normal` and `geometric_normal` as
     /// the shape defines them (not yet turned).
     pub fn new(wo: Vec3, shading_normal: Vec3, geometric_normal: Vec3) -> Self {
-        let outside = wo.dot(geometric_normal) >= 0.0;
-        let geometric = if outside { geometric_normal } else { -geometric_normal };
-        let mut normal = if shading_normal.dot(geometric) >= 0.0 { shading_normal } else { -shading_normal };
-        if normal.dot(wo) <= 0.0 {
-            normal = geometric; // a shading normal facing away from the viewer: fall back
+        let frame = LaneFrame::<f32>::new(wo.into(), shading_normal.into(), geometric_normal.into());
+        Self {
+            normal: frame.normal.into(),
+            tangent: frame.tangent.into(),
+            bitangent: frame.bitangent.into(),
+            geometric: frame.geometric.into(),
+            outside: frame.outside,
+            unmapped: Vec3::ZERO,
+            shadowing_alpha2: 0.0,
         }
-        let (tangent, bitangent) = orthonormal_basis(normal);
-        Self { normal, tangent, bitangent, geometric, outside, unmapped: Vec3::ZERO, shadowing_alpha2: 0.0 }
     }
 
     /// The frame of a normal mapped from `unmapped` (the surface's own shading normal), with
@@ -155,10 +158,100 @@ impl Frame {
 
 /// The unit part of `dpdu` in the plane of `normal` (Gram–Schmidt); `None` where `dpdu` is
 /// zero or along the normal.
+/// A shading frame in lanes: `Frame`'s frame (turned to `wo`'s side) as the lane bodies of the
+/// BSDFs read it, with `outside` a mask. (Not `Copy`: eight lanes of it are 416 bytes.)
+#[derive(Clone, Debug)]
+pub(crate) struct LaneFrame<L: Lanes> {
+    pub normal: LaneVec3<L>,
+    pub tangent: LaneVec3<L>,
+    pub bitangent: LaneVec3<L>,
+    pub geometric: LaneVec3<L>,
+    pub outside: L::Mask,
+}
+
+impl<L: Lanes> LaneFrame<L> {
+    /// The frame at a hit seen from `wo`, as `Frame::new` makes it: the geometric normal turned
+    /// to `wo`'s side (`facing`), the shading normal to its side, or `facing` where the shading
+    /// normal faces away from the viewer.
+    #[inline(always)]
+    pub fn new(wo: LaneVec3<L>, shading_normal: LaneVec3<L>, geometric_normal: LaneVec3<L>) -> Self {
+        let outside = wo.dot(geometric_normal).ge(L::ZERO);
+        let geometric = LaneVec3::select(outside, geometric_normal, -geometric_normal);
+        let normal = LaneVec3::select(shading_normal.dot(geometric).ge(L::ZERO), shading_normal, -shading_normal);
+        let normal = LaneVec3::select(normal.dot(wo).le(L::ZERO), geometric, normal);
+        let (tangent, bitangent) = orthonormal_basis_lanes(normal);
+        Self { normal, tangent, bitangent, geometric, outside }
+    }
+
+    #[inline(always)]
+    pub fn to_local(&self, w: LaneVec3<L>) -> LaneVec3<L> {
+        LaneVec3::new(w.dot(self.tangent), w.dot(self.bitangent), w.dot(self.normal))
+    }
+
+    #[inline(always)]
+    pub fn to_world(&self, v: LaneVec3<L>) -> LaneVec3<L> {
+        self.tangent * v.x + self.bitangent * v.y + self.normal * v.z
+    }
+
+    /// `wi` leaves on the viewer's side of both normals.
+    #[inline(always)]
+    pub fn reflects(&self, wi: LaneVec3<L>) -> L::Mask {
+        wi.dot(self.normal).gt(L::ZERO) & wi.dot(self.geometric).gt(L::ZERO)
+    }
+}
+
+/// A BSDF sample in lanes (`BsdfSample` of a non-delta lobe): the direction, f·|cos θ_i| / pdf,
+/// the pdf, and the lanes where there is a sample.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LaneBsdfSample<L: Lanes> {
+    pub wi: LaneVec3<L>,
+    pub weight: LaneVec3<L>,
+    pub pdf: L,
+    pub valid: L::Mask,
+}
+
+impl LaneBsdfSample<f32> {
+    /// The scalar code's sample, where there is one.
+    #[inline(always)]
+    pub fn scalar(self) -> Option<BsdfSample> {
+        self.valid.then(|| BsdfSample {
+            wi: self.wi.into(),
+            weight: self.weight.into(),
+            pdf: self.pdf,
+            delta: false,
+            eta_squared: 1.0,
+        })
+    }
+}
+
+impl From<&Frame> for LaneFrame<f32> {
+    #[inline(always)]
+    fn from(f: &Frame) -> Self {
+        Self {
+            normal: f.normal.into(),
+            tangent: f.tangent.into(),
+            bitangent: f.bitangent.into(),
+            geometric: f.geometric.into(),
+            outside: f.outside,
+        }
+    }
+}
+
 pub(super) fn tangent_along(normal: Vec3, dpdu: Vec3) -> Option<Vec3> {
+    let (tangent, found) = tangent_along_lanes(LaneVec3::<f32>::from(normal), dpdu.into());
+    found.then(|| tangent.into())
+}
+
+/// `tangent_along` in lanes: `dpdu` projected onto the plane of `normal` and normalised, and
+/// the lanes where that is a direction (not too short against `dpdu`).
+#[inline(always)]
+pub(crate) fn tangent_along_lanes<L: Lanes>(normal: LaneVec3<L>, dpdu: LaneVec3<L>) -> (LaneVec3<L>, L::Mask) {
     let projected = dpdu - normal * normal.dot(dpdu);
-    let tangent = projected.try_normalize()?;
-    (projected.length_squared() > 1e-12 * dpdu.length_squared()).then_some(tangent)
+    // glam's `try_normalize`: a finite, positive reciprocal length.
+    let rcp = L::ONE / projected.dot(projected).sqrt();
+    let normalized = rcp.is_finite() & rcp.gt(L::ZERO);
+    let long_enough = projected.dot(projected).gt(L::splat(1e-12) * dpdu.dot(dpdu));
+    (projected * rcp, normalized & long_enough)
 }
 
 /// What each member of the set answers (its file documents its lobes).

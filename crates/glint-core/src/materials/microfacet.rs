@@ -15,6 +15,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use crate::geometry::reflect;
+use crate::lanes::{acos, exp, ln, sin_cos_turns, LaneVec3, Lanes};
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,149 +68,49 @@ impl Microfacet {
         Self { distribution, ..self }
     }
 
-    fn is_isotropic(&self) -> bool {
-        self.alpha_x == self.alpha_y
+    /// The one body of this lobe's arithmetic (`MicrofacetLanes`), at one lane.
+    #[inline(always)]
+    fn lanes(&self) -> MicrofacetLanes<f32> {
+        MicrofacetLanes::from(self)
     }
 
     /// D(h): the density of micro-normals, normalised so ∫ D(h) cos θ_h dω_h = 1.
     pub fn d(&self, h: Vec3) -> f32 {
-        if h.z <= 0.0 {
-            return 0.0;
-        }
-        if self.distribution == Distribution::Beckmann {
-            // exp(−tan²θ (cos²φ/α_x² + sin²φ/α_y²)) / (π α_x α_y cos⁴θ).
-            let (x, y) = (h.x / self.alpha_x, h.y / self.alpha_y);
-            let cos2 = h.z * h.z;
-            let d = (-(x * x + y * y) / cos2).exp() / (PI * self.alpha_x * self.alpha_y * cos2 * cos2);
-            return if d * h.z > 1e-20 { d } else { 0.0 };
-        }
-        if self.is_isotropic() {
-            let a2 = self.alpha_x * self.alpha_x;
-            let t = (a2 - 1.0) * h.z * h.z + 1.0;
-            return a2 / (PI * t * t);
-        }
-        let (x, y) = (h.x / self.alpha_x, h.y / self.alpha_y);
-        let t = x * x + y * y + h.z * h.z;
-        1.0 / (PI * self.alpha_x * self.alpha_y * t * t)
-    }
-
-    /// Smith's Λ(w).
-    fn lambda(&self, w: Vec3) -> f32 {
-        let cos2 = w.z * w.z;
-        if cos2 <= 0.0 {
-            return f32::INFINITY;
-        }
-        let alpha2_tan2 = if self.is_isotropic() {
-            let tan2 = (1.0 - cos2).max(0.0) / cos2;
-            self.alpha_x * self.alpha_x * tan2
-        } else {
-            let (x, y) = (self.alpha_x * w.x, self.alpha_y * w.y);
-            (x * x + y * y) / cos2
-        };
-        if self.distribution == Distribution::Beckmann {
-            // Λ = 1/G1 − 1 with G1 the rational fit in a = 1/(α tan θ), within 0.4 % of exact.
-            let a = 1.0 / alpha2_tan2.sqrt();
-            if a >= 1.6 {
-                return 0.0;
-            }
-            let g1 = (3.535 * a + 2.181 * a * a) / (1.0 + 2.276 * a + 2.577 * a * a);
-            return 1.0 / g1 - 1.0;
-        }
-        0.5 * (-1.0 + (1.0 + alpha2_tan2).sqrt())
+        self.lanes().d(h.into())
     }
 
     pub fn g1(&self, w: Vec3) -> f32 {
-        1.0 / (1.0 + self.lambda(w))
+        self.lanes().g1(w.into())
     }
 
     /// Masking-shadowing G2(wo, wi): height-correlated, or separable (`separable`).
     pub fn g2(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if self.separable {
-            return self.g1(wo) * self.g1(wi);
-        }
-        1.0 / (1.0 + self.lambda(wo) + self.lambda(wi))
+        self.lanes().g2(wo.into(), wi.into())
     }
 
     /// A visible micro-normal for `wo` (wo.z > 0), from two uniform numbers: by Heitz's
     /// hemisphere construction for GGX (2018), by inverting the visible slopes' distribution
     /// for Beckmann (Heitz & d'Eon 2014, with Jakob's numerical inversion).
     pub fn sample_normal(&self, wo: Vec3, u: Vec2) -> Vec3 {
-        if self.distribution == Distribution::Beckmann {
-            return self.sample_beckmann_visible(wo, u);
-        }
-        let v = Vec3::new(self.alpha_x * wo.x, self.alpha_y * wo.y, wo.z).normalize();
-        let length2 = v.x * v.x + v.y * v.y;
-        let t1 = if length2 > 0.0 { Vec3::new(-v.y, v.x, 0.0) / length2.sqrt() } else { Vec3::X };
-        let t2 = v.cross(t1);
-        let r = u.x.sqrt();
-        let phi = 2.0 * PI * u.y;
-        let p1 = r * phi.cos();
-        let s = 0.5 * (1.0 + v.z);
-        let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
-        let n = p1 * t1 + p2 * t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * v;
-        Vec3::new(self.alpha_x * n.x, self.alpha_y * n.y, n.z.max(1e-7)).normalize()
+        self.lanes().sample_normal(wo.into(), u.x, u.y).into()
     }
 
-    /// Beckmann's visible normals: `wo` stretched to unit roughness, a visible slope drawn
-    /// there (`beckmann_visible_slope`, with the view along +x), turned to `wo`'s azimuth and
-    /// stretched back.
-    fn sample_beckmann_visible(&self, wo: Vec3, u: Vec2) -> Vec3 {
-        let stretched = Vec3::new(self.alpha_x * wo.x, self.alpha_y * wo.y, wo.z).normalize();
-        let sin_theta = (1.0 - stretched.z * stretched.z).max(0.0).sqrt();
-        let (cos_phi, sin_phi) =
-            if sin_theta > 1e-7 { (stretched.x / sin_theta, stretched.y / sin_theta) } else { (1.0, 0.0) };
-        let (x, y) = beckmann_visible_slope(stretched.z, u);
-        let (x, y) = (cos_phi * x - sin_phi * y, sin_phi * x + cos_phi * y);
-        Vec3::new(-self.alpha_x * x, -self.alpha_y * y, 1.0).normalize()
-    }
-
-    /// Smith's G1 for the density of visible normals: GGX's, and for Beckmann the exact
-    /// 2 / (1 + erf a + e^(−a²) / (a √π)) (its samples are exact; the rational fit `g1`
-    /// evaluates the BSDF, as Mitsuba's does).
-    fn visible_g1(&self, wo: Vec3) -> f32 {
-        if self.distribution != Distribution::Beckmann {
-            return self.g1(wo);
-        }
-        let cos2 = wo.z * wo.z;
-        if cos2 <= 0.0 {
-            return 0.0;
-        }
-        let (x, y) = (self.alpha_x * wo.x, self.alpha_y * wo.y);
-        let alpha_tan = ((x * x + y * y) / cos2).sqrt();
-        if alpha_tan <= 0.0 {
-            return 1.0;
-        }
-        let a = 1.0 / alpha_tan;
-        2.0 / (1.0 + erf(a) + (-a * a).exp() / (a * PI.sqrt()))
-    }
-
-    /// Density per solid angle of `sample_normal`'s micro-normal `h` for `wo`: the visible
-    /// normals' G1(wo)·max(0, wo·h)·D(h) / cos θ_o.
+    /// Density per solid angle of `sample_normal`'s micro-normal `h` for `wo`.
     fn normal_pdf(&self, wo: Vec3, h: Vec3) -> f32 {
-        if wo.z <= 0.0 {
-            return 0.0;
-        }
-        self.visible_g1(wo) * wo.dot(h).max(0.0) * self.d(h) / wo.z
+        self.lanes().normal_pdf(wo.into(), h.into())
     }
 
     /// Density per solid angle of the reflected direction `wi` when `h` is sampled by
     /// `sample_normal`: the normal's density / (4 wo·h) = G1(wo)·D(h) / (4 cos θ_o).
     pub fn reflection_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if wo.z <= 0.0 || wi.z <= 0.0 {
-            return 0.0;
-        }
-        let h = (wo + wi).normalize();
-        self.visible_g1(wo) * self.d(h) / (4.0 * wo.z)
+        self.lanes().reflection_pdf(wo.into(), wi.into())
     }
 
     /// f(wo, wi)·cos θ_i without the Fresnel factor: D·G2 / (4 cos θ_o).
     pub fn reflection_eval(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if wo.z <= 0.0 || wi.z <= 0.0 {
-            return 0.0;
-        }
-        let h = (wo + wi).normalize();
-        self.d(h) * self.g2(wo, wi) / (4.0 * wo.z)
+        self.lanes().reflection_eval(wo.into(), wi.into())
     }
+
     /// The refraction half vector for `wo` (wo.z > 0) and `wi` below the surface (wi.z < 0),
     /// with `eta` = n(wo's side) / n(wi's side): h ∝ −(η_o wo + η_i wi), turned to +z; `None`
     /// if the pair cannot refract through any microfacet.
@@ -245,90 +146,300 @@ impl Microfacet {
     }
 }
 
+/// A microfacet lobe in lanes: the one body of `Microfacet`'s arithmetic, which the scalar
+/// code runs at one lane and the wavefront at eight. The widths vary by lane; the masking and
+/// the distribution are the same in every lane (the wavefront groups paths by them). Where
+/// α_x = α_y the isotropic arithmetic is used (which the course's materials were measured
+/// with), lane by lane.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct MicrofacetLanes<L> {
+    pub alpha_x: L,
+    pub alpha_y: L,
+    pub separable: bool,
+    pub distribution: Distribution,
+}
+
+impl From<&Microfacet> for MicrofacetLanes<f32> {
+    #[inline(always)]
+    fn from(m: &Microfacet) -> Self {
+        Self { alpha_x: m.alpha_x, alpha_y: m.alpha_y, separable: m.separable, distribution: m.distribution }
+    }
+}
+
+impl<L: Lanes> MicrofacetLanes<L> {
+    /// `isotropic` in the lanes with α_x = α_y, `anisotropic` in the others, each computed only
+    /// if some lane needs it.
+    #[inline(always)]
+    fn by_isotropy(&self, isotropic: impl Fn() -> L, anisotropic: impl Fn() -> L) -> L {
+        let same = self.alpha_x.eq(self.alpha_y);
+        match (L::any(same), L::any(!same)) {
+            (true, false) => isotropic(),
+            (false, _) => anisotropic(),
+            (true, true) => L::select(same, isotropic(), anisotropic()),
+        }
+    }
+
+    /// D(h): the density of micro-normals, normalised so ∫ D(h) cos θ_h dω_h = 1.
+    #[inline(always)]
+    pub fn d(&self, h: LaneVec3<L>) -> L {
+        let c = L::splat;
+        let (ax, ay) = (self.alpha_x, self.alpha_y);
+        let d = if self.distribution == Distribution::Beckmann {
+            // exp(−tan²θ (cos²φ/α_x² + sin²φ/α_y²)) / (π α_x α_y cos⁴θ).
+            let (x, y) = (h.x / ax, h.y / ay);
+            let cos2 = h.z * h.z;
+            let d = exp((x * x + y * y).negate() / cos2) / (c(PI) * ax * ay * cos2 * cos2);
+            L::select((d * h.z).gt(c(1e-20)), d, L::ZERO)
+        } else {
+            self.by_isotropy(
+                || {
+                    let a2 = ax * ax;
+                    let t = (a2 - L::ONE) * h.z * h.z + L::ONE;
+                    a2 / (c(PI) * t * t)
+                },
+                || {
+                    let (x, y) = (h.x / ax, h.y / ay);
+                    let t = x * x + y * y + h.z * h.z;
+                    L::ONE / (c(PI) * ax * ay * t * t)
+                },
+            )
+        };
+        L::select(h.z.le(L::ZERO), L::ZERO, d)
+    }
+
+    /// Smith's Λ(w); infinite at and below the horizon.
+    #[inline(always)]
+    fn lambda(&self, w: LaneVec3<L>) -> L {
+        let c = L::splat;
+        let cos2 = w.z * w.z;
+        let alpha2_tan2 = self.by_isotropy(
+            || {
+                let tan2 = (L::ONE - cos2).max(L::ZERO) / cos2;
+                self.alpha_x * self.alpha_x * tan2
+            },
+            || {
+                let (x, y) = (self.alpha_x * w.x, self.alpha_y * w.y);
+                (x * x + y * y) / cos2
+            },
+        );
+        let lambda = if self.distribution == Distribution::Beckmann {
+            // Λ = 1/G1 − 1 with G1 the rational fit in a = 1/(α tan θ), within 0.4 % of exact.
+            let a = L::ONE / alpha2_tan2.sqrt();
+            let g1 = (c(3.535) * a + c(2.181) * a * a) / (L::ONE + c(2.276) * a + c(2.577) * a * a);
+            L::select(a.ge(c(1.6)), L::ZERO, L::ONE / g1 - L::ONE)
+        } else {
+            c(0.5) * (c(-1.0) + (L::ONE + alpha2_tan2).sqrt())
+        };
+        L::select(cos2.le(L::ZERO), c(f32::INFINITY), lambda)
+    }
+
+    #[inline(always)]
+    pub fn g1(&self, w: LaneVec3<L>) -> L {
+        L::ONE / (L::ONE + self.lambda(w))
+    }
+
+    /// Masking-shadowing G2(wo, wi): height-correlated, or separable.
+    #[inline(always)]
+    pub fn g2(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> L {
+        if self.separable {
+            return self.g1(wo) * self.g1(wi);
+        }
+        L::ONE / (L::ONE + self.lambda(wo) + self.lambda(wi))
+    }
+
+    /// A visible micro-normal for `wo` (wo.z > 0), from two uniform numbers.
+    #[inline(always)]
+    pub fn sample_normal(&self, wo: LaneVec3<L>, u1: L, u2: L) -> LaneVec3<L> {
+        match self.distribution {
+            Distribution::Ggx => ggx_visible_normal(self.alpha_x, self.alpha_y, wo, u1, u2),
+            Distribution::Beckmann => self.sample_beckmann_visible(wo, u1, u2),
+        }
+    }
+
+    /// Beckmann's visible normals: `wo` stretched to unit roughness, a visible slope drawn
+    /// there (`beckmann_visible_slope`, with the view along +x), turned to `wo`'s azimuth and
+    /// stretched back.
+    #[inline(always)]
+    fn sample_beckmann_visible(&self, wo: LaneVec3<L>, u1: L, u2: L) -> LaneVec3<L> {
+        let stretched = LaneVec3::new(self.alpha_x * wo.x, self.alpha_y * wo.y, wo.z).normalize();
+        let sin_theta = (L::ONE - stretched.z * stretched.z).max(L::ZERO).sqrt();
+        let turned = sin_theta.gt(L::splat(1e-7));
+        let cos_phi = L::select(turned, stretched.x / sin_theta, L::ONE);
+        let sin_phi = L::select(turned, stretched.y / sin_theta, L::ZERO);
+        let (x, y) = beckmann_visible_slope(stretched.z, u1, u2);
+        let (x, y) = (cos_phi * x - sin_phi * y, sin_phi * x + cos_phi * y);
+        LaneVec3::new(self.alpha_x.negate() * x, self.alpha_y.negate() * y, L::ONE).normalize()
+    }
+
+    /// Smith's G1 for the density of visible normals: GGX's, and for Beckmann the exact
+    /// 2 / (1 + erf a + e^(−a²) / (a √π)) (its samples are exact; the rational fit `g1`
+    /// evaluates the BSDF, as Mitsuba's does).
+    #[inline(always)]
+    fn visible_g1(&self, wo: LaneVec3<L>) -> L {
+        if self.distribution != Distribution::Beckmann {
+            return self.g1(wo);
+        }
+        let cos2 = wo.z * wo.z;
+        let (x, y) = (self.alpha_x * wo.x, self.alpha_y * wo.y);
+        let alpha_tan = ((x * x + y * y) / cos2).sqrt();
+        let a = L::ONE / alpha_tan;
+        let g1 = L::splat(2.0) / (L::ONE + erf(a) + exp((a * a).negate()) / (a * L::splat(PI.sqrt())));
+        L::select(cos2.le(L::ZERO), L::ZERO, L::select(alpha_tan.le(L::ZERO), L::ONE, g1))
+    }
+
+    /// Density per solid angle of `sample_normal`'s micro-normal `h` for `wo`: the visible
+    /// normals' G1(wo)·max(0, wo·h)·D(h) / cos θ_o.
+    #[inline(always)]
+    pub fn normal_pdf(&self, wo: LaneVec3<L>, h: LaneVec3<L>) -> L {
+        let pdf = self.visible_g1(wo) * wo.dot(h).max(L::ZERO) * self.d(h) / wo.z;
+        L::select(wo.z.le(L::ZERO), L::ZERO, pdf)
+    }
+
+    /// Density per solid angle of the reflected direction `wi` when `h` is sampled by
+    /// `sample_normal`: G1(wo)·D(h) / (4 cos θ_o).
+    #[inline(always)]
+    pub fn reflection_pdf(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> L {
+        let h = (wo + wi).normalize();
+        let pdf = self.visible_g1(wo) * self.d(h) / (L::splat(4.0) * wo.z);
+        L::select(wo.z.le(L::ZERO) | wi.z.le(L::ZERO), L::ZERO, pdf)
+    }
+
+    /// f(wo, wi)·cos θ_i without the Fresnel factor: D·G2 / (4 cos θ_o).
+    #[inline(always)]
+    pub fn reflection_eval(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> L {
+        let h = (wo + wi).normalize();
+        let value = self.d(h) * self.g2(wo, wi) / (L::splat(4.0) * wo.z);
+        L::select(wo.z.le(L::ZERO) | wi.z.le(L::ZERO), L::ZERO, value)
+    }
+}
+
+/// A visible normal of GGX with widths (α_x, α_y) for `wo` (wo.z > 0), by Heitz's hemisphere
+/// construction (2018): `wo` stretched to unit roughness, a point on the disk warped toward
+/// the visible half, lifted to the hemisphere and stretched back.
+#[inline(always)]
+fn ggx_visible_normal<L: Lanes>(alpha_x: L, alpha_y: L, wo: LaneVec3<L>, u1: L, u2: L) -> LaneVec3<L> {
+    let v = LaneVec3::new(alpha_x * wo.x, alpha_y * wo.y, wo.z).normalize();
+    let length2 = v.x * v.x + v.y * v.y;
+    let length = length2.sqrt();
+    let t1 = LaneVec3::select(
+        length2.gt(L::ZERO),
+        LaneVec3::new(v.y.negate() / length, v.x / length, L::ZERO / length),
+        LaneVec3::new(L::ONE, L::ZERO, L::ZERO),
+    );
+    let t2 = v.cross(t1);
+    let r = u1.sqrt();
+    let (sin_phi, cos_phi) = sin_cos_turns(u2);
+    let p1 = r * cos_phi;
+    let s = L::splat(0.5) * (L::ONE + v.z);
+    let p2 = (L::ONE - s) * (L::ONE - p1 * p1).max(L::ZERO).sqrt() + s * r * sin_phi;
+    let n = t1 * p1 + t2 * p2 + v * (L::ONE - p1 * p1 - p2 * p2).max(L::ZERO).sqrt();
+    LaneVec3::new(alpha_x * n.x, alpha_y * n.y, n.z.max(L::splat(1e-7))).normalize()
+}
+
 /// A slope (x, y) of Beckmann's distribution at unit roughness, visible from a direction of
 /// cosine `cos_theta` in the xz plane (x toward it). y is Gaussian; x is found by inverting
 /// its distribution function in the variable b = erf(x), where it reads
 /// C(b) = (1 + b + tan θ e^(−erfinv(b)²) / √π) / (1 + erf(cot θ) + tan θ e^(−cot² θ) / √π),
-/// by Newton's method kept inside a bisection bracket, from a fitted first guess.
-fn beckmann_visible_slope(cos_theta: f32, u: Vec2) -> (f32, f32) {
-    if cos_theta > 0.9999 {
-        // Seen from straight above: the slopes' own Gaussian.
-        let r = (-(1.0 - u.x).max(f32::MIN_POSITIVE).ln()).sqrt();
-        let phi = 2.0 * PI * u.y;
-        return (r * phi.cos(), r * phi.sin());
+/// by Newton's method kept inside a bisection bracket, from a fitted first guess. Lanes stop
+/// as they converge (each keeps the bracket and guess it had when it did).
+#[inline(always)]
+fn beckmann_visible_slope<L: Lanes>(cos_theta: L, u1: L, u2: L) -> (L, L) {
+    let c = L::splat;
+    // Seen from straight above: the slopes' own Gaussian.
+    let overhead = cos_theta.gt(c(0.9999));
+    let (sin_phi, cos_phi) = sin_cos_turns(u2);
+    let r = ln((L::ONE - u1).max(c(f32::MIN_POSITIVE))).negate().sqrt();
+    let (overhead_x, overhead_y) = (r * cos_phi, r * sin_phi);
+    if !L::any(!overhead) {
+        return (overhead_x, overhead_y);
     }
-    let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+    let sin_theta = (L::ONE - cos_theta * cos_theta).max(L::ZERO).sqrt();
     let tan_theta = sin_theta / cos_theta;
-    let cot_theta = 1.0 / tan_theta;
-    let inv_sqrt_pi = 1.0 / PI.sqrt();
-    let (mut low, mut high) = (-1.0f32, erf(cot_theta));
-    let target = u.x.max(1e-6);
-    let theta = cos_theta.acos();
-    let fit = 1.0 + theta * (-0.876 + theta * (0.4265 - 0.0594 * theta));
-    let mut b = high - (1.0 + high) * (1.0 - target).powf(fit);
-    let normalization = 1.0 / (1.0 + high + inv_sqrt_pi * tan_theta * (-cot_theta * cot_theta).exp());
+    let cot_theta = L::ONE / tan_theta;
+    let inv_sqrt_pi = c(1.0 / PI.sqrt());
+    let (mut low, mut high) = (c(-1.0), erf(cot_theta));
+    let target = u1.max(c(1e-6));
+    let theta = acos(cos_theta);
+    let fit = L::ONE + theta * (c(-0.876) + theta * (c(0.4265) - c(0.0594) * theta));
+    // (1 − target)^fit
+    let mut b = high - (L::ONE + high) * exp(fit * ln(L::ONE - target));
+    let normalization = L::ONE / (L::ONE + high + inv_sqrt_pi * tan_theta * exp((cot_theta * cot_theta).negate()));
+    let mut done = overhead;
     for _ in 0..10 {
-        if !(b >= low && b <= high) {
-            b = 0.5 * (low + high);
-        }
+        let outside = !(b.ge(low) & b.le(high));
+        b = L::select(done, b, L::select(outside, c(0.5) * (low + high), b));
         let x = erf_inv(b);
-        let value = normalization * (1.0 + b + inv_sqrt_pi * tan_theta * (-x * x).exp()) - target;
-        if value.abs() < 1e-5 {
+        let value = normalization * (L::ONE + b + inv_sqrt_pi * tan_theta * exp((x * x).negate())) - target;
+        done = done | value.abs().lt(c(1e-5));
+        if !L::any(!done) {
             break;
         }
-        if value > 0.0 {
-            high = b;
-        } else {
-            low = b;
-        }
-        let derivative = normalization * (1.0 - x * tan_theta);
-        b -= value / derivative;
+        let above = value.gt(L::ZERO);
+        high = L::select(done, high, L::select(above, b, high));
+        low = L::select(done, low, L::select(above, low, b));
+        let derivative = normalization * (L::ONE - x * tan_theta);
+        b = L::select(done, b, b - value / derivative);
     }
-    (erf_inv(b.clamp(low, high)), erf_inv(2.0 * u.y.max(1e-6) - 1.0))
+    let x = erf_inv(b.max(low).min(high));
+    let y = erf_inv(c(2.0) * u2.max(c(1e-6)) - L::ONE);
+    (L::select(overhead, overhead_x, x), L::select(overhead, overhead_y, y))
 }
 
 /// The error function (Abramowitz & Stegun 7.1.26, absolute error below 1.5·10⁻⁷).
-fn erf(x: f32) -> f32 {
-    let t = 1.0 / (1.0 + 0.327_591_1 * x.abs());
-    let poly = t * (0.254_829_6 + t * (-0.284_496_74 + t * (1.421_413_7 + t * (-1.453_152 + t * 1.061_405_4))));
-    (1.0 - poly * (-x * x).exp()).copysign(x)
+#[inline(always)]
+fn erf<L: Lanes>(x: L) -> L {
+    let c = L::splat;
+    let t = L::ONE / (L::ONE + c(0.327_591_1) * x.abs());
+    let poly =
+        t * (c(0.254_829_6) + t * (c(-0.284_496_74) + t * (c(1.421_413_7) + t * (c(-1.453_152) + t * c(1.061_405_4)))));
+    (L::ONE - poly * exp((x.negate()) * x)).copysign(x)
 }
 
 /// The inverse error function on (−1, 1) (Giles' single-precision polynomials, 2010).
-fn erf_inv(x: f32) -> f32 {
+#[inline(always)]
+fn erf_inv<L: Lanes>(x: L) -> L {
+    let c = L::splat;
     // Within the polynomials' range: ±1 itself saturates at the largest finite answer.
-    let x = x.clamp(-0.999_999_9, 0.999_999_9);
-    let w = -((1.0 - x) * (1.0 + x)).ln();
-    let p = if w < 5.0 {
-        let w = w - 2.5;
-        [
-            2.810_226_4e-8,
-            3.432_739_4e-7,
-            -3.523_387_7e-6,
-            -4.391_506_5e-6,
-            2.185_808_7e-4,
-            -1.253_725e-3,
-            -4.177_681_6e-3,
-            0.246_640_73,
-            1.501_409_4,
-        ]
-        .iter()
-        .fold(0.0, |p, c| c + p * w)
-    } else {
-        let w = w.sqrt() - 3.0;
-        [
-            -2.002_142_6e-4,
-            1.009_505_6e-4,
-            1.349_343_2e-3,
-            -3.673_428_4e-3,
-            5.739_507_7e-3,
-            -7.622_461e-3,
-            9.438_870_5e-3,
-            1.001_674,
-            2.832_976_8,
-        ]
-        .iter()
-        .fold(0.0, |p, c| c + p * w)
+    let x = x.max(c(-0.999_999_9)).min(c(0.999_999_9));
+    let w = ln((L::ONE - x) * (L::ONE + x)).negate();
+    let horner = |coefficients: &[f32], w: L| coefficients.iter().fold(L::ZERO, |p, &k| c(k) + p * w);
+    let central = || {
+        horner(
+            &[
+                2.810_226_4e-8,
+                3.432_739_4e-7,
+                -3.523_387_7e-6,
+                -4.391_506_5e-6,
+                2.185_808_7e-4,
+                -1.253_725e-3,
+                -4.177_681_6e-3,
+                0.246_640_73,
+                1.501_409_4,
+            ],
+            w - c(2.5),
+        )
+    };
+    let tail = || {
+        horner(
+            &[
+                -2.002_142_6e-4,
+                1.009_505_6e-4,
+                1.349_343_2e-3,
+                -3.673_428_4e-3,
+                5.739_507_7e-3,
+                -7.622_461e-3,
+                9.438_870_5e-3,
+                1.001_674,
+                2.832_976_8,
+            ],
+            w.sqrt() - c(3.0),
+        )
+    };
+    let in_centre = w.lt(c(5.0));
+    let p = match (L::any(in_centre), L::any(!in_centre)) {
+        (true, false) => central(),
+        (false, _) => tail(),
+        (true, true) => L::select(in_centre, central(), tail()),
     };
     p * x
 }

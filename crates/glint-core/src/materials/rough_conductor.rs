@@ -18,10 +18,11 @@
 
 use glam::{Vec2, Vec3};
 
-use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
-use super::conductor::fresnel_conductor;
+use super::bsdf::{BsdfSample, Frame, LaneBsdfSample, LaneFrame, Leaf, Lobes};
+use super::conductor::fresnel_conductor_lanes;
+use super::microfacet::MicrofacetLanes;
 use super::{Conductor, Distribution, Microfacet, PhongPoint};
-use crate::geometry::reflect;
+use crate::lanes::{reflect, LaneVec3, Lanes};
 use crate::textures::{luminance, Texture, TextureQuery};
 use crate::Rgb;
 
@@ -49,6 +50,12 @@ impl RoughConductor {
         })
     }
 
+    /// Its widths along ∂p/∂u and across it and its specular colour at a point, as `bsdf`
+    /// reads them.
+    pub(crate) fn widths_and_specular(&self, query: &TextureQuery) -> (f32, f32, Rgb) {
+        (width(&self.alpha_u, query), width(&self.alpha_v, query), self.conductor.specular.evaluate(query))
+    }
+
     /// Whitted's view: the lobe's smooth limit, the smooth conductor's mirror weighted by the
     /// Fresnel reflectance at the viewer's angle (Whitted traces no glossy rays).
     pub(super) fn whitted(&self, query: &TextureQuery, outside: bool, cos: f32) -> PhongPoint {
@@ -66,6 +73,56 @@ pub(super) fn width(texture: &Texture, query: &TextureQuery) -> f32 {
     alpha.max(1e-4)
 }
 
+/// The rough conductor at a hit, in lanes: the one body of its `eval`, `pdf` and `sample`,
+/// which the scalar BSDF runs at one lane and the wavefront at eight.
+#[derive(Clone, Debug)]
+pub(crate) struct RoughConductorLanes<L: Lanes> {
+    pub frame: LaneFrame<L>,
+    pub eta: LaneVec3<L>,
+    pub k: LaneVec3<L>,
+    pub specular: LaneVec3<L>,
+    pub microfacet: MicrofacetLanes<L>,
+}
+
+impl<L: Lanes> RoughConductorLanes<L> {
+    /// specular · F(wo·h) · D G / (4 cos θ_o) where `wi` reflects on the viewer's side of a
+    /// front face, else 0.
+    #[inline(always)]
+    pub fn eval(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> LaneVec3<L> {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        let h = (o + i).normalize();
+        let cos = o.dot(h);
+        let fresnel = LaneVec3::new(
+            fresnel_conductor_lanes(cos, self.eta.x, self.k.x),
+            fresnel_conductor_lanes(cos, self.eta.y, self.k.y),
+            fresnel_conductor_lanes(cos, self.eta.z, self.k.z),
+        );
+        let value = self.specular.mul_lanes(fresnel) * self.microfacet.reflection_eval(o, i);
+        LaneVec3::select(self.frame.outside & self.frame.reflects(wi), value, LaneVec3::ZERO)
+    }
+
+    #[inline(always)]
+    pub fn pdf(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> L {
+        let pdf = self.microfacet.reflection_pdf(self.frame.to_local(wo), self.frame.to_local(wi));
+        L::select(self.frame.outside & self.frame.reflects(wi), pdf, L::ZERO)
+    }
+
+    /// `wo` reflected about a visible micro-normal, weighed by eval / pdf.
+    #[inline(always)]
+    pub fn sample(&self, wo: LaneVec3<L>, u1: L, u2: L) -> LaneBsdfSample<L> {
+        let o = self.frame.to_local(wo);
+        let h = self.microfacet.sample_normal(o, u1, u2);
+        // A Beckmann normal may face away from the viewer.
+        let facing = o.dot(h).gt(L::ZERO);
+        let wi = self.frame.to_world(reflect(-o, h));
+        let pdf = self.pdf(wo, wi);
+        let valid = self.frame.outside & facing & self.frame.reflects(wi) & pdf.gt(L::ZERO) & pdf.is_finite();
+        let f = self.eval(wo, wi);
+        let weight = LaneVec3::new(f.x / pdf, f.y / pdf, f.z / pdf);
+        LaneBsdfSample { wi, weight, pdf, valid }
+    }
+}
+
 #[derive(Clone, Copy, Debug)]
 pub(super) struct RoughConductorBsdf {
     frame: Frame,
@@ -75,37 +132,31 @@ pub(super) struct RoughConductorBsdf {
     microfacet: Microfacet,
 }
 
+impl RoughConductorBsdf {
+    /// The lobe as its one body reads it.
+    #[inline(always)]
+    fn lanes(&self) -> RoughConductorLanes<f32> {
+        RoughConductorLanes {
+            frame: LaneFrame::from(&self.frame),
+            eta: self.eta.into(),
+            k: self.k.into(),
+            specular: self.specular.into(),
+            microfacet: MicrofacetLanes::from(&self.microfacet),
+        }
+    }
+}
+
 impl Lobes for RoughConductorBsdf {
     fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        if !self.frame.outside || !self.frame.reflects(wi) {
-            return Rgb::ZERO;
-        }
-        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        let h = (o + i).normalize();
-        self.specular * fresnel_conductor(o.dot(h), self.eta, self.k) * self.microfacet.reflection_eval(o, i)
+        self.lanes().eval(wo.into(), wi.into()).into()
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if !self.frame.outside || !self.frame.reflects(wi) {
-            return 0.0;
-        }
-        self.microfacet.reflection_pdf(self.frame.to_local(wo), self.frame.to_local(wi))
+        self.lanes().pdf(wo.into(), wi.into())
     }
 
     fn sample(&self, wo: Vec3, _u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        if !self.frame.outside {
-            return None;
-        }
-        let o = self.frame.to_local(wo);
-        let h = self.microfacet.sample_normal(o, u);
-        if o.dot(h) <= 0.0 {
-            return None; // a Beckmann normal facing away from the viewer
-        }
-        let wi = self.frame.to_world(reflect(-o, h));
-        if !self.frame.reflects(wi) {
-            return None;
-        }
-        self.weighed(wo, wi, 1.0)
+        self.lanes().sample(wo.into(), u.x, u.y).scalar()
     }
 
     fn non_delta_probability(&self) -> f32 {

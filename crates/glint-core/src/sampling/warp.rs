@@ -4,7 +4,7 @@
 
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
 
-use crate::lanes::{LaneVec3, Lanes};
+use crate::lanes::{sin_cos_quarter, LaneVec3, Lanes};
 use glam::{Vec2, Vec3};
 
 /// Shirley–Chiu concentric map of [0,1)² onto the unit disk (area-preserving, low distortion).
@@ -27,22 +27,6 @@ fn square_to_disk_lanes<L: Lanes>(u: L, v: L) -> (L, L) {
     // |r| = max(|x|, |y|) is 0 at the centre.
     let centre = r.eq(L::ZERO);
     (L::select(centre, L::ZERO, r * x), L::select(centre, L::ZERO, r * y))
-}
-
-/// (sin x, cos x) for |x| ≤ π/4 by their Taylor polynomials to x⁹ and x¹⁰, whose remainders
-/// there (below 2·10⁻⁹) are under half an ulp of the result: the range needs no reduction, so
-/// this is a few multiply-adds instead of a call to the library's sincos (2.7 % of a path
-/// tracer's time, for the concentric map of every diffuse bounce).
-#[inline(always)]
-fn sin_cos_quarter<L: Lanes>(x: L) -> (L, L) {
-    let c = L::splat;
-    let x2 = x * x;
-    let sin =
-        x * (c(1.0) + x2 * (c(-1.0 / 6.0) + x2 * (c(1.0 / 120.0) + x2 * (c(-1.0 / 5040.0) + x2 * c(1.0 / 362_880.0)))));
-    let cos = c(1.0)
-        + x2 * (c(-0.5)
-            + x2 * (c(1.0 / 24.0) + x2 * (c(-1.0 / 720.0) + x2 * (c(1.0 / 40_320.0) + x2 * c(-1.0 / 3_628_800.0)))));
-    (sin, cos)
 }
 
 pub fn disk_to_square(d: Vec2) -> Vec2 {
@@ -166,22 +150,6 @@ mod tests {
     use crate::lanes::testing::{assert_lanes_equal, random_floats};
     use crate::lanes::LANES;
     use crate::sampling::Rng;
-
-    /// Within two ulps of the correctly rounded sine and cosine over the whole quarter, and
-    /// exact at 0.
-    #[test]
-    fn sin_cos_quarter_is_accurate() {
-        assert_eq!(sin_cos_quarter(0.0), (0.0, 1.0));
-        // Floats between the two (the pair has one sign: sin x and its polynomial share x's).
-        let ulps = |a: f32, b: f64| (i64::from(a.to_bits()) - i64::from((b as f32).to_bits())).abs();
-        for i in -10_000..=10_000 {
-            let x = FRAC_PI_4 * i as f32 / 10_000.0;
-            let (sin, cos) = sin_cos_quarter(x);
-            let (s64, c64) = (x as f64).sin_cos();
-            assert!(ulps(sin, s64) <= 2, "sin {x}: {sin} against {s64}");
-            assert!(ulps(cos, c64) <= 2, "cos {x}: {cos} against {c64}");
-        }
-    }
 
     /// The bilinear warp against its pdf: a 2D histogram (chi-square over 10 × 10 cells, the
     /// pdf integrated exactly: it is bilinear), and the round trip through its inverse.

@@ -1,6 +1,8 @@
 //! The path tracer as a wavefront: a tile's paths advance together, one bounce at a time, and
-//! the stages between the ray queries run eight paths at once in SIMD lanes (each lane routine
-//! sits beside its scalar original, named with an `8`).
+//! the stages between the ray queries run eight paths at once in SIMD lanes. The lane routines
+//! are the scalar code's own, written once against `crate::lanes::Lanes` (the scalar code runs
+//! them at one lane): the ray offsets, the frame, the warps, the MIS weights, and the BSDFs
+//! the lanes shade (Lambert's lobe, the rough conductor: `RoughConductorLanes`).
 //!
 //! It serves every scene: any geometry, any material, every kind of light. Where the scene
 //! allows, the lanes do everything: the surface of flat or smooth triangles with constant
@@ -8,9 +10,11 @@
 //! each lane asks the scalar code for what differs (the surface of a sphere or a textured
 //! mesh; the light sample, `Lights::sample_li`, and its shadow ray, when some light is a
 //! point, spot, directional, environment or sphere light, or triangles are sampled by solid
-//! angle) and the rest stays in lanes. A path that hits a surface whose BSDF is more than
-//! Lambert's lobe (mirror, glass, glossy, the course's mixed material) takes that bounce from
-//! the scalar code, `PathTracer::bounce`, while the others take theirs in lanes.
+//! angle) and the rest stays in lanes. A round's paths are grouped by their BSDF's lane kind
+//! (`LaneKind`: Lambert's lobe; rough conductors, GGX or Beckmann, of any widths); a path on
+//! any other surface (mirror, glass, the plastics, principled, the course's mixed material, a
+//! normal or bump map) takes that bounce from the scalar code, `PathTracer::bounce`, while the
+//! others take theirs in lanes.
 //!
 //! It is that same estimator, operation for operation: each lane computes the bits the scalar
 //! code computes and, while its path goes on, draws the same numbers in the same order (a path
@@ -27,10 +31,13 @@ use wide::{f32x8, i32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 use super::estimators::{escaped, power_heuristic_lanes, Scatter};
 use super::path::{BounceDraws, PathState, PathTracer};
 use super::{CameraExplanation, Integrator, RayCounts, SampleContext};
-use crate::geometry::{offset_ray_origin_lanes, orthonormal_basis_lanes, Ray};
+use crate::geometry::{offset_ray_origin_lanes, Ray};
 use crate::lanes::{negate, Vec3x8, LANES};
 use crate::lights::{area_to_solid_angle_lanes, LightSample, TriangleEmitter, TriangleSampling};
-use crate::materials::{luminance, Material};
+use crate::materials::{
+    luminance, tangent_along_lanes, Distribution, LaneBsdfSample, LaneFrame, Material, MicrofacetLanes,
+    RoughConductorLanes,
+};
 use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
 use crate::sampling::Sampler;
 use crate::scene::{PrimitiveHit, Scene, Spawn, SHADOW_EPSILON};
@@ -53,13 +60,70 @@ const SHORT_CDF: usize = 32;
 /// chose them, more gathered lane by lane.
 const BLENDED_EMITTERS: usize = 8;
 
+/// The BSDFs the lanes shade themselves; a path on any other surface takes its bounce from
+/// the scalar code. A round's paths are grouped by kind, so the eight lanes of a bounce share
+/// one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LaneKind {
+    /// Lambert's lobe alone (`Material::lambert`).
+    Lambert,
+    /// A rough conductor (`RoughConductorLanes`) of one microfacet distribution.
+    RoughConductor(Distribution),
+    /// Anything else: the scalar code's bounce.
+    Scalar,
+}
+
+impl LaneKind {
+    /// The kinds of the lanes' own bounces, in the order a round takes them.
+    const IN_LANES: [LaneKind; 3] = [
+        LaneKind::Lambert,
+        LaneKind::RoughConductor(Distribution::Ggx),
+        LaneKind::RoughConductor(Distribution::Beckmann),
+    ];
+
+    fn of(material: &Material) -> Self {
+        match material {
+            _ if material.lambert().is_some() => LaneKind::Lambert,
+            Material::RoughConductor(m) => LaneKind::RoughConductor(m.distribution),
+            _ => LaneKind::Scalar,
+        }
+    }
+
+    /// The place of a lane kind in `IN_LANES`.
+    fn group(self) -> usize {
+        match self {
+            LaneKind::Lambert | LaneKind::Scalar => 0,
+            LaneKind::RoughConductor(Distribution::Ggx) => 1,
+            LaneKind::RoughConductor(Distribution::Beckmann) => 2,
+        }
+    }
+}
+
+/// A material's lobe at a point, as the lanes read it.
+#[derive(Clone, Copy, Debug)]
+enum LaneLobe {
+    Lambert {
+        diffuse: Rgb,
+    },
+    /// Widths along ∂p/∂u (`dpdu`, where they differ) and across it, η, k and the specular
+    /// colour.
+    RoughConductor {
+        alpha_u: f32,
+        alpha_v: f32,
+        eta: Rgb,
+        k: Rgb,
+        specular: Rgb,
+        dpdu: Vec3,
+    },
+}
+
 /// A material as the lanes read it.
 #[derive(Clone, Copy, Debug)]
 struct LaneMaterial {
-    diffuse: Rgb,
-    /// The BSDF has a lobe (p_diffuse = 1); a black one ends the path.
+    lobe: LaneLobe,
+    /// The BSDF has a lobe that reflects; a black Lambert lobe ends the path.
     reflects: bool,
-    /// Black from behind (Mitsuba's `diffuse`): the path ends on the back.
+    /// Black from behind (Mitsuba's `diffuse`, every conductor): the path ends on the back.
     one_sided: bool,
     emission: Rgb,
     two_sided: bool,
@@ -67,38 +131,60 @@ struct LaneMaterial {
 
 impl LaneMaterial {
     /// What lanes without a hit read.
-    const BLACK: Self =
-        Self { diffuse: Rgb::ZERO, reflects: false, one_sided: false, emission: Rgb::ZERO, two_sided: false };
+    const BLACK: Self = Self {
+        lobe: LaneLobe::Lambert { diffuse: Rgb::ZERO },
+        reflects: false,
+        one_sided: false,
+        emission: Rgb::ZERO,
+        two_sided: false,
+    };
 
-    fn new(diffuse: Rgb, one_sided: bool, emission: Rgb, two_sided: bool) -> Self {
-        Self { diffuse, reflects: luminance(diffuse) > 0.0, one_sided, emission, two_sided }
+    fn lambert(diffuse: Rgb, one_sided: bool, emission: Rgb, two_sided: bool) -> Self {
+        Self { lobe: LaneLobe::Lambert { diffuse }, reflects: luminance(diffuse) > 0.0, one_sided, emission, two_sided }
     }
 
-    /// A Lambert material evaluated at a point (black for any other: the lanes never read one).
-    fn at(material: &Material, query: &TextureQuery) -> Self {
-        let Some((diffuse, one_sided)) = material.lambert() else { return Self::BLACK };
+    /// A material of a lane kind evaluated at a point (black for the scalar code's: the lanes
+    /// never read one), with the surface's ∂p/∂u and ∂p/∂v where the material needs them, as
+    /// `Vertex::bsdf` queries it (the emission without them, as `Vertex::emitted`).
+    fn at(material: &Material, query: &TextureQuery, (dpdu, dpdv): (Vec3, Vec3)) -> Self {
         let (emission, two_sided) = material.emission_at(|| *query);
-        Self::new(diffuse.evaluate(query), one_sided, emission, two_sided)
-    }
-
-    /// A Lambert material with a constant colour, evaluated once; black for any other material
-    /// (its bounces are the scalar code's, so the lanes never read it); `None` for a textured
-    /// Lambert material or emission.
-    fn constant(material: &Material) -> Option<Self> {
-        let Some(lambert) = material.lambert() else { return Some(Self::BLACK) };
-        let (Texture::Constant(diffuse), one_sided) = lambert else { return None };
-        if material.emission_texture().is_some() {
-            return None;
+        let query = &TextureQuery { dpdu, dpdv, ..*query };
+        if let Some((diffuse, one_sided)) = material.lambert() {
+            return Self::lambert(diffuse.evaluate(query), one_sided, emission, two_sided);
         }
-        let (emission, two_sided) = material.emission();
-        Some(Self::new(*diffuse, one_sided, emission, two_sided))
+        match material {
+            Material::RoughConductor(m) => {
+                let (alpha_u, alpha_v, specular) = m.widths_and_specular(query);
+                let (eta, k, dpdu) = (m.conductor.eta, m.conductor.k, query.dpdu);
+                let lobe = LaneLobe::RoughConductor { alpha_u, alpha_v, eta, k, specular, dpdu };
+                Self { lobe, reflects: true, one_sided: true, emission, two_sided }
+            }
+            _ => Self::BLACK,
+        }
     }
-}
 
-/// Whether a material is diffuse and nothing else wherever it is evaluated (its BSDF is
-/// Lambert's alone, on one side or both: what the lanes model).
-fn diffuse_only(material: &Material) -> bool {
-    material.lambert().is_some()
+    /// A material of a lane kind whose colours and width are constant, evaluated once; black
+    /// for the scalar code's (the lanes never read it); `None` for a textured one.
+    fn constant(material: &Material) -> Option<Self> {
+        let constant = |t: &Texture| matches!(t, Texture::Constant(_));
+        match (LaneKind::of(material), material) {
+            (LaneKind::Scalar, _) => Some(Self::BLACK),
+            (LaneKind::RoughConductor(_), Material::RoughConductor(m)) => {
+                // One width both ways: the frame does not turn to ∂p/∂u, which the lanes'
+                // flat surfaces do not compute.
+                let fixed = constant(&m.alpha_u) && m.alpha_v == m.alpha_u && constant(&m.conductor.specular);
+                fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
+            }
+            _ => {
+                let (Texture::Constant(diffuse), one_sided) = material.lambert()? else { return None };
+                if material.emission_texture().is_some() {
+                    return None;
+                }
+                let (emission, two_sided) = material.emission();
+                Some(Self::lambert(*diffuse, one_sided, emission, two_sided))
+            }
+        }
+    }
 }
 
 /// The path tracer, a tile's paths at a time as a wavefront (`--integrator path`): the same
@@ -136,9 +222,8 @@ struct Wavefront<'a> {
     /// The lights' CDF, when the lanes choose among them by counting: at most `SHORT_CDF`
     /// entries, sorted.
     counted_cdf: Option<&'a [f32]>,
-    /// For each material, whether its BSDF is more than Lambert's lobe (a bounce there is the
-    /// scalar code's), when some material is.
-    beyond_lambert: Option<Vec<bool>>,
+    /// For each material, the lanes' kind of its BSDF, when some material is not Lambert's.
+    kinds: Option<Vec<LaneKind>>,
     /// For the scalar bounces, and the depth limits.
     tracer: PathTracer,
 }
@@ -208,8 +293,8 @@ impl<'a> Wavefront<'a> {
     /// The wavefront for `scene`. It runs once per tile, so it looks at the materials but not
     /// at every object.
     fn new(tracer: &PathTracer, scene: &'a Scene) -> Self {
-        let beyond_lambert: Vec<bool> = scene.materials().iter().map(|m| !diffuse_only(m)).collect();
-        let beyond_lambert = beyond_lambert.contains(&true).then_some(beyond_lambert);
+        let kinds: Vec<LaneKind> = scene.materials().iter().map(LaneKind::of).collect();
+        let kinds = kinds.iter().any(|&k| k != LaneKind::Lambert).then_some(kinds);
         let flat = if scene.geometry().all_triangles() {
             scene.materials().iter().map(LaneMaterial::constant).collect::<Option<Vec<_>>>()
         } else {
@@ -219,7 +304,7 @@ impl<'a> Wavefront<'a> {
         let emitters = lights.triangle_table().filter(|_| lights.triangle_sampling() == TriangleSampling::Area);
         let cdf = lights.selection_cdf();
         let counted_cdf = (!cdf.is_empty() && cdf.len() <= SHORT_CDF && cdf.is_sorted()).then_some(cdf);
-        Self { scene, flat, emitters, counted_cdf, beyond_lambert, tracer: *tracer }
+        Self { scene, flat, emitters, counted_cdf, kinds, tracer: *tracer }
     }
 
     /// The radiance along each camera ray, `out[i]` for `rays[i]` drawing from `contexts[i]`.
@@ -233,6 +318,7 @@ impl<'a> Wavefront<'a> {
         }
         let mut active: Vec<u32> = (0..paths.len() as u32).collect();
         let mut hits = Vec::with_capacity(paths.len());
+        let mut other_kinds: [Vec<u32>; LaneKind::IN_LANES.len() - 1] = Default::default();
         // The rays traced, counted for the tile: each path's own count was another cache line
         // touched per query.
         let mut counts = RayCounts::default();
@@ -261,22 +347,29 @@ impl<'a> Wavefront<'a> {
                 }
             }
             active.clear();
-            if let Some(beyond_lambert) = &self.beyond_lambert {
-                // Paths on surfaces the lanes do not model take their bounce from the scalar code.
+            if let Some(kinds) = &self.kinds {
+                // Paths on surfaces the lanes do not model take their bounce from the scalar
+                // code; the others are grouped by kind (Lambert's stay in `hits`).
                 let objects = self.scene.geometry().objects();
+                other_kinds.iter_mut().for_each(Vec::clear);
                 hits.retain(|&i| {
                     let (path, context) = (&mut paths[i as usize], &mut contexts[i as usize]);
-                    if !beyond_lambert[objects[path.hit.object as usize].material_at(path.hit.at.inner) as usize] {
-                        return true;
-                    }
-                    if self.scalar_bounce(path, context) {
-                        active.push(i);
+                    match kinds[objects[path.hit.object as usize].material_at(path.hit.at.inner) as usize] {
+                        LaneKind::Lambert => return true,
+                        LaneKind::Scalar => {
+                            if self.scalar_bounce(path, context) {
+                                active.push(i);
+                            }
+                        }
+                        kind => other_kinds[kind.group() - 1].push(i),
                     }
                     false
                 });
             }
-            for chunk in hits.chunks(LANES) {
-                counts.shadow += self.bounce(chunk, depth, &mut paths, contexts, &mut active);
+            for (kind, group) in LaneKind::IN_LANES.into_iter().zip(std::iter::once(&hits).chain(&other_kinds)) {
+                for chunk in group.chunks(LANES) {
+                    counts.shadow += self.bounce(chunk, depth, kind, &mut paths, contexts, &mut active);
+                }
             }
         }
         for (out, path) in out.iter_mut().zip(&paths) {
@@ -295,6 +388,7 @@ impl<'a> Wavefront<'a> {
         &self,
         chunk: &[u32],
         depth: u32,
+        kind: LaneKind,
         paths: &mut [Path],
         contexts: &mut [SampleContext],
         active: &mut Vec<u32>,
@@ -397,12 +491,10 @@ impl<'a> Wavefront<'a> {
         let draw = |j: usize| draws[j];
         let on = mask(|k| goes_on[k]);
 
-        // The BSDF's frame (Bsdf::new): both normals turned to wo's side, and the geometric one
-        // where the shading normal would face away from the viewer.
-        let facing = Vec3x8::select(wo_dot_n.cmp_ge(zero), geometric, -geometric);
-        let normal = Vec3x8::select(shading.dot(facing).cmp_ge(zero), shading, -shading);
-        let normal = Vec3x8::select(normal.dot(wo).cmp_le(zero), facing, normal);
-        let diffuse = Vec3x8::from_fn(|k| material[k].diffuse);
+        // The BSDF's frame (`Frame::new`): both normals turned to wo's side, and the geometric
+        // one where the shading normal would face away from the viewer.
+        let frame = LaneFrame::new(wo, shading, geometric);
+        let bsdf = ChunkBsdf::new(kind, &material, &frame);
 
         // Next-event estimation: one light chosen by power.
         let light = match self.emitters {
@@ -412,14 +504,8 @@ impl<'a> Wavefront<'a> {
         let mut direct = Vec3x8::ZERO;
         let mut shadow_rays_traced = 0;
         if let Some(LightPoints { sampled, direction: wi, radiance: light_radiance, pdf, delta, shadow_rays }) = light {
-            let (cos, above) = (wi.dot(normal), wi.dot(facing));
-            let f = Vec3x8::select(
-                cos.cmp_le(zero) | above.cmp_le(zero),
-                Vec3x8::ZERO,
-                diffuse * (cos * f32x8::splat(FRAC_1_PI)),
-            );
+            let (f, bsdf_pdf) = bsdf.eval_and_pdf(&frame, wo, wi);
             let traced = (sampled & light_radiance.nonzero() & f.nonzero() & pdf.cmp_gt(zero)).move_mask();
-            let bsdf_pdf = (above.cmp_gt(zero) & cos.cmp_gt(zero)).blend(cos * f32x8::splat(FRAC_1_PI), zero);
             let weight = delta.blend(f32x8::ONE, power_heuristic_lanes(pdf, bsdf_pdf));
             let contribution = Vec3x8::ZERO + f.mul_lanes(light_radiance) * (weight / pdf);
             shadow_rays_traced = traced.count_ones();
@@ -428,18 +514,14 @@ impl<'a> Wavefront<'a> {
         }
         radiance = Vec3x8::select(on, radiance + throughput.mul_lanes(direct), radiance);
 
-        // The BSDF sample: cosine-weighted, weight k_d.
-        // The lobe (`LOBE`) is not read: the diffuse lobe's probability is 1 and every sampler's
-        // numbers are below 1, so the scalar code always picks it.
-        let local = square_to_cosine_hemisphere_lanes(draw(DIRECTION), draw(DIRECTION + 1));
-        let (tangent, bitangent) = orthonormal_basis_lanes(normal);
-        let wi = tangent * local.x + bitangent * local.y + normal * local.z;
-        let scattered = !(local.z.cmp_le(zero) | wi.dot(facing).cmp_le(zero));
-        let pdf = local.z.cmp_gt(zero).blend(local.z * f32x8::splat(FRAC_1_PI), zero);
-        throughput = throughput.mul_lanes(diffuse);
+        // The BSDF sample. The lobe (`LOBE`) is not read: each lane kind has one lobe, of
+        // probability 1, and every sampler's numbers are below 1, so the scalar code picks it.
+        let LaneBsdfSample { wi, weight, pdf, valid: scattered } =
+            bsdf.sample(&frame, wo, draw(DIRECTION), draw(DIRECTION + 1));
+        throughput = throughput.mul_lanes(weight);
         // Russian roulette (Mitsuba's rule), from rr_depth bounces on.
         let roulette = if roulette_comes { mask(|_| true) } else { zero };
-        let max = match self.beyond_lambert {
+        let max = match self.kinds {
             // Scaled by η², as the scalar code does: paths that went through glass.
             Some(_) => throughput.max_element() * per_lane(|k| path(k).eta_scale),
             None => throughput.max_element(),
@@ -557,7 +639,12 @@ impl<'a> Wavefront<'a> {
             shading: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.shading_normal)),
             material: std::array::from_fn(|k| match &hits[k] {
                 Some(h) => {
-                    LaneMaterial::at(&scene.materials()[h.material as usize], &h.texture_query(scene.geometry()))
+                    let material = &scene.materials()[h.material as usize];
+                    let tangents = match material.needs_tangent() {
+                        true => scene.geometry().tangents(h.object, h.prim, &h.geometry),
+                        false => (Vec3::ZERO, Vec3::ZERO),
+                    };
+                    LaneMaterial::at(material, &h.texture_query(scene.geometry()), tangents)
                 }
                 None => LaneMaterial::BLACK,
             }),
@@ -663,6 +750,89 @@ impl<'a> Wavefront<'a> {
             delta: mask(|k| samples[k].is_some_and(|s| s.delta)),
             shadow_rays,
         })
+    }
+}
+
+/// The BSDF of a bounce's eight lanes, of one lane kind. (A value on the stack for one bounce:
+/// the variants' sizes may differ.)
+#[allow(clippy::large_enum_variant)]
+enum ChunkBsdf {
+    Lambert { diffuse: Vec3x8 },
+    RoughConductor(RoughConductorLanes<f32x8>),
+}
+
+impl ChunkBsdf {
+    /// The lanes' BSDF of `kind` from their materials (lanes of another kind, past the chunk's
+    /// end, read black). A rough conductor's frame turns to ∂p/∂u in the lanes where its widths
+    /// differ, as `RoughConductor::bsdf` turns it.
+    #[inline(always)]
+    fn new(kind: LaneKind, material: &[LaneMaterial; LANES], frame: &LaneFrame<f32x8>) -> Self {
+        let LaneKind::RoughConductor(distribution) = kind else {
+            return ChunkBsdf::Lambert {
+                diffuse: Vec3x8::from_fn(|k| match material[k].lobe {
+                    LaneLobe::Lambert { diffuse } => diffuse,
+                    LaneLobe::RoughConductor { .. } => Rgb::ZERO,
+                }),
+            };
+        };
+        let black = (1.0, 1.0, Rgb::ONE, Rgb::ZERO, Rgb::ZERO, Vec3::ZERO);
+        let lobe: [_; LANES] = std::array::from_fn(|k| match material[k].lobe {
+            LaneLobe::RoughConductor { alpha_u, alpha_v, eta, k, specular, dpdu } => {
+                (alpha_u, alpha_v, eta, k, specular, dpdu)
+            }
+            LaneLobe::Lambert { .. } => black,
+        });
+        let (alpha_x, alpha_y) = (per_lane(|k| lobe[k].0), per_lane(|k| lobe[k].1));
+        let mut frame = frame.clone();
+        let anisotropic = !alpha_x.cmp_eq(alpha_y);
+        if anisotropic.any() {
+            let (tangent, found) = tangent_along_lanes(frame.normal, Vec3x8::from_fn(|k| lobe[k].5));
+            let turned = anisotropic & found;
+            frame.tangent = Vec3x8::select(turned, tangent, frame.tangent);
+            frame.bitangent = Vec3x8::select(turned, frame.normal.cross(tangent), frame.bitangent);
+        }
+        ChunkBsdf::RoughConductor(RoughConductorLanes {
+            frame,
+            eta: Vec3x8::from_fn(|k| lobe[k].2),
+            k: Vec3x8::from_fn(|k| lobe[k].3),
+            specular: Vec3x8::from_fn(|k| lobe[k].4),
+            microfacet: MicrofacetLanes { alpha_x, alpha_y, separable: true, distribution },
+        })
+    }
+
+    /// f(wo, wi)·cos θ_i and the density of sampling `wi` (`Bsdf::eval`, `Bsdf::pdf`).
+    #[inline(always)]
+    fn eval_and_pdf(&self, frame: &LaneFrame<f32x8>, wo: Vec3x8, wi: Vec3x8) -> (Vec3x8, f32x8) {
+        match self {
+            ChunkBsdf::Lambert { diffuse } => {
+                let zero = f32x8::ZERO;
+                let (cos, above) = (wi.dot(frame.normal), wi.dot(frame.geometric));
+                let f = Vec3x8::select(
+                    cos.cmp_le(zero) | above.cmp_le(zero),
+                    Vec3x8::ZERO,
+                    *diffuse * (cos * f32x8::splat(FRAC_1_PI)),
+                );
+                (f, (above.cmp_gt(zero) & cos.cmp_gt(zero)).blend(cos * f32x8::splat(FRAC_1_PI), zero))
+            }
+            ChunkBsdf::RoughConductor(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
+        }
+    }
+
+    /// A direction from two uniform numbers (`Bsdf::sample` of the one lobe).
+    #[inline(always)]
+    fn sample(&self, frame: &LaneFrame<f32x8>, wo: Vec3x8, u1: f32x8, u2: f32x8) -> LaneBsdfSample<f32x8> {
+        match self {
+            ChunkBsdf::Lambert { diffuse } => {
+                // Cosine-weighted, weight k_d.
+                let zero = f32x8::ZERO;
+                let local = square_to_cosine_hemisphere_lanes(u1, u2);
+                let wi = frame.to_world(local);
+                let valid = !(local.z.cmp_le(zero) | wi.dot(frame.geometric).cmp_le(zero));
+                let pdf = local.z.cmp_gt(zero).blend(local.z * f32x8::splat(FRAC_1_PI), zero);
+                LaneBsdfSample { wi, weight: *diffuse, pdf, valid }
+            }
+            ChunkBsdf::RoughConductor(lobe) => lobe.sample(wo, u1, u2),
+        }
     }
 }
 

@@ -7,11 +7,16 @@
 //! image at every width.
 //!
 //! Branches become selects: a lane routine computes both sides and keeps one per lane (`select`),
-//! which in scalar code is the `if` it replaces.
+//! which in scalar code is the `if` it replaces. The functions of `math` (sine and cosine,
+//! exp, ln, acos) are written for any width too, so that they give the same bits everywhere
+//! (the library's and `wide`'s differ).
+
+mod math;
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 use glam::Vec3;
+pub(crate) use math::{acos, exp, ln, sin_cos_quarter, sin_cos_turns};
 use wide::{f32x4, f32x8, i32x4, i32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
 /// The wavefront's width: paths shaded together.
@@ -23,7 +28,11 @@ pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = S
     const ZERO: Self;
     const ONE: Self;
     /// A truth value per lane.
-    type Mask: Copy + BitAnd<Output = Self::Mask> + BitOr<Output = Self::Mask> + Not<Output = Self::Mask>;
+    type Mask: Copy
+        + std::fmt::Debug
+        + BitAnd<Output = Self::Mask>
+        + BitOr<Output = Self::Mask>
+        + Not<Output = Self::Mask>;
 
     fn splat(x: f32) -> Self;
     /// −x as Rust negates a float: the sign bit flipped, so −0 stays −0 (`wide`'s `-x` is 0 − x).
@@ -56,6 +65,13 @@ pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = S
     fn min(self, o: Self) -> Self {
         Self::select(self.lt(o), self, o)
     }
+
+    /// The largest integer not above `self`.
+    fn floor(self) -> Self;
+    /// 2ⁿ for an integer `n` in [−126, 127] (an exponent put in place).
+    fn pow2i(n: Self) -> Self;
+    /// For a positive normal float, its mantissa m in [½, 1) and exponent e: self = m·2ᵉ.
+    fn mantissa_and_exponent(self) -> (Self, Self);
 
     /// Each coordinate of `x` one float up where `sign`'s is positive, down where it is
     /// negative, unchanged where it is 0 (`geometry::robust::step_toward`).
@@ -127,6 +143,20 @@ impl Lanes for f32 {
     #[inline(always)]
     fn any(mask: bool) -> bool {
         mask
+    }
+
+    #[inline(always)]
+    fn floor(self) -> Self {
+        f32::floor(self)
+    }
+    #[inline(always)]
+    fn pow2i(n: Self) -> Self {
+        f32::from_bits(((n as i32 + 127) << 23) as u32)
+    }
+    #[inline(always)]
+    fn mantissa_and_exponent(self) -> (Self, Self) {
+        let bits = self.to_bits();
+        (f32::from_bits((bits & 0x807F_FFFF) | 0x3F00_0000), (((bits >> 23) & 0xFF) as i32 - 126) as f32)
     }
 
     /// Three coordinates in three lanes of the eight-lane step: the scalar step's branches on
@@ -204,6 +234,21 @@ macro_rules! wide_lanes {
             #[inline(always)]
             fn any(mask: Self) -> bool {
                 mask.any()
+            }
+            #[inline(always)]
+            fn floor(self) -> Self {
+                $float::floor(self)
+            }
+            #[inline(always)]
+            fn pow2i(n: Self) -> Self {
+                bytemuck::cast((n.round_int() + $int::splat(127)) << 23)
+            }
+            #[inline(always)]
+            fn mantissa_and_exponent(self) -> (Self, Self) {
+                let bits: $int = bytemuck::cast(self);
+                let mantissa = bytemuck::cast((bits & $int::splat(0x807F_FFFFu32 as i32)) | $int::splat(0x3F00_0000));
+                let exponent: $int = ((bits >> 23) & $int::splat(0xFF)) - $int::splat(126);
+                (mantissa, exponent.round_float())
             }
             #[inline(always)]
             fn step_toward(x: LaneVec3<Self>, sign: LaneVec3<Self>) -> LaneVec3<Self> {
@@ -405,6 +450,12 @@ impl<L: Lanes> Mul<L> for LaneVec3<L> {
     fn mul(self, s: L) -> Self {
         Self { x: self.x * s, y: self.y * s, z: self.z * s }
     }
+}
+
+/// Mirror reflection of `incident` about `n`: I − 2(I·N)N (`geometry::reflect`).
+#[inline(always)]
+pub(crate) fn reflect<L: Lanes>(incident: LaneVec3<L>, n: LaneVec3<L>) -> LaneVec3<L> {
+    incident - n * (L::splat(2.0) * incident.dot(n))
 }
 
 /// What the lane routines' tests share: random inputs and a bit-for-bit comparison.
