@@ -382,6 +382,58 @@ fn the_wavefront_shades_rough_conductors_in_lanes() {
     }
 }
 
+/// Normal and bump maps over the lanes' BSDFs, their frames tilted and their terminators
+/// shadowed in the lanes (`MapShadowing`): a checkered normal map over the diffuse back wall,
+/// a bump map over a metal sphere and a steep constant normal over another; a map inside a
+/// map (the scalar code's) beside them.
+#[test]
+fn the_wavefront_tilts_frames_under_normal_and_bump_maps() {
+    use glint_core::materials::{named_metal, BumpMap, Conductor, Distribution, NormalMap, RoughConductor};
+    let (eta, k) = named_metal("Cu").expect("copper");
+    let metal = Material::RoughConductor(RoughConductor {
+        conductor: Conductor { eta, k, specular: Texture::Constant(Rgb::ONE) },
+        alpha_u: 0.2.into(),
+        alpha_v: 0.2.into(),
+        distribution: Distribution::Beckmann,
+    });
+    let normals = |a: Rgb, b: Rgb| Texture::Checker(Box::new(Checker::new(a, b, Vec2::splat(6.0))));
+    let normal_map =
+        |normals: Texture, material: Material| Material::NormalMap(Box::new(NormalMap { normals, material }));
+    let bumps = |material: Material| {
+        let height = Texture::Checker(Box::new(Checker::new(Rgb::ZERO, Rgb::ONE, Vec2::splat(5.0))));
+        Material::BumpMap(Box::new(BumpMap { height, scale: 0.02, material }))
+    };
+    let tilted = Rgb::new(0.85, 0.5, 0.6); // (0.7, 0, 0.2) before normalising: steep
+    let with = |nested: bool| {
+        let metal = metal.clone();
+        room_where(move |objects, materials| {
+            let back = materials[0].clone();
+            materials.push(normal_map(normals(Rgb::new(0.5, 0.5, 1.0), Rgb::new(0.7, 0.4, 0.9)), back));
+            objects[4].material = materials.len() as u32 - 1;
+            objects[5].material = materials.len() as u32 - 1;
+            let centres = [Vec3::new(0.45, -0.65, 0.3), Vec3::new(-0.4, -0.6, 0.5), Vec3::new(0.1, 0.3, 0.6)];
+            let mut spheres = vec![bumps(metal.clone()), normal_map(Texture::Constant(tilted), metal)];
+            if nested {
+                spheres.push(normal_map(Texture::Constant(tilted), bumps(materials[1].clone())));
+            }
+            for (j, material) in spheres.into_iter().enumerate() {
+                materials.push(material);
+                let id = materials.len() as u32 - 1;
+                objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
+            }
+        })
+    };
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
+    for (scene, what) in [(with(false), "maps over diffuse and metal"), (with(true), "and a map in a map")] {
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in [(4, 0), (23, 3)] {
+                let lit = assert_same(&scene, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+            }
+        }
+    }
+}
+
 /// Every kind of light in the lanes (sampled by the scalar code lane by lane, its shadow ray
 /// spawned as the scalar code spawns it): point, spot and directional lights, a constant
 /// environment and a map, a sphere light, and all of them with the room's triangle lights,

@@ -98,10 +98,9 @@ impl Frame {
     /// shadowed by their G1 = 2 / (1 + √(1 + α² tan²θ_i)). Smooth maps lose nothing (α² = 0);
     /// steep ones no longer light the surface past its terminator.
     pub fn with_map_shadowing(mut self, unmapped: Vec3) -> Self {
-        let unmapped = if unmapped.dot(self.normal) >= 0.0 { unmapped } else { -unmapped };
-        let cos_d = unmapped.dot(self.normal).clamp(1e-6, 1.0);
-        self.unmapped = unmapped;
-        self.shadowing_alpha2 = (0.125 * (1.0 - cos_d * cos_d) / (cos_d * cos_d)).min(1.0);
+        let shadowing = MapShadowing::<f32>::new(self.normal.into(), unmapped.into());
+        self.unmapped = shadowing.unmapped.into();
+        self.shadowing_alpha2 = shadowing.alpha2;
         self
     }
 
@@ -111,9 +110,7 @@ impl Frame {
         if self.shadowing_alpha2 == 0.0 {
             return 1.0;
         }
-        let cos2 = wi.dot(self.unmapped).powi(2).max(1e-12);
-        let tan2 = (1.0 - cos2).max(0.0) / cos2;
-        2.0 / (1.0 + (1.0 + self.shadowing_alpha2 * tan2).sqrt())
+        MapShadowing { unmapped: self.unmapped.into(), alpha2: self.shadowing_alpha2 }.of(wi.into())
     }
 
     /// The same frame with its tangent along `dpdu` projected onto the plane of the normal
@@ -197,6 +194,39 @@ impl<L: Lanes> LaneFrame<L> {
     #[inline(always)]
     pub fn reflects(&self, wi: LaneVec3<L>) -> L::Mask {
         wi.dot(self.normal).gt(L::ZERO) & wi.dot(self.geometric).gt(L::ZERO)
+    }
+}
+
+/// A normal or bump map's shadowing (`Frame::with_map_shadowing`), in lanes: the surface's own
+/// shading normal turned to the mapped normal's side, and the α² of the microfacets the map's
+/// tilt stands for (0 where there is no map).
+#[derive(Clone, Debug)]
+pub(crate) struct MapShadowing<L: Lanes> {
+    pub unmapped: LaneVec3<L>,
+    pub alpha2: L,
+}
+
+impl<L: Lanes> MapShadowing<L> {
+    /// No map: nothing shadowed.
+    pub const NONE: Self = Self { unmapped: LaneVec3::ZERO, alpha2: L::ZERO };
+
+    /// For the mapped shading `normal` of a surface whose own is `unmapped`.
+    #[inline(always)]
+    pub fn new(normal: LaneVec3<L>, unmapped: LaneVec3<L>) -> Self {
+        let unmapped = LaneVec3::select(unmapped.dot(normal).ge(L::ZERO), unmapped, -unmapped);
+        let cos_d = unmapped.dot(normal).max(L::splat(1e-6)).min(L::ONE);
+        let alpha2 = (L::splat(0.125) * (L::ONE - cos_d * cos_d) / (cos_d * cos_d)).min(L::ONE);
+        Self { unmapped, alpha2 }
+    }
+
+    /// The shadowing of light from `wi`: G1 = 2 / (1 + √(1 + α² tan²θ_i)), 1 where α² = 0.
+    #[inline(always)]
+    pub fn of(&self, wi: LaneVec3<L>) -> L {
+        let cos = wi.dot(self.unmapped);
+        let cos2 = (cos * cos).max(L::splat(1e-12));
+        let tan2 = (L::ONE - cos2).max(L::ZERO) / cos2;
+        let g1 = L::splat(2.0) / (L::ONE + (L::ONE + self.alpha2 * tan2).sqrt());
+        L::select(self.alpha2.eq(L::ZERO), L::ONE, g1)
     }
 }
 

@@ -33,7 +33,7 @@ mod thin_dielectric;
 mod two_sided;
 
 pub use blend::Blend;
-pub(crate) use bsdf::{luminance, tangent_along_lanes, LaneBsdfSample, LaneFrame};
+pub(crate) use bsdf::{luminance, tangent_along_lanes, LaneBsdfSample, LaneFrame, MapShadowing};
 pub use bsdf::{Bsdf, BsdfSample, Frame, MAX_LEAVES};
 pub use bump_map::BumpMap;
 pub use conductor::{fresnel_conductor, named_metal, Conductor, METAL_NAMES};
@@ -224,6 +224,27 @@ impl Material {
             mixture.leaves[mixture.count] = leaf;
             mixture.weights[mixture.count] = weight;
             mixture.count += 1;
+        }
+    }
+
+    /// A normal or bump map's shading normal for the viewer `wo`, turned toward the viewer as
+    /// the BSDF takes it, on a surface with shading normal `shading` and geometric normal
+    /// `geometric` (the query with ∂p/∂u and ∂p/∂v); `None` for any other material.
+    pub(crate) fn mapped_normal(&self, query: &TextureQuery, wo: Vec3, shading: Vec3, geometric: Vec3) -> Option<Vec3> {
+        let mapped = match self {
+            Material::NormalMap(m) => m.shading_normal(query, shading),
+            Material::BumpMap(m) => m.shading_normal(query, shading, geometric),
+            _ => return None,
+        };
+        Some(toward_viewer(mapped, shading, wo))
+    }
+
+    /// The material under a normal or bump map (itself for any other).
+    pub(crate) fn unmapped(&self) -> &Material {
+        match self {
+            Material::NormalMap(m) => &m.material,
+            Material::BumpMap(m) => &m.material,
+            _ => self,
         }
     }
 

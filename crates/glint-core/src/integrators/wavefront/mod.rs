@@ -35,7 +35,7 @@ use crate::geometry::{offset_ray_origin_lanes, Ray};
 use crate::lanes::{negate, Vec3x8, LANES};
 use crate::lights::{area_to_solid_angle_lanes, LightSample, TriangleEmitter, TriangleSampling};
 use crate::materials::{
-    luminance, tangent_along_lanes, Distribution, LaneBsdfSample, LaneFrame, Material, MicrofacetLanes,
+    luminance, tangent_along_lanes, Distribution, LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes,
     RoughConductorLanes,
 };
 use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
@@ -85,6 +85,15 @@ impl LaneKind {
         match material {
             _ if material.lambert().is_some() => LaneKind::Lambert,
             Material::RoughConductor(m) => LaneKind::RoughConductor(m.distribution),
+            // A map over a material of a lane kind: the lanes tilt its frame (one map: a map
+            // inside a map keeps the inner one's shadowing).
+            Material::NormalMap(_) | Material::BumpMap(_) => {
+                let inner = material.unmapped();
+                match std::ptr::eq(inner.unmapped(), inner) {
+                    true => LaneKind::of(inner),
+                    false => LaneKind::Scalar,
+                }
+            }
             _ => LaneKind::Scalar,
         }
     }
@@ -147,6 +156,11 @@ impl LaneMaterial {
     /// never read one), with the surface's ∂p/∂u and ∂p/∂v where the material needs them, as
     /// `Vertex::bsdf` queries it (the emission without them, as `Vertex::emitted`).
     fn at(material: &Material, query: &TextureQuery, (dpdu, dpdv): (Vec3, Vec3)) -> Self {
+        if !std::ptr::eq(material.unmapped(), material) {
+            // Under a map: the material's lobe (the lanes tilt its frame), no emission.
+            let lobe = Self::at(material.unmapped(), query, (dpdu, dpdv));
+            return Self { emission: Rgb::ZERO, two_sided: false, ..lobe };
+        }
         let (emission, two_sided) = material.emission_at(|| *query);
         let query = &TextureQuery { dpdu, dpdv, ..*query };
         if let Some((diffuse, one_sided)) = material.lambert() {
@@ -275,6 +289,9 @@ struct Surfaces {
     geometric: Vec3x8,
     shading: Vec3x8,
     material: [LaneMaterial; LANES],
+    /// Where a normal or bump map tilts the shading normal: the lanes it does (a mask) and
+    /// the normal it gives them (turned toward the viewer), for the BSDF's frame.
+    mapped: Option<(f32x8, Vec3x8)>,
 }
 
 /// The lights the lanes sampled, as `LightSample` has them, and the shadow rays toward them.
@@ -405,7 +422,7 @@ impl<'a> Wavefront<'a> {
         let zero = f32x8::ZERO;
 
         let wo = -Vec3x8::from_fn(|k| path(k).ray.direction).normalize();
-        let Surfaces { point, error, geometric, shading, material } = match &self.flat {
+        let Surfaces { point, error, geometric, shading, material, mapped } = match &self.flat {
             Some(materials) => self.flat_surfaces(&path, materials),
             None => self.surfaces(&path, n),
         };
@@ -493,8 +510,17 @@ impl<'a> Wavefront<'a> {
 
         // The BSDF's frame (`Frame::new`): both normals turned to wo's side, and the geometric
         // one where the shading normal would face away from the viewer.
-        let frame = LaneFrame::new(wo, shading, geometric);
+        // A map's normal tilts the frame, and shadows the light its tilt would let in past the
+        // terminator (`Frame::with_map_shadowing`, after the lobe's own frame is set).
+        let frame = LaneFrame::new(wo, mapped.map_or(shading, |(_, normals)| normals), geometric);
         let bsdf = ChunkBsdf::new(kind, &material, &frame);
+        let shadowing = match mapped {
+            Some((lanes, _)) => {
+                let MapShadowing { unmapped, alpha2 } = MapShadowing::new(frame.normal, shading);
+                MapShadowing { unmapped, alpha2: lanes.blend(alpha2, zero) }
+            }
+            None => MapShadowing::NONE,
+        };
 
         // Next-event estimation: one light chosen by power.
         let light = match self.emitters {
@@ -505,6 +531,7 @@ impl<'a> Wavefront<'a> {
         let mut shadow_rays_traced = 0;
         if let Some(LightPoints { sampled, direction: wi, radiance: light_radiance, pdf, delta, shadow_rays }) = light {
             let (f, bsdf_pdf) = bsdf.eval_and_pdf(&frame, wo, wi);
+            let f = if mapped.is_some() { f * shadowing.of(wi) } else { f };
             let traced = (sampled & light_radiance.nonzero() & f.nonzero() & pdf.cmp_gt(zero)).move_mask();
             let weight = delta.blend(f32x8::ONE, power_heuristic_lanes(pdf, bsdf_pdf));
             let contribution = Vec3x8::ZERO + f.mul_lanes(light_radiance) * (weight / pdf);
@@ -518,6 +545,7 @@ impl<'a> Wavefront<'a> {
         // probability 1, and every sampler's numbers are below 1, so the scalar code picks it.
         let LaneBsdfSample { wi, weight, pdf, valid: scattered } =
             bsdf.sample(&frame, wo, draw(DIRECTION), draw(DIRECTION + 1));
+        let weight = if mapped.is_some() { weight * shadowing.of(wi) } else { weight };
         throughput = throughput.mul_lanes(weight);
         // Russian roulette (Mitsuba's rule), from rr_depth bounces on.
         let roulette = if roulette_comes { mask(|_| true) } else { zero };
@@ -598,7 +626,7 @@ impl<'a> Wavefront<'a> {
             if geometry.has_vertex_normals() { self.smooth_normals(path, (b1, b2), geometric) } else { geometric };
         let material =
             std::array::from_fn(|k| materials[geometry.objects()[path(k).hit.object as usize].material as usize]);
-        Surfaces { point, error, geometric, shading, material }
+        Surfaces { point, error, geometric, shading, material, mapped: None }
     }
 
     /// The shading normals of lanes on triangles with vertex normals, interpolated at the
@@ -632,21 +660,33 @@ impl<'a> Wavefront<'a> {
             (k < n).then(|| scene.geometry().surface_hit((p.hit.object, p.hit.prim), &p.ray, &p.hit.at))
         });
         let geometry = |k: usize| hits[k].map(|h| h.geometry);
+        let mut mapped: [Option<Vec3>; LANES] = [None; LANES];
+        let material = std::array::from_fn(|k| match &hits[k] {
+            Some(h) => {
+                let material = &scene.materials()[h.material as usize];
+                let (dpdu, dpdv) = match material.needs_tangent() {
+                    true => scene.geometry().tangents(h.object, h.prim, &h.geometry),
+                    false => (Vec3::ZERO, Vec3::ZERO),
+                };
+                let query = h.texture_query(scene.geometry());
+                let with_tangents = TextureQuery { dpdu, dpdv, ..query };
+                let wo = -path(k).ray.direction.normalize();
+                let g = &h.geometry;
+                mapped[k] = material.mapped_normal(&with_tangents, wo, g.shading_normal, g.geometric_normal);
+                LaneMaterial::at(material, &query, (dpdu, dpdv))
+            }
+            None => LaneMaterial::BLACK,
+        });
+        let shading = Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.shading_normal));
         Surfaces {
             point: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::ZERO, |g| g.point)),
             error: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::ZERO, |g| g.error)),
             geometric: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.geometric_normal)),
-            shading: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.shading_normal)),
-            material: std::array::from_fn(|k| match &hits[k] {
-                Some(h) => {
-                    let material = &scene.materials()[h.material as usize];
-                    let tangents = match material.needs_tangent() {
-                        true => scene.geometry().tangents(h.object, h.prim, &h.geometry),
-                        false => (Vec3::ZERO, Vec3::ZERO),
-                    };
-                    LaneMaterial::at(material, &h.texture_query(scene.geometry()), tangents)
-                }
-                None => LaneMaterial::BLACK,
+            shading,
+            material,
+            mapped: mapped.iter().any(Option::is_some).then(|| {
+                let normals = Vec3x8::from_fn(|k| mapped[k].unwrap_or(shading.lane(k)));
+                (mask(|k| mapped[k].is_some()), normals)
             }),
         }
     }
