@@ -382,6 +382,55 @@ fn the_wavefront_shades_rough_conductors_in_lanes() {
     }
 }
 
+/// Rough plastics shaded in the lanes (`RoughPlasticLanes`): GGX and Beckmann coats, linear
+/// and nonlinear, constant (a wall among triangles) and textured (spheres), the coat's
+/// reflection or the base chosen lane by lane; at depth limits too.
+#[test]
+fn the_wavefront_shades_rough_plastics_in_lanes() {
+    use glint_core::materials::{Distribution, Plastic, RoughPlastic};
+    let plastic = |diffuse: Texture, nonlinear: bool, alpha: f32, distribution: Distribution| {
+        let specular = Texture::Constant(Rgb::splat(0.9));
+        Material::RoughPlastic(RoughPlastic::new(
+            Plastic { diffuse, specular, eta: 1.5, nonlinear },
+            alpha,
+            distribution,
+        ))
+    };
+    let checker =
+        || Texture::Checker(Box::new(Checker::new(Rgb::new(0.7, 0.2, 0.1), Rgb::splat(0.3), Vec2::splat(4.0))));
+    let wall = room_where(|_, materials| {
+        materials[2] = plastic(Texture::Constant(Rgb::new(0.2, 0.4, 0.7)), false, 0.2, Distribution::Ggx)
+    });
+    let spheres = room_where(|objects, materials| {
+        let centres = [Vec3::new(0.45, -0.65, 0.3), Vec3::new(-0.4, -0.6, 0.5), Vec3::new(0.1, 0.3, 0.6)];
+        let coats = [
+            plastic(checker(), true, 0.1, Distribution::Beckmann),
+            plastic(Texture::Constant(Rgb::new(0.6, 0.6, 0.2)), false, 0.4, Distribution::Beckmann),
+            plastic(checker(), false, 0.05, Distribution::Ggx),
+        ];
+        for (j, material) in coats.into_iter().enumerate() {
+            materials.push(material);
+            let id = materials.len() as u32 - 1;
+            objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
+        }
+    });
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
+    for (scene, what) in [(&wall, "a plastic wall among triangles"), (&spheres, "plastic spheres")] {
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in [(6, 0), (29, 4)] {
+                let lit = assert_same(scene, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+            }
+        }
+    }
+    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0)] {
+        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
+        for seed in 0..2 {
+            assert_same(&spheres, &tracer, SamplerKind::Sobol, seed, seed as u32);
+        }
+    }
+}
+
 /// Normal and bump maps over the lanes' BSDFs, their frames tilted and their terminators
 /// shadowed in the lanes (`MapShadowing`): a checkered normal map over the diffuse back wall,
 /// a bump map over a metal sphere and a steep constant normal over another; a map inside a

@@ -46,6 +46,7 @@ pub(crate) use microfacet::MicrofacetLanes;
 pub use microfacet::{Distribution, Microfacet};
 pub use normal_map::NormalMap;
 pub use phong::{fresnel_dielectric, fresnel_schlick, Fresnel, Phong, PhongPoint};
+pub(crate) use plastic::Coat;
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
 pub use principled::Principled;
 pub use principled_thin::{PrincipledThin, SamplingRates};
@@ -53,6 +54,7 @@ pub use rough_conductor::RoughConductor;
 pub(crate) use rough_conductor::RoughConductorLanes;
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::RoughPlastic;
+pub(crate) use rough_plastic::{CoatTables, CoatTransmittance, RoughPlasticLanes};
 pub use thin_dielectric::ThinDielectric;
 pub use two_sided::TwoSided;
 

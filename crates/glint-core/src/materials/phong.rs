@@ -26,6 +26,7 @@
 use glam::Vec3;
 
 use crate::geometry::reflect;
+use crate::lanes::Lanes;
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
@@ -222,15 +223,22 @@ impl PhongPoint {
 /// cosine of the incident angle and η = n_incident / n_transmitted; 1 past the critical angle.
 pub fn fresnel_dielectric(cos_incident: f32, eta: f32) -> f32 {
     let cos_i = cos_incident.clamp(0.0, 1.0);
-    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
-    if sin2_t >= 1.0 {
-        return 1.0;
+    if eta * eta * (1.0 - cos_i * cos_i) >= 1.0 {
+        return 1.0; // total internal reflection
     }
-    let cos_t = (1.0 - sin2_t).sqrt();
+    fresnel_dielectric_lanes(cos_i, eta)
+}
+
+/// `fresnel_dielectric` in lanes.
+#[inline(always)]
+pub(crate) fn fresnel_dielectric_lanes<L: Lanes>(cos_incident: L, eta: L) -> L {
+    let cos_i = cos_incident.max(L::ZERO).min(L::ONE);
+    let sin2_t = eta * eta * (L::ONE - cos_i * cos_i);
+    let cos_t = (L::ONE - sin2_t).sqrt();
     // With n_i/n_t = η: r_s = (η cos_i − cos_t)/(η cos_i + cos_t), r_p = (cos_i − η cos_t)/(cos_i + η cos_t).
     let r_s = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     let r_p = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    0.5 * (r_s * r_s + r_p * r_p)
+    L::select(sin2_t.ge(L::ONE), L::ONE, L::splat(0.5) * (r_s * r_s + r_p * r_p))
 }
 
 /// Schlick's approximation; inside the denser medium it uses the transmitted angle's cosine,

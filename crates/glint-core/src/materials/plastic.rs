@@ -37,7 +37,7 @@ pub struct Plastic {
 
 /// The part of a plastic both its smooth and rough forms evaluate the same way.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Coat {
+pub(crate) struct Coat {
     pub diffuse: Rgb,
     pub specular: Rgb,
     /// int_ior / ext_ior.
@@ -58,7 +58,7 @@ impl Coat {
 
     /// The probability of choosing the coat's reflection, for the coat's weight `coat` of the
     /// light from `wo` (F or 1 − its transmittance).
-    pub fn specular_probability(&self, coat: f32) -> f32 {
+    pub(crate) fn specular_probability(&self, coat: f32) -> f32 {
         let (s, d) = (coat * self.specular_weight, (1.0 - coat) * (1.0 - self.specular_weight));
         if s + d > 0.0 {
             s / (s + d)

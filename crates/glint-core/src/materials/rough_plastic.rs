@@ -21,13 +21,17 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
-use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
-use super::microfacet::{Distribution, GlossyOrDiffuse};
+use super::bsdf::{BsdfSample, Frame, LaneBsdfSample, LaneFrame, Leaf, Lobes};
+use super::microfacet::{Distribution, GlossyOrDiffuse, MicrofacetLanes};
+use super::phong::fresnel_dielectric_lanes;
 use super::plastic::Coat;
 use super::{fresnel_dielectric, Microfacet, PhongPoint, Plastic};
 use crate::geometry::{reflect, refract};
+use crate::lanes::{self, LaneVec3, Lanes};
+use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
 use crate::textures::TextureQuery;
 use crate::Rgb;
+use std::f32::consts::FRAC_1_PI;
 
 /// Entries of the transmittance table, cos θ from 0 to 1.
 const TABLE_SIZE: usize = 64;
@@ -42,7 +46,7 @@ pub struct RoughPlastic {
 
 /// The rough coat's transmittance from outside by cos θ, and its internal diffuse reflectance.
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct CoatTables {
+pub(crate) struct CoatTables {
     transmittance: [f32; TABLE_SIZE],
     internal_reflectance: f32,
 }
@@ -74,6 +78,14 @@ impl RoughPlastic {
             tables: &self.coat,
             t_o,
         })
+    }
+
+    /// The coat's colours at a point (`Coat`) and its transmittance table, as `bsdf` makes
+    /// them: for the lanes.
+    pub(crate) fn coat_at(&self, query: &TextureQuery) -> (Coat, &CoatTables) {
+        let p = &self.plastic;
+        let (diffuse, specular) = (p.diffuse.evaluate(query), p.specular.evaluate(query));
+        (Coat::new(diffuse, specular, p.eta, p.nonlinear, self.coat.internal_reflectance), &self.coat)
     }
 
     /// Whitted's view: the coat's smooth limit, smooth plastic's (`plastic.rs`; Whitted traces
@@ -129,7 +141,7 @@ impl CoatTables {
     }
 
     /// t(cos θ), linear between the table's entries.
-    fn lookup(&self, cos: f32) -> f32 {
+    pub(crate) fn lookup(&self, cos: f32) -> f32 {
         let x = cos.clamp(0.0, 1.0) * (TABLE_SIZE - 1) as f32;
         let i = (x as usize).min(TABLE_SIZE - 2);
         let f = x - i as f32;
@@ -165,6 +177,84 @@ fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// The coat's transmittance table as the lane body reads it: one table at one lane, each
+/// lane's own at eight.
+pub(crate) trait CoatTransmittance<L> {
+    /// t(cos θ) (`CoatTables::lookup`).
+    fn transmittance(&self, cos: L) -> L;
+}
+
+impl CoatTransmittance<f32> for &CoatTables {
+    #[inline(always)]
+    fn transmittance(&self, cos: f32) -> f32 {
+        self.lookup(cos)
+    }
+}
+
+/// The rough plastic at a hit, in lanes: the one body of its `eval`, `pdf` and `sample`,
+/// which the scalar BSDF runs at one lane and the wavefront at eight.
+#[derive(Clone, Debug)]
+pub(crate) struct RoughPlasticLanes<L: Lanes, T> {
+    pub frame: LaneFrame<L>,
+    /// The base's colour after its internal scattering (`Coat::diffuse`), the coat's colour,
+    /// and its relative index.
+    pub diffuse: LaneVec3<L>,
+    pub specular: LaneVec3<L>,
+    pub eta: L,
+    /// The coat's transmittance toward the viewer, t(cos θ_o), and the probability of
+    /// sampling its reflection (0 from behind).
+    pub t_o: L,
+    pub p_glossy: L,
+    pub microfacet: MicrofacetLanes<L>,
+    pub tables: T,
+}
+
+impl<L: Lanes, T: CoatTransmittance<L>> RoughPlasticLanes<L, T> {
+    /// The coat's microfacet reflection plus the base seen through it, where `wi` reflects on
+    /// the viewer's side of a front face, else 0.
+    #[inline(always)]
+    pub fn eval(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> LaneVec3<L> {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        let h = (o + i).normalize();
+        let coat = fresnel_dielectric_lanes(o.dot(h), L::ONE / self.eta) * self.microfacet.reflection_eval(o, i);
+        let through = self.t_o * self.tables.transmittance(i.z) / (self.eta * self.eta);
+        let value = self.specular * coat + self.diffuse * (i.z * L::splat(FRAC_1_PI) * through);
+        LaneVec3::select(self.frame.outside & self.frame.reflects(wi), value, LaneVec3::ZERO)
+    }
+
+    /// The coat's reflection with probability `p_glossy`, else Lambert's lobe
+    /// (`GlossyOrDiffuse::pdf`).
+    #[inline(always)]
+    pub fn pdf(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> L {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        let cosine = L::select(i.z.gt(L::ZERO), i.z * L::splat(FRAC_1_PI), L::ZERO);
+        let pdf = self.p_glossy * self.microfacet.reflection_pdf(o, i) + (L::ONE - self.p_glossy) * cosine;
+        L::select(self.frame.outside & self.frame.reflects(wi), pdf, L::ZERO)
+    }
+
+    /// The coat's reflection about a visible normal where `u_lobe` < `p_glossy`, else the
+    /// cosine-weighted base; weighed by eval / pdf.
+    #[inline(always)]
+    pub fn sample(&self, wo: LaneVec3<L>, u_lobe: L, u1: L, u2: L) -> LaneBsdfSample<L> {
+        let o = self.frame.to_local(wo);
+        let glossy = u_lobe.lt(self.p_glossy);
+        let local = if !L::any(!glossy) {
+            lanes::reflect(-o, self.microfacet.sample_normal(o, u1, u2))
+        } else if !L::any(glossy) {
+            square_to_cosine_hemisphere_lanes(u1, u2)
+        } else {
+            let reflected = lanes::reflect(-o, self.microfacet.sample_normal(o, u1, u2));
+            LaneVec3::select(glossy, reflected, square_to_cosine_hemisphere_lanes(u1, u2))
+        };
+        let wi = self.frame.to_world(local);
+        let pdf = self.pdf(wo, wi);
+        let valid = self.frame.outside & pdf.gt(L::ZERO) & pdf.is_finite();
+        let f = self.eval(wo, wi);
+        let weight = LaneVec3::new(f.x / pdf, f.y / pdf, f.z / pdf);
+        LaneBsdfSample { wi, weight, pdf, valid }
+    }
+}
+
 #[derive(Clone, Copy, Debug)]
 pub(super) struct RoughPlasticBsdf<'a> {
     frame: Frame,
@@ -177,33 +267,34 @@ pub(super) struct RoughPlasticBsdf<'a> {
     t_o: f32,
 }
 
+impl<'a> RoughPlasticBsdf<'a> {
+    /// The lobe as its one body reads it.
+    #[inline(always)]
+    fn lanes(&self) -> RoughPlasticLanes<f32, &'a CoatTables> {
+        RoughPlasticLanes {
+            frame: LaneFrame::from(&self.frame),
+            diffuse: self.coat.diffuse.into(),
+            specular: self.coat.specular.into(),
+            eta: self.coat.eta,
+            t_o: self.t_o,
+            p_glossy: self.lobes.p_glossy,
+            microfacet: MicrofacetLanes::from(&self.lobes.microfacet),
+            tables: self.tables,
+        }
+    }
+}
+
 impl Lobes for RoughPlasticBsdf<'_> {
     fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        if !self.frame.outside || !self.frame.reflects(wi) {
-            return Rgb::ZERO;
-        }
-        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        let h = (o + i).normalize();
-        let specular = self.coat.specular
-            * (fresnel_dielectric(o.dot(h), 1.0 / self.coat.eta) * self.lobes.microfacet.reflection_eval(o, i));
-        let through = self.t_o * self.tables.lookup(i.z) / (self.coat.eta * self.coat.eta);
-        specular + self.coat.diffuse * (i.z * std::f32::consts::FRAC_1_PI * through)
+        self.lanes().eval(wo.into(), wi.into()).into()
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if !self.frame.outside || !self.frame.reflects(wi) {
-            return 0.0;
-        }
-        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        self.lobes.pdf(o, i)
+        self.lanes().pdf(wo.into(), wi.into())
     }
 
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        if !self.frame.outside {
-            return None;
-        }
-        let wi = self.frame.to_world(self.lobes.sample(self.frame.to_local(wo), u_lobe, u));
-        self.weighed(wo, wi, 1.0)
+        self.lanes().sample(wo.into(), u_lobe, u.x, u.y).scalar()
     }
 
     fn non_delta_probability(&self) -> f32 {

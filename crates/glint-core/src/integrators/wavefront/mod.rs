@@ -35,8 +35,8 @@ use crate::geometry::{offset_ray_origin_lanes, Ray};
 use crate::lanes::{negate, Vec3x8, LANES};
 use crate::lights::{area_to_solid_angle_lanes, LightSample, TriangleEmitter, TriangleSampling};
 use crate::materials::{
-    luminance, tangent_along_lanes, Distribution, LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes,
-    RoughConductorLanes,
+    luminance, tangent_along_lanes, Coat, CoatTables, CoatTransmittance, Distribution, LaneBsdfSample, LaneFrame,
+    MapShadowing, Material, MicrofacetLanes, RoughConductorLanes, RoughPlasticLanes,
 };
 use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
 use crate::sampling::Sampler;
@@ -69,22 +69,27 @@ enum LaneKind {
     Lambert,
     /// A rough conductor (`RoughConductorLanes`) of one microfacet distribution.
     RoughConductor(Distribution),
+    /// A rough plastic (`RoughPlasticLanes`) of one microfacet distribution.
+    RoughPlastic(Distribution),
     /// Anything else: the scalar code's bounce.
     Scalar,
 }
 
 impl LaneKind {
     /// The kinds of the lanes' own bounces, in the order a round takes them.
-    const IN_LANES: [LaneKind; 3] = [
+    const IN_LANES: [LaneKind; 5] = [
         LaneKind::Lambert,
         LaneKind::RoughConductor(Distribution::Ggx),
         LaneKind::RoughConductor(Distribution::Beckmann),
+        LaneKind::RoughPlastic(Distribution::Ggx),
+        LaneKind::RoughPlastic(Distribution::Beckmann),
     ];
 
     fn of(material: &Material) -> Self {
         match material {
             _ if material.lambert().is_some() => LaneKind::Lambert,
             Material::RoughConductor(m) => LaneKind::RoughConductor(m.distribution),
+            Material::RoughPlastic(m) => LaneKind::RoughPlastic(m.distribution),
             // A map over a material of a lane kind: the lanes tilt its frame (one map: a map
             // inside a map keeps the inner one's shadowing).
             Material::NormalMap(_) | Material::BumpMap(_) => {
@@ -104,13 +109,15 @@ impl LaneKind {
             LaneKind::Lambert | LaneKind::Scalar => 0,
             LaneKind::RoughConductor(Distribution::Ggx) => 1,
             LaneKind::RoughConductor(Distribution::Beckmann) => 2,
+            LaneKind::RoughPlastic(Distribution::Ggx) => 3,
+            LaneKind::RoughPlastic(Distribution::Beckmann) => 4,
         }
     }
 }
 
 /// A material's lobe at a point, as the lanes read it.
 #[derive(Clone, Copy, Debug)]
-enum LaneLobe {
+enum LaneLobe<'s> {
     Lambert {
         diffuse: Rgb,
     },
@@ -124,12 +131,18 @@ enum LaneLobe {
         specular: Rgb,
         dpdu: Vec3,
     },
+    /// The coat's colours and index (`Coat`), its width and transmittance table.
+    RoughPlastic {
+        coat: Coat,
+        alpha: f32,
+        tables: &'s CoatTables,
+    },
 }
 
 /// A material as the lanes read it.
 #[derive(Clone, Copy, Debug)]
-struct LaneMaterial {
-    lobe: LaneLobe,
+struct LaneMaterial<'s> {
+    lobe: LaneLobe<'s>,
     /// The BSDF has a lobe that reflects; a black Lambert lobe ends the path.
     reflects: bool,
     /// Black from behind (Mitsuba's `diffuse`, every conductor): the path ends on the back.
@@ -138,7 +151,7 @@ struct LaneMaterial {
     two_sided: bool,
 }
 
-impl LaneMaterial {
+impl<'s> LaneMaterial<'s> {
     /// What lanes without a hit read.
     const BLACK: Self = Self {
         lobe: LaneLobe::Lambert { diffuse: Rgb::ZERO },
@@ -155,7 +168,7 @@ impl LaneMaterial {
     /// A material of a lane kind evaluated at a point (black for the scalar code's: the lanes
     /// never read one), with the surface's ∂p/∂u and ∂p/∂v where the material needs them, as
     /// `Vertex::bsdf` queries it (the emission without them, as `Vertex::emitted`).
-    fn at(material: &Material, query: &TextureQuery, (dpdu, dpdv): (Vec3, Vec3)) -> Self {
+    fn at(material: &'s Material, query: &TextureQuery, (dpdu, dpdv): (Vec3, Vec3)) -> Self {
         if !std::ptr::eq(material.unmapped(), material) {
             // Under a map: the material's lobe (the lanes tilt its frame), no emission.
             let lobe = Self::at(material.unmapped(), query, (dpdu, dpdv));
@@ -173,13 +186,18 @@ impl LaneMaterial {
                 let lobe = LaneLobe::RoughConductor { alpha_u, alpha_v, eta, k, specular, dpdu };
                 Self { lobe, reflects: true, one_sided: true, emission, two_sided }
             }
+            Material::RoughPlastic(m) => {
+                let (coat, tables) = m.coat_at(query);
+                let lobe = LaneLobe::RoughPlastic { coat, alpha: m.alpha, tables };
+                Self { lobe, reflects: true, one_sided: true, emission, two_sided }
+            }
             _ => Self::BLACK,
         }
     }
 
     /// A material of a lane kind whose colours and width are constant, evaluated once; black
     /// for the scalar code's (the lanes never read it); `None` for a textured one.
-    fn constant(material: &Material) -> Option<Self> {
+    fn constant(material: &'s Material) -> Option<Self> {
         let constant = |t: &Texture| matches!(t, Texture::Constant(_));
         match (LaneKind::of(material), material) {
             (LaneKind::Scalar, _) => Some(Self::BLACK),
@@ -187,6 +205,10 @@ impl LaneMaterial {
                 // One width both ways: the frame does not turn to ∂p/∂u, which the lanes'
                 // flat surfaces do not compute.
                 let fixed = constant(&m.alpha_u) && m.alpha_v == m.alpha_u && constant(&m.conductor.specular);
+                fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
+            }
+            (LaneKind::RoughPlastic(_), Material::RoughPlastic(m)) => {
+                let fixed = constant(&m.plastic.diffuse) && constant(&m.plastic.specular);
                 fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
             }
             _ => {
@@ -229,7 +251,7 @@ struct Wavefront<'a> {
     scene: &'a Scene,
     /// Every material, when all are constant and every primitive is a triangle in world space:
     /// then the lanes compute the surfaces themselves.
-    flat: Option<Vec<LaneMaterial>>,
+    flat: Option<Vec<LaneMaterial<'a>>>,
     /// The lights as triangles, then a black one for lanes without a light, when all are
     /// triangles sampled by area: then the lanes sample them themselves.
     emitters: Option<&'a [TriangleEmitter]>,
@@ -283,12 +305,12 @@ impl Path {
 }
 
 /// The surfaces the lanes hit, as `SurfaceGeometry` has them, and the materials there.
-struct Surfaces {
+struct Surfaces<'s> {
     point: Vec3x8,
     error: Vec3x8,
     geometric: Vec3x8,
     shading: Vec3x8,
-    material: [LaneMaterial; LANES],
+    material: [LaneMaterial<'s>; LANES],
     /// Where a normal or bump map tilts the shading normal: the lanes it does (a mask) and
     /// the normal it gives them (turned toward the viewer), for the BSDF's frame.
     mapped: Option<(f32x8, Vec3x8)>,
@@ -513,7 +535,7 @@ impl<'a> Wavefront<'a> {
         // A map's normal tilts the frame, and shadows the light its tilt would let in past the
         // terminator (`Frame::with_map_shadowing`, after the lobe's own frame is set).
         let frame = LaneFrame::new(wo, mapped.map_or(shading, |(_, normals)| normals), geometric);
-        let bsdf = ChunkBsdf::new(kind, &material, &frame);
+        let bsdf = ChunkBsdf::new(kind, &material, &frame, wo);
         let shadowing = match mapped {
             Some((lanes, _)) => {
                 let MapShadowing { unmapped, alpha2 } = MapShadowing::new(frame.normal, shading);
@@ -541,10 +563,9 @@ impl<'a> Wavefront<'a> {
         }
         radiance = Vec3x8::select(on, radiance + throughput.mul_lanes(direct), radiance);
 
-        // The BSDF sample. The lobe (`LOBE`) is not read: each lane kind has one lobe, of
-        // probability 1, and every sampler's numbers are below 1, so the scalar code picks it.
+        // The BSDF sample.
         let LaneBsdfSample { wi, weight, pdf, valid: scattered } =
-            bsdf.sample(&frame, wo, draw(DIRECTION), draw(DIRECTION + 1));
+            bsdf.sample(&frame, wo, draw(LOBE), draw(DIRECTION), draw(DIRECTION + 1));
         let weight = if mapped.is_some() { weight * shadowing.of(wi) } else { weight };
         throughput = throughput.mul_lanes(weight);
         // Russian roulette (Mitsuba's rule), from rr_depth bounces on.
@@ -614,7 +635,7 @@ impl<'a> Wavefront<'a> {
     /// (triangle_surface): point, error bound, geometric normal, and the shading normal from
     /// the vertex normals where the mesh has them.
     #[inline(always)]
-    fn flat_surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, materials: &[LaneMaterial]) -> Surfaces {
+    fn flat_surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, materials: &[LaneMaterial<'a>]) -> Surfaces<'a> {
         let geometry = &self.scene.geometry();
         let [a, b, c] = geometry
             .triangles8(std::array::from_fn(|k| (path(k).hit.object, path(k).hit.prim)))
@@ -653,7 +674,7 @@ impl<'a> Wavefront<'a> {
 
     /// The surfaces of any shapes and materials, from the scalar code lane by lane (the lanes
     /// past `n` read black).
-    fn surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, n: usize) -> Surfaces {
+    fn surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, n: usize) -> Surfaces<'a> {
         let scene = self.scene;
         let hits: [Option<crate::scene::SurfaceHit>; LANES] = std::array::from_fn(|k| {
             let p = path(k);
@@ -796,22 +817,35 @@ impl<'a> Wavefront<'a> {
 /// The BSDF of a bounce's eight lanes, of one lane kind. (A value on the stack for one bounce:
 /// the variants' sizes may differ.)
 #[allow(clippy::large_enum_variant)]
-enum ChunkBsdf {
+enum ChunkBsdf<'s> {
     Lambert { diffuse: Vec3x8 },
     RoughConductor(RoughConductorLanes<f32x8>),
+    RoughPlastic(RoughPlasticLanes<f32x8, [&'s CoatTables; LANES]>),
 }
 
-impl ChunkBsdf {
+/// Each lane's coat table.
+impl CoatTransmittance<f32x8> for [&CoatTables; LANES] {
+    #[inline(always)]
+    fn transmittance(&self, cos: f32x8) -> f32x8 {
+        let cos = cos.as_array_ref();
+        per_lane(|k| self[k].lookup(cos[k]))
+    }
+}
+
+impl<'s> ChunkBsdf<'s> {
     /// The lanes' BSDF of `kind` from their materials (lanes of another kind, past the chunk's
     /// end, read black). A rough conductor's frame turns to ∂p/∂u in the lanes where its widths
     /// differ, as `RoughConductor::bsdf` turns it.
     #[inline(always)]
-    fn new(kind: LaneKind, material: &[LaneMaterial; LANES], frame: &LaneFrame<f32x8>) -> Self {
+    fn new(kind: LaneKind, material: &[LaneMaterial<'s>; LANES], frame: &LaneFrame<f32x8>, wo: Vec3x8) -> Self {
+        if let LaneKind::RoughPlastic(distribution) = kind {
+            return ChunkBsdf::RoughPlastic(Self::rough_plastic(distribution, material, frame, wo));
+        }
         let LaneKind::RoughConductor(distribution) = kind else {
             return ChunkBsdf::Lambert {
                 diffuse: Vec3x8::from_fn(|k| match material[k].lobe {
                     LaneLobe::Lambert { diffuse } => diffuse,
-                    LaneLobe::RoughConductor { .. } => Rgb::ZERO,
+                    _ => Rgb::ZERO,
                 }),
             };
         };
@@ -820,7 +854,7 @@ impl ChunkBsdf {
             LaneLobe::RoughConductor { alpha_u, alpha_v, eta, k, specular, dpdu } => {
                 (alpha_u, alpha_v, eta, k, specular, dpdu)
             }
-            LaneLobe::Lambert { .. } => black,
+            _ => black,
         });
         let (alpha_x, alpha_y) = (per_lane(|k| lobe[k].0), per_lane(|k| lobe[k].1));
         let mut frame = frame.clone();
@@ -840,6 +874,44 @@ impl ChunkBsdf {
         })
     }
 
+    /// The rough plastic of the lanes (`RoughPlastic::bsdf`): the coat's transmittance toward
+    /// the viewer and the probability of its reflection, lane by lane from the tables.
+    #[inline(always)]
+    fn rough_plastic(
+        distribution: Distribution,
+        material: &[LaneMaterial<'s>; LANES],
+        frame: &LaneFrame<f32x8>,
+        wo: Vec3x8,
+    ) -> RoughPlasticLanes<f32x8, [&'s CoatTables; LANES]> {
+        // Lane 0 is always a path of this kind: lanes of another read its table.
+        let LaneLobe::RoughPlastic { tables: first, .. } = material[0].lobe else {
+            unreachable!("a rough plastic's bounce starts with a rough plastic")
+        };
+        let black = Coat { diffuse: Rgb::ZERO, specular: Rgb::ZERO, eta: 1.5, specular_weight: 0.0 };
+        let lobe: [_; LANES] = std::array::from_fn(|k| match material[k].lobe {
+            LaneLobe::RoughPlastic { coat, alpha, tables } => (coat, alpha, tables),
+            _ => (black, 1.0, first),
+        });
+        let cos_o = wo.dot(frame.normal).to_array();
+        let outside = frame.outside.move_mask();
+        let t_o: [f32; LANES] = std::array::from_fn(|k| lobe[k].2.lookup(cos_o[k]));
+        let p_glossy = per_lane(|k| match outside & (1 << k) != 0 {
+            true => lobe[k].0.specular_probability(1.0 - t_o[k]),
+            false => 0.0,
+        });
+        let alpha = per_lane(|k| lobe[k].1);
+        RoughPlasticLanes {
+            frame: frame.clone(),
+            diffuse: Vec3x8::from_fn(|k| lobe[k].0.diffuse),
+            specular: Vec3x8::from_fn(|k| lobe[k].0.specular),
+            eta: per_lane(|k| lobe[k].0.eta),
+            t_o: f32x8::from(t_o),
+            p_glossy,
+            microfacet: MicrofacetLanes { alpha_x: alpha, alpha_y: alpha, separable: true, distribution },
+            tables: lobe.map(|l| l.2),
+        }
+    }
+
     /// f(wo, wi)·cos θ_i and the density of sampling `wi` (`Bsdf::eval`, `Bsdf::pdf`).
     #[inline(always)]
     fn eval_and_pdf(&self, frame: &LaneFrame<f32x8>, wo: Vec3x8, wi: Vec3x8) -> (Vec3x8, f32x8) {
@@ -855,12 +927,20 @@ impl ChunkBsdf {
                 (f, (above.cmp_gt(zero) & cos.cmp_gt(zero)).blend(cos * f32x8::splat(FRAC_1_PI), zero))
             }
             ChunkBsdf::RoughConductor(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
+            ChunkBsdf::RoughPlastic(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
         }
     }
 
-    /// A direction from two uniform numbers (`Bsdf::sample` of the one lobe).
+    /// A direction from the lobe's number and two more (`Bsdf::sample`).
     #[inline(always)]
-    fn sample(&self, frame: &LaneFrame<f32x8>, wo: Vec3x8, u1: f32x8, u2: f32x8) -> LaneBsdfSample<f32x8> {
+    fn sample(
+        &self,
+        frame: &LaneFrame<f32x8>,
+        wo: Vec3x8,
+        u_lobe: f32x8,
+        u1: f32x8,
+        u2: f32x8,
+    ) -> LaneBsdfSample<f32x8> {
         match self {
             ChunkBsdf::Lambert { diffuse } => {
                 // Cosine-weighted, weight k_d.
@@ -872,6 +952,7 @@ impl ChunkBsdf {
                 LaneBsdfSample { wi, weight: *diffuse, pdf, valid }
             }
             ChunkBsdf::RoughConductor(lobe) => lobe.sample(wo, u1, u2),
+            ChunkBsdf::RoughPlastic(lobe) => lobe.sample(wo, u_lobe, u1, u2),
         }
     }
 }
