@@ -431,6 +431,52 @@ fn the_wavefront_shades_rough_plastics_in_lanes() {
     }
 }
 
+/// Rough glass shaded in the lanes (`RoughDielectricLanes`): spheres of GGX and Beckmann glass,
+/// one anisotropic and textured, seen from outside and refracting from inside, a glass wall
+/// among the room's triangles; η² carried into the roulette from the first bounce.
+#[test]
+fn the_wavefront_shades_rough_glass_in_lanes() {
+    use glint_core::materials::{Dielectric, Distribution, RoughDielectric};
+    let glass = |alpha_u: Texture, alpha_v: Texture, distribution: Distribution| {
+        let dielectric = Dielectric {
+            eta: 1.5,
+            specular_reflectance: Texture::Constant(Rgb::ONE),
+            specular_transmittance: Texture::Constant(Rgb::new(0.9, 0.95, 1.0)),
+        };
+        Material::RoughDielectric(RoughDielectric { dielectric, alpha_u, alpha_v, distribution })
+    };
+    let checker = || Texture::Checker(Box::new(Checker::new(Rgb::splat(0.05), Rgb::splat(0.4), Vec2::splat(4.0))));
+    let spheres = room_where(|objects, materials| {
+        let centres = [Vec3::new(0.45, -0.65, 0.3), Vec3::new(-0.4, -0.6, 0.5), Vec3::new(0.1, 0.3, 0.6)];
+        let panes = [
+            glass(0.1.into(), 0.1.into(), Distribution::Ggx),
+            glass(0.3.into(), 0.3.into(), Distribution::Beckmann),
+            glass(checker(), 0.2.into(), Distribution::Beckmann),
+        ];
+        for (j, material) in panes.into_iter().enumerate() {
+            materials.push(material);
+            let id = materials.len() as u32 - 1;
+            objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
+        }
+    });
+    let wall = room_where(|_, materials| materials[1] = glass(0.2.into(), 0.2.into(), Distribution::Ggx));
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
+    for (scene, what) in [(&spheres, "glass spheres"), (&wall, "a glass wall among triangles")] {
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in [(8, 0), (31, 6)] {
+                let lit = assert_same(scene, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+            }
+        }
+    }
+    for (max_depth, rr_depth) in [(2, 1), (u32::MAX, 0), (u32::MAX, 1)] {
+        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
+        for seed in 0..2 {
+            assert_same(&spheres, &tracer, SamplerKind::Sobol, seed, seed as u32);
+        }
+    }
+}
+
 /// Normal and bump maps over the lanes' BSDFs, their frames tilted and their terminators
 /// shadowed in the lanes (`MapShadowing`): a checkered normal map over the diffuse back wall,
 /// a bump map over a metal sphere and a steep constant normal over another; a map inside a

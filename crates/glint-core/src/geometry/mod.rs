@@ -49,13 +49,8 @@ pub fn reflect(incident: Vec3, n: Vec3) -> Vec3 {
 /// T = η I + (η cos θ_i − cos θ_t) N with cos θ_t = √(1 − η²(1 − cos² θ_i)).
 /// `None` when the root is imaginary: total internal reflection.
 pub fn refract(incident: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
-    let cos_i = -incident.dot(n);
-    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
-    if sin2_t > 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    Some(eta * incident + (eta * cos_i - cos_t) * n)
+    let (refracted, exists) = crate::lanes::refract(LaneVec3::<f32>::from(incident), n.into(), eta);
+    exists.then(|| refracted.into())
 }
 
 #[cfg(test)]

@@ -452,6 +452,17 @@ impl<L: Lanes> Mul<L> for LaneVec3<L> {
     }
 }
 
+/// Refraction of the unit `incident` (toward the surface) through the unit normal `n` on its
+/// side, for η = n_incident / n_transmitted (`geometry::refract`): the direction, and the lanes
+/// where it exists (not total internal reflection).
+#[inline(always)]
+pub(crate) fn refract<L: Lanes>(incident: LaneVec3<L>, n: LaneVec3<L>, eta: L) -> (LaneVec3<L>, L::Mask) {
+    let cos_i = incident.dot(n).negate();
+    let sin2_t = eta * eta * (L::ONE - cos_i * cos_i).max(L::ZERO);
+    let cos_t = (L::ONE - sin2_t).sqrt();
+    (incident * eta + n * (eta * cos_i - cos_t), !sin2_t.gt(L::ONE))
+}
+
 /// Mirror reflection of `incident` about `n`: I − 2(I·N)N (`geometry::reflect`).
 #[inline(always)]
 pub(crate) fn reflect<L: Lanes>(incident: LaneVec3<L>, n: LaneVec3<L>) -> LaneVec3<L> {

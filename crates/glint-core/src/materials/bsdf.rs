@@ -195,6 +195,12 @@ impl<L: Lanes> LaneFrame<L> {
     pub fn reflects(&self, wi: LaneVec3<L>) -> L::Mask {
         wi.dot(self.normal).gt(L::ZERO) & wi.dot(self.geometric).gt(L::ZERO)
     }
+
+    /// `wi` leaves on the far side of both normals.
+    #[inline(always)]
+    pub fn transmits(&self, wi: LaneVec3<L>) -> L::Mask {
+        wi.dot(self.normal).lt(L::ZERO) & wi.dot(self.geometric).lt(L::ZERO)
+    }
 }
 
 /// A normal or bump map's shadowing (`Frame::with_map_shadowing`), in lanes: the surface's own
@@ -238,6 +244,8 @@ pub(crate) struct LaneBsdfSample<L: Lanes> {
     pub weight: LaneVec3<L>,
     pub pdf: L,
     pub valid: L::Mask,
+    /// η² picked up by refraction (`BsdfSample::eta_squared`).
+    pub eta_squared: L,
 }
 
 impl LaneBsdfSample<f32> {
@@ -249,7 +257,7 @@ impl LaneBsdfSample<f32> {
             weight: self.weight.into(),
             pdf: self.pdf,
             delta: false,
-            eta_squared: 1.0,
+            eta_squared: self.eta_squared,
         })
     }
 }

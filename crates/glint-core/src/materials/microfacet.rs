@@ -95,11 +95,6 @@ impl Microfacet {
         self.lanes().sample_normal(wo.into(), u.x, u.y).into()
     }
 
-    /// Density per solid angle of `sample_normal`'s micro-normal `h` for `wo`.
-    fn normal_pdf(&self, wo: Vec3, h: Vec3) -> f32 {
-        self.lanes().normal_pdf(wo.into(), h.into())
-    }
-
     /// Density per solid angle of the reflected direction `wi` when `h` is sampled by
     /// `sample_normal`: the normal's density / (4 wo·h) = G1(wo)·D(h) / (4 cos θ_o).
     pub fn reflection_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
@@ -115,34 +110,22 @@ impl Microfacet {
     /// with `eta` = n(wo's side) / n(wi's side): h ∝ −(η_o wo + η_i wi), turned to +z; `None`
     /// if the pair cannot refract through any microfacet.
     pub(super) fn refraction_half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<Vec3> {
-        if wo.z <= 0.0 || wi.z >= 0.0 {
-            return None;
-        }
-        let h = -(wo + wi / eta);
-        let h = h.try_normalize()?;
-        let h = if h.z < 0.0 { -h } else { h };
-        (wo.dot(h) > 0.0 && wi.dot(h) < 0.0).then_some(h)
+        let (h, exists) = refraction_half_vector(LaneVec3::<f32>::from(wo), wi.into(), eta);
+        exists.then(|| h.into())
     }
 
     /// Density per solid angle of the refracted direction `wi` when `h` is sampled by
     /// `sample_normal` and `wo` refracted through it (Walter et al. 2007, eq. 17):
     /// D_wo(h) · |dh/dwi|, with |dh/dwi| = η_i² |wi·h| / (η_o wo·h + η_i wi·h)².
     pub fn transmission_pdf(&self, wo: Vec3, wi: Vec3, eta: f32) -> f32 {
-        let Some(h) = Self::refraction_half_vector(wo, wi, eta) else { return 0.0 };
-        let ratio = 1.0 / eta; // η_i / η_o
-        let denominator = wo.dot(h) + ratio * wi.dot(h);
-        let jacobian = ratio * ratio * wi.dot(h).abs() / (denominator * denominator);
-        self.normal_pdf(wo, h) * jacobian
+        self.lanes().transmission_pdf(wo.into(), wi.into(), eta)
     }
 
     /// f(wo, wi)·|cos θ_i| of rough refraction without the Fresnel factor, in the form without
     /// the radiance's η² scaling (the form the smooth refraction lobe uses, so that rough and
     /// smooth glass agree as the roughness vanishes): its sampling weight is G2 / G1(wo).
     pub fn transmission_eval(&self, wo: Vec3, wi: Vec3, eta: f32) -> f32 {
-        let Some(h) = Self::refraction_half_vector(wo, wi, eta) else { return 0.0 };
-        let ratio = 1.0 / eta;
-        let denominator = wo.dot(h) + ratio * wi.dot(h);
-        wi.dot(h).abs() * wo.dot(h) * ratio * ratio * self.d(h) * self.g2(wo, wi) / (wo.z * denominator * denominator)
+        self.lanes().transmission_eval(wo.into(), wi.into(), eta)
     }
 }
 
@@ -311,6 +294,43 @@ impl<L: Lanes> MicrofacetLanes<L> {
         let value = self.d(h) * self.g2(wo, wi) / (L::splat(4.0) * wo.z);
         L::select(wo.z.le(L::ZERO) | wi.z.le(L::ZERO), L::ZERO, value)
     }
+}
+
+impl<L: Lanes> MicrofacetLanes<L> {
+    /// `Microfacet::transmission_pdf` in lanes.
+    #[inline(always)]
+    pub fn transmission_pdf(&self, wo: LaneVec3<L>, wi: LaneVec3<L>, eta: L) -> L {
+        let (h, exists) = refraction_half_vector(wo, wi, eta);
+        let ratio = L::ONE / eta; // η_i / η_o
+        let denominator = wo.dot(h) + ratio * wi.dot(h);
+        let jacobian = ratio * ratio * wi.dot(h).abs() / (denominator * denominator);
+        L::select(exists, self.normal_pdf(wo, h) * jacobian, L::ZERO)
+    }
+
+    /// `Microfacet::transmission_eval` in lanes.
+    #[inline(always)]
+    pub fn transmission_eval(&self, wo: LaneVec3<L>, wi: LaneVec3<L>, eta: L) -> L {
+        let (h, exists) = refraction_half_vector(wo, wi, eta);
+        let ratio = L::ONE / eta;
+        let denominator = wo.dot(h) + ratio * wi.dot(h);
+        let value = wi.dot(h).abs() * wo.dot(h) * ratio * ratio * self.d(h) * self.g2(wo, wi)
+            / (wo.z * denominator * denominator);
+        L::select(exists, value, L::ZERO)
+    }
+}
+
+/// The refraction half vector in lanes (`Microfacet::refraction_half_vector`), and the lanes
+/// where the pair refracts through it.
+#[inline(always)]
+pub(super) fn refraction_half_vector<L: Lanes>(wo: LaneVec3<L>, wi: LaneVec3<L>, eta: L) -> (LaneVec3<L>, L::Mask) {
+    let h = -(wo + LaneVec3::new(wi.x / eta, wi.y / eta, wi.z / eta));
+    // glam's `try_normalize`: a finite, positive reciprocal length.
+    let rcp = L::ONE / h.dot(h).sqrt();
+    let normalized = rcp.is_finite() & rcp.gt(L::ZERO);
+    let h = h * rcp;
+    let h = LaneVec3::select(h.z.lt(L::ZERO), -h, h);
+    let exists = wo.z.gt(L::ZERO) & wi.z.lt(L::ZERO) & normalized & wo.dot(h).gt(L::ZERO) & wi.dot(h).lt(L::ZERO);
+    (h, exists)
 }
 
 /// A visible normal of GGX with widths (α_x, α_y) for `wo` (wo.z > 0), by Heitz's hemisphere

@@ -53,6 +53,7 @@ pub use principled_thin::{PrincipledThin, SamplingRates};
 pub use rough_conductor::RoughConductor;
 pub(crate) use rough_conductor::RoughConductorLanes;
 pub use rough_dielectric::RoughDielectric;
+pub(crate) use rough_dielectric::RoughDielectricLanes;
 pub use rough_plastic::RoughPlastic;
 pub(crate) use rough_plastic::{CoatTables, CoatTransmittance, RoughPlasticLanes};
 pub use thin_dielectric::ThinDielectric;

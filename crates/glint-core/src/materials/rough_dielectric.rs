@@ -15,11 +15,13 @@
 
 use glam::{Vec2, Vec3};
 
-use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
+use super::bsdf::{BsdfSample, Frame, LaneBsdfSample, LaneFrame, Leaf, Lobes};
 use super::dielectric::side_eta;
+use super::microfacet::{refraction_half_vector, MicrofacetLanes};
+use super::phong::fresnel_dielectric_lanes;
 use super::rough_conductor::width;
-use super::{fresnel_dielectric, Dielectric, Distribution, Microfacet, PhongPoint};
-use crate::geometry::{reflect, refract};
+use super::{Dielectric, Distribution, Microfacet, PhongPoint};
+use crate::lanes::{self, LaneVec3, Lanes};
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
@@ -47,10 +49,84 @@ impl RoughDielectric {
         })
     }
 
+    /// Its widths along ∂p/∂u and across it, reflectance and transmittance at a point, as
+    /// `bsdf` reads them.
+    pub(crate) fn widths_and_colours(&self, query: &TextureQuery) -> (f32, f32, Rgb, Rgb) {
+        let d = &self.dielectric;
+        let (reflectance, transmittance) =
+            (d.specular_reflectance.evaluate(query), d.specular_transmittance.evaluate(query));
+        (width(&self.alpha_u, query), width(&self.alpha_v, query), reflectance, transmittance)
+    }
+
     /// Whitted's view: the lobes' smooth limit, smooth glass of the same index (Whitted traces
     /// no glossy rays): each microfacet lobe's weight goes to the mirror or the refraction.
     pub(super) fn whitted(&self, query: &TextureQuery, outside: bool, cos: f32) -> PhongPoint {
         self.dielectric.whitted(query, outside, cos)
+    }
+}
+
+/// Rough glass at a hit, in lanes: the one body of its `eval`, `pdf` and `sample`, which the
+/// scalar BSDF runs at one lane and the wavefront at eight.
+#[derive(Clone, Debug)]
+pub(crate) struct RoughDielectricLanes<L: Lanes> {
+    pub frame: LaneFrame<L>,
+    /// n(wo's side) / n(the other side).
+    pub eta: L,
+    pub reflectance: LaneVec3<L>,
+    pub transmittance: LaneVec3<L>,
+    pub microfacet: MicrofacetLanes<L>,
+}
+
+impl<L: Lanes> RoughDielectricLanes<L> {
+    /// The microfacets' reflection where `wi` reflects on the viewer's side of both normals,
+    /// their refraction where it leaves on the other side of both, else 0.
+    #[inline(always)]
+    pub fn eval(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> LaneVec3<L> {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        let h = (o + i).normalize();
+        let reflected =
+            self.reflectance * (fresnel_dielectric_lanes(o.dot(h), self.eta) * self.microfacet.reflection_eval(o, i));
+        let (h, through) = refraction_half_vector(o, i, self.eta);
+        let refracted = self.transmittance
+            * ((L::ONE - fresnel_dielectric_lanes(o.dot(h), self.eta))
+                * self.microfacet.transmission_eval(o, i, self.eta));
+        let refracted = LaneVec3::select(self.frame.transmits(wi) & through, refracted, LaneVec3::ZERO);
+        LaneVec3::select(self.frame.reflects(wi), reflected, refracted)
+    }
+
+    #[inline(always)]
+    pub fn pdf(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> L {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        let h = (o + i).normalize();
+        let reflected = fresnel_dielectric_lanes(o.dot(h), self.eta) * self.microfacet.reflection_pdf(o, i);
+        let (h, through) = refraction_half_vector(o, i, self.eta);
+        let refracted =
+            (L::ONE - fresnel_dielectric_lanes(o.dot(h), self.eta)) * self.microfacet.transmission_pdf(o, i, self.eta);
+        let refracted = L::select(self.frame.transmits(wi) & through, refracted, L::ZERO);
+        L::select(self.frame.reflects(wi), reflected, refracted)
+    }
+
+    /// A visible micro-normal, then its reflection (with probability F) or refraction;
+    /// weighed by eval / pdf. A microfacet's reflection below the surface (or refraction above
+    /// it) is lost light, not a sample of the other lobe.
+    #[inline(always)]
+    pub fn sample(&self, wo: LaneVec3<L>, u_lobe: L, u1: L, u2: L) -> LaneBsdfSample<L> {
+        let o = self.frame.to_local(wo);
+        let h = self.microfacet.sample_normal(o, u1, u2);
+        // A Beckmann normal may face away from the viewer.
+        let facing = o.dot(h).gt(L::ZERO);
+        let reflected = u_lobe.lt(fresnel_dielectric_lanes(o.dot(h), self.eta));
+        let (refracted, exists) = lanes::refract(-o, h, self.eta);
+        let local = LaneVec3::select(reflected, lanes::reflect(-o, h), refracted);
+        let wi = self.frame.to_world(local);
+        let (reflects, transmits) = (self.frame.reflects(wi), self.frame.transmits(wi));
+        let kept = (reflected & reflects) | (!reflected & exists & transmits);
+        let eta_squared = L::select(transmits, L::ONE / (self.eta * self.eta), L::ONE);
+        let pdf = self.pdf(wo, wi);
+        let valid = facing & kept & pdf.gt(L::ZERO) & pdf.is_finite();
+        let f = self.eval(wo, wi);
+        let weight = LaneVec3::new(f.x / pdf, f.y / pdf, f.z / pdf);
+        LaneBsdfSample { wi, weight, pdf, valid, eta_squared }
     }
 }
 
@@ -64,52 +140,31 @@ pub(super) struct RoughDielectricBsdf {
     microfacet: Microfacet,
 }
 
+impl RoughDielectricBsdf {
+    /// The lobe as its one body reads it.
+    #[inline(always)]
+    fn lanes(&self) -> RoughDielectricLanes<f32> {
+        RoughDielectricLanes {
+            frame: LaneFrame::from(&self.frame),
+            eta: self.eta,
+            reflectance: self.reflectance.into(),
+            transmittance: self.transmittance.into(),
+            microfacet: MicrofacetLanes::from(&self.microfacet),
+        }
+    }
+}
+
 impl Lobes for RoughDielectricBsdf {
     fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        if self.frame.reflects(wi) {
-            let h = (o + i).normalize();
-            let f = fresnel_dielectric(o.dot(h), self.eta);
-            return self.reflectance * (f * self.microfacet.reflection_eval(o, i));
-        }
-        if !self.frame.transmits(wi) {
-            return Rgb::ZERO;
-        }
-        let Some(h) = Microfacet::refraction_half_vector(o, i, self.eta) else { return Rgb::ZERO };
-        let f = fresnel_dielectric(o.dot(h), self.eta);
-        self.transmittance * ((1.0 - f) * self.microfacet.transmission_eval(o, i, self.eta))
+        self.lanes().eval(wo.into(), wi.into()).into()
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        if self.frame.reflects(wi) {
-            let h = (o + i).normalize();
-            return fresnel_dielectric(o.dot(h), self.eta) * self.microfacet.reflection_pdf(o, i);
-        }
-        if !self.frame.transmits(wi) {
-            return 0.0;
-        }
-        let Some(h) = Microfacet::refraction_half_vector(o, i, self.eta) else { return 0.0 };
-        (1.0 - fresnel_dielectric(o.dot(h), self.eta)) * self.microfacet.transmission_pdf(o, i, self.eta)
+        self.lanes().pdf(wo.into(), wi.into())
     }
 
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        let o = self.frame.to_local(wo);
-        let h = self.microfacet.sample_normal(o, u);
-        if o.dot(h) <= 0.0 {
-            return None; // a Beckmann normal facing away from the viewer
-        }
-        let f = fresnel_dielectric(o.dot(h), self.eta);
-        let reflected = u_lobe < f;
-        let local = if reflected { Some(reflect(-o, h)) } else { refract(-o, h, self.eta) };
-        let wi = self.frame.to_world(local?);
-        // A microfacet's reflection below the surface (or refraction above it) is lost light, not
-        // a sample of the other lobe.
-        if reflected && !self.frame.reflects(wi) || !reflected && !self.frame.transmits(wi) {
-            return None;
-        }
-        let eta_squared = if self.frame.transmits(wi) { 1.0 / (self.eta * self.eta) } else { 1.0 };
-        self.weighed(wo, wi, eta_squared)
+        self.lanes().sample(wo.into(), u_lobe, u.x, u.y).scalar()
     }
 
     fn non_delta_probability(&self) -> f32 {

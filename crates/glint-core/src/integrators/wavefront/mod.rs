@@ -36,7 +36,7 @@ use crate::lanes::{negate, Vec3x8, LANES};
 use crate::lights::{area_to_solid_angle_lanes, LightSample, TriangleEmitter, TriangleSampling};
 use crate::materials::{
     luminance, tangent_along_lanes, Coat, CoatTables, CoatTransmittance, Distribution, LaneBsdfSample, LaneFrame,
-    MapShadowing, Material, MicrofacetLanes, RoughConductorLanes, RoughPlasticLanes,
+    MapShadowing, Material, MicrofacetLanes, RoughConductorLanes, RoughDielectricLanes, RoughPlasticLanes,
 };
 use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
 use crate::sampling::Sampler;
@@ -71,18 +71,22 @@ enum LaneKind {
     RoughConductor(Distribution),
     /// A rough plastic (`RoughPlasticLanes`) of one microfacet distribution.
     RoughPlastic(Distribution),
+    /// Rough glass (`RoughDielectricLanes`) of one microfacet distribution.
+    RoughDielectric(Distribution),
     /// Anything else: the scalar code's bounce.
     Scalar,
 }
 
 impl LaneKind {
     /// The kinds of the lanes' own bounces, in the order a round takes them.
-    const IN_LANES: [LaneKind; 5] = [
+    const IN_LANES: [LaneKind; 7] = [
         LaneKind::Lambert,
         LaneKind::RoughConductor(Distribution::Ggx),
         LaneKind::RoughConductor(Distribution::Beckmann),
         LaneKind::RoughPlastic(Distribution::Ggx),
         LaneKind::RoughPlastic(Distribution::Beckmann),
+        LaneKind::RoughDielectric(Distribution::Ggx),
+        LaneKind::RoughDielectric(Distribution::Beckmann),
     ];
 
     fn of(material: &Material) -> Self {
@@ -90,6 +94,7 @@ impl LaneKind {
             _ if material.lambert().is_some() => LaneKind::Lambert,
             Material::RoughConductor(m) => LaneKind::RoughConductor(m.distribution),
             Material::RoughPlastic(m) => LaneKind::RoughPlastic(m.distribution),
+            Material::RoughDielectric(m) => LaneKind::RoughDielectric(m.distribution),
             // A map over a material of a lane kind: the lanes tilt its frame (one map: a map
             // inside a map keeps the inner one's shadowing).
             Material::NormalMap(_) | Material::BumpMap(_) => {
@@ -111,6 +116,8 @@ impl LaneKind {
             LaneKind::RoughConductor(Distribution::Beckmann) => 2,
             LaneKind::RoughPlastic(Distribution::Ggx) => 3,
             LaneKind::RoughPlastic(Distribution::Beckmann) => 4,
+            LaneKind::RoughDielectric(Distribution::Ggx) => 5,
+            LaneKind::RoughDielectric(Distribution::Beckmann) => 6,
         }
     }
 }
@@ -129,6 +136,16 @@ enum LaneLobe<'s> {
         eta: Rgb,
         k: Rgb,
         specular: Rgb,
+        dpdu: Vec3,
+    },
+    /// Widths along ∂p/∂u (`dpdu`, where they differ) and across it, the index inside over
+    /// outside, the reflectance and the transmittance.
+    RoughDielectric {
+        alpha_u: f32,
+        alpha_v: f32,
+        eta: f32,
+        reflectance: Rgb,
+        transmittance: Rgb,
         dpdu: Vec3,
     },
     /// The coat's colours and index (`Coat`), its width and transmittance table.
@@ -186,6 +203,12 @@ impl<'s> LaneMaterial<'s> {
                 let lobe = LaneLobe::RoughConductor { alpha_u, alpha_v, eta, k, specular, dpdu };
                 Self { lobe, reflects: true, one_sided: true, emission, two_sided }
             }
+            Material::RoughDielectric(m) => {
+                let (alpha_u, alpha_v, reflectance, transmittance) = m.widths_and_colours(query);
+                let (eta, dpdu) = (m.dielectric.eta, query.dpdu);
+                let lobe = LaneLobe::RoughDielectric { alpha_u, alpha_v, eta, reflectance, transmittance, dpdu };
+                Self { lobe, reflects: true, one_sided: false, emission, two_sided }
+            }
             Material::RoughPlastic(m) => {
                 let (coat, tables) = m.coat_at(query);
                 let lobe = LaneLobe::RoughPlastic { coat, alpha: m.alpha, tables };
@@ -205,6 +228,14 @@ impl<'s> LaneMaterial<'s> {
                 // One width both ways: the frame does not turn to ∂p/∂u, which the lanes'
                 // flat surfaces do not compute.
                 let fixed = constant(&m.alpha_u) && m.alpha_v == m.alpha_u && constant(&m.conductor.specular);
+                fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
+            }
+            (LaneKind::RoughDielectric(_), Material::RoughDielectric(m)) => {
+                let d = &m.dielectric;
+                let fixed = constant(&m.alpha_u)
+                    && m.alpha_v == m.alpha_u
+                    && constant(&d.specular_reflectance)
+                    && constant(&d.specular_transmittance);
                 fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
             }
             (LaneKind::RoughPlastic(_), Material::RoughPlastic(m)) => {
@@ -564,15 +595,17 @@ impl<'a> Wavefront<'a> {
         radiance = Vec3x8::select(on, radiance + throughput.mul_lanes(direct), radiance);
 
         // The BSDF sample.
-        let LaneBsdfSample { wi, weight, pdf, valid: scattered } =
+        let LaneBsdfSample { wi, weight, pdf, valid: scattered, eta_squared } =
             bsdf.sample(&frame, wo, draw(LOBE), draw(DIRECTION), draw(DIRECTION + 1));
         let weight = if mapped.is_some() { weight * shadowing.of(wi) } else { weight };
         throughput = throughput.mul_lanes(weight);
+        // η² picked up by refraction, for the roulette.
+        let eta_scale = per_lane(|k| path(k).eta_scale) * eta_squared;
         // Russian roulette (Mitsuba's rule), from rr_depth bounces on.
         let roulette = if roulette_comes { mask(|_| true) } else { zero };
         let max = match self.kinds {
             // Scaled by η², as the scalar code does: paths that went through glass.
-            Some(_) => throughput.max_element() * per_lane(|k| path(k).eta_scale),
+            Some(_) => throughput.max_element() * eta_scale,
             None => throughput.max_element(),
         };
         let survival = max.cmp_lt(f32x8::splat(0.95)).blend(max, f32x8::splat(0.95));
@@ -587,6 +620,7 @@ impl<'a> Wavefront<'a> {
             path.radiance = radiance.lane(k);
             if continues & (1 << k) != 0 {
                 path.throughput = throughput.lane(k);
+                path.eta_scale = eta_scale.as_array_ref()[k];
                 path.ray = Ray::new(origin.lane(k), wi.lane(k));
                 path.last_point = point.lane(k);
                 path.last_normal = shading.lane(k);
@@ -821,6 +855,7 @@ enum ChunkBsdf<'s> {
     Lambert { diffuse: Vec3x8 },
     RoughConductor(RoughConductorLanes<f32x8>),
     RoughPlastic(RoughPlasticLanes<f32x8, [&'s CoatTables; LANES]>),
+    RoughDielectric(RoughDielectricLanes<f32x8>),
 }
 
 /// Each lane's coat table.
@@ -838,8 +873,14 @@ impl<'s> ChunkBsdf<'s> {
     /// differ, as `RoughConductor::bsdf` turns it.
     #[inline(always)]
     fn new(kind: LaneKind, material: &[LaneMaterial<'s>; LANES], frame: &LaneFrame<f32x8>, wo: Vec3x8) -> Self {
-        if let LaneKind::RoughPlastic(distribution) = kind {
-            return ChunkBsdf::RoughPlastic(Self::rough_plastic(distribution, material, frame, wo));
+        match kind {
+            LaneKind::RoughPlastic(distribution) => {
+                return ChunkBsdf::RoughPlastic(Self::rough_plastic(distribution, material, frame, wo))
+            }
+            LaneKind::RoughDielectric(distribution) => {
+                return ChunkBsdf::RoughDielectric(Self::rough_dielectric(distribution, material, frame))
+            }
+            _ => {}
         }
         let LaneKind::RoughConductor(distribution) = kind else {
             return ChunkBsdf::Lambert {
@@ -857,14 +898,7 @@ impl<'s> ChunkBsdf<'s> {
             _ => black,
         });
         let (alpha_x, alpha_y) = (per_lane(|k| lobe[k].0), per_lane(|k| lobe[k].1));
-        let mut frame = frame.clone();
-        let anisotropic = !alpha_x.cmp_eq(alpha_y);
-        if anisotropic.any() {
-            let (tangent, found) = tangent_along_lanes(frame.normal, Vec3x8::from_fn(|k| lobe[k].5));
-            let turned = anisotropic & found;
-            frame.tangent = Vec3x8::select(turned, tangent, frame.tangent);
-            frame.bitangent = Vec3x8::select(turned, frame.normal.cross(tangent), frame.bitangent);
-        }
+        let frame = along_where_anisotropic(frame, alpha_x, alpha_y, || Vec3x8::from_fn(|k| lobe[k].5));
         ChunkBsdf::RoughConductor(RoughConductorLanes {
             frame,
             eta: Vec3x8::from_fn(|k| lobe[k].2),
@@ -872,6 +906,34 @@ impl<'s> ChunkBsdf<'s> {
             specular: Vec3x8::from_fn(|k| lobe[k].4),
             microfacet: MicrofacetLanes { alpha_x, alpha_y, separable: true, distribution },
         })
+    }
+
+    /// The rough glass of the lanes (`RoughDielectric::bsdf`): η seen from each lane's side.
+    #[inline(always)]
+    fn rough_dielectric(
+        distribution: Distribution,
+        material: &[LaneMaterial<'s>; LANES],
+        frame: &LaneFrame<f32x8>,
+    ) -> RoughDielectricLanes<f32x8> {
+        let clear = (1.0, 1.0, 1.5, Rgb::ZERO, Rgb::ZERO, Vec3::ZERO);
+        let lobe: [_; LANES] = std::array::from_fn(|k| match material[k].lobe {
+            LaneLobe::RoughDielectric { alpha_u, alpha_v, eta, reflectance, transmittance, dpdu } => {
+                (alpha_u, alpha_v, eta, reflectance, transmittance, dpdu)
+            }
+            _ => clear,
+        });
+        let (alpha_x, alpha_y) = (per_lane(|k| lobe[k].0), per_lane(|k| lobe[k].1));
+        let frame = along_where_anisotropic(frame, alpha_x, alpha_y, || Vec3x8::from_fn(|k| lobe[k].5));
+        // `side_eta`: 1/η from outside, η from inside.
+        let eta = per_lane(|k| lobe[k].2);
+        let eta = frame.outside.blend(f32x8::ONE / eta, eta);
+        RoughDielectricLanes {
+            frame,
+            eta,
+            reflectance: Vec3x8::from_fn(|k| lobe[k].3),
+            transmittance: Vec3x8::from_fn(|k| lobe[k].4),
+            microfacet: MicrofacetLanes { alpha_x, alpha_y, separable: true, distribution },
+        }
     }
 
     /// The rough plastic of the lanes (`RoughPlastic::bsdf`): the coat's transmittance toward
@@ -928,6 +990,7 @@ impl<'s> ChunkBsdf<'s> {
             }
             ChunkBsdf::RoughConductor(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             ChunkBsdf::RoughPlastic(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
+            ChunkBsdf::RoughDielectric(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
         }
     }
 
@@ -949,12 +1012,33 @@ impl<'s> ChunkBsdf<'s> {
                 let wi = frame.to_world(local);
                 let valid = !(local.z.cmp_le(zero) | wi.dot(frame.geometric).cmp_le(zero));
                 let pdf = local.z.cmp_gt(zero).blend(local.z * f32x8::splat(FRAC_1_PI), zero);
-                LaneBsdfSample { wi, weight: *diffuse, pdf, valid }
+                LaneBsdfSample { wi, weight: *diffuse, pdf, valid, eta_squared: f32x8::ONE }
             }
             ChunkBsdf::RoughConductor(lobe) => lobe.sample(wo, u1, u2),
             ChunkBsdf::RoughPlastic(lobe) => lobe.sample(wo, u_lobe, u1, u2),
+            ChunkBsdf::RoughDielectric(lobe) => lobe.sample(wo, u_lobe, u1, u2),
         }
     }
+}
+
+/// `frame` with its tangent turned to ∂p/∂u (`dpdu`) in the lanes whose widths differ, as
+/// `Frame::along` turns it.
+#[inline(always)]
+fn along_where_anisotropic(
+    frame: &LaneFrame<f32x8>,
+    alpha_x: f32x8,
+    alpha_y: f32x8,
+    dpdu: impl Fn() -> Vec3x8,
+) -> LaneFrame<f32x8> {
+    let mut frame = frame.clone();
+    let anisotropic = !alpha_x.cmp_eq(alpha_y);
+    if anisotropic.any() {
+        let (tangent, found) = tangent_along_lanes(frame.normal, dpdu());
+        let turned = anisotropic & found;
+        frame.tangent = Vec3x8::select(turned, tangent, frame.tangent);
+        frame.bitangent = Vec3x8::select(turned, frame.normal.cross(tangent), frame.bitangent);
+    }
+    frame
 }
 
 /// The triangle emitters the lanes chose, field by field.
