@@ -477,6 +477,59 @@ fn the_wavefront_shades_rough_glass_in_lanes() {
     }
 }
 
+/// Smooth conductors and glass, delta lobes alone, shaded in the lanes (`ConductorLanes`,
+/// `DielectricLanes`), where the scalar code samples no light and its draws start with the
+/// lobe's: a mirror wall among the room's triangles, a gold sphere with a textured colour,
+/// glass spheres (refraction from outside and inside, total internal reflection, η² in the
+/// roulette), beside the room's diffuse lanes; at depth limits and roulette from the first
+/// bounce.
+#[test]
+fn the_wavefront_shades_mirrors_and_glass_in_lanes() {
+    use glint_core::materials::{named_metal, Conductor, Dielectric};
+    let (eta, k) = named_metal("Au").expect("gold");
+    let checker =
+        || Texture::Checker(Box::new(Checker::new(Rgb::splat(0.9), Rgb::new(0.6, 0.3, 0.2), Vec2::splat(4.0))));
+    let gold = Material::Conductor(Conductor { eta, k, specular: checker() });
+    let (eta, k) = named_metal("Ag").expect("silver");
+    let mirror = Material::Conductor(Conductor { eta, k, specular: Texture::Constant(Rgb::ONE) });
+    let glass = |eta: f32| {
+        Material::Dielectric(Dielectric {
+            eta,
+            specular_reflectance: Texture::Constant(Rgb::ONE),
+            specular_transmittance: Texture::Constant(Rgb::new(0.95, 0.9, 1.0)),
+        })
+    };
+    let wall = room_where({
+        let mirror = mirror.clone();
+        move |_, materials| materials[1] = mirror
+    });
+    let spheres = room_where(move |objects, materials| {
+        let centres = [Vec3::new(0.45, -0.65, 0.3), Vec3::new(-0.4, -0.6, 0.5), Vec3::new(0.1, 0.3, 0.6)];
+        for (j, material) in [gold, glass(1.5), glass(1.0 / 1.33)].into_iter().enumerate() {
+            materials.push(material);
+            let id = materials.len() as u32 - 1;
+            objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
+        }
+        materials[1] = mirror;
+    });
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
+    for (scene, what) in [(&wall, "a mirror wall among triangles"), (&spheres, "gold, glass and a mirror")] {
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in [(9, 0), (37, 2)] {
+                let lit = assert_same(scene, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+            }
+        }
+    }
+    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0), (u32::MAX, 1)] {
+        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
+        for seed in 0..2 {
+            assert_same(&spheres, &tracer, SamplerKind::Sobol, seed, seed as u32);
+            assert_same(&wall, &tracer, SamplerKind::Independent, seed, seed as u32);
+        }
+    }
+}
+
 /// Normal and bump maps over the lanes' BSDFs, their frames tilted and their terminators
 /// shadowed in the lanes (`MapShadowing`): a checkered normal map over the diffuse back wall,
 /// a bump map over a metal sphere and a steep constant normal over another; a map inside a

@@ -29,6 +29,7 @@ pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = S
     const ONE: Self;
     /// A truth value per lane.
     type Mask: Copy
+        + Default
         + std::fmt::Debug
         + BitAnd<Output = Self::Mask>
         + BitOr<Output = Self::Mask>

@@ -246,6 +246,8 @@ pub(crate) struct LaneBsdfSample<L: Lanes> {
     pub valid: L::Mask,
     /// η² picked up by refraction (`BsdfSample::eta_squared`).
     pub eta_squared: L,
+    /// A mirror or refraction (every lane's, or none's).
+    pub delta: bool,
 }
 
 impl LaneBsdfSample<f32> {
@@ -256,7 +258,7 @@ impl LaneBsdfSample<f32> {
             wi: self.wi.into(),
             weight: self.weight.into(),
             pdf: self.pdf,
-            delta: false,
+            delta: self.delta,
             eta_squared: self.eta_squared,
         })
     }

@@ -19,10 +19,9 @@
 use glam::{Vec2, Vec3};
 use wide::f32x4;
 
-use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
+use super::bsdf::{BsdfSample, Frame, LaneBsdfSample, LaneFrame, Leaf, Lobes};
 use super::PhongPoint;
-use crate::geometry::reflect;
-use crate::lanes::Lanes;
+use crate::lanes::{self, LaneVec3, Lanes};
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
@@ -58,15 +57,46 @@ pub(super) struct ConductorBsdf {
     specular: Rgb,
 }
 
+/// A smooth conductor at a hit, in lanes: the one body of its mirror, which the scalar BSDF
+/// runs at one lane and the wavefront at eight.
+#[derive(Clone, Debug)]
+pub(crate) struct ConductorLanes<L: Lanes> {
+    pub frame: LaneFrame<L>,
+    pub eta: LaneVec3<L>,
+    pub k: LaneVec3<L>,
+    pub specular: LaneVec3<L>,
+}
+
+impl<L: Lanes> ConductorLanes<L> {
+    /// The mirror direction, weighted by specular · F(cos θ_o); none from behind.
+    #[inline(always)]
+    pub fn sample(&self, wo: LaneVec3<L>) -> LaneBsdfSample<L> {
+        let cos = wo.dot(self.frame.normal);
+        let fresnel = LaneVec3::new(
+            fresnel_conductor_lanes(cos, self.eta.x, self.k.x),
+            fresnel_conductor_lanes(cos, self.eta.y, self.k.y),
+            fresnel_conductor_lanes(cos, self.eta.z, self.k.z),
+        );
+        LaneBsdfSample {
+            wi: lanes::reflect(-wo, self.frame.normal),
+            weight: self.specular.mul_lanes(fresnel),
+            pdf: L::ONE,
+            valid: self.frame.outside & cos.gt(L::ZERO),
+            eta_squared: L::ONE,
+            delta: true,
+        }
+    }
+}
+
 impl Lobes for ConductorBsdf {
     fn sample(&self, wo: Vec3, _u_lobe: f32, _u: Vec2) -> Option<BsdfSample> {
-        let cos = wo.dot(self.frame.normal);
-        if !self.frame.outside || cos <= 0.0 {
-            return None;
-        }
-        let weight = self.specular * fresnel_conductor(cos, self.eta, self.k);
-        let wi = reflect(-wo, self.frame.normal);
-        Some(BsdfSample { wi, weight, pdf: 1.0, delta: true, eta_squared: 1.0 })
+        let lanes = ConductorLanes::<f32> {
+            frame: LaneFrame::from(&self.frame),
+            eta: self.eta.into(),
+            k: self.k.into(),
+            specular: self.specular.into(),
+        };
+        lanes.sample(wo.into()).scalar()
     }
 
     fn frame(&self) -> &Frame {

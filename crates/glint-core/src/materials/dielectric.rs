@@ -15,9 +15,10 @@
 
 use glam::{Vec2, Vec3};
 
-use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
+use super::bsdf::{BsdfSample, Frame, LaneBsdfSample, LaneFrame, Leaf, Lobes};
+use super::phong::fresnel_dielectric_lanes;
 use super::{fresnel_dielectric, PhongPoint};
-use crate::geometry::{reflect, refract};
+use crate::lanes::{self, LaneVec3, Lanes};
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
@@ -71,18 +72,48 @@ pub(super) struct DielectricBsdf {
     transmittance: Rgb,
 }
 
+/// Smooth glass at a hit, in lanes: the one body of its mirror and refraction, which the
+/// scalar BSDF runs at one lane and the wavefront at eight.
+#[derive(Clone, Debug)]
+pub(crate) struct DielectricLanes<L: Lanes> {
+    pub frame: LaneFrame<L>,
+    /// n(wo's side) / n(the other side).
+    pub eta: L,
+    pub reflectance: LaneVec3<L>,
+    pub transmittance: LaneVec3<L>,
+}
+
+impl<L: Lanes> DielectricLanes<L> {
+    /// The refraction where `u_lobe` ≥ F (and it exists), else the mirror, each weighted by
+    /// its colour with the probability of its choice as its pdf.
+    #[inline(always)]
+    pub fn sample(&self, wo: LaneVec3<L>, u_lobe: L) -> LaneBsdfSample<L> {
+        let normal = self.frame.normal;
+        let cos = wo.dot(normal).max(L::ZERO);
+        let f = fresnel_dielectric_lanes(cos, self.eta);
+        let (refracted, exists) = lanes::refract(-wo, normal, self.eta);
+        let can_refract = f.lt(L::ONE) & exists;
+        let through = can_refract & u_lobe.ge(f);
+        LaneBsdfSample {
+            wi: LaneVec3::select(through, refracted, lanes::reflect(-wo, normal)),
+            weight: LaneVec3::select(through, self.transmittance, self.reflectance),
+            pdf: L::select(through, L::ONE - f, L::select(can_refract, f, L::ONE)),
+            valid: !L::Mask::default(),
+            eta_squared: L::select(through, L::ONE / (self.eta * self.eta), L::ONE),
+            delta: true,
+        }
+    }
+}
+
 impl Lobes for DielectricBsdf {
     fn sample(&self, wo: Vec3, u_lobe: f32, _u: Vec2) -> Option<BsdfSample> {
-        let cos = wo.dot(self.frame.normal).max(0.0);
-        let f = fresnel_dielectric(cos, self.eta);
-        let refracted = if f < 1.0 { refract(-wo, self.frame.normal, self.eta) } else { None };
-        let Some(wi) = refracted.filter(|_| u_lobe >= f) else {
-            let pdf = if refracted.is_some() { f } else { 1.0 };
-            let wi = reflect(-wo, self.frame.normal);
-            return Some(BsdfSample { wi, weight: self.reflectance, pdf, delta: true, eta_squared: 1.0 });
+        let lanes = DielectricLanes::<f32> {
+            frame: LaneFrame::from(&self.frame),
+            eta: self.eta,
+            reflectance: self.reflectance.into(),
+            transmittance: self.transmittance.into(),
         };
-        let eta_squared = 1.0 / (self.eta * self.eta);
-        Some(BsdfSample { wi, weight: self.transmittance, pdf: 1.0 - f, delta: true, eta_squared })
+        lanes.sample(wo.into(), u_lobe).scalar()
     }
 
     fn frame(&self) -> &Frame {

@@ -119,7 +119,7 @@ impl<L: Lanes> RoughConductorLanes<L> {
         let valid = self.frame.outside & facing & self.frame.reflects(wi) & pdf.gt(L::ZERO) & pdf.is_finite();
         let f = self.eval(wo, wi);
         let weight = LaneVec3::new(f.x / pdf, f.y / pdf, f.z / pdf);
-        LaneBsdfSample { wi, weight, pdf, valid, eta_squared: L::ONE }
+        LaneBsdfSample { wi, weight, pdf, valid, eta_squared: L::ONE, delta: false }
     }
 }
 

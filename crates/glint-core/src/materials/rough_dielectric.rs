@@ -126,7 +126,7 @@ impl<L: Lanes> RoughDielectricLanes<L> {
         let valid = facing & kept & pdf.gt(L::ZERO) & pdf.is_finite();
         let f = self.eval(wo, wi);
         let weight = LaneVec3::new(f.x / pdf, f.y / pdf, f.z / pdf);
-        LaneBsdfSample { wi, weight, pdf, valid, eta_squared }
+        LaneBsdfSample { wi, weight, pdf, valid, eta_squared, delta: false }
     }
 }
 

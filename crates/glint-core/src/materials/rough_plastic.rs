@@ -251,7 +251,7 @@ impl<L: Lanes, T: CoatTransmittance<L>> RoughPlasticLanes<L, T> {
         let valid = self.frame.outside & pdf.gt(L::ZERO) & pdf.is_finite();
         let f = self.eval(wo, wi);
         let weight = LaneVec3::new(f.x / pdf, f.y / pdf, f.z / pdf);
-        LaneBsdfSample { wi, weight, pdf, valid, eta_squared: L::ONE }
+        LaneBsdfSample { wi, weight, pdf, valid, eta_squared: L::ONE, delta: false }
     }
 }
 

@@ -35,8 +35,9 @@ use crate::geometry::{offset_ray_origin_lanes, Ray};
 use crate::lanes::{negate, Vec3x8, LANES};
 use crate::lights::{area_to_solid_angle_lanes, LightSample, TriangleEmitter, TriangleSampling};
 use crate::materials::{
-    luminance, tangent_along_lanes, Coat, CoatTables, CoatTransmittance, Distribution, LaneBsdfSample, LaneFrame,
-    MapShadowing, Material, MicrofacetLanes, RoughConductorLanes, RoughDielectricLanes, RoughPlasticLanes,
+    luminance, tangent_along_lanes, Coat, CoatTables, CoatTransmittance, ConductorLanes, DielectricLanes, Distribution,
+    LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes, RoughConductorLanes, RoughDielectricLanes,
+    RoughPlasticLanes,
 };
 use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
 use crate::sampling::Sampler;
@@ -73,13 +74,17 @@ enum LaneKind {
     RoughPlastic(Distribution),
     /// Rough glass (`RoughDielectricLanes`) of one microfacet distribution.
     RoughDielectric(Distribution),
+    /// A smooth conductor's mirror (`ConductorLanes`).
+    Conductor,
+    /// Smooth glass (`DielectricLanes`).
+    Dielectric,
     /// Anything else: the scalar code's bounce.
     Scalar,
 }
 
 impl LaneKind {
     /// The kinds of the lanes' own bounces, in the order a round takes them.
-    const IN_LANES: [LaneKind; 7] = [
+    const IN_LANES: [LaneKind; 9] = [
         LaneKind::Lambert,
         LaneKind::RoughConductor(Distribution::Ggx),
         LaneKind::RoughConductor(Distribution::Beckmann),
@@ -87,6 +92,8 @@ impl LaneKind {
         LaneKind::RoughPlastic(Distribution::Beckmann),
         LaneKind::RoughDielectric(Distribution::Ggx),
         LaneKind::RoughDielectric(Distribution::Beckmann),
+        LaneKind::Conductor,
+        LaneKind::Dielectric,
     ];
 
     fn of(material: &Material) -> Self {
@@ -95,6 +102,8 @@ impl LaneKind {
             Material::RoughConductor(m) => LaneKind::RoughConductor(m.distribution),
             Material::RoughPlastic(m) => LaneKind::RoughPlastic(m.distribution),
             Material::RoughDielectric(m) => LaneKind::RoughDielectric(m.distribution),
+            Material::Conductor(_) => LaneKind::Conductor,
+            Material::Dielectric(_) => LaneKind::Dielectric,
             // A map over a material of a lane kind: the lanes tilt its frame (one map: a map
             // inside a map keeps the inner one's shadowing).
             Material::NormalMap(_) | Material::BumpMap(_) => {
@@ -118,7 +127,15 @@ impl LaneKind {
             LaneKind::RoughPlastic(Distribution::Beckmann) => 4,
             LaneKind::RoughDielectric(Distribution::Ggx) => 5,
             LaneKind::RoughDielectric(Distribution::Beckmann) => 6,
+            LaneKind::Conductor => 7,
+            LaneKind::Dielectric => 8,
         }
+    }
+
+    /// Its BSDF is delta lobes alone: the scalar code samples no light there, so draws no
+    /// numbers for one, and the bounce's draws start with the lobe's.
+    fn delta_only(self) -> bool {
+        matches!(self, LaneKind::Conductor | LaneKind::Dielectric)
     }
 }
 
@@ -147,6 +164,18 @@ enum LaneLobe<'s> {
         reflectance: Rgb,
         transmittance: Rgb,
         dpdu: Vec3,
+    },
+    /// η, k and the specular colour.
+    Conductor {
+        eta: Rgb,
+        k: Rgb,
+        specular: Rgb,
+    },
+    /// The index inside over outside, the reflectance and the transmittance.
+    Dielectric {
+        eta: f32,
+        reflectance: Rgb,
+        transmittance: Rgb,
     },
     /// The coat's colours and index (`Coat`), its width and transmittance table.
     RoughPlastic {
@@ -203,6 +232,16 @@ impl<'s> LaneMaterial<'s> {
                 let lobe = LaneLobe::RoughConductor { alpha_u, alpha_v, eta, k, specular, dpdu };
                 Self { lobe, reflects: true, one_sided: true, emission, two_sided }
             }
+            Material::Conductor(m) => {
+                let lobe = LaneLobe::Conductor { eta: m.eta, k: m.k, specular: m.specular.evaluate(query) };
+                Self { lobe, reflects: true, one_sided: true, emission, two_sided }
+            }
+            Material::Dielectric(m) => {
+                let (reflectance, transmittance) =
+                    (m.specular_reflectance.evaluate(query), m.specular_transmittance.evaluate(query));
+                let lobe = LaneLobe::Dielectric { eta: m.eta, reflectance, transmittance };
+                Self { lobe, reflects: true, one_sided: false, emission, two_sided }
+            }
             Material::RoughDielectric(m) => {
                 let (alpha_u, alpha_v, reflectance, transmittance) = m.widths_and_colours(query);
                 let (eta, dpdu) = (m.dielectric.eta, query.dpdu);
@@ -228,6 +267,13 @@ impl<'s> LaneMaterial<'s> {
                 // One width both ways: the frame does not turn to ∂p/∂u, which the lanes'
                 // flat surfaces do not compute.
                 let fixed = constant(&m.alpha_u) && m.alpha_v == m.alpha_u && constant(&m.conductor.specular);
+                fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
+            }
+            (LaneKind::Conductor, Material::Conductor(m)) => {
+                constant(&m.specular).then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
+            }
+            (LaneKind::Dielectric, Material::Dielectric(m)) => {
+                let fixed = constant(&m.specular_reflectance) && constant(&m.specular_transmittance);
                 fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
             }
             (LaneKind::RoughDielectric(_), Material::RoughDielectric(m)) => {
@@ -535,27 +581,38 @@ impl<'a> Wavefront<'a> {
             let lit = material[k].reflects && !(material[k].one_sided && behind & (1 << k) != 0);
             k < n && depth < self.tracer.max_depth && lit
         });
-        // draws[j]: draw j of each lane.
-        let mut draws = [f32x8::ZERO; DRAWS];
+        // draws[j]: draw j of each lane, at the offsets of `BounceDraws`; at delta lobes alone,
+        // where the scalar code draws no light numbers, the lobe's come first (`slots`).
+        let delta_only = kind.delta_only();
+        let slots: &[usize] = match delta_only {
+            true => &[LOBE, DIRECTION, DIRECTION + 1, ROULETTE],
+            false => &[LIGHT, LIGHT_POINT, LIGHT_POINT + 1, LOBE, DIRECTION, DIRECTION + 1, ROULETTE],
+        };
         let roulette_comes = depth + 1 >= self.tracer.rr_depth;
+        let count = if roulette_comes { slots.len() } else { slots.len() - 1 };
+        let mut drawn = [f32x8::ZERO; DRAWS];
         if n == LANES && goes_on.iter().any(|&on| on) {
             // All eight at once (the numbers of paths that end are drawn too, unread).
             let samplers = contexts.get_disjoint_mut(index).expect("eight distinct paths").map(|c| &mut c.sampler);
-            if roulette_comes {
-                draws = Sampler::next_f32_lanes::<DRAWS>(samplers);
-            } else {
-                draws[..DRAWS - 1].copy_from_slice(&Sampler::next_f32_lanes::<{ DRAWS - 1 }>(samplers));
+            match count {
+                DRAWS => drawn = Sampler::next_f32_lanes::<DRAWS>(samplers),
+                6 => drawn[..6].copy_from_slice(&Sampler::next_f32_lanes::<6>(samplers)),
+                4 => drawn[..4].copy_from_slice(&Sampler::next_f32_lanes::<4>(samplers)),
+                _ => drawn[..3].copy_from_slice(&Sampler::next_f32_lanes::<3>(samplers)),
             }
         } else {
             let mut columns = [[0f32; LANES]; DRAWS];
             for k in (0..n).filter(|&k| goes_on[k]) {
                 let sampler = &mut contexts[index[k]].sampler;
-                let count = if roulette_comes { DRAWS } else { DRAWS - 1 };
                 for column in &mut columns[..count] {
                     column[k] = sampler.next_f32();
                 }
             }
-            draws = columns.map(f32x8::from);
+            drawn = columns.map(f32x8::from);
+        }
+        let mut draws = [f32x8::ZERO; DRAWS];
+        for (&slot, &numbers) in slots.iter().zip(&drawn) {
+            draws[slot] = numbers;
         }
         debug_assert!(draws[LOBE].cmp_lt(f32x8::ONE).all(), "u_lobe < p_diffuse = 1: the diffuse lobe");
         let draw = |j: usize| draws[j];
@@ -575,8 +632,9 @@ impl<'a> Wavefront<'a> {
             None => MapShadowing::NONE,
         };
 
-        // Next-event estimation: one light chosen by power.
+        // Next-event estimation: one light chosen by power (none at delta lobes alone).
         let light = match self.emitters {
+            _ if delta_only => None,
             Some(emitters) => self.triangle_light_points(emitters, &goes_on, &draws, point, error, geometric),
             None => self.light_points(&goes_on, &draws, [point, error, geometric], shading),
         };
@@ -595,7 +653,7 @@ impl<'a> Wavefront<'a> {
         radiance = Vec3x8::select(on, radiance + throughput.mul_lanes(direct), radiance);
 
         // The BSDF sample.
-        let LaneBsdfSample { wi, weight, pdf, valid: scattered, eta_squared } =
+        let LaneBsdfSample { wi, weight, pdf, valid: scattered, eta_squared, delta } =
             bsdf.sample(&frame, wo, draw(LOBE), draw(DIRECTION), draw(DIRECTION + 1));
         let weight = if mapped.is_some() { weight * shadowing.of(wi) } else { weight };
         throughput = throughput.mul_lanes(weight);
@@ -624,7 +682,8 @@ impl<'a> Wavefront<'a> {
                 path.ray = Ray::new(origin.lane(k), wi.lane(k));
                 path.last_point = point.lane(k);
                 path.last_normal = shading.lane(k);
-                path.last_pdf = pdf.as_array_ref()[k];
+                // A delta lobe's density is infinite (weight 1 for the emission found next).
+                path.last_pdf = if delta { f32::INFINITY } else { pdf.as_array_ref()[k] };
                 path.depth += 1;
                 active.push(i as u32);
             }
@@ -856,6 +915,8 @@ enum ChunkBsdf<'s> {
     RoughConductor(RoughConductorLanes<f32x8>),
     RoughPlastic(RoughPlasticLanes<f32x8, [&'s CoatTables; LANES]>),
     RoughDielectric(RoughDielectricLanes<f32x8>),
+    Conductor(ConductorLanes<f32x8>),
+    Dielectric(DielectricLanes<f32x8>),
 }
 
 /// Each lane's coat table.
@@ -879,6 +940,32 @@ impl<'s> ChunkBsdf<'s> {
             }
             LaneKind::RoughDielectric(distribution) => {
                 return ChunkBsdf::RoughDielectric(Self::rough_dielectric(distribution, material, frame))
+            }
+            LaneKind::Conductor => {
+                let lobe: [_; LANES] = std::array::from_fn(|k| match material[k].lobe {
+                    LaneLobe::Conductor { eta, k, specular } => (eta, k, specular),
+                    _ => (Rgb::ONE, Rgb::ZERO, Rgb::ZERO),
+                });
+                return ChunkBsdf::Conductor(ConductorLanes {
+                    frame: frame.clone(),
+                    eta: Vec3x8::from_fn(|k| lobe[k].0),
+                    k: Vec3x8::from_fn(|k| lobe[k].1),
+                    specular: Vec3x8::from_fn(|k| lobe[k].2),
+                });
+            }
+            LaneKind::Dielectric => {
+                let lobe: [_; LANES] = std::array::from_fn(|k| match material[k].lobe {
+                    LaneLobe::Dielectric { eta, reflectance, transmittance } => (eta, reflectance, transmittance),
+                    _ => (1.5, Rgb::ZERO, Rgb::ZERO),
+                });
+                // `side_eta`: 1/η from outside, η from inside.
+                let eta = per_lane(|k| lobe[k].0);
+                return ChunkBsdf::Dielectric(DielectricLanes {
+                    frame: frame.clone(),
+                    eta: frame.outside.blend(f32x8::ONE / eta, eta),
+                    reflectance: Vec3x8::from_fn(|k| lobe[k].1),
+                    transmittance: Vec3x8::from_fn(|k| lobe[k].2),
+                });
             }
             _ => {}
         }
@@ -991,6 +1078,8 @@ impl<'s> ChunkBsdf<'s> {
             ChunkBsdf::RoughConductor(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             ChunkBsdf::RoughPlastic(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             ChunkBsdf::RoughDielectric(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
+            // Delta lobes alone: no light is sampled at them.
+            ChunkBsdf::Conductor(_) | ChunkBsdf::Dielectric(_) => (Vec3x8::ZERO, f32x8::ZERO),
         }
     }
 
@@ -1012,11 +1101,13 @@ impl<'s> ChunkBsdf<'s> {
                 let wi = frame.to_world(local);
                 let valid = !(local.z.cmp_le(zero) | wi.dot(frame.geometric).cmp_le(zero));
                 let pdf = local.z.cmp_gt(zero).blend(local.z * f32x8::splat(FRAC_1_PI), zero);
-                LaneBsdfSample { wi, weight: *diffuse, pdf, valid, eta_squared: f32x8::ONE }
+                LaneBsdfSample { wi, weight: *diffuse, pdf, valid, eta_squared: f32x8::ONE, delta: false }
             }
             ChunkBsdf::RoughConductor(lobe) => lobe.sample(wo, u1, u2),
             ChunkBsdf::RoughPlastic(lobe) => lobe.sample(wo, u_lobe, u1, u2),
             ChunkBsdf::RoughDielectric(lobe) => lobe.sample(wo, u_lobe, u1, u2),
+            ChunkBsdf::Conductor(lobe) => lobe.sample(wo),
+            ChunkBsdf::Dielectric(lobe) => lobe.sample(wo, u_lobe),
         }
     }
 }
