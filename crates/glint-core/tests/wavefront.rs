@@ -402,11 +402,18 @@ fn the_wavefront_shades_rough_plastics_in_lanes() {
         materials[2] = plastic(Texture::Constant(Rgb::new(0.2, 0.4, 0.7)), false, 0.2, Distribution::Ggx)
     });
     let spheres = room_where(|objects, materials| {
-        let centres = [Vec3::new(0.45, -0.65, 0.3), Vec3::new(-0.4, -0.6, 0.5), Vec3::new(0.1, 0.3, 0.6)];
+        let centres = [
+            Vec3::new(0.45, -0.65, 0.3),
+            Vec3::new(-0.4, -0.6, 0.5),
+            Vec3::new(0.1, 0.3, 0.6),
+            Vec3::new(-0.5, 0.4, 0.2),
+        ];
         let coats = [
             plastic(checker(), true, 0.1, Distribution::Beckmann),
             plastic(Texture::Constant(Rgb::new(0.6, 0.6, 0.2)), false, 0.4, Distribution::Beckmann),
             plastic(checker(), false, 0.05, Distribution::Ggx),
+            // Below the lobe's floor on the width (1e-4): the scalar lobe's width.
+            plastic(Texture::Constant(Rgb::new(0.3, 0.5, 0.2)), false, 0.0, Distribution::Ggx),
         ];
         for (j, material) in coats.into_iter().enumerate() {
             materials.push(material);

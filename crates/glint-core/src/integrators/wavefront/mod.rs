@@ -250,7 +250,8 @@ impl<'s> LaneMaterial<'s> {
             }
             Material::RoughPlastic(m) => {
                 let (coat, tables) = m.coat_at(query);
-                let lobe = LaneLobe::RoughPlastic { coat, alpha: m.alpha, tables };
+                // `Microfacet::separable`'s floor on the width, as the scalar lobe has it.
+                let lobe = LaneLobe::RoughPlastic { coat, alpha: m.alpha.max(1e-4), tables };
                 Self { lobe, reflects: true, one_sided: true, emission, two_sided }
             }
             _ => Self::BLACK,
