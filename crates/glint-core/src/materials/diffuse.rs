@@ -11,9 +11,10 @@
 
 use glam::{Vec2, Vec3};
 
-use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
+use super::bsdf::{BsdfSample, Frame, LaneBsdfSample, LaneFrame, Leaf, Lobes};
 use super::PhongPoint;
-use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
+use crate::lanes::{LaneVec3, Lanes};
+use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
@@ -51,34 +52,62 @@ impl DiffuseBsdf {
     fn lit(&self) -> bool {
         self.frame.outside && self.reflectance != Rgb::ZERO
     }
+
+    /// The lobe as its one body reads it, in `frame` (this BSDF's, at one lane).
+    #[inline(always)]
+    fn lanes<'f>(&self, frame: &'f LaneFrame<f32>) -> DiffuseLanes<'f, f32> {
+        DiffuseLanes { frame, reflectance: self.reflectance.into(), lit: self.lit() }
+    }
+}
+
+/// Lambert's lobe at a hit, in lanes: the one body of `DiffuseBsdf`'s `eval`, `pdf` and
+/// `sample`, which the scalar BSDF runs at one lane and the wavefront at eight (for every lane
+/// whose material is Lambert's lobe alone: Mitsuba's `diffuse`, two-sided or not, and the
+/// course's material without its other lobes).
+pub(crate) struct DiffuseLanes<'f, L: Lanes> {
+    pub frame: &'f LaneFrame<L>,
+    pub reflectance: LaneVec3<L>,
+    /// Lanes that reflect: seen from the front of a one-sided lobe, and not black.
+    pub lit: L::Mask,
+}
+
+impl<L: Lanes> DiffuseLanes<'_, L> {
+    /// ρ/π · cos θ_i where `wi` reflects on the viewer's side.
+    #[inline(always)]
+    pub fn eval(&self, wi: LaneVec3<L>) -> LaneVec3<L> {
+        let value = self.reflectance * (wi.dot(self.frame.normal) * L::splat(std::f32::consts::FRAC_1_PI));
+        LaneVec3::select(self.lit & self.frame.reflects(wi), value, LaneVec3::ZERO)
+    }
+
+    /// cos θ_i / π where `wi` reflects on the viewer's side.
+    #[inline(always)]
+    pub fn pdf(&self, wi: LaneVec3<L>) -> L {
+        let cos = wi.dot(self.frame.normal);
+        L::select(self.lit & self.frame.reflects(wi), cos * L::splat(std::f32::consts::FRAC_1_PI), L::ZERO)
+    }
+
+    /// A cosine-weighted direction (Shirley and Chiu's concentric disk, lifted), weight ρ.
+    #[inline(always)]
+    pub fn sample(&self, u1: L, u2: L) -> LaneBsdfSample<L> {
+        let local = square_to_cosine_hemisphere_lanes(u1, u2);
+        let wi = self.frame.to_world(local);
+        let valid = self.lit & !(local.z.le(L::ZERO) | wi.dot(self.frame.geometric).le(L::ZERO));
+        let pdf = L::select(local.z.gt(L::ZERO), local.z * L::splat(std::f32::consts::FRAC_1_PI), L::ZERO);
+        LaneBsdfSample { wi, weight: self.reflectance, pdf, valid, eta_squared: L::ONE, delta: false }
+    }
 }
 
 impl Lobes for DiffuseBsdf {
     fn eval(&self, _wo: Vec3, wi: Vec3) -> Rgb {
-        if !self.lit() || !self.frame.reflects(wi) {
-            return Rgb::ZERO;
-        }
-        self.reflectance * (wi.dot(self.frame.normal) * std::f32::consts::FRAC_1_PI)
+        self.lanes(&LaneFrame::from(&self.frame)).eval(wi.into()).into()
     }
 
     fn pdf(&self, _wo: Vec3, wi: Vec3) -> f32 {
-        if !self.lit() || !self.frame.reflects(wi) {
-            return 0.0;
-        }
-        cosine_hemisphere_pdf(self.frame.to_local(wi))
+        self.lanes(&LaneFrame::from(&self.frame)).pdf(wi.into())
     }
 
     fn sample(&self, _wo: Vec3, _u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        if !self.lit() {
-            return None;
-        }
-        let local = square_to_cosine_hemisphere(u);
-        let wi = self.frame.to_world(local);
-        if local.z <= 0.0 || wi.dot(self.frame.geometric) <= 0.0 {
-            return None;
-        }
-        let pdf = cosine_hemisphere_pdf(local);
-        Some(BsdfSample { wi, weight: self.reflectance, pdf, delta: false, eta_squared: 1.0 })
+        self.lanes(&LaneFrame::from(&self.frame)).sample(u.x, u.y).scalar()
     }
 
     fn non_delta_probability(&self) -> f32 {

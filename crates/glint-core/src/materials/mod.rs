@@ -41,6 +41,7 @@ pub use conductor::{fresnel_conductor, named_metal, Conductor, METAL_NAMES};
 pub use dielectric::Dielectric;
 pub(crate) use dielectric::DielectricLanes;
 pub use diffuse::Diffuse;
+pub(crate) use diffuse::DiffuseLanes;
 pub use diffuse_transmission::DiffuseTransmission;
 pub use fresnel_plastic::FresnelPlastic;
 pub use mask::Mask;

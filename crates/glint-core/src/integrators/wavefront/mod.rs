@@ -23,8 +23,6 @@
 //! (tests/wavefront.rs) and every test of the path tracer holds for both. The closest-hit and
 //! shadow queries stay one path at a time (the BVH's own SIMD runs across a node's children).
 
-use std::f32::consts::FRAC_1_PI;
-
 use glam::{Vec2, Vec3};
 use wide::{f32x8, i32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
@@ -35,11 +33,10 @@ use crate::geometry::{offset_ray_origin_lanes, Ray};
 use crate::lanes::{negate, Vec3x8, LANES};
 use crate::lights::{area_to_solid_angle_lanes, LightSample, TriangleEmitter, TriangleSampling};
 use crate::materials::{
-    luminance, tangent_along_lanes, Coat, CoatTables, CoatTransmittance, ConductorLanes, DielectricLanes, Distribution,
-    LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes, RoughConductorLanes, RoughDielectricLanes,
-    RoughPlasticLanes,
+    luminance, tangent_along_lanes, Coat, CoatTables, CoatTransmittance, ConductorLanes, DielectricLanes, DiffuseLanes,
+    Distribution, LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes, RoughConductorLanes,
+    RoughDielectricLanes, RoughPlasticLanes,
 };
-use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
 use crate::sampling::Sampler;
 use crate::scene::{PrimitiveHit, Scene, Spawn, SHADOW_EPSILON};
 use crate::shapes::barycentric_point_lanes;
@@ -383,15 +380,24 @@ impl Path {
 }
 
 /// The surfaces the lanes hit, as `SurfaceGeometry` has them, and the materials there.
-struct Surfaces<'s> {
+struct Surfaces<'r, 's> {
     point: Vec3x8,
     error: Vec3x8,
     geometric: Vec3x8,
     shading: Vec3x8,
-    material: [LaneMaterial<'s>; LANES],
+    material: LaneMaterials<'r, 's>,
     /// Where a normal or bump map tilts the shading normal: the lanes it does (a mask) and
     /// the normal it gives them (turned toward the viewer), for the BSDF's frame.
     mapped: Option<(f32x8, Vec3x8)>,
+}
+
+/// The lanes' materials: references into a flat scene's table (no copies on the way), or
+/// evaluated at the hits. (A value on the stack for one bounce: the variants' sizes may
+/// differ.)
+#[allow(clippy::large_enum_variant)]
+enum LaneMaterials<'r, 's> {
+    Flat([&'r LaneMaterial<'s>; LANES]),
+    Evaluated([LaneMaterial<'s>; LANES]),
 }
 
 /// The lights the lanes sampled, as `LightSample` has them, and the shadow rays toward them.
@@ -522,9 +528,13 @@ impl<'a> Wavefront<'a> {
         let zero = f32x8::ZERO;
 
         let wo = -Vec3x8::from_fn(|k| path(k).ray.direction).normalize();
-        let Surfaces { point, error, geometric, shading, material, mapped } = match &self.flat {
+        let Surfaces { point, error, geometric, shading, material: materials, mapped } = match &self.flat {
             Some(materials) => self.flat_surfaces(&path, materials),
             None => self.surfaces(&path, n),
+        };
+        let material: [&LaneMaterial; LANES] = match &materials {
+            LaneMaterials::Flat(flat) => *flat,
+            LaneMaterials::Evaluated(evaluated) => evaluated.each_ref(),
         };
         let mut throughput = Vec3x8::from_fn(|k| path(k).throughput);
         let mut radiance = Vec3x8::from_fn(|k| path(k).radiance);
@@ -729,7 +739,11 @@ impl<'a> Wavefront<'a> {
     /// (triangle_surface): point, error bound, geometric normal, and the shading normal from
     /// the vertex normals where the mesh has them.
     #[inline(always)]
-    fn flat_surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, materials: &[LaneMaterial<'a>]) -> Surfaces<'a> {
+    fn flat_surfaces<'p, 'r>(
+        &self,
+        path: &impl Fn(usize) -> &'p Path,
+        materials: &'r [LaneMaterial<'a>],
+    ) -> Surfaces<'r, 'a> {
         let geometry = &self.scene.geometry();
         let [a, b, c] = geometry
             .triangles8(std::array::from_fn(|k| (path(k).hit.object, path(k).hit.prim)))
@@ -739,8 +753,9 @@ impl<'a> Wavefront<'a> {
         let geometric = (b - a).cross(c - a).normalize_or(Vec3x8::splat(Vec3::Z));
         let shading =
             if geometry.has_vertex_normals() { self.smooth_normals(path, (b1, b2), geometric) } else { geometric };
-        let material =
-            std::array::from_fn(|k| materials[geometry.objects()[path(k).hit.object as usize].material as usize]);
+        let material = LaneMaterials::Flat(std::array::from_fn(|k| {
+            &materials[geometry.objects()[path(k).hit.object as usize].material as usize]
+        }));
         Surfaces { point, error, geometric, shading, material, mapped: None }
     }
 
@@ -768,7 +783,7 @@ impl<'a> Wavefront<'a> {
 
     /// The surfaces of any shapes and materials, from the scalar code lane by lane (the lanes
     /// past `n` read black).
-    fn surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, n: usize) -> Surfaces<'a> {
+    fn surfaces<'p>(&self, path: &impl Fn(usize) -> &'p Path, n: usize) -> Surfaces<'a, 'a> {
         let scene = self.scene;
         let hits: [Option<crate::scene::SurfaceHit>; LANES] = std::array::from_fn(|k| {
             let p = path(k);
@@ -798,7 +813,7 @@ impl<'a> Wavefront<'a> {
             error: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::ZERO, |g| g.error)),
             geometric: Vec3x8::from_fn(|k| geometry(k).map_or(Vec3::Z, |g| g.geometric_normal)),
             shading,
-            material,
+            material: LaneMaterials::Evaluated(material),
             mapped: mapped.iter().any(Option::is_some).then(|| {
                 let normals = Vec3x8::from_fn(|k| mapped[k].unwrap_or(shading.lane(k)));
                 (mask(|k| mapped[k].is_some()), normals)
@@ -934,7 +949,7 @@ impl<'s> ChunkBsdf<'s> {
     /// end, read black). A rough conductor's frame turns to ∂p/∂u in the lanes where its widths
     /// differ, as `RoughConductor::bsdf` turns it.
     #[inline(always)]
-    fn new(kind: LaneKind, material: &[LaneMaterial<'s>; LANES], frame: &LaneFrame<f32x8>, wo: Vec3x8) -> Self {
+    fn new(kind: LaneKind, material: &[&LaneMaterial<'s>; LANES], frame: &LaneFrame<f32x8>, wo: Vec3x8) -> Self {
         match kind {
             LaneKind::RoughPlastic(distribution) => {
                 return ChunkBsdf::RoughPlastic(Self::rough_plastic(distribution, material, frame, wo))
@@ -1000,7 +1015,7 @@ impl<'s> ChunkBsdf<'s> {
     #[inline(always)]
     fn rough_dielectric(
         distribution: Distribution,
-        material: &[LaneMaterial<'s>; LANES],
+        material: &[&LaneMaterial<'s>; LANES],
         frame: &LaneFrame<f32x8>,
     ) -> RoughDielectricLanes<f32x8> {
         let clear = (1.0, 1.0, 1.5, Rgb::ZERO, Rgb::ZERO, Vec3::ZERO);
@@ -1029,7 +1044,7 @@ impl<'s> ChunkBsdf<'s> {
     #[inline(always)]
     fn rough_plastic(
         distribution: Distribution,
-        material: &[LaneMaterial<'s>; LANES],
+        material: &[&LaneMaterial<'s>; LANES],
         frame: &LaneFrame<f32x8>,
         wo: Vec3x8,
     ) -> RoughPlasticLanes<f32x8, [&'s CoatTables; LANES]> {
@@ -1067,14 +1082,9 @@ impl<'s> ChunkBsdf<'s> {
     fn eval_and_pdf(&self, frame: &LaneFrame<f32x8>, wo: Vec3x8, wi: Vec3x8) -> (Vec3x8, f32x8) {
         match self {
             ChunkBsdf::Lambert { diffuse } => {
-                let zero = f32x8::ZERO;
-                let (cos, above) = (wi.dot(frame.normal), wi.dot(frame.geometric));
-                let f = Vec3x8::select(
-                    cos.cmp_le(zero) | above.cmp_le(zero),
-                    Vec3x8::ZERO,
-                    *diffuse * (cos * f32x8::splat(FRAC_1_PI)),
-                );
-                (f, (above.cmp_gt(zero) & cos.cmp_gt(zero)).blend(cos * f32x8::splat(FRAC_1_PI), zero))
+                // Lanes that are not lit sample no light and end (`goes_on`).
+                let lobe = DiffuseLanes { frame, reflectance: *diffuse, lit: all_lanes() };
+                (lobe.eval(wi), lobe.pdf(wi))
             }
             ChunkBsdf::RoughConductor(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             ChunkBsdf::RoughPlastic(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
@@ -1096,13 +1106,7 @@ impl<'s> ChunkBsdf<'s> {
     ) -> LaneBsdfSample<f32x8> {
         match self {
             ChunkBsdf::Lambert { diffuse } => {
-                // Cosine-weighted, weight k_d.
-                let zero = f32x8::ZERO;
-                let local = square_to_cosine_hemisphere_lanes(u1, u2);
-                let wi = frame.to_world(local);
-                let valid = !(local.z.cmp_le(zero) | wi.dot(frame.geometric).cmp_le(zero));
-                let pdf = local.z.cmp_gt(zero).blend(local.z * f32x8::splat(FRAC_1_PI), zero);
-                LaneBsdfSample { wi, weight: *diffuse, pdf, valid, eta_squared: f32x8::ONE, delta: false }
+                DiffuseLanes { frame, reflectance: *diffuse, lit: all_lanes() }.sample(u1, u2)
             }
             ChunkBsdf::RoughConductor(lobe) => lobe.sample(wo, u1, u2),
             ChunkBsdf::RoughPlastic(lobe) => lobe.sample(wo, u_lobe, u1, u2),
@@ -1197,6 +1201,12 @@ fn per_lane(f: impl Fn(usize) -> f32) -> f32x8 {
         *lane = f(k);
     }
     f32x8::from(lanes)
+}
+
+/// A mask of every lane.
+#[inline(always)]
+fn all_lanes() -> f32x8 {
+    f32x8::ZERO.cmp_eq(f32x8::ZERO)
 }
 
 /// A lane mask, set where `f(k)`.
