@@ -355,12 +355,25 @@ impl<L: Lanes> LaneVec3<L> {
         self * (L::ONE / self.dot(self).sqrt())
     }
 
+    /// glam's `try_normalize`: the vector times the reciprocal of its length, and the lanes
+    /// where that reciprocal is finite and positive (a direction).
+    #[inline(always)]
+    pub fn try_normalize(self) -> (Self, L::Mask) {
+        let rcp = L::ONE / self.dot(self).sqrt();
+        (self * rcp, rcp.is_finite() & rcp.gt(L::ZERO))
+    }
+
     /// glam's `normalize_or`: `fallback` where the reciprocal length is not finite and positive.
     #[inline(always)]
     pub fn normalize_or(self, fallback: Self) -> Self {
-        let rcp = L::ONE / self.dot(self).sqrt();
-        let ok = rcp.is_finite() & rcp.gt(L::ZERO);
-        Self::select(ok, self * rcp, fallback)
+        let (normalized, ok) = self.try_normalize();
+        Self::select(ok, normalized, fallback)
+    }
+
+    /// Each coordinate divided by `s` (not times its reciprocal: glam's `Vec3 / f32`).
+    #[inline(always)]
+    pub fn divided_by(self, s: L) -> Self {
+        Self { x: self.x / s, y: self.y / s, z: self.z / s }
     }
 
     #[inline(always)]
@@ -436,12 +449,6 @@ impl<L: Lanes> Neg for LaneVec3<L> {
     fn neg(self) -> Self {
         Self { x: self.x.negate(), y: self.y.negate(), z: self.z.negate() }
     }
-}
-
-/// −x as Rust negates a float, in eight lanes (`Lanes::negate`).
-#[inline(always)]
-pub fn negate(x: f32x8) -> f32x8 {
-    x.negate()
 }
 
 /// A vector times a scalar per lane.

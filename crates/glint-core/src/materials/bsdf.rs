@@ -250,6 +250,17 @@ pub(crate) struct LaneBsdfSample<L: Lanes> {
     pub delta: bool,
 }
 
+impl<L: Lanes> LaneBsdfSample<L> {
+    /// `wi`, drawn by a non-delta lobe, as a sample of it where `valid` (`Lobes::weighed`): its
+    /// density `pdf` and the weight `f` / pdf, the lanes without a positive, finite density
+    /// dropped.
+    #[inline(always)]
+    pub fn weighed(wi: LaneVec3<L>, f: LaneVec3<L>, pdf: L, valid: L::Mask, eta_squared: L) -> Self {
+        let valid = valid & pdf.gt(L::ZERO) & pdf.is_finite();
+        Self { wi, weight: f.divided_by(pdf), pdf, valid, eta_squared, delta: false }
+    }
+}
+
 impl LaneBsdfSample<f32> {
     /// The scalar code's sample, where there is one.
     #[inline(always)]
@@ -287,11 +298,9 @@ pub(super) fn tangent_along(normal: Vec3, dpdu: Vec3) -> Option<Vec3> {
 #[inline(always)]
 pub(crate) fn tangent_along_lanes<L: Lanes>(normal: LaneVec3<L>, dpdu: LaneVec3<L>) -> (LaneVec3<L>, L::Mask) {
     let projected = dpdu - normal * normal.dot(dpdu);
-    // glam's `try_normalize`: a finite, positive reciprocal length.
-    let rcp = L::ONE / projected.dot(projected).sqrt();
-    let normalized = rcp.is_finite() & rcp.gt(L::ZERO);
+    let (tangent, normalized) = projected.try_normalize();
     let long_enough = projected.dot(projected).gt(L::splat(1e-12) * dpdu.dot(dpdu));
-    (projected * rcp, normalized & long_enough)
+    (tangent, normalized & long_enough)
 }
 
 /// What each member of the set answers (its file documents its lobes).

@@ -72,14 +72,9 @@ impl<L: Lanes> ConductorLanes<L> {
     #[inline(always)]
     pub fn sample(&self, wo: LaneVec3<L>) -> LaneBsdfSample<L> {
         let cos = wo.dot(self.frame.normal);
-        let fresnel = LaneVec3::new(
-            fresnel_conductor_lanes(cos, self.eta.x, self.k.x),
-            fresnel_conductor_lanes(cos, self.eta.y, self.k.y),
-            fresnel_conductor_lanes(cos, self.eta.z, self.k.z),
-        );
         LaneBsdfSample {
             wi: lanes::reflect(-wo, self.frame.normal),
-            weight: self.specular.mul_lanes(fresnel),
+            weight: self.specular.mul_lanes(fresnel_conductor_rgb(cos, self.eta, self.k)),
             pdf: L::ONE,
             valid: self.frame.outside & cos.gt(L::ZERO),
             eta_squared: L::ONE,
@@ -130,6 +125,17 @@ pub(crate) fn fresnel_conductor_lanes<L: Lanes>(cos_incident: L, eta: L, k: L) -
     let (t3, t4) = (modulus * cos2 + sin2 * sin2, t2 * sin2);
     let r_parallel = r_perpendicular * ratio(t3 - t4, t3 + t4);
     (half * (r_parallel + r_perpendicular)).max(L::ZERO).min(L::ONE)
+}
+
+/// The Fresnel reflectance of a conductor per channel, each channel's η and k in its own
+/// vector of lanes.
+#[inline(always)]
+pub(crate) fn fresnel_conductor_rgb<L: Lanes>(cos_incident: L, eta: LaneVec3<L>, k: LaneVec3<L>) -> LaneVec3<L> {
+    LaneVec3::new(
+        fresnel_conductor_lanes(cos_incident, eta.x, k.x),
+        fresnel_conductor_lanes(cos_incident, eta.y, k.y),
+        fresnel_conductor_lanes(cos_incident, eta.z, k.z),
+    )
 }
 
 /// The Fresnel reflectance of a conductor per channel (the three channels in lanes).

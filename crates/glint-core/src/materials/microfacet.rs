@@ -323,11 +323,7 @@ impl<L: Lanes> MicrofacetLanes<L> {
 /// where the pair refracts through it.
 #[inline(always)]
 pub(super) fn refraction_half_vector<L: Lanes>(wo: LaneVec3<L>, wi: LaneVec3<L>, eta: L) -> (LaneVec3<L>, L::Mask) {
-    let h = -(wo + LaneVec3::new(wi.x / eta, wi.y / eta, wi.z / eta));
-    // glam's `try_normalize`: a finite, positive reciprocal length.
-    let rcp = L::ONE / h.dot(h).sqrt();
-    let normalized = rcp.is_finite() & rcp.gt(L::ZERO);
-    let h = h * rcp;
+    let (h, normalized) = (-(wo + wi.divided_by(eta))).try_normalize();
     let h = LaneVec3::select(h.z.lt(L::ZERO), -h, h);
     let exists = wo.z.gt(L::ZERO) & wi.z.lt(L::ZERO) & normalized & wo.dot(h).gt(L::ZERO) & wi.dot(h).lt(L::ZERO);
     (h, exists)

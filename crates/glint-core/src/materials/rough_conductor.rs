@@ -19,7 +19,7 @@
 use glam::{Vec2, Vec3};
 
 use super::bsdf::{BsdfSample, Frame, LaneBsdfSample, LaneFrame, Leaf, Lobes};
-use super::conductor::fresnel_conductor_lanes;
+use super::conductor::fresnel_conductor_rgb;
 use super::microfacet::MicrofacetLanes;
 use super::{Conductor, Distribution, Microfacet, PhongPoint};
 use crate::lanes::{reflect, LaneVec3, Lanes};
@@ -92,11 +92,7 @@ impl<L: Lanes> RoughConductorLanes<L> {
         let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
         let h = (o + i).normalize();
         let cos = o.dot(h);
-        let fresnel = LaneVec3::new(
-            fresnel_conductor_lanes(cos, self.eta.x, self.k.x),
-            fresnel_conductor_lanes(cos, self.eta.y, self.k.y),
-            fresnel_conductor_lanes(cos, self.eta.z, self.k.z),
-        );
+        let fresnel = fresnel_conductor_rgb(cos, self.eta, self.k);
         let value = self.specular.mul_lanes(fresnel) * self.microfacet.reflection_eval(o, i);
         LaneVec3::select(self.frame.outside & self.frame.reflects(wi), value, LaneVec3::ZERO)
     }
@@ -115,11 +111,8 @@ impl<L: Lanes> RoughConductorLanes<L> {
         // A Beckmann normal may face away from the viewer.
         let facing = o.dot(h).gt(L::ZERO);
         let wi = self.frame.to_world(reflect(-o, h));
-        let pdf = self.pdf(wo, wi);
-        let valid = self.frame.outside & facing & self.frame.reflects(wi) & pdf.gt(L::ZERO) & pdf.is_finite();
-        let f = self.eval(wo, wi);
-        let weight = LaneVec3::new(f.x / pdf, f.y / pdf, f.z / pdf);
-        LaneBsdfSample { wi, weight, pdf, valid, eta_squared: L::ONE, delta: false }
+        let valid = self.frame.outside & facing & self.frame.reflects(wi);
+        LaneBsdfSample::weighed(wi, self.eval(wo, wi), self.pdf(wo, wi), valid, L::ONE)
     }
 }
 

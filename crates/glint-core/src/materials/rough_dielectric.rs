@@ -122,11 +122,7 @@ impl<L: Lanes> RoughDielectricLanes<L> {
         let (reflects, transmits) = (self.frame.reflects(wi), self.frame.transmits(wi));
         let kept = (reflected & reflects) | (!reflected & exists & transmits);
         let eta_squared = L::select(transmits, L::ONE / (self.eta * self.eta), L::ONE);
-        let pdf = self.pdf(wo, wi);
-        let valid = facing & kept & pdf.gt(L::ZERO) & pdf.is_finite();
-        let f = self.eval(wo, wi);
-        let weight = LaneVec3::new(f.x / pdf, f.y / pdf, f.z / pdf);
-        LaneBsdfSample { wi, weight, pdf, valid, eta_squared, delta: false }
+        LaneBsdfSample::weighed(wi, self.eval(wo, wi), self.pdf(wo, wi), facing & kept, eta_squared)
     }
 }
 

@@ -247,11 +247,7 @@ impl<L: Lanes, T: CoatTransmittance<L>> RoughPlasticLanes<L, T> {
             LaneVec3::select(glossy, reflected, square_to_cosine_hemisphere_lanes(u1, u2))
         };
         let wi = self.frame.to_world(local);
-        let pdf = self.pdf(wo, wi);
-        let valid = self.frame.outside & pdf.gt(L::ZERO) & pdf.is_finite();
-        let f = self.eval(wo, wi);
-        let weight = LaneVec3::new(f.x / pdf, f.y / pdf, f.z / pdf);
-        LaneBsdfSample { wi, weight, pdf, valid, eta_squared: L::ONE, delta: false }
+        LaneBsdfSample::weighed(wi, self.eval(wo, wi), self.pdf(wo, wi), self.frame.outside, L::ONE)
     }
 }
 

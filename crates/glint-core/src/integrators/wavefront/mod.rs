@@ -30,7 +30,7 @@ use super::estimators::{escaped, power_heuristic_lanes, Scatter};
 use super::path::{BounceDraws, PathState, PathTracer};
 use super::{CameraExplanation, Integrator, RayCounts, SampleContext};
 use crate::geometry::{offset_ray_origin_lanes, Ray};
-use crate::lanes::{negate, Vec3x8, LANES};
+use crate::lanes::{Lanes, Vec3x8, LANES};
 use crate::lights::{area_to_solid_angle_lanes, LightSample, TriangleEmitter, TriangleSampling};
 use crate::materials::{
     luminance, tangent_along_lanes, Coat, CoatTables, CoatTransmittance, ConductorLanes, DielectricLanes, DiffuseLanes,
@@ -867,7 +867,7 @@ impl<'a> Wavefront<'a> {
         let (point, error) = barycentric_point_lanes([la, lb, lc], f32x8::ONE - s, draws[LIGHT_POINT + 1] * s);
         let to_light = point - from;
         let (pdf, seen) = area_to_solid_angle_lanes(selection, area, to_light, normal);
-        let cos_light = negate(normal.dot(to_light));
+        let cos_light = normal.dot(to_light).negate();
         let sampled = !unchosen
             & !hidden
             & !area.cmp_le(zero)
@@ -1214,4 +1214,17 @@ fn all_lanes() -> f32x8 {
 fn mask(mut f: impl FnMut(usize) -> bool) -> f32x8 {
     let all = f32::from_bits(u32::MAX);
     f32x8::from(std::array::from_fn::<f32, LANES, _>(|k| if f(k) { all } else { 0.0 }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each lane kind's group is its place in `IN_LANES`, the order a round takes them.
+    #[test]
+    fn groups_are_the_places_in_the_round() {
+        for (place, kind) in LaneKind::IN_LANES.into_iter().enumerate() {
+            assert_eq!(kind.group(), place, "{kind:?}");
+        }
+    }
 }
