@@ -589,7 +589,8 @@ fn the_wavefront_tilts_frames_under_normal_and_bump_maps() {
     }
 }
 
-/// Every kind of light in the lanes (sampled by the scalar code lane by lane, its shadow ray
+/// Every kind of light in the lanes (an environment map sampled for the eight lanes at once,
+/// the others by the scalar code lane by lane, each shadow ray
 /// spawned as the scalar code spawns it): point, spot and directional lights, a constant
 /// environment and a map, a sphere light, and all of them with the room's triangle lights,
 /// bit for bit as one path at a time.

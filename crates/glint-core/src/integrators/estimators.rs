@@ -6,7 +6,8 @@
 //! and SPPM call these; the wavefront's lanes compute the same bits (their lane versions, with
 //! an `8`, sit beside them).
 
-use crate::lanes::Lanes;
+use crate::lanes::{LaneVec3, Lanes};
+use crate::sampling::warp::UNIFORM_SPHERE_PDF;
 use glam::Vec3;
 
 use super::path::BounceDraws;
@@ -56,11 +57,31 @@ impl Scatter {
 /// weighed against light sampling where a non-delta scattering with density `bsdf_pdf` chose
 /// the direction (the sky's background, in full, where light sampling cannot find it).
 pub(super) fn escaped(scene: &Scene, direction: Vec3, bsdf_pdf: Option<f32>) -> (Rgb, f32) {
-    let seen = bsdf_pdf.and_then(|bsdf_pdf| {
-        let (radiance, light_pdf) = scene.lights().environment_seen(direction)?;
-        Some((radiance, power_heuristic(bsdf_pdf, light_pdf)))
-    });
-    seen.unwrap_or_else(|| (scene.environment().radiance(direction), 1.0))
+    let (radiance, weight) = escaped_lanes(scene, direction.into(), bsdf_pdf.unwrap_or(0.0), bsdf_pdf.is_some());
+    (radiance.into(), weight)
+}
+
+/// `escaped` in lanes: each lane's direction, and its scattering's density `bsdf_pdf` where
+/// `weighed` (else, a camera ray or a delta bounce, the light counts in full). An environment
+/// map is read for all the lanes at once (`EnvironmentMap::radiance_and_pdf_lanes`).
+#[inline(always)]
+pub(crate) fn escaped_lanes<L: Lanes>(
+    scene: &Scene,
+    direction: LaneVec3<L>,
+    bsdf_pdf: L,
+    weighed: L::Mask,
+) -> (LaneVec3<L>, L) {
+    let environment = scene.environment();
+    let selection = scene.lights().environment_selection().filter(|_| L::any(weighed));
+    let (radiance, light_pdf) = match &environment.map {
+        Some(map) => map.radiance_and_pdf_lanes(direction, selection.is_some()),
+        None => (LaneVec3::splat(environment.background), L::splat(UNIFORM_SPHERE_PDF)),
+    };
+    let weight = match selection {
+        Some(selection) => L::select(weighed, power_heuristic_lanes(bsdf_pdf, light_pdf * L::splat(selection)), L::ONE),
+        None => L::ONE,
+    };
+    (radiance, weight)
 }
 
 /// Adds to `radiance` what a path of `throughput` finds leaving the scene along `direction`,

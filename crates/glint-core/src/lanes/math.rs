@@ -103,6 +103,35 @@ pub(crate) fn acos<L: Lanes>(x: L) -> L {
     L::select(x.lt(L::ZERO), c(std::f32::consts::PI) - acos_a, acos_a)
 }
 
+/// arctan y/x in (−π, π], the angle of (x, y) (Cephes `atan2f` over `atanf`): |y/x| reduced
+/// to [0, tan π/8] by arctan t = π/2 − arctan 1/t above tan 3π/8 and π/4 + arctan (t − 1)/(t + 1)
+/// above tan π/8, a degree-9 odd polynomial there, and π added or taken off where x < 0. The
+/// signed zeros as IEEE's atan2 has them: ±0 along +x (and at the origin with x = +0), ±π along
+/// −x (and at the origin with x = −0).
+#[inline(always)]
+pub(crate) fn atan2<L: Lanes>(y: L, x: L) -> L {
+    let c = L::splat;
+    let ratio = y / x;
+    let t = ratio.abs();
+    let beyond = t.gt(c(2.414_213_6)); // tan 3π/8
+    let middle = t.gt(c(0.414_213_57)); // tan π/8
+    let reduced = L::select(beyond, c(-1.0) / t, L::select(middle, (t - c(1.0)) / (t + c(1.0)), t));
+    let base =
+        L::select(beyond, c(std::f32::consts::FRAC_PI_2), L::select(middle, c(std::f32::consts::FRAC_PI_4), L::ZERO));
+    let z = reduced * reduced;
+    let p =
+        (((c(8.053_744_5e-2) * z - c(0.138_776_86)) * z + c(0.199_777_1)) * z - c(0.333_329_5)) * z * reduced + reduced;
+    let atan = (base + p).copysign(ratio);
+    // Left of the y axis (x's sign bit set, −0 included) the ratio's angle is half a turn
+    // off; the sign of the half turn is y's.
+    let x_negative = c(1.0).copysign(x).lt(L::ZERO);
+    let half_turn = c(std::f32::consts::PI).copysign(y);
+    let angle = L::select(x_negative, atan + half_turn, atan);
+    // 0/0 at the origin: the zero or half turn the signs give.
+    let origin = x.eq(L::ZERO) & y.eq(L::ZERO);
+    L::select(origin, L::select(x_negative, half_turn, L::ZERO.copysign(y)), angle)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -199,5 +228,40 @@ mod tests {
         }
         assert_eq!((acos(1.0f32), acos(0.0f32)), (0.0, std::f32::consts::FRAC_PI_2));
         assert_lanes_agree(acos::<f32>, acos::<f32x8>, &xs[..80_000]);
+    }
+    #[test]
+    fn atan2_is_within_three_ulps_on_every_side_and_the_same_in_lanes() {
+        use std::f32::consts::FRAC_PI_2;
+        let mut pairs = Vec::new();
+        for i in 0..4_000 {
+            let angle = std::f32::consts::TAU * i as f32 / 4_000.0 - std::f32::consts::PI;
+            for r in [1e-3f32, 0.7, 1.0, 250.0] {
+                pairs.push((r * angle.sin(), r * angle.cos()));
+            }
+        }
+        pairs.extend([(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0), (1e-30, 1.0), (1.0, 1e-30), (3.0, -1e-20)]);
+        for &(y, x) in &pairs {
+            let a = atan2(y, x);
+            let exact = (y as f64).atan2(x as f64);
+            assert!(ulps(a, exact) <= 3 || (a as f64 - exact).abs() < 1e-37, "atan2({y}, {x}): {a} against {exact}");
+        }
+        // The zeros and half turns of IEEE's atan2 along the x axis and at the origin.
+        let bits = |y: f32, x: f32| atan2(y, x).to_bits();
+        assert_eq!(bits(0.0, 1.0), 0f32.to_bits());
+        assert_eq!(bits(-0.0, 1.0), (-0f32).to_bits());
+        assert_eq!(bits(0.0, -1.0), std::f32::consts::PI.to_bits());
+        assert_eq!(bits(-0.0, -1.0), (-std::f32::consts::PI).to_bits());
+        assert_eq!((bits(0.0, 0.0), bits(-0.0, 0.0)), (0f32.to_bits(), (-0f32).to_bits()));
+        assert_eq!(bits(0.0, -0.0), std::f32::consts::PI.to_bits());
+        assert_eq!((bits(1.0, -0.0), bits(-1.0, -0.0)), (FRAC_PI_2.to_bits(), (-FRAC_PI_2).to_bits()));
+        assert_eq!((bits(1.0, 0.0), bits(-1.0, 0.0)), (FRAC_PI_2.to_bits(), (-FRAC_PI_2).to_bits()));
+        for chunk in pairs.chunks_exact(8) {
+            let ys = f32x8::from(std::array::from_fn::<f32, 8, _>(|k| chunk[k].0));
+            let xs = f32x8::from(std::array::from_fn::<f32, 8, _>(|k| chunk[k].1));
+            let lanes = atan2(ys, xs).to_array();
+            for (k, &(y, x)) in chunk.iter().enumerate() {
+                assert_eq!(lanes[k].to_bits(), atan2(y, x).to_bits(), "atan2({y}, {x})");
+            }
+        }
     }
 }

@@ -16,7 +16,7 @@ mod math;
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 use glam::Vec3;
-pub(crate) use math::{acos, exp, ln, sin_cos_quarter, sin_cos_turns};
+pub(crate) use math::{acos, atan2, exp, ln, sin_cos_quarter, sin_cos_turns};
 use wide::{f32x4, f32x8, i32x4, i32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
 /// The wavefront's width: paths shaded together.
@@ -77,6 +77,12 @@ pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = S
     /// Each coordinate of `x` one float up where `sign`'s is positive, down where it is
     /// negative, unchanged where it is 0 (`geometry::robust::step_toward`).
     fn step_toward(x: LaneVec3<Self>, sign: LaneVec3<Self>) -> LaneVec3<Self>;
+
+    /// Lane `k`'s value.
+    fn lane(self, k: usize) -> f32;
+    /// Lane k is `f(k)`: a gather, each lane's load independent of the others', so that a
+    /// lookup's memory latency is paid once for all the lanes rather than once per lane.
+    fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
 }
 
 impl Lanes for f32 {
@@ -167,6 +173,15 @@ impl Lanes for f32 {
         let lanes = |v: LaneVec3<f32>| f32x8::from([v.x, v.y, v.z, 0.0, 0.0, 0.0, 0.0, 0.0]);
         let stepped = step_toward8(lanes(x), lanes(sign)).to_array();
         LaneVec3 { x: stepped[0], y: stepped[1], z: stepped[2] }
+    }
+
+    #[inline(always)]
+    fn lane(self, _k: usize) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn from_fn(mut f: impl FnMut(usize) -> f32) -> Self {
+        f(0)
     }
 }
 
@@ -259,6 +274,15 @@ macro_rules! wide_lanes {
                     z: step_toward_lanes!($float, $int, x.z, sign.z),
                 }
             }
+
+            #[inline(always)]
+            fn lane(self, k: usize) -> f32 {
+                self.as_array_ref()[k]
+            }
+            #[inline(always)]
+            fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
+                $float::from(std::array::from_fn::<f32, $width, _>(f))
+            }
         }
     };
 }
@@ -326,6 +350,26 @@ impl From<LaneVec3<f32>> for Vec3 {
 
 impl<L: Lanes> LaneVec3<L> {
     pub const ZERO: Self = Self { x: L::ZERO, y: L::ZERO, z: L::ZERO };
+
+    /// Lane k is `f(k)`, for up to sixteen lanes: a gather (`Lanes::from_fn`), one call of `f`
+    /// per lane.
+    #[inline(always)]
+    pub fn gather(mut f: impl FnMut(usize) -> Vec3) -> Self {
+        let (mut y, mut z) = ([0f32; 16], [0f32; 16]);
+        let x = L::from_fn(|k| {
+            let v = f(k);
+            (y[k], z[k]) = (v.y, v.z);
+            v.x
+        });
+        Self { x, y: L::from_fn(|k| y[k]), z: L::from_fn(|k| z[k]) }
+    }
+
+    /// `m * v` in every lane, in glam's order of roundings (column by column).
+    #[inline(always)]
+    pub fn transformed_by(self, m: &glam::Mat3) -> Self {
+        let column = |a: Vec3, s: L| Self::splat(a) * s;
+        column(m.x_axis, self.x) + column(m.y_axis, self.y) + column(m.z_axis, self.z)
+    }
 
     #[inline(always)]
     pub fn new(x: L, y: L, z: L) -> Self {

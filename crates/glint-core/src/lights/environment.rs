@@ -19,6 +19,7 @@
 
 use glam::{Mat3, Vec2, Vec3};
 
+use crate::lanes::{atan2, sin_cos_turns, LaneVec3, Lanes};
 use crate::sampling::distribution::Distribution2D;
 use crate::sampling::warp::{square_to_uniform_sphere, UNIFORM_SPHERE_PDF};
 use crate::Rgb;
@@ -144,35 +145,61 @@ impl EnvironmentMap {
     }
 
     /// The sampling domain's point for a direction: (u − half a texel, v), wrapped into [0, 1).
+    #[cfg(test)]
     fn grid_uv(&self, world: Vec3) -> Vec2 {
-        let d = (self.to_map * world).normalize();
-        let u = d.x.atan2(-d.z) * 0.5 * std::f32::consts::FRAC_1_PI - 0.5 / self.width as f32;
-        // θ by atan2, which keeps its precision near the poles (acos of d.y does not).
-        let v = d.x.hypot(d.z).atan2(d.y) * std::f32::consts::FRAC_1_PI;
-        Vec2::new(u.rem_euclid(1.0).min(1.0 - f32::EPSILON), v.min(1.0 - f32::EPSILON))
+        let (u, v) = self.grid_uv_lanes(LaneVec3::<f32>::from(world));
+        Vec2::new(u, v)
     }
 
+    /// `grid_uv` in lanes. The arctangents are `lanes::atan2`'s, the same bits at every width.
+    #[inline(always)]
+    fn grid_uv_lanes<L: Lanes>(&self, world: LaneVec3<L>) -> (L, L) {
+        let c = L::splat;
+        let d = world.transformed_by(&self.to_map).normalize();
+        let u = atan2(d.x, d.z.negate()) * c(0.5) * c(std::f32::consts::FRAC_1_PI) - c(0.5 / self.width as f32);
+        let v = atan2((d.x * d.x + d.z * d.z).sqrt(), d.y) * c(std::f32::consts::FRAC_1_PI);
+        // u ∈ [−½ − ½/width, ½]: `rem_euclid(1)` is a turn added below 0 (exact).
+        let u = L::select(u.lt(L::ZERO), u + L::ONE, u);
+        let most = c(1.0 - f32::EPSILON);
+        (u.min(most), v.min(most))
+    }
+
+    /// The direction at a point of the sampling domain.
+    #[cfg(test)]
     fn direction(&self, grid_uv: Vec2) -> Vec3 {
-        let phi = 2.0 * std::f32::consts::PI * (grid_uv.x + 0.5 / self.width as f32);
-        let theta = std::f32::consts::PI * grid_uv.y;
-        let (sin_t, cos_t) = theta.sin_cos();
-        self.to_world * Vec3::new(sin_t * phi.sin(), cos_t, -sin_t * phi.cos())
+        self.direction_lanes(grid_uv.x, grid_uv.y).0.into()
     }
 
-    /// Bilinear between the four pixels around `grid_uv`.
-    fn lookup(&self, grid_uv: Vec2) -> Rgb {
+    /// The direction at a point (u, v) of the sampling domain, and sin θ there.
+    #[inline(always)]
+    fn direction_lanes<L: Lanes>(&self, u: L, v: L) -> (LaneVec3<L>, L) {
+        // φ = 2π (u + ½/width) in turns, wrapped below one turn (exactly: Sterbenz).
+        let turns = u + L::splat(0.5 / self.width as f32);
+        let turns = L::select(turns.ge(L::ONE), turns - L::ONE, turns);
+        let (sin_phi, cos_phi) = sin_cos_turns(turns);
+        let (sin_theta, cos_theta) = sin_theta_cos_theta(v);
+        let local = LaneVec3::new(sin_theta * sin_phi, cos_theta, (sin_theta * cos_phi).negate());
+        (local.transformed_by(&self.to_world), sin_theta)
+    }
+
+    /// Bilinear between the four pixels around (u, v), in lanes: the loads of all the lanes'
+    /// texels issued together.
+    #[inline(always)]
+    fn lookup_lanes<L: Lanes>(&self, u: L, v: L) -> LaneVec3<L> {
         let (w, h) = (self.width as usize, self.height as usize);
-        let x = grid_uv.x * w as f32;
-        let y = grid_uv.y * (h - 1) as f32;
-        let (x0, y0) = ((x as usize).min(w - 1), (y as usize).min(h - 2));
-        let (fx, fy) = (x - x0 as f32, y - y0 as f32);
-        // The column right of x0, wrapped around the seam (a comparison: the modulo's
-        // divisions were a third of this lookup).
-        let x1 = if x0 + 1 == w { 0 } else { x0 + 1 };
-        let at = |x: usize, y: usize| self.pixels[y * w + x];
-        let top = at(x0, y0) * (1.0 - fx) + at(x1, y0) * fx;
-        let bottom = at(x0, y0 + 1) * (1.0 - fx) + at(x1, y0 + 1) * fx;
-        top * (1.0 - fy) + bottom * fy
+        let x = u * L::splat(w as f32);
+        let y = v * L::splat((h - 1) as f32);
+        let (x0, y0) = (x.floor().min(L::splat((w - 1) as f32)), y.floor().min(L::splat((h - 2) as f32)));
+        let (fx, fy) = (x - x0, y - y0);
+        let at = |dx: usize, dy: usize| {
+            LaneVec3::gather(|k| {
+                let column = x0.lane(k) as usize + dx;
+                self.pixels[(y0.lane(k) as usize + dy) * w + if column == w { 0 } else { column }]
+            })
+        };
+        let top = at(0, 0) * (L::ONE - fx) + at(1, 0) * fx;
+        let bottom = at(0, 1) * (L::ONE - fx) + at(1, 1) * fx;
+        top * (L::ONE - fy) + bottom * fy
     }
 
     /// ∫ L dω over the sphere, mean over RGB (each cell's mean radiance times its solid angle).
@@ -185,37 +212,79 @@ impl EnvironmentMap {
 
     /// Radiance arriving along `-direction`, i.e. seen when looking toward `direction`.
     pub fn radiance(&self, direction: Vec3) -> Rgb {
-        self.lookup(self.grid_uv(direction))
+        let (u, v) = self.grid_uv_lanes(LaneVec3::<f32>::from(direction));
+        self.lookup_lanes(u, v).into()
     }
 
+    /// A direction drawn in proportion to the map's luminance (times sin θ); `None` on the
+    /// poles (probability 0), where the density per solid angle has no finite value.
     pub fn sample(&self, u: Vec2) -> Option<EnvironmentSample> {
-        let (grid_uv, pdf_uv) = self.distribution.sample(u);
-        let sin = (std::f32::consts::PI * grid_uv.y).sin();
-        if pdf_uv <= 0.0 || sin <= 0.0 {
-            return None;
+        let s = self.sample_lanes(u.x, u.y);
+        s.valid.then(|| EnvironmentSample { direction: s.direction.into(), radiance: s.radiance.into(), pdf: s.pdf })
+    }
+
+    /// `sample` in lanes: the lanes' searches of the density's tables, and their texels' loads,
+    /// made together.
+    #[inline(always)]
+    pub(crate) fn sample_lanes<L: Lanes>(&self, u: L, v: L) -> EnvironmentSampleLanes<L> {
+        let (gu, gv, pdf_uv) = self.distribution.sample_lanes(u, v);
+        let (direction, sin) = self.direction_lanes(gu, gv);
+        let valid = pdf_uv.gt(L::ZERO) & sin.gt(L::ZERO);
+        EnvironmentSampleLanes {
+            direction,
+            radiance: self.lookup_lanes(gu, gv),
+            pdf: per_solid_angle(pdf_uv, sin),
+            valid,
         }
-        let pdf = pdf_uv / (2.0 * std::f32::consts::PI * std::f32::consts::PI * sin);
-        Some(EnvironmentSample { direction: self.direction(grid_uv), radiance: self.lookup(grid_uv), pdf })
     }
 
     /// The solid-angle density of `sample` producing `direction`.
     pub fn pdf(&self, direction: Vec3) -> f32 {
-        self.pdf_at(self.grid_uv(direction))
+        let (u, v) = self.grid_uv_lanes(LaneVec3::<f32>::from(direction));
+        self.pdf_lanes(u, v)
     }
 
     /// `radiance` and `pdf` from one conversion of the direction.
     pub fn radiance_and_pdf(&self, direction: Vec3) -> (Rgb, f32) {
-        let grid_uv = self.grid_uv(direction);
-        (self.lookup(grid_uv), self.pdf_at(grid_uv))
+        let (radiance, pdf) = self.radiance_and_pdf_lanes(LaneVec3::<f32>::from(direction), true);
+        (radiance.into(), pdf)
     }
 
-    fn pdf_at(&self, grid_uv: Vec2) -> f32 {
-        let sin = (std::f32::consts::PI * grid_uv.y).sin();
-        if sin <= 0.0 {
-            return 0.0;
-        }
-        self.distribution.pdf(grid_uv) / (2.0 * std::f32::consts::PI * std::f32::consts::PI * sin)
+    /// `radiance_and_pdf` in lanes; the density 0 unless `with_pdf`.
+    #[inline(always)]
+    pub(crate) fn radiance_and_pdf_lanes<L: Lanes>(&self, direction: LaneVec3<L>, with_pdf: bool) -> (LaneVec3<L>, L) {
+        let (u, v) = self.grid_uv_lanes(direction);
+        (self.lookup_lanes(u, v), if with_pdf { self.pdf_lanes(u, v) } else { L::ZERO })
     }
+
+    /// The solid-angle density at a point (u, v) of the sampling domain; 0 on the poles.
+    #[inline(always)]
+    fn pdf_lanes<L: Lanes>(&self, u: L, v: L) -> L {
+        let (sin, _) = sin_theta_cos_theta(v);
+        L::select(sin.gt(L::ZERO), per_solid_angle(self.distribution.pdf_lanes(u, v), sin), L::ZERO)
+    }
+}
+
+/// sin θ and cos θ at θ = π v (half a turn at most).
+#[inline(always)]
+fn sin_theta_cos_theta<L: Lanes>(v: L) -> (L, L) {
+    sin_cos_turns(v * L::splat(0.5))
+}
+
+/// A density over the sampling domain as one per solid angle, where sin θ = `sin`: the domain's
+/// cell at θ spans 2π² sin θ times its area in steradians.
+#[inline(always)]
+fn per_solid_angle<L: Lanes>(pdf_uv: L, sin: L) -> L {
+    pdf_uv / (L::splat(2.0 * std::f32::consts::PI * std::f32::consts::PI) * sin)
+}
+
+/// `EnvironmentMap::sample` in lanes: where `valid`, a direction, the radiance from it and the
+/// density per solid angle.
+pub(crate) struct EnvironmentSampleLanes<L: Lanes> {
+    pub direction: LaneVec3<L>,
+    pub radiance: LaneVec3<L>,
+    pub pdf: L,
+    pub valid: L::Mask,
 }
 
 #[cfg(test)]
@@ -253,7 +322,7 @@ mod tests {
         // the grid is shifted by half a texel (4 columns: u = 0 is grid u = 1 − 1/8).
         let plain = EnvironmentMap::new(4, 2, vec![Rgb::ONE; 8], 1.0, Mat3::IDENTITY);
         assert!((plain.grid_uv(Vec3::Y).y).abs() < 1e-6);
-        assert!((plain.grid_uv(-Vec3::Z) - Vec2::new(0.875, 0.5)).length() < 1e-6);
+        assert!((plain.grid_uv(-Vec3::Z) - Vec2::new(0.875, 0.5)).length() < 1e-6, "{}", plain.grid_uv(-Vec3::Z));
         assert!((plain.grid_uv(Vec3::X) - Vec2::new(0.125, 0.5)).length() < 1e-6);
     }
 

@@ -13,11 +13,13 @@ use crate::Rgb;
 use glam::{Vec2, Vec3};
 
 use super::area::area_lights;
-use super::{Asked, Environment, Light, LightSample, TriangleEmitter, TriangleSampling};
+use super::{Asked, Environment, Light, LightEnd, LightSample, TriangleEmitter, TriangleSampling};
 use crate::accel::Object;
 use crate::geometry::Aabb;
+use crate::lanes::LANES;
 use crate::materials::Material;
 use crate::Named;
+use wide::f32x8;
 
 const NONE: u32 = u32::MAX;
 
@@ -230,6 +232,42 @@ impl Lights {
         light.sample_li(from, receiver, u, self.asked(i))
     }
 
+    /// `sample_li` for each lane of a wavefront's bounce where `wanted[k]` (lane k from
+    /// `from[k]` with receiver normal `receiver[k]`, drawing `u_select[k]` and `u[k]`). The lanes
+    /// that choose the environment map draw from it together (`EnvironmentMap::sample_lanes`:
+    /// their searches and texel loads wait on memory at once), the others one by one; each lane
+    /// gets the bits `sample_li` gives it.
+    pub(crate) fn sample_li_lanes(
+        &self,
+        wanted: &[bool; LANES],
+        from: &[Vec3; LANES],
+        receiver: &[Vec3; LANES],
+        u_select: &[f32; LANES],
+        u: &[Vec2; LANES],
+    ) -> [Option<LightSample>; LANES] {
+        let chosen: [Option<usize>; LANES] =
+            std::array::from_fn(|k| if wanted[k] { self.choose(u_select[k]).map(|(i, _)| i) } else { None });
+        let mapped = |i: usize| match &self.lights[i] {
+            Light::Environment(Environment { map: Some(map), .. }) => Some(map),
+            _ => None,
+        };
+        let map = chosen.iter().flatten().find_map(|&i| mapped(i));
+        let drawn = map.map(|map| map.sample_lanes(f32x8::from(u.map(|u| u.x)), f32x8::from(u.map(|u| u.y))));
+        std::array::from_fn(|k| {
+            let i = chosen[k]?;
+            match &drawn {
+                Some(s) if mapped(i).is_some() => (s.valid.as_array_ref()[k] != 0.0).then(|| LightSample {
+                    direction: s.direction.lane(k),
+                    end: LightEnd::Infinite,
+                    radiance: s.radiance.lane(k),
+                    pdf: s.pdf.as_array_ref()[k] * self.selection_probability(i),
+                    delta: false,
+                }),
+                _ => self.lights[i].sample_li(from[k], Some(receiver[k]), u[k], self.asked(i)),
+            }
+        })
+    }
+
     /// The solid-angle density with which `sample_li` from `from` would have produced the point
     /// `point` (geometric normal `normal`) on primitive `prim` of object `object`; 0 if that
     /// primitive is not a sampled light. For multiple importance sampling of BSDF-sampled hits;
@@ -262,6 +300,12 @@ impl Lights {
             }
             _ => None,
         }
+    }
+
+    /// The probability with which `sample_li` chooses the environment, if it is one of the
+    /// lights.
+    pub(crate) fn environment_selection(&self) -> Option<f32> {
+        self.environment.map(|i| self.selection_probability(i))
     }
 
     /// The solid-angle density with which `sample_li` picks the environment in `direction`.

@@ -4,6 +4,8 @@
 
 use glam::Vec2;
 
+use crate::lanes::Lanes;
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Distribution1D {
     /// The function's cell values (non-negative).
@@ -46,29 +48,70 @@ impl Distribution1D {
 
     /// A point x ∈ [0, 1) with density pdf(x), and its cell.
     pub fn sample(&self, u: f32) -> (f32, f32, usize) {
-        let n = self.function.len().max(1);
-        let cell = self.cdf.partition_point(|&c| c <= u).saturating_sub(1).min(n - 1);
-        let (lo, hi) = (self.cdf[cell], self.cdf[cell + 1]);
-        let offset = if hi > lo { (u - lo) / (hi - lo) } else { 0.5 };
-        let x = ((cell as f32 + offset) / n as f32).min(1.0 - f32::EPSILON);
-        (x, self.pdf_of_cell(cell), cell)
+        let (x, pdf, cell) = Self::sample_lanes(|_| self, u);
+        (x, pdf, cell as usize)
     }
 
-    fn pdf_of_cell(&self, cell: usize) -> f32 {
-        if self.integral > 0.0 {
-            self.function[cell].max(0.0) / self.integral
-        } else {
-            1.0
+    /// `sample` in lanes, lane k from distribution `of(k)` (all with as many cells): the points,
+    /// their densities and their cells (as floats, exact below 2²⁴). The lanes search their
+    /// cumulative distributions in step, so that each step's loads, one per lane, wait on
+    /// memory together: a search is a chain of dependent loads, and one lane's chain at a time
+    /// left the environment map's searches waiting on memory for 7 % of a render.
+    #[inline(always)]
+    pub(crate) fn sample_lanes<'d, L: Lanes>(of: impl Fn(usize) -> &'d Distribution1D, u: L) -> (L, L, L) {
+        let cdf = |k: usize| of(k).cdf.as_slice();
+        let n = of(0).function.len().max(1);
+        // The number of entries ≤ u (`partition_point`), by halving a range that starts at the
+        // whole table: entries before `base` are ≤ u, those from `base + size` on are not.
+        let (mut base, mut size) = (L::ZERO, cdf(0).len());
+        while size > 1 {
+            let half = size / 2;
+            let middle = base + L::splat(half as f32);
+            let at_middle = L::from_fn(|k| cdf(k)[middle.lane(k) as usize]);
+            base = L::select(at_middle.le(u), middle, base);
+            size -= half;
         }
+        let at_base = L::from_fn(|k| cdf(k)[base.lane(k) as usize]);
+        let below = base + L::select(at_base.le(u), L::ONE, L::ZERO);
+        let cell = (below - L::ONE).max(L::ZERO).min(L::splat((n - 1) as f32));
+        let lo = L::from_fn(|k| cdf(k)[cell.lane(k) as usize]);
+        let hi = L::from_fn(|k| cdf(k)[cell.lane(k) as usize + 1]);
+        let offset = L::select(hi.gt(lo), (u - lo) / (hi - lo), L::splat(0.5));
+        let x = ((cell + offset) / L::splat(n as f32)).min(L::splat(1.0 - f32::EPSILON));
+        (x, Self::pdf_of_cell_lanes(&of, cell), cell)
+    }
+
+    /// Each lane's density in its cell (a float, exact).
+    #[inline(always)]
+    fn pdf_of_cell_lanes<'d, L: Lanes>(of: &impl Fn(usize) -> &'d Distribution1D, cell: L) -> L {
+        let integral = L::from_fn(|k| of(k).integral);
+        // The integral's lanes gathered once: a lane with none (all zero) reads no cell.
+        let value = L::from_fn(|k| {
+            let d = of(k);
+            if d.integral > 0.0 {
+                d.function[cell.lane(k) as usize]
+            } else {
+                0.0
+            }
+        });
+        L::select(integral.gt(L::ZERO), value.max(L::ZERO) / integral, L::ONE)
     }
 
     /// The density at x ∈ [0, 1).
     pub fn pdf(&self, x: f32) -> f32 {
-        let n = self.function.len();
+        Self::pdf_lanes(|_| self, x)
+    }
+
+    /// `pdf` in lanes, lane k's from distribution `of(k)` (all with as many cells).
+    #[inline(always)]
+    pub(crate) fn pdf_lanes<'d, L: Lanes>(of: impl Fn(usize) -> &'d Distribution1D, x: L) -> L {
+        let n = of(0).function.len();
         if n == 0 {
-            return 0.0;
+            return L::ZERO;
         }
-        self.pdf_of_cell(((x * n as f32) as usize).min(n - 1))
+        // `as usize`: toward zero, and 0 below zero and for NaN (which `max` gives 0 too).
+        let cell = (x * L::splat(n as f32)).max(L::ZERO).floor().min(L::splat((n - 1) as f32));
+        Self::pdf_of_cell_lanes(&of, cell)
     }
 }
 
@@ -91,15 +134,30 @@ impl Distribution2D {
 
     /// A point (u, v) and its density.
     pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
-        let (v, pdf_v, row) = self.marginal.sample(u.y);
-        let (x, pdf_u, _) = self.rows[row].sample(u.x);
-        (Vec2::new(x, v), pdf_v * pdf_u)
+        let (x, y, pdf) = self.sample_lanes(u.x, u.y);
+        (Vec2::new(x, y), pdf)
+    }
+
+    /// `sample` in lanes (u, v): the points (x, y) and their densities, the lanes' searches of
+    /// the marginal and then of their rows made in step (`Distribution1D::sample_lanes`).
+    #[inline(always)]
+    pub(crate) fn sample_lanes<L: Lanes>(&self, u: L, v: L) -> (L, L, L) {
+        let (y, pdf_v, row) = Distribution1D::sample_lanes(|_| &self.marginal, v);
+        let (x, pdf_u, _) = Distribution1D::sample_lanes(|k| &self.rows[row.lane(k) as usize], u);
+        (x, y, pdf_v * pdf_u)
     }
 
     pub fn pdf(&self, p: Vec2) -> f32 {
+        self.pdf_lanes(p.x, p.y)
+    }
+
+    /// `pdf` in lanes.
+    #[inline(always)]
+    pub(crate) fn pdf_lanes<L: Lanes>(&self, x: L, y: L) -> L {
         let height = self.rows.len();
-        let row = ((p.y * height as f32) as usize).min(height - 1);
-        self.marginal.pdf(p.y) * self.rows[row].pdf(p.x)
+        let row = (y * L::splat(height as f32)).max(L::ZERO).floor().min(L::splat((height - 1) as f32));
+        Distribution1D::pdf_lanes(|_| &self.marginal, y)
+            * Distribution1D::pdf_lanes(|k| &self.rows[row.lane(k) as usize], x)
     }
 }
 

@@ -26,12 +26,12 @@
 use glam::{Vec2, Vec3};
 use wide::{f32x8, i32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
-use super::estimators::{escaped, power_heuristic_lanes, Scatter};
+use super::estimators::{escaped_lanes, power_heuristic_lanes, Scatter};
 use super::path::{BounceDraws, PathState, PathTracer};
 use super::{CameraExplanation, Integrator, RayCounts, SampleContext};
 use crate::geometry::{offset_ray_origin_lanes, Ray};
 use crate::lanes::{Lanes, Vec3x8, LANES};
-use crate::lights::{area_to_solid_angle_lanes, LightSample, TriangleEmitter, TriangleSampling};
+use crate::lights::{area_to_solid_angle_lanes, TriangleEmitter, TriangleSampling};
 use crate::materials::{
     luminance, tangent_along_lanes, Coat, CoatTables, CoatTransmittance, ConductorLanes, DielectricLanes, DiffuseLanes,
     Distribution, LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes, RoughConductorLanes,
@@ -441,6 +441,7 @@ impl<'a> Wavefront<'a> {
         }
         let mut active: Vec<u32> = (0..paths.len() as u32).collect();
         let mut hits = Vec::with_capacity(paths.len());
+        let mut escaped = Vec::new();
         let mut other_kinds: [Vec<u32>; LaneKind::IN_LANES.len() - 1] = Default::default();
         // The rays traced, counted for the tile: each path's own count was another cache line
         // touched per query.
@@ -453,6 +454,7 @@ impl<'a> Wavefront<'a> {
                 0 => counts.camera += active.len() as u64,
                 _ => counts.reflection += active.len() as u64,
             }
+            escaped.clear();
             for &i in &active {
                 let path = &mut paths[i as usize];
                 // The query narrows the path's own ray, as the scalar code narrows the copy it
@@ -462,12 +464,11 @@ impl<'a> Wavefront<'a> {
                 if self.scene.geometry().closest_primitive_into(&mut path.ray, &mut path.hit) {
                     hits.push(i);
                 } else {
-                    // Weighed against light sampling from the last bounce, as the scalar code
-                    // weighs it (a delta bounce's density is infinite).
-                    let bsdf_pdf = (path.depth > 0 && path.last_pdf != f32::INFINITY).then_some(path.last_pdf);
-                    let (radiance, weight) = escaped(self.scene, path.ray.direction, bsdf_pdf);
-                    path.radiance += path.throughput * radiance * weight;
+                    escaped.push(i);
                 }
+            }
+            for chunk in escaped.chunks(LANES) {
+                self.add_escaped(chunk, &mut paths);
             }
             active.clear();
             if let Some(kinds) = &self.kinds {
@@ -500,6 +501,20 @@ impl<'a> Wavefront<'a> {
         }
         if let Some(first) = contexts.first_mut() {
             first.rays.add(&counts);
+        }
+    }
+
+    /// What the (up to eight) paths `chunk`, which left the scene, find there, added to their
+    /// radiance: weighed against light sampling from the last bounce, as the scalar code weighs
+    /// it (a delta bounce's density is infinite), and read for the eight at once.
+    fn add_escaped(&self, chunk: &[u32], paths: &mut [Path]) {
+        let path = |k: usize| &paths[chunk[if k < chunk.len() { k } else { 0 }] as usize];
+        let weighed = mask(|k| path(k).depth > 0 && path(k).last_pdf != f32::INFINITY);
+        let direction = Vec3x8::from_fn(|k| path(k).ray.direction);
+        let (radiance, weight) = escaped_lanes(self.scene, direction, per_lane(|k| path(k).last_pdf), weighed);
+        for (k, &i) in chunk.iter().enumerate() {
+            let path = &mut paths[i as usize];
+            path.radiance += path.throughput * radiance.lane(k) * weight.as_array_ref()[k];
         }
     }
 
@@ -898,11 +913,16 @@ impl<'a> Wavefront<'a> {
         [from, from_error, from_normal]: [Vec3x8; 3],
         shading: Vec3x8,
     ) -> Option<LightPoints> {
-        let samples: [Option<LightSample>; LANES] = std::array::from_fn(|k| {
-            let draw = |j: usize| draws[j].as_array_ref()[k];
-            let u = Vec2::new(draw(LIGHT_POINT), draw(LIGHT_POINT + 1));
-            goes_on[k].then(|| self.scene.lights().sample_li(from.lane(k), Some(shading.lane(k)), draw(LIGHT), u))?
+        let u = std::array::from_fn(|k| {
+            Vec2::new(draws[LIGHT_POINT].as_array_ref()[k], draws[LIGHT_POINT + 1].as_array_ref()[k])
         });
+        let samples = self.scene.lights().sample_li_lanes(
+            goes_on,
+            &std::array::from_fn(|k| from.lane(k)),
+            &std::array::from_fn(|k| shading.lane(k)),
+            draws[LIGHT].as_array_ref(),
+            &u,
+        );
         if samples.iter().all(Option::is_none) {
             return None;
         }
