@@ -59,23 +59,31 @@ impl Distribution1D {
     /// left the environment map's searches waiting on memory for 7 % of a render.
     #[inline(always)]
     pub(crate) fn sample_lanes<'d, L: Lanes>(of: impl Fn(usize) -> &'d Distribution1D, u: L) -> (L, L, L) {
-        let cdf = |k: usize| of(k).cdf.as_slice();
+        const MOST: usize = 16;
+        debug_assert!(L::WIDTH <= MOST);
+        let cdfs: [&[f32]; MOST] = std::array::from_fn(|k| if k < L::WIDTH { of(k).cdf.as_slice() } else { &[] });
+        let us: [f32; MOST] = std::array::from_fn(|k| if k < L::WIDTH { u.lane(k) } else { 0.0 });
         let n = of(0).function.len().max(1);
         // The number of entries ≤ u (`partition_point`), by halving a range that starts at the
         // whole table: entries before `base` are ≤ u, those from `base + size` on are not.
-        let (mut base, mut size) = (L::ZERO, cdf(0).len());
+        // The indices stay integers: a float index's conversion before every load lengthened
+        // each step's chain of latencies.
+        let (mut base, mut size) = ([0usize; MOST], cdfs[0].len());
         while size > 1 {
             let half = size / 2;
-            let middle = base + L::splat(half as f32);
-            let at_middle = L::from_fn(|k| cdf(k)[middle.lane(k) as usize]);
-            base = L::select(at_middle.le(u), middle, base);
+            for k in 0..L::WIDTH {
+                let middle = base[k] + half;
+                base[k] = if cdfs[k][middle] <= us[k] { middle } else { base[k] };
+            }
             size -= half;
         }
-        let at_base = L::from_fn(|k| cdf(k)[base.lane(k) as usize]);
-        let below = base + L::select(at_base.le(u), L::ONE, L::ZERO);
-        let cell = (below - L::ONE).max(L::ZERO).min(L::splat((n - 1) as f32));
-        let lo = L::from_fn(|k| cdf(k)[cell.lane(k) as usize]);
-        let hi = L::from_fn(|k| cdf(k)[cell.lane(k) as usize + 1]);
+        let cells: [usize; MOST] = std::array::from_fn(|k| {
+            let below = if k < L::WIDTH { base[k] + usize::from(cdfs[k][base[k]] <= us[k]) } else { 0 };
+            below.saturating_sub(1).min(n - 1)
+        });
+        let lo = L::from_fn(|k| cdfs[k][cells[k]]);
+        let hi = L::from_fn(|k| cdfs[k][cells[k] + 1]);
+        let cell = L::from_fn(|k| cells[k] as f32);
         let offset = L::select(hi.gt(lo), (u - lo) / (hi - lo), L::splat(0.5));
         let x = ((cell + offset) / L::splat(n as f32)).min(L::splat(1.0 - f32::EPSILON));
         (x, Self::pdf_of_cell_lanes(&of, cell), cell)
