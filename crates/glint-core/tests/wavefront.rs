@@ -438,6 +438,83 @@ fn the_wavefront_shades_rough_plastics_in_lanes() {
     }
 }
 
+/// Disney's principled BSDF shaded in the lanes (`PrincipledLanes`): a constant coated plastic
+/// with sheen and fake subsurface (a wall among triangles, read once for the tile), and spheres
+/// of a brushed (anisotropic) tinted half-metal, a frosted glass with a clearcoat (refracting
+/// from inside, black from behind where it does not transmit), a textured plastic and a glass
+/// whose diffuse share is 0 but whose sheen is not; at depth limits too.
+#[test]
+fn the_wavefront_shades_the_principled_bsdf_in_lanes() {
+    use glint_core::materials::Principled;
+    let grey = |v: f32| Texture::Constant(Rgb::splat(v));
+    let checker = |a: Rgb, b: Rgb| Texture::Checker(Box::new(Checker::new(a, b, Vec2::splat(4.0))));
+    let principled = |p: Principled| Material::Principled(Box::new(p));
+    let wall = room_where(|_, materials| {
+        materials[2] = principled(Principled {
+            base_color: Texture::Constant(Rgb::new(0.2, 0.8, 0.1)),
+            roughness: grey(0.3),
+            clearcoat: grey(0.9),
+            clearcoat_gloss: grey(0.5),
+            sheen: grey(0.6),
+            sheen_tint: grey(0.5),
+            flatness: grey(0.3),
+            ..Principled::default()
+        })
+    });
+    let spheres = room_where(|objects, materials| {
+        let centres = [
+            Vec3::new(0.45, -0.65, 0.3),
+            Vec3::new(-0.4, -0.6, 0.5),
+            Vec3::new(0.1, 0.3, 0.6),
+            Vec3::new(-0.5, 0.4, 0.2),
+        ];
+        let members = [
+            Principled {
+                base_color: Texture::Constant(Rgb::new(0.9, 0.6, 0.3)),
+                roughness: grey(0.4),
+                anisotropic: grey(0.7),
+                metallic: grey(0.6),
+                spec_tint: grey(0.4),
+                ..Principled::default()
+            },
+            Principled {
+                base_color: Texture::Constant(Rgb::new(0.8, 0.9, 1.0)),
+                roughness: grey(0.5),
+                spec_trans: grey(0.7),
+                clearcoat: grey(0.5),
+                ..Principled::default()
+            },
+            Principled {
+                base_color: checker(Rgb::new(0.7, 0.2, 0.1), Rgb::splat(0.3)),
+                roughness: checker(Rgb::splat(0.2), Rgb::splat(0.7)),
+                metallic: checker(Rgb::ZERO, Rgb::splat(0.8)),
+                ..Principled::default()
+            },
+            Principled { spec_trans: grey(1.0), sheen: grey(0.8), roughness: grey(0.2), ..Principled::default() },
+        ];
+        for (j, member) in members.into_iter().enumerate() {
+            materials.push(principled(member));
+            let id = materials.len() as u32 - 1;
+            objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
+        }
+    });
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
+    for (scene, what) in [(&wall, "a principled wall among triangles"), (&spheres, "principled spheres")] {
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in [(7, 0), (31, 5)] {
+                let lit = assert_same(scene, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+            }
+        }
+    }
+    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0)] {
+        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
+        for seed in 0..2 {
+            assert_same(&spheres, &tracer, SamplerKind::Sobol, seed, seed as u32);
+        }
+    }
+}
+
 /// Rough glass shaded in the lanes (`RoughDielectricLanes`): spheres of GGX and Beckmann glass,
 /// one anisotropic and textured, seen from outside and refracting from inside, a glass wall
 /// among the room's triangles; η² carried into the roulette from the first bounce.

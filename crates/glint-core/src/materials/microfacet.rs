@@ -106,14 +106,6 @@ impl Microfacet {
         self.lanes().reflection_eval(wo.into(), wi.into())
     }
 
-    /// The refraction half vector for `wo` (wo.z > 0) and `wi` below the surface (wi.z < 0),
-    /// with `eta` = n(wo's side) / n(wi's side): h ∝ −(η_o wo + η_i wi), turned to +z; `None`
-    /// if the pair cannot refract through any microfacet.
-    pub(super) fn refraction_half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<Vec3> {
-        let (h, exists) = refraction_half_vector(LaneVec3::<f32>::from(wo), wi.into(), eta);
-        exists.then(|| h.into())
-    }
-
     /// Density per solid angle of the refracted direction `wi` when `h` is sampled by
     /// `sample_normal` and `wo` refracted through it (Walter et al. 2007, eq. 17):
     /// D_wo(h) · |dh/dwi|, with |dh/dwi| = η_i² |wi·h| / (η_o wo·h + η_i wi·h)².

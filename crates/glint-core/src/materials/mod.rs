@@ -52,6 +52,7 @@ pub use phong::{fresnel_dielectric, fresnel_schlick, Fresnel, Phong, PhongPoint}
 pub(crate) use plastic::Coat;
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
 pub use principled::Principled;
+pub(crate) use principled::{PrincipledLanes, PrincipledPoint};
 pub use principled_thin::{PrincipledThin, SamplingRates};
 pub use rough_conductor::RoughConductor;
 pub(crate) use rough_conductor::RoughConductorLanes;

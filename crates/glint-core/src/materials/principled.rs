@@ -37,10 +37,12 @@ use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
-use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
-use super::{fresnel_dielectric, Distribution, Microfacet, PhongPoint};
-use crate::geometry::{reflect, refract};
-use crate::sampling::warp::square_to_cosine_hemisphere;
+use super::bsdf::{BsdfSample, Frame, LaneBsdfSample, LaneFrame, Leaf, Lobes};
+use super::microfacet::{refraction_half_vector, MicrofacetLanes};
+use super::phong::fresnel_dielectric_lanes;
+use super::{Distribution, Microfacet, PhongPoint};
+use crate::lanes::{self, LaneVec3, Lanes};
+use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
@@ -92,14 +94,13 @@ impl Principled {
         Leaf::Principled(self.evaluate(query, frame))
     }
 
-    fn evaluate(&self, query: &TextureQuery, frame: Frame) -> PrincipledBsdf {
+    /// Its parameters where the query is (its textures read there).
+    pub(crate) fn point(&self, query: &TextureQuery) -> PrincipledPoint {
         let scalar = |t: &Texture| t.evaluate(query).dot(LUMINANCE);
         let (roughness, anisotropic) = (scalar(&self.roughness), scalar(&self.anisotropic));
         let microfacet = disney_microfacet(roughness, anisotropic);
         let gloss = scalar(&self.clearcoat_gloss);
-        PrincipledBsdf {
-            // Anisotropic widths lie along the surface's ∂p/∂u.
-            frame: if microfacet.alpha_x != microfacet.alpha_y { frame.along(query.dpdu) } else { frame },
+        PrincipledPoint {
             base: self.base_color.evaluate(query),
             roughness,
             metallic: scalar(&self.metallic),
@@ -109,10 +110,17 @@ impl Principled {
             sheen_tint: scalar(&self.sheen_tint),
             flatness: scalar(&self.flatness),
             clearcoat: scalar(&self.clearcoat),
-            microfacet,
+            alpha_x: microfacet.alpha_x,
+            alpha_y: microfacet.alpha_y,
             clearcoat_alpha: 0.1 + gloss * (0.001 - 0.1),
             eta: self.eta,
         }
+    }
+
+    fn evaluate(&self, query: &TextureQuery, frame: Frame) -> PrincipledBsdf {
+        let point = self.point(query);
+        // Anisotropic widths lie along the surface's ∂p/∂u.
+        PrincipledBsdf { frame: if point.alpha_x != point.alpha_y { frame.along(query.dpdu) } else { frame }, point }
     }
 
     /// Whitted's view: the BSDF's lobes in their smooth limit (Whitted traces no glossy rays),
@@ -133,20 +141,21 @@ impl Principled {
         let cos = cos.clamp(0.0, 1.0);
         // The frame only tells the evaluated BSDF which side the viewer is on.
         let frame = Frame::new(Vec3::Z, Vec3::Z, if outside { Vec3::Z } else { -Vec3::Z });
-        let b = self.evaluate(query, frame);
+        let b = self.evaluate(query, frame).lanes();
         if b.inactive() {
             return PhongPoint::BLACK;
         }
         let f = b.fresnel(cos);
-        let mut reflection = b.principled_fresnel(f, cos);
-        let refracted = b.base.max(Rgb::ZERO).powf(0.5) * (b.bsdf_weight() * (1.0 - f));
+        let mut reflection: Rgb = b.principled_fresnel(f, cos).into();
+        let base: Rgb = b.base.into();
+        let refracted = base.max(Rgb::ZERO).powf(0.5) * (b.bsdf_weight() * (1.0 - f));
         if !outside {
             return PhongPoint { reflection, transmission: refracted, ior: self.eta, ..PhongPoint::BLACK };
         }
         if b.clearcoat > 0.0 {
             reflection += Rgb::splat(b.clearcoat * schlick(Rgb::splat(0.04), cos, b.eta).x * cos * cos);
         }
-        let diffuse = b.base * b.brdf();
+        let diffuse = base * b.brdf();
         PhongPoint {
             ambient: diffuse,
             diffuse,
@@ -163,55 +172,76 @@ pub(super) const LUMINANCE: Rgb = Rgb::new(0.212671, 0.715160, 0.072169);
 
 /// The base colour's hue at luminance 1 (white where it is black): what the tints lean to.
 pub(super) fn tint(base: Rgb) -> Rgb {
-    let lum = base.dot(LUMINANCE);
-    if lum > 0.0 {
-        base / lum
-    } else {
-        Rgb::ONE
-    }
+    tint_lanes(LaneVec3::<f32>::from(base)).into()
+}
+
+/// `tint` in lanes.
+#[inline(always)]
+fn tint_lanes<L: Lanes>(base: LaneVec3<L>) -> LaneVec3<L> {
+    let lum = base.dot(LaneVec3::splat(LUMINANCE));
+    LaneVec3::select(lum.gt(L::ZERO), base.divided_by(lum), LaneVec3::splat(Rgb::ONE))
 }
 
 /// Burley's diffuse with retro-reflection, leaning by `flatness` toward the Hanrahan–Krueger
 /// fake subsurface: the factor of base/π·cos θ_i for a reflection between `o` and `i` (local,
 /// both above) with half vector `h`.
 pub(super) fn burley_diffuse(o: Vec3, i: Vec3, h: Vec3, roughness: f32, flatness: f32) -> f32 {
+    burley_diffuse_lanes(o.into(), i.into(), h.into(), roughness, flatness)
+}
+
+/// `burley_diffuse` in lanes.
+#[inline(always)]
+fn burley_diffuse_lanes<L: Lanes>(o: LaneVec3<L>, i: LaneVec3<L>, h: LaneVec3<L>, roughness: L, flatness: L) -> L {
+    let c = L::splat;
     let (fo, fi) = (schlick_weight(o.z), schlick_weight(i.z));
     let cos_d = h.dot(i);
-    let diffuse = (1.0 - 0.5 * fo) * (1.0 - 0.5 * fi);
-    let rr = 2.0 * roughness * cos_d * cos_d;
-    let retro = rr * (fo + fi + fo * fi * (rr - 1.0));
+    let diffuse = (L::ONE - c(0.5) * fo) * (L::ONE - c(0.5) * fi);
+    let rr = c(2.0) * roughness * cos_d * cos_d;
+    let retro = rr * (fo + fi + fo * fi * (rr - L::ONE));
     let lobe = diffuse + retro;
-    if flatness == 0.0 {
-        return lobe;
-    }
-    let fss90 = rr / 2.0;
-    let fss = (1.0 + (fss90 - 1.0) * fi) * (1.0 + (fss90 - 1.0) * fo);
-    let subsurface = 1.25 * (fss * (1.0 / (i.z + o.z) - 0.5) + 0.5);
-    lobe + flatness * (subsurface - lobe)
+    let fss90 = rr / c(2.0);
+    let fss = (L::ONE + (fss90 - L::ONE) * fi) * (L::ONE + (fss90 - L::ONE) * fo);
+    let subsurface = c(1.25) * (fss * (L::ONE / (i.z + o.z) - c(0.5)) + c(0.5));
+    L::select(flatness.eq(L::ZERO), lobe, lobe + flatness * (subsurface - lobe))
 }
 
 /// The sheen's colour and Fresnel-like rise toward grazing, for a reflection whose half vector
 /// makes cosine `cos_d` with the light: the factor of sheen·cos θ_i.
 pub(super) fn sheen(base: Rgb, sheen_tint: f32, cos_d: f32) -> Rgb {
-    (Rgb::ONE + (tint(base) - Rgb::ONE) * sheen_tint) * schlick_weight(cos_d.abs())
+    sheen_lanes(LaneVec3::<f32>::from(base), sheen_tint, cos_d).into()
+}
+
+/// `sheen` in lanes.
+#[inline(always)]
+fn sheen_lanes<L: Lanes>(base: LaneVec3<L>, sheen_tint: L, cos_d: L) -> LaneVec3<L> {
+    let one = LaneVec3::splat(Rgb::ONE);
+    (one + (tint_lanes(base) - one) * sheen_tint) * schlick_weight(cos_d.abs())
+}
+
+/// The principled BSDF's parameters at a point: its textures read there.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PrincipledPoint {
+    pub base: Rgb,
+    pub roughness: f32,
+    pub metallic: f32,
+    pub spec_trans: f32,
+    pub spec_tint: f32,
+    pub sheen: f32,
+    pub sheen_tint: f32,
+    pub flatness: f32,
+    pub clearcoat: f32,
+    /// The main lobe's widths along ∂p/∂u and across it (`disney_microfacet`).
+    pub alpha_x: f32,
+    pub alpha_y: f32,
+    pub clearcoat_alpha: f32,
+    /// n_interior / n_exterior.
+    pub eta: f32,
 }
 
 #[derive(Clone, Copy, Debug)]
 pub(super) struct PrincipledBsdf {
     frame: Frame,
-    base: Rgb,
-    roughness: f32,
-    metallic: f32,
-    spec_trans: f32,
-    spec_tint: f32,
-    sheen: f32,
-    sheen_tint: f32,
-    flatness: f32,
-    clearcoat: f32,
-    microfacet: Microfacet,
-    clearcoat_alpha: f32,
-    /// n_interior / n_exterior.
-    eta: f32,
+    point: PrincipledPoint,
 }
 
 /// GGX of width roughness², stretched along ∂p/∂u by 1/√(1 − 0.9·anisotropic) and narrowed
@@ -228,251 +258,314 @@ pub(super) fn disney_microfacet(roughness: f32, anisotropic: f32) -> Microfacet 
 }
 
 /// (1 − cos)⁵, clamped: Schlick's weight.
-pub(super) fn schlick_weight(cos: f32) -> f32 {
-    let m = (1.0 - cos).clamp(0.0, 1.0);
+#[inline(always)]
+pub(super) fn schlick_weight<L: Lanes>(cos: L) -> L {
+    let m = (L::ONE - cos).max(L::ZERO).min(L::ONE);
     (m * m) * (m * m) * m
 }
 
 /// Schlick's Fresnel from the front of an interface of relative index `eta` (n_t / n_i): with
 /// the incident cosine when η > 1, else with the transmitted one (1 past the critical angle).
 pub(super) fn schlick(r0: Rgb, cos_i: f32, eta: f32) -> Rgb {
-    let cos = if eta > 1.0 { cos_i.abs() } else { (1.0 - (1.0 - cos_i * cos_i) / (eta * eta)).max(0.0).sqrt() };
-    r0 + (Rgb::ONE - r0) * schlick_weight(cos)
+    schlick_lanes(LaneVec3::<f32>::from(r0), cos_i, eta).into()
+}
+
+/// `schlick` in lanes.
+#[inline(always)]
+fn schlick_lanes<L: Lanes>(r0: LaneVec3<L>, cos_i: L, eta: L) -> LaneVec3<L> {
+    let transmitted = (L::ONE - (L::ONE - cos_i * cos_i) / (eta * eta)).max(L::ZERO).sqrt();
+    let cos = L::select(eta.gt(L::ONE), cos_i.abs(), transmitted);
+    r0 + (LaneVec3::splat(Rgb::ONE) - r0) * schlick_weight(cos)
 }
 
 /// Smith's G1 for isotropic GGX of width `alpha`, 0 where `v` sees the back of the microfacet
 /// `h` (the clearcoat's masking).
-fn smith_g1(v: Vec3, h: Vec3, alpha: f32) -> f32 {
-    if v.dot(h) * v.z <= 0.0 {
-        return 0.0;
-    }
+#[inline(always)]
+fn smith_g1<L: Lanes>(v: LaneVec3<L>, h: LaneVec3<L>, alpha: f32) -> L {
     let cos2 = v.z * v.z;
-    if cos2 >= 1.0 {
-        return 1.0;
-    }
-    let tan2 = (1.0 - cos2) / cos2;
-    2.0 / (1.0 + (1.0 + alpha * alpha * tan2).sqrt())
+    let tan2 = (L::ONE - cos2) / cos2;
+    let g1 = L::splat(2.0) / (L::ONE + (L::ONE + L::splat(alpha * alpha) * tan2).sqrt());
+    L::select((v.dot(h) * v.z).le(L::ZERO), L::ZERO, L::select(cos2.ge(L::ONE), L::ONE, g1))
 }
 
 /// The clearcoat's micro-normals: Burley's GTR with γ = 1 (Berry's distribution), sampled
 /// exactly by its cos θ_h-weighted density (not by visible normals: its lobe is weak).
 #[derive(Clone, Copy, Debug)]
-struct Gtr1 {
-    alpha: f32,
+struct Gtr1<L> {
+    alpha: L,
 }
 
-impl Gtr1 {
-    fn d(self, h: Vec3) -> f32 {
+impl<L: Lanes> Gtr1<L> {
+    #[inline(always)]
+    fn d(self, h: LaneVec3<L>) -> L {
         let a2 = self.alpha * self.alpha;
-        let d = (a2 - 1.0) / (PI * a2.ln() * (1.0 + (a2 - 1.0) * h.z * h.z));
-        if d * h.z > 1e-20 {
-            d
-        } else {
-            0.0
-        }
+        let d = (a2 - L::ONE) / (L::splat(PI) * lanes::ln(a2) * (L::ONE + (a2 - L::ONE) * h.z * h.z));
+        L::select((d * h.z).gt(L::splat(1e-20)), d, L::ZERO)
     }
 
     /// Density of `sample`'s micro-normal per solid angle: D(h) cos θ_h.
-    fn pdf(self, h: Vec3) -> f32 {
-        if h.z < 0.0 {
-            0.0
-        } else {
-            h.z * self.d(h)
-        }
+    #[inline(always)]
+    fn pdf(self, h: LaneVec3<L>) -> L {
+        L::select(h.z.lt(L::ZERO), L::ZERO, h.z * self.d(h))
     }
 
-    fn sample(self, u: Vec2) -> Vec3 {
+    /// cos²θ_h = (1 − α^(2(1 − u₂))) / (1 − α²), φ = 2π u₁.
+    #[inline(always)]
+    fn sample(self, u1: L, u2: L) -> LaneVec3<L> {
         let a2 = self.alpha * self.alpha;
-        let cos2 = ((1.0 - a2.powf(1.0 - u.y)) / (1.0 - a2)).clamp(0.0, 1.0);
-        let (sin, cos) = ((1.0 - cos2).sqrt(), cos2.sqrt());
-        let phi = 2.0 * PI * u.x;
-        Vec3::new(phi.cos() * sin, phi.sin() * sin, cos)
+        let power = lanes::exp(lanes::ln(a2) * (L::ONE - u2));
+        let cos2 = ((L::ONE - power) / (L::ONE - a2)).max(L::ZERO).min(L::ONE);
+        let (sin, cos) = ((L::ONE - cos2).sqrt(), cos2.sqrt());
+        let (sin_phi, cos_phi) = lanes::sin_cos_turns(u1);
+        LaneVec3::new(cos_phi * sin, sin_phi * sin, cos)
     }
 }
 
 /// The lobe probabilities at one micro-normal's Fresnel reflectance `f`.
-struct Choice {
-    diffuse: f32,
-    clearcoat: f32,
-    reflection: f32,
-    transmission: f32,
+struct Choice<L> {
+    diffuse: L,
+    clearcoat: L,
+    reflection: L,
+    transmission: L,
 }
 
-impl PrincipledBsdf {
-    fn brdf(&self) -> f32 {
-        (1.0 - self.metallic) * (1.0 - self.spec_trans)
+/// The principled BSDF at a hit, in lanes: the one body of its `eval`, `pdf` and `sample`,
+/// which the scalar BSDF runs at one lane and the wavefront at eight. The scalar code's
+/// branches on the parameters (no clearcoat, no sheen, no flatness) are selects here.
+#[derive(Clone, Debug)]
+pub(crate) struct PrincipledLanes<L: Lanes> {
+    pub frame: LaneFrame<L>,
+    pub base: LaneVec3<L>,
+    pub roughness: L,
+    pub metallic: L,
+    pub spec_trans: L,
+    pub spec_tint: L,
+    pub sheen: L,
+    pub sheen_tint: L,
+    pub flatness: L,
+    pub clearcoat: L,
+    pub microfacet: MicrofacetLanes<L>,
+    pub clearcoat_alpha: L,
+    /// n_interior / n_exterior.
+    pub eta: L,
+}
+
+impl<L: Lanes> PrincipledLanes<L> {
+    /// The lanes' BSDF from their points (`point(k)` for lane k) in `frame` (already turned to
+    /// ∂p/∂u where the widths differ).
+    #[inline(always)]
+    pub fn gather<'p>(frame: LaneFrame<L>, point: impl Fn(usize) -> &'p PrincipledPoint) -> Self {
+        let each = |f: fn(&PrincipledPoint) -> f32| L::from_fn(|k| f(point(k)));
+        Self {
+            frame,
+            base: LaneVec3::gather(|k| point(k).base),
+            roughness: each(|p| p.roughness),
+            metallic: each(|p| p.metallic),
+            spec_trans: each(|p| p.spec_trans),
+            spec_tint: each(|p| p.spec_tint),
+            sheen: each(|p| p.sheen),
+            sheen_tint: each(|p| p.sheen_tint),
+            flatness: each(|p| p.flatness),
+            clearcoat: each(|p| p.clearcoat),
+            microfacet: MicrofacetLanes {
+                alpha_x: each(|p| p.alpha_x),
+                alpha_y: each(|p| p.alpha_y),
+                separable: true,
+                distribution: Distribution::Ggx,
+            },
+            clearcoat_alpha: each(|p| p.clearcoat_alpha),
+            eta: each(|p| p.eta),
+        }
     }
 
-    fn bsdf_weight(&self) -> f32 {
-        (1.0 - self.metallic) * self.spec_trans
+    #[inline(always)]
+    fn brdf(&self) -> L {
+        (L::ONE - self.metallic) * (L::ONE - self.spec_trans)
+    }
+
+    #[inline(always)]
+    fn bsdf_weight(&self) -> L {
+        (L::ONE - self.metallic) * self.spec_trans
     }
 
     /// Nothing to sample or evaluate: from behind without transmission.
-    fn inactive(&self) -> bool {
-        !self.frame.outside && self.bsdf_weight() <= 0.0
+    #[inline(always)]
+    pub fn inactive(&self) -> L::Mask {
+        !self.frame.outside & self.bsdf_weight().le(L::ZERO)
     }
 
     /// n(the other side) / n(the viewer's side).
-    fn eta_path(&self) -> f32 {
-        if self.frame.outside {
-            self.eta
-        } else {
-            1.0 / self.eta
-        }
+    #[inline(always)]
+    fn eta_path(&self) -> L {
+        L::select(self.frame.outside, self.eta, L::ONE / self.eta)
     }
 
     /// The diffuse lobe's sampling weight: brdf, or the sheen's where brdf is 0.
-    fn diffuse_weight(&self) -> f32 {
+    #[inline(always)]
+    fn diffuse_weight(&self) -> L {
         let brdf = self.brdf();
-        if brdf > 0.0 {
-            brdf
-        } else {
-            self.sheen.max(0.0) * (1.0 - self.metallic).max(0.0)
-        }
+        L::select(brdf.gt(L::ZERO), brdf, self.sheen.max(L::ZERO) * (L::ONE - self.metallic).max(L::ZERO))
     }
 
-    fn choice(&self, f: f32) -> Choice {
+    #[inline(always)]
+    fn choice(&self, f: L) -> Choice<L> {
         let bsdf = self.bsdf_weight();
-        if !self.frame.outside {
-            return Choice { diffuse: 0.0, clearcoat: 0.0, reflection: f, transmission: 1.0 - f };
-        }
-        let (diffuse, clearcoat) = (self.diffuse_weight(), 0.25 * self.clearcoat.max(0.0));
-        let total = 1.0 + diffuse + clearcoat;
-        let transmission = bsdf * (1.0 - f);
+        let (diffuse, clearcoat) = (self.diffuse_weight(), L::splat(0.25) * self.clearcoat.max(L::ZERO));
+        let total = L::ONE + diffuse + clearcoat;
+        let transmission = bsdf * (L::ONE - f);
+        let outside = self.frame.outside;
         Choice {
-            diffuse: diffuse / total,
-            clearcoat: clearcoat / total,
-            reflection: (1.0 - transmission) / total,
-            transmission: transmission / total,
+            diffuse: L::select(outside, diffuse / total, L::ZERO),
+            clearcoat: L::select(outside, clearcoat / total, L::ZERO),
+            reflection: L::select(outside, (L::ONE - transmission) / total, f),
+            transmission: L::select(outside, transmission / total, L::ONE - f),
         }
     }
 
     /// The dielectric Fresnel reflectance at a micro-normal seen at cosine `cos` from the
     /// viewer's side.
-    fn fresnel(&self, cos: f32) -> f32 {
-        fresnel_dielectric(cos, 1.0 / self.eta_path())
+    #[inline(always)]
+    pub fn fresnel(&self, cos: L) -> L {
+        fresnel_dielectric_lanes(cos, L::ONE / self.eta_path())
     }
 
     /// The main reflection's Fresnel term: the dielectric one blended with Schlick's for the
     /// metallic part and for the part tinted toward the base colour; from behind, bsdf·F.
-    fn principled_fresnel(&self, f: f32, cos: f32) -> Rgb {
-        if !self.frame.outside {
-            return Rgb::splat(self.bsdf_weight() * f);
-        }
+    #[inline(always)]
+    pub fn principled_fresnel(&self, f: L, cos: L) -> LaneVec3<L> {
         let m = self.metallic;
-        let tint = tint(self.base);
-        let r0 = ((self.eta - 1.0) / (self.eta + 1.0)).powi(2);
-        Rgb::splat((1.0 - m) * (1.0 - self.spec_tint) * f)
-            + m * schlick(self.base, cos, self.eta)
-            + (1.0 - m) * self.spec_tint * schlick(tint * r0, cos, self.eta)
+        let tint = tint_lanes(self.base);
+        let r0 = (self.eta - L::ONE) / (self.eta + L::ONE);
+        let r0 = r0 * r0;
+        let front = LaneVec3::new(L::ONE, L::ONE, L::ONE) * ((L::ONE - m) * (L::ONE - self.spec_tint) * f)
+            + schlick_lanes(self.base, cos, self.eta) * m
+            + schlick_lanes(tint * r0, cos, self.eta) * ((L::ONE - m) * self.spec_tint);
+        let behind = self.bsdf_weight() * f;
+        LaneVec3::select(self.frame.outside, front, LaneVec3::new(behind, behind, behind))
     }
 
     /// Burley's diffuse, retro-reflection and fake subsurface, and the sheen (both ·cos θ_i),
     /// for a reflection with half vector `h` (front only).
-    fn diffuse_and_sheen(&self, o: Vec3, i: Vec3, h: Vec3) -> Rgb {
-        let mut value = Rgb::ZERO;
+    #[inline(always)]
+    fn diffuse_and_sheen(&self, o: LaneVec3<L>, i: LaneVec3<L>, h: LaneVec3<L>) -> LaneVec3<L> {
         let brdf = self.brdf();
-        if brdf > 0.0 {
-            value += self.base * (brdf * i.z / PI * burley_diffuse(o, i, h, self.roughness, self.flatness));
-        }
-        if self.sheen > 0.0 && self.metallic < 1.0 {
-            value += sheen(self.base, self.sheen_tint, h.dot(i)) * (self.sheen * (1.0 - self.metallic) * i.z);
-        }
-        value
+        let burley = burley_diffuse_lanes(o, i, h, self.roughness, self.flatness);
+        let diffuse = self.base * (brdf * i.z / L::splat(PI) * burley);
+        let value = LaneVec3::select(brdf.gt(L::ZERO), LaneVec3::ZERO + diffuse, LaneVec3::ZERO);
+        let sheen = sheen_lanes(self.base, self.sheen_tint, h.dot(i)) * (self.sheen * (L::ONE - self.metallic) * i.z);
+        let sheened = self.sheen.gt(L::ZERO) & self.metallic.lt(L::ONE);
+        LaneVec3::select(sheened, value + sheen, value)
     }
 
-    fn clearcoat_value(&self, o: Vec3, i: Vec3, h: Vec3) -> f32 {
-        if self.clearcoat <= 0.0 {
-            return 0.0;
-        }
-        let f = schlick(Rgb::splat(0.04), o.dot(h), self.eta).x;
+    #[inline(always)]
+    fn clearcoat_value(&self, o: LaneVec3<L>, i: LaneVec3<L>, h: LaneVec3<L>) -> L {
+        let c = L::splat;
+        let f = schlick_lanes(LaneVec3::new(c(0.04), c(0.04), c(0.04)), o.dot(h), self.eta).x;
         let g = smith_g1(o, h, 0.25) * smith_g1(i, h, 0.25);
-        0.25 * self.clearcoat * f * Gtr1 { alpha: self.clearcoat_alpha }.d(h) * g * i.z
+        let value = c(0.25) * self.clearcoat * f * Gtr1 { alpha: self.clearcoat_alpha }.d(h) * g * i.z;
+        L::select(self.clearcoat.le(L::ZERO), L::ZERO, value)
+    }
+
+    #[inline(always)]
+    pub fn eval(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> LaneVec3<L> {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        let h = (o + i).normalize();
+        let f = self.fresnel(o.dot(h));
+        let glossy = self.principled_fresnel(f, o.dot(h)) * self.microfacet.reflection_eval(o, i);
+        let clearcoat = self.clearcoat_value(o, i, h);
+        let front = glossy + (self.diffuse_and_sheen(o, i, h) + LaneVec3::new(clearcoat, clearcoat, clearcoat));
+        let reflected = LaneVec3::select(self.frame.outside, front, glossy);
+        let bsdf = self.bsdf_weight();
+        let eta = L::ONE / self.eta_path();
+        let (h, through) = refraction_half_vector(o, i, eta);
+        let f = self.fresnel(o.dot(h));
+        let root = LaneVec3::new(
+            self.base.x.max(L::ZERO).sqrt(),
+            self.base.y.max(L::ZERO).sqrt(),
+            self.base.z.max(L::ZERO).sqrt(),
+        );
+        let refracted = root * (bsdf * (L::ONE - f) * self.microfacet.transmission_eval(o, i, eta));
+        let refracted =
+            LaneVec3::select(self.frame.transmits(wi) & bsdf.gt(L::ZERO) & through, refracted, LaneVec3::ZERO);
+        let value = LaneVec3::select(self.frame.reflects(wi), reflected, refracted);
+        LaneVec3::select(self.inactive() | o.z.le(L::ZERO), LaneVec3::ZERO, value)
+    }
+
+    #[inline(always)]
+    pub fn pdf(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> L {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        let h = (o + i).normalize();
+        let p = self.choice(self.fresnel(o.dot(h)));
+        let glossy = p.reflection * self.microfacet.reflection_pdf(o, i);
+        let front = glossy + p.diffuse * i.z / L::splat(PI);
+        let front = front + p.clearcoat * Gtr1 { alpha: self.clearcoat_alpha }.pdf(h) / (L::splat(4.0) * i.dot(h));
+        let reflected = L::select(self.frame.outside, front, glossy);
+        let eta = L::ONE / self.eta_path();
+        let (h, through) = refraction_half_vector(o, i, eta);
+        let refracted = self.choice(self.fresnel(o.dot(h))).transmission * self.microfacet.transmission_pdf(o, i, eta);
+        let refracted = L::select(self.frame.transmits(wi) & through, refracted, L::ZERO);
+        let pdf = L::select(self.frame.reflects(wi), reflected, refracted);
+        L::select(self.inactive() | o.z.le(L::ZERO), L::ZERO, pdf)
+    }
+
+    /// The diffuse lobe, the clearcoat or the main lobe by `u_lobe`; the main lobe's visible
+    /// micro-normal then reflects or refracts by the rest of `u_lobe` against its Fresnel
+    /// term. A microfacet's reflection below the surface (or refraction above it) is lost
+    /// light, not a sample of another lobe.
+    #[inline(always)]
+    pub fn sample(&self, wo: LaneVec3<L>, u_lobe: L, u1: L, u2: L) -> LaneBsdfSample<L> {
+        let o = self.frame.to_local(wo);
+        // The lobe-independent part of the choice (any Fresnel value gives the same sums).
+        let p = self.choice(L::ZERO);
+        let diffuse = u_lobe.lt(p.diffuse);
+        let clearcoat = !diffuse & u_lobe.lt(p.diffuse + p.clearcoat);
+        let h = self.microfacet.sample_normal(o, u1, u2);
+        let specular = L::ONE - p.diffuse - p.clearcoat;
+        let at = self.choice(self.fresnel(o.dot(h)));
+        // The rest of `u_lobe` splits the specular share by this micro-normal's Fresnel.
+        let mirrored = (u_lobe - p.diffuse - p.clearcoat).lt(at.reflection.min(specular));
+        let (refracted, refracts) = lanes::refract(-o, h, L::ONE / self.eta_path());
+        let glossy = LaneVec3::select(mirrored, lanes::reflect(-o, h), refracted);
+        let coat = lanes::reflect(-o, Gtr1 { alpha: self.clearcoat_alpha }.sample(u1, u2));
+        let local = LaneVec3::select(
+            diffuse,
+            square_to_cosine_hemisphere_lanes(u1, u2),
+            LaneVec3::select(clearcoat, coat, glossy),
+        );
+        let reflected = diffuse | clearcoat | mirrored;
+        let wi = self.frame.to_world(local);
+        let transmits = self.frame.transmits(wi);
+        let kept = (reflected & self.frame.reflects(wi)) | (!reflected & refracts & transmits);
+        let valid = !(self.inactive() | o.z.le(L::ZERO)) & kept;
+        let eta_path = self.eta_path();
+        let eta_squared = L::select(transmits, eta_path * eta_path, L::ONE);
+        LaneBsdfSample::weighed(wi, self.eval(wo, wi), self.pdf(wo, wi), valid, eta_squared)
+    }
+}
+
+impl PrincipledBsdf {
+    /// The lobe as its one body reads it.
+    #[inline(always)]
+    fn lanes(&self) -> PrincipledLanes<f32> {
+        PrincipledLanes::gather(LaneFrame::from(&self.frame), |_| &self.point)
     }
 }
 
 impl Lobes for PrincipledBsdf {
     fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        if self.inactive() || o.z <= 0.0 {
-            return Rgb::ZERO;
-        }
-        if self.frame.reflects(wi) {
-            let h = (o + i).normalize();
-            let f = self.fresnel(o.dot(h));
-            let mut value = self.principled_fresnel(f, o.dot(h)) * self.microfacet.reflection_eval(o, i);
-            if self.frame.outside {
-                value += self.diffuse_and_sheen(o, i, h) + Rgb::splat(self.clearcoat_value(o, i, h));
-            }
-            return value;
-        }
-        let bsdf = self.bsdf_weight();
-        if !self.frame.transmits(wi) || bsdf <= 0.0 {
-            return Rgb::ZERO;
-        }
-        let eta = 1.0 / self.eta_path();
-        let Some(h) = Microfacet::refraction_half_vector(o, i, eta) else { return Rgb::ZERO };
-        let f = self.fresnel(o.dot(h));
-        self.base.max(Rgb::ZERO).powf(0.5) * (bsdf * (1.0 - f) * self.microfacet.transmission_eval(o, i, eta))
+        self.lanes().eval(wo.into(), wi.into()).into()
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        if self.inactive() || o.z <= 0.0 {
-            return 0.0;
-        }
-        if self.frame.reflects(wi) {
-            let h = (o + i).normalize();
-            let p = self.choice(self.fresnel(o.dot(h)));
-            let mut pdf = p.reflection * self.microfacet.reflection_pdf(o, i);
-            if self.frame.outside {
-                pdf += p.diffuse * i.z / PI;
-                pdf += p.clearcoat * Gtr1 { alpha: self.clearcoat_alpha }.pdf(h) / (4.0 * i.dot(h));
-            }
-            return pdf;
-        }
-        if !self.frame.transmits(wi) {
-            return 0.0;
-        }
-        let eta = 1.0 / self.eta_path();
-        let Some(h) = Microfacet::refraction_half_vector(o, i, eta) else { return 0.0 };
-        self.choice(self.fresnel(o.dot(h))).transmission * self.microfacet.transmission_pdf(o, i, eta)
+        self.lanes().pdf(wo.into(), wi.into())
     }
 
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        let o = self.frame.to_local(wo);
-        if self.inactive() || o.z <= 0.0 {
-            return None;
-        }
-        // The lobe-independent part of the choice (any Fresnel value gives the same sums).
-        let p = self.choice(0.0);
-        let (local, reflected) = if u_lobe < p.diffuse {
-            (square_to_cosine_hemisphere(u), true)
-        } else if u_lobe < p.diffuse + p.clearcoat {
-            (reflect(-o, Gtr1 { alpha: self.clearcoat_alpha }.sample(u)), true)
-        } else {
-            let h = self.microfacet.sample_normal(o, u);
-            let specular = 1.0 - p.diffuse - p.clearcoat;
-            let at = self.choice(self.fresnel(o.dot(h)));
-            // The rest of `u_lobe` splits the specular share by this micro-normal's Fresnel.
-            if u_lobe - p.diffuse - p.clearcoat < at.reflection.min(specular) {
-                (reflect(-o, h), true)
-            } else {
-                (refract(-o, h, 1.0 / self.eta_path())?, false)
-            }
-        };
-        let wi = self.frame.to_world(local);
-        // A microfacet's reflection below the surface (or refraction above it) is lost light,
-        // not a sample of another lobe.
-        if reflected && !self.frame.reflects(wi) || !reflected && !self.frame.transmits(wi) {
-            return None;
-        }
-        let eta_squared = if self.frame.transmits(wi) { self.eta_path() * self.eta_path() } else { 1.0 };
-        self.weighed(wo, wi, eta_squared)
+        self.lanes().sample(wo.into(), u_lobe, u.x, u.y).scalar()
     }
 
     fn non_delta_probability(&self) -> f32 {
-        if self.inactive() {
+        if self.lanes().inactive() {
             0.0
         } else {
             1.0
@@ -649,7 +742,8 @@ mod tests {
     #[test]
     fn gtr1_is_normalised_and_sampled_by_its_pdf() {
         for alpha in [0.1f32, 0.01, 0.001] {
-            let d = Gtr1 { alpha };
+            let gtr1 = Gtr1 { alpha };
+            let d = (|h: Vec3| gtr1.pdf(h.into()), |u: Vec2| -> Vec3 { gtr1.sample(u.x, u.y).into() });
             // Quadrature in z = cos θ_h, fine enough near z = 1 for the peak: substitute
             // z = 1 − s³, so the nodes crowd toward the pole.
             let n = 400_000;
@@ -658,7 +752,7 @@ mod tests {
                 let s = (k as f64 + 0.5) / n as f64;
                 let z = 1.0 - s * s * s;
                 let dz = 3.0 * s * s / n as f64;
-                let w = (d.pdf(Vec3::new((1.0 - z * z).max(0.0).sqrt() as f32, 0.0, z as f32)) as f64)
+                let w = ((d.0)(Vec3::new((1.0 - z * z).max(0.0).sqrt() as f32, 0.0, z as f32)) as f64)
                     * 2.0
                     * std::f64::consts::PI
                     * dz;
@@ -670,7 +764,7 @@ mod tests {
             let samples = 200_000;
             let (mut sum, mut sum2) = (0.0f64, 0.0f64);
             for _ in 0..samples {
-                let z = d.sample(Vec2::new(rng.next_f32(), rng.next_f32())).z as f64;
+                let z = (d.1)(Vec2::new(rng.next_f32(), rng.next_f32())).z as f64;
                 sum += z;
                 sum2 += z * z;
             }
@@ -679,8 +773,8 @@ mod tests {
             assert!((sampled - mean).abs() < 5.0 * error + 1e-5, "alpha {alpha}: {sampled} vs {mean}");
             if alpha >= 0.1 {
                 let r = crate::sampling::chi2::chi2_test_with_resolution(
-                    |u| Some(d.sample(u)),
-                    |w| d.pdf(w) as f64,
+                    |u| Some((d.1)(u)),
+                    |w| (d.0)(w) as f64,
                     300_000,
                     21,
                     41,

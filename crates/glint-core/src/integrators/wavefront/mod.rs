@@ -34,8 +34,8 @@ use crate::lanes::{Lanes, Vec3x8, LANES};
 use crate::lights::{area_to_solid_angle_lanes, TriangleEmitter, TriangleSampling};
 use crate::materials::{
     luminance, tangent_along_lanes, Coat, CoatTables, CoatTransmittance, ConductorLanes, DielectricLanes, DiffuseLanes,
-    Distribution, LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes, RoughConductorLanes,
-    RoughDielectricLanes, RoughPlasticLanes,
+    Distribution, LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes, PrincipledLanes, PrincipledPoint,
+    RoughConductorLanes, RoughDielectricLanes, RoughPlasticLanes,
 };
 use crate::sampling::Sampler;
 use crate::scene::{PrimitiveHit, Scene, Spawn, SHADOW_EPSILON};
@@ -75,13 +75,15 @@ enum LaneKind {
     Conductor,
     /// Smooth glass (`DielectricLanes`).
     Dielectric,
+    /// Disney's principled BSDF as Mitsuba defines it (`PrincipledLanes`).
+    Principled,
     /// Anything else: the scalar code's bounce.
     Scalar,
 }
 
 impl LaneKind {
     /// The kinds of the lanes' own bounces, in the order a round takes them.
-    const IN_LANES: [LaneKind; 9] = [
+    const IN_LANES: [LaneKind; 10] = [
         LaneKind::Lambert,
         LaneKind::RoughConductor(Distribution::Ggx),
         LaneKind::RoughConductor(Distribution::Beckmann),
@@ -91,6 +93,7 @@ impl LaneKind {
         LaneKind::RoughDielectric(Distribution::Beckmann),
         LaneKind::Conductor,
         LaneKind::Dielectric,
+        LaneKind::Principled,
     ];
 
     fn of(material: &Material) -> Self {
@@ -101,6 +104,7 @@ impl LaneKind {
             Material::RoughDielectric(m) => LaneKind::RoughDielectric(m.distribution),
             Material::Conductor(_) => LaneKind::Conductor,
             Material::Dielectric(_) => LaneKind::Dielectric,
+            Material::Principled(_) => LaneKind::Principled,
             // A map over a material of a lane kind: the lanes tilt its frame (one map: a map
             // inside a map keeps the inner one's shadowing).
             Material::NormalMap(_) | Material::BumpMap(_) => {
@@ -126,6 +130,7 @@ impl LaneKind {
             LaneKind::RoughDielectric(Distribution::Beckmann) => 6,
             LaneKind::Conductor => 7,
             LaneKind::Dielectric => 8,
+            LaneKind::Principled => 9,
         }
     }
 
@@ -173,6 +178,11 @@ enum LaneLobe<'s> {
         eta: f32,
         reflectance: Rgb,
         transmittance: Rgb,
+    },
+    /// The parameters at the point, and ∂p/∂u (where the widths differ).
+    Principled {
+        point: PrincipledPoint,
+        dpdu: Vec3,
     },
     /// The coat's colours and index (`Coat`), its width and transmittance table.
     RoughPlastic {
@@ -245,6 +255,11 @@ impl<'s> LaneMaterial<'s> {
                 let lobe = LaneLobe::RoughDielectric { alpha_u, alpha_v, eta, reflectance, transmittance, dpdu };
                 Self { lobe, reflects: true, one_sided: false, emission, two_sided }
             }
+            Material::Principled(m) => {
+                let lobe = LaneLobe::Principled { point: m.point(query), dpdu: query.dpdu };
+                // From behind without transmission the lobe is black (`PrincipledLanes::inactive`).
+                Self { lobe, reflects: true, one_sided: false, emission, two_sided }
+            }
             Material::RoughPlastic(m) => {
                 let (coat, tables) = m.coat_at(query);
                 // `Microfacet::separable`'s floor on the width, as the scalar lobe has it.
@@ -284,6 +299,24 @@ impl<'s> LaneMaterial<'s> {
             }
             (LaneKind::RoughPlastic(_), Material::RoughPlastic(m)) => {
                 let fixed = constant(&m.plastic.diffuse) && constant(&m.plastic.specular);
+                fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
+            }
+            (LaneKind::Principled, Material::Principled(m)) => {
+                // Isotropic too: the flat surfaces' frames do not turn to ∂p/∂u.
+                let textures = [
+                    &m.base_color,
+                    &m.roughness,
+                    &m.anisotropic,
+                    &m.metallic,
+                    &m.spec_trans,
+                    &m.spec_tint,
+                    &m.sheen,
+                    &m.sheen_tint,
+                    &m.flatness,
+                    &m.clearcoat,
+                    &m.clearcoat_gloss,
+                ];
+                let fixed = textures.into_iter().all(constant) && m.anisotropic == Texture::Constant(Rgb::ZERO);
                 fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
             }
             _ => {
@@ -951,6 +984,7 @@ enum ChunkBsdf<'s> {
     RoughConductor(RoughConductorLanes<f32x8>),
     RoughPlastic(RoughPlasticLanes<f32x8, [&'s CoatTables; LANES]>),
     RoughDielectric(RoughDielectricLanes<f32x8>),
+    Principled(PrincipledLanes<f32x8>),
     Conductor(ConductorLanes<f32x8>),
     Dielectric(DielectricLanes<f32x8>),
 }
@@ -977,6 +1011,7 @@ impl<'s> ChunkBsdf<'s> {
             LaneKind::RoughDielectric(distribution) => {
                 return ChunkBsdf::RoughDielectric(Self::rough_dielectric(distribution, material, frame))
             }
+            LaneKind::Principled => return ChunkBsdf::Principled(Self::principled(material, frame)),
             LaneKind::Conductor => {
                 let lobe: [_; LANES] = std::array::from_fn(|k| match material[k].lobe {
                     LaneLobe::Conductor { eta, k, specular } => (eta, k, specular),
@@ -1059,6 +1094,23 @@ impl<'s> ChunkBsdf<'s> {
         }
     }
 
+    /// The principled BSDF of the lanes (`Principled::bsdf`): the frame turned to ∂p/∂u where
+    /// the widths differ.
+    #[inline(always)]
+    fn principled(material: &[&LaneMaterial<'s>; LANES], frame: &LaneFrame<f32x8>) -> PrincipledLanes<f32x8> {
+        // Lane 0 is always a path of this kind: lanes of another read its point.
+        let LaneLobe::Principled { point: first, .. } = material[0].lobe else {
+            unreachable!("a principled bounce starts with a principled surface")
+        };
+        let lobe: [(&PrincipledPoint, Vec3); LANES] = std::array::from_fn(|k| match &material[k].lobe {
+            LaneLobe::Principled { point, dpdu } => (point, *dpdu),
+            _ => (&first, Vec3::ZERO),
+        });
+        let (alpha_x, alpha_y) = (per_lane(|k| lobe[k].0.alpha_x), per_lane(|k| lobe[k].0.alpha_y));
+        let frame = along_where_anisotropic(frame, alpha_x, alpha_y, || Vec3x8::from_fn(|k| lobe[k].1));
+        PrincipledLanes::gather(frame, |k| lobe[k].0)
+    }
+
     /// The rough plastic of the lanes (`RoughPlastic::bsdf`): the coat's transmittance toward
     /// the viewer and the probability of its reflection, lane by lane from the tables.
     #[inline(always)]
@@ -1109,6 +1161,7 @@ impl<'s> ChunkBsdf<'s> {
             ChunkBsdf::RoughConductor(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             ChunkBsdf::RoughPlastic(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             ChunkBsdf::RoughDielectric(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
+            ChunkBsdf::Principled(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             // Delta lobes alone: no light is sampled at them.
             ChunkBsdf::Conductor(_) | ChunkBsdf::Dielectric(_) => (Vec3x8::ZERO, f32x8::ZERO),
         }
@@ -1131,6 +1184,7 @@ impl<'s> ChunkBsdf<'s> {
             ChunkBsdf::RoughConductor(lobe) => lobe.sample(wo, u1, u2),
             ChunkBsdf::RoughPlastic(lobe) => lobe.sample(wo, u_lobe, u1, u2),
             ChunkBsdf::RoughDielectric(lobe) => lobe.sample(wo, u_lobe, u1, u2),
+            ChunkBsdf::Principled(lobe) => lobe.sample(wo, u_lobe, u1, u2),
             ChunkBsdf::Conductor(lobe) => lobe.sample(wo),
             ChunkBsdf::Dielectric(lobe) => lobe.sample(wo, u_lobe),
         }
