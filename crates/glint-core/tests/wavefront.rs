@@ -515,6 +515,76 @@ fn the_wavefront_shades_the_principled_bsdf_in_lanes() {
     }
 }
 
+/// The thin principled sheet shaded in the lanes (`PrincipledThinLanes`): a constant leaf-like
+/// wall among triangles and spheres (seen from both sides: a sheet has no inside) of a glossy
+/// transmitting sheet, a brushed tinted one and a textured one; at depth limits too.
+#[test]
+fn the_wavefront_shades_the_thin_principled_bsdf_in_lanes() {
+    use glint_core::materials::PrincipledThin;
+    let grey = |v: f32| Texture::Constant(Rgb::splat(v));
+    let checker = |a: Rgb, b: Rgb| Texture::Checker(Box::new(Checker::new(a, b, Vec2::splat(4.0))));
+    let thin = |p: PrincipledThin| Material::PrincipledThin(Box::new(p));
+    let wall = room_where(|_, materials| {
+        materials[2] = thin(PrincipledThin {
+            base_color: Texture::Constant(Rgb::new(0.2, 0.6, 0.1)),
+            roughness: grey(0.4),
+            spec_trans: grey(0.3),
+            diff_trans: grey(0.8),
+            eta: grey(1.33),
+            sheen: grey(0.5),
+            flatness: grey(0.4),
+            ..PrincipledThin::default()
+        })
+    });
+    let spheres = room_where(|objects, materials| {
+        let centres = [Vec3::new(0.45, -0.65, 0.3), Vec3::new(-0.4, -0.6, 0.5), Vec3::new(0.1, 0.3, 0.6)];
+        let members = [
+            PrincipledThin {
+                base_color: Texture::Constant(Rgb::new(0.8, 0.9, 1.0)),
+                roughness: grey(0.2),
+                spec_trans: grey(0.8),
+                eta: grey(1.5),
+                ..PrincipledThin::default()
+            },
+            PrincipledThin {
+                base_color: Texture::Constant(Rgb::new(0.9, 0.6, 0.3)),
+                roughness: grey(0.5),
+                anisotropic: grey(0.6),
+                spec_trans: grey(0.5),
+                spec_tint: grey(0.7),
+                diff_trans: grey(0.4),
+                ..PrincipledThin::default()
+            },
+            PrincipledThin {
+                base_color: checker(Rgb::new(0.7, 0.2, 0.1), Rgb::splat(0.3)),
+                roughness: checker(Rgb::splat(0.2), Rgb::splat(0.7)),
+                diff_trans: checker(Rgb::ZERO, Rgb::splat(1.5)),
+                ..PrincipledThin::default()
+            },
+        ];
+        for (j, member) in members.into_iter().enumerate() {
+            materials.push(thin(member));
+            let id = materials.len() as u32 - 1;
+            objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
+        }
+    });
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
+    for (scene, what) in [(&wall, "a thin wall among triangles"), (&spheres, "thin spheres")] {
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in [(8, 0), (37, 6)] {
+                let lit = assert_same(scene, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+            }
+        }
+    }
+    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0)] {
+        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
+        for seed in 0..2 {
+            assert_same(&spheres, &tracer, SamplerKind::Sobol, seed, seed as u32);
+        }
+    }
+}
+
 /// Rough glass shaded in the lanes (`RoughDielectricLanes`): spheres of GGX and Beckmann glass,
 /// one anisotropic and textured, seen from outside and refracting from inside, a glass wall
 /// among the room's triangles; η² carried into the roulette from the first bounce.

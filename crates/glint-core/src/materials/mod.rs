@@ -54,6 +54,7 @@ pub use plastic::{fresnel_diffuse_reflectance, Plastic};
 pub use principled::Principled;
 pub(crate) use principled::{PrincipledLanes, PrincipledPoint};
 pub use principled_thin::{PrincipledThin, SamplingRates};
+pub(crate) use principled_thin::{PrincipledThinLanes, PrincipledThinPoint};
 pub use rough_conductor::RoughConductor;
 pub(crate) use rough_conductor::RoughConductorLanes;
 pub use rough_dielectric::RoughDielectric;

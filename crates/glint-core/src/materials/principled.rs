@@ -171,13 +171,8 @@ impl Principled {
 pub(super) const LUMINANCE: Rgb = Rgb::new(0.212671, 0.715160, 0.072169);
 
 /// The base colour's hue at luminance 1 (white where it is black): what the tints lean to.
-pub(super) fn tint(base: Rgb) -> Rgb {
-    tint_lanes(LaneVec3::<f32>::from(base)).into()
-}
-
-/// `tint` in lanes.
 #[inline(always)]
-fn tint_lanes<L: Lanes>(base: LaneVec3<L>) -> LaneVec3<L> {
+pub(super) fn tint_lanes<L: Lanes>(base: LaneVec3<L>) -> LaneVec3<L> {
     let lum = base.dot(LaneVec3::splat(LUMINANCE));
     LaneVec3::select(lum.gt(L::ZERO), base.divided_by(lum), LaneVec3::splat(Rgb::ONE))
 }
@@ -185,13 +180,14 @@ fn tint_lanes<L: Lanes>(base: LaneVec3<L>) -> LaneVec3<L> {
 /// Burley's diffuse with retro-reflection, leaning by `flatness` toward the Hanrahan–Krueger
 /// fake subsurface: the factor of base/π·cos θ_i for a reflection between `o` and `i` (local,
 /// both above) with half vector `h`.
-pub(super) fn burley_diffuse(o: Vec3, i: Vec3, h: Vec3, roughness: f32, flatness: f32) -> f32 {
-    burley_diffuse_lanes(o.into(), i.into(), h.into(), roughness, flatness)
-}
-
-/// `burley_diffuse` in lanes.
 #[inline(always)]
-fn burley_diffuse_lanes<L: Lanes>(o: LaneVec3<L>, i: LaneVec3<L>, h: LaneVec3<L>, roughness: L, flatness: L) -> L {
+pub(super) fn burley_diffuse_lanes<L: Lanes>(
+    o: LaneVec3<L>,
+    i: LaneVec3<L>,
+    h: LaneVec3<L>,
+    roughness: L,
+    flatness: L,
+) -> L {
     let c = L::splat;
     let (fo, fi) = (schlick_weight(o.z), schlick_weight(i.z));
     let cos_d = h.dot(i);
@@ -207,13 +203,8 @@ fn burley_diffuse_lanes<L: Lanes>(o: LaneVec3<L>, i: LaneVec3<L>, h: LaneVec3<L>
 
 /// The sheen's colour and Fresnel-like rise toward grazing, for a reflection whose half vector
 /// makes cosine `cos_d` with the light: the factor of sheen·cos θ_i.
-pub(super) fn sheen(base: Rgb, sheen_tint: f32, cos_d: f32) -> Rgb {
-    sheen_lanes(LaneVec3::<f32>::from(base), sheen_tint, cos_d).into()
-}
-
-/// `sheen` in lanes.
 #[inline(always)]
-fn sheen_lanes<L: Lanes>(base: LaneVec3<L>, sheen_tint: L, cos_d: L) -> LaneVec3<L> {
+pub(super) fn sheen_lanes<L: Lanes>(base: LaneVec3<L>, sheen_tint: L, cos_d: L) -> LaneVec3<L> {
     let one = LaneVec3::splat(Rgb::ONE);
     (one + (tint_lanes(base) - one) * sheen_tint) * schlick_weight(cos_d.abs())
 }
@@ -272,7 +263,7 @@ pub(super) fn schlick(r0: Rgb, cos_i: f32, eta: f32) -> Rgb {
 
 /// `schlick` in lanes.
 #[inline(always)]
-fn schlick_lanes<L: Lanes>(r0: LaneVec3<L>, cos_i: L, eta: L) -> LaneVec3<L> {
+pub(super) fn schlick_lanes<L: Lanes>(r0: LaneVec3<L>, cos_i: L, eta: L) -> LaneVec3<L> {
     let transmitted = (L::ONE - (L::ONE - cos_i * cos_i) / (eta * eta)).max(L::ZERO).sqrt();
     let cos = L::select(eta.gt(L::ONE), cos_i.abs(), transmitted);
     r0 + (LaneVec3::splat(Rgb::ONE) - r0) * schlick_weight(cos)

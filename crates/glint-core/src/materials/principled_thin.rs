@@ -39,11 +39,13 @@ use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
-use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
-use super::principled::{burley_diffuse, disney_microfacet, schlick, sheen, tint, LUMINANCE};
-use super::{fresnel_dielectric, Microfacet, PhongPoint};
-use crate::geometry::reflect;
-use crate::sampling::warp::square_to_cosine_hemisphere;
+use super::bsdf::{BsdfSample, Frame, LaneBsdfSample, LaneFrame, Leaf, Lobes};
+use super::microfacet::MicrofacetLanes;
+use super::phong::fresnel_dielectric_lanes;
+use super::principled::{burley_diffuse_lanes, disney_microfacet, schlick_lanes, sheen_lanes, tint_lanes, LUMINANCE};
+use super::{fresnel_dielectric, Distribution, PhongPoint};
+use crate::lanes::{self, LaneVec3, Lanes};
+use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
@@ -110,7 +112,8 @@ impl PrincipledThin {
         Leaf::PrincipledThin(self.evaluate(query, frame))
     }
 
-    fn evaluate(&self, query: &TextureQuery, frame: Frame) -> PrincipledThinBsdf {
+    /// Its parameters where the query is (its textures read there).
+    pub(crate) fn point(&self, query: &TextureQuery) -> PrincipledThinPoint {
         let scalar = |t: &Texture| t.evaluate(query).dot(LUMINANCE);
         let (roughness, anisotropic) = (scalar(&self.roughness), scalar(&self.anisotropic));
         let eta = scalar(&self.eta);
@@ -128,9 +131,7 @@ impl PrincipledThin {
         for p in &mut probabilities {
             *p /= total;
         }
-        PrincipledThinBsdf {
-            // Anisotropic widths lie along the surface's ∂p/∂u.
-            frame: if reflection.alpha_x != reflection.alpha_y { frame.along(query.dpdu) } else { frame },
+        PrincipledThinPoint {
             base: self.base_color.evaluate(query),
             roughness,
             spec_trans,
@@ -140,10 +141,17 @@ impl PrincipledThin {
             sheen: scalar(&self.sheen),
             sheen_tint: scalar(&self.sheen_tint),
             flatness: scalar(&self.flatness),
-            reflection,
-            transmission,
+            reflection: (reflection.alpha_x, reflection.alpha_y),
+            transmission: (transmission.alpha_x, transmission.alpha_y),
             probabilities,
         }
+    }
+
+    fn evaluate(&self, query: &TextureQuery, frame: Frame) -> PrincipledThinBsdf {
+        let point = self.point(query);
+        let (alpha_x, alpha_y) = point.reflection;
+        // Anisotropic widths lie along the surface's ∂p/∂u.
+        PrincipledThinBsdf { frame: if alpha_x != alpha_y { frame.along(query.dpdu) } else { frame }, point }
     }
 
     /// Whitted's view: the sheet's lobes in their smooth limit (Whitted traces no glossy
@@ -160,148 +168,216 @@ impl PrincipledThin {
     pub(super) fn whitted(&self, query: &TextureQuery, cos: f32) -> PhongPoint {
         // The frame only tells the evaluated BSDF which side the viewer is on: its own.
         let b = self.evaluate(query, Frame::new(Vec3::Z, Vec3::Z, Vec3::Z));
-        let (st, dt) = (b.spec_trans, b.diff_trans);
-        let f = fresnel_dielectric(cos, 1.0 / b.eta);
-        let (diffuse, translucency) = (b.base * ((1.0 - st) * (1.0 - dt)), b.base * ((1.0 - st) * dt));
+        let p = &b.point;
+        let (st, dt) = (p.spec_trans, p.diff_trans);
+        let f = fresnel_dielectric(cos, 1.0 / p.eta);
+        let (diffuse, translucency) = (p.base * ((1.0 - st) * (1.0 - dt)), p.base * ((1.0 - st) * dt));
+        let reflectance: Rgb = b.lanes().reflectance(cos).into();
         PhongPoint {
             ambient: diffuse + translucency,
             diffuse,
             translucency,
-            reflection: b.reflectance(cos) * st,
-            straight: b.base * (st * (1.0 - f)),
+            reflection: reflectance * st,
+            straight: p.base * (st * (1.0 - f)),
             ..PhongPoint::BLACK
         }
     }
 }
 
+/// The thin principled BSDF's parameters at a point: its textures read there.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PrincipledThinPoint {
+    pub base: Rgb,
+    pub roughness: f32,
+    pub spec_trans: f32,
+    /// Halved: in [0, 1].
+    pub diff_trans: f32,
+    pub eta: f32,
+    pub spec_tint: f32,
+    pub sheen: f32,
+    pub sheen_tint: f32,
+    pub flatness: f32,
+    /// The reflection's widths along ∂p/∂u and across it (`disney_microfacet`).
+    pub reflection: (f32, f32),
+    /// The reflection's widths scaled by (0.65η − 0.35).
+    pub transmission: (f32, f32),
+    /// Specular reflection, specular transmission, diffuse reflection, diffuse transmission.
+    pub probabilities: [f32; 4],
+}
+
 #[derive(Clone, Copy, Debug)]
 pub(super) struct PrincipledThinBsdf {
     frame: Frame,
-    base: Rgb,
-    roughness: f32,
-    spec_trans: f32,
-    /// Halved: in [0, 1].
-    diff_trans: f32,
-    eta: f32,
-    spec_tint: f32,
-    sheen: f32,
-    sheen_tint: f32,
-    flatness: f32,
-    reflection: Microfacet,
-    /// The reflection's widths scaled by (0.65η − 0.35).
-    transmission: Microfacet,
-    /// Specular reflection, specular transmission, diffuse reflection, diffuse transmission.
-    probabilities: [f32; 4],
+    point: PrincipledThinPoint,
 }
 
 /// `v` mirrored through the sheet's plane (local).
-fn through(v: Vec3) -> Vec3 {
-    Vec3::new(v.x, v.y, -v.z)
+#[inline(always)]
+fn through<L: Lanes>(v: LaneVec3<L>) -> LaneVec3<L> {
+    LaneVec3::new(v.x, v.y, v.z.negate())
 }
 
-impl PrincipledThinBsdf {
+/// The thin principled BSDF at a hit, in lanes: the one body of its `eval`, `pdf` and `sample`,
+/// which the scalar BSDF runs at one lane and the wavefront at eight. The scalar code's branches
+/// on the parameters are selects here.
+#[derive(Clone, Debug)]
+pub(crate) struct PrincipledThinLanes<L: Lanes> {
+    pub frame: LaneFrame<L>,
+    pub base: LaneVec3<L>,
+    pub roughness: L,
+    pub spec_trans: L,
+    pub diff_trans: L,
+    pub eta: L,
+    pub spec_tint: L,
+    pub sheen: L,
+    pub sheen_tint: L,
+    pub flatness: L,
+    pub reflection: MicrofacetLanes<L>,
+    pub transmission: MicrofacetLanes<L>,
+    pub probabilities: [L; 4],
+}
+
+impl<L: Lanes> PrincipledThinLanes<L> {
+    /// The lanes' BSDF from their points (`point(k)` for lane k) in `frame` (already turned to
+    /// ∂p/∂u where the widths differ).
+    #[inline(always)]
+    pub fn gather<'p>(frame: LaneFrame<L>, point: impl Fn(usize) -> &'p PrincipledThinPoint) -> Self {
+        let each = |f: &dyn Fn(&PrincipledThinPoint) -> f32| L::from_fn(|k| f(point(k)));
+        let ggx = |widths: fn(&PrincipledThinPoint) -> (f32, f32)| MicrofacetLanes {
+            alpha_x: each(&|p| widths(p).0),
+            alpha_y: each(&|p| widths(p).1),
+            separable: true,
+            distribution: Distribution::Ggx,
+        };
+        Self {
+            frame,
+            base: LaneVec3::gather(|k| point(k).base),
+            roughness: each(&|p| p.roughness),
+            spec_trans: each(&|p| p.spec_trans),
+            diff_trans: each(&|p| p.diff_trans),
+            eta: each(&|p| p.eta),
+            spec_tint: each(&|p| p.spec_tint),
+            sheen: each(&|p| p.sheen),
+            sheen_tint: each(&|p| p.sheen_tint),
+            flatness: each(&|p| p.flatness),
+            reflection: ggx(|p| p.reflection),
+            transmission: ggx(|p| p.transmission),
+            probabilities: [0, 1, 2, 3].map(|j| each(&|p| p.probabilities[j])),
+        }
+    }
+
     /// The dielectric Fresnel reflectance at a micro-normal seen at cosine `cos`, leaning by
     /// `spec_tint` toward Schlick's tinted by the base colour.
-    fn reflectance(&self, cos: f32) -> Rgb {
-        let f = fresnel_dielectric(cos, 1.0 / self.eta);
-        if self.spec_tint == 0.0 {
-            return Rgb::splat(f);
-        }
-        let r0 = ((self.eta - 1.0) / (self.eta + 1.0)).powi(2);
-        let tinted = schlick(tint(self.base) * r0, cos, self.eta);
-        Rgb::splat(f) + (tinted - Rgb::splat(f)) * self.spec_tint
+    #[inline(always)]
+    pub fn reflectance(&self, cos: L) -> LaneVec3<L> {
+        let f = fresnel_dielectric_lanes(cos, L::ONE / self.eta);
+        let plain = LaneVec3::new(f, f, f);
+        let r0 = (self.eta - L::ONE) / (self.eta + L::ONE);
+        let tinted = schlick_lanes(tint_lanes(self.base) * (r0 * r0), cos, self.eta);
+        LaneVec3::select(self.spec_tint.eq(L::ZERO), plain, plain + (tinted - plain) * self.spec_tint)
     }
 
     /// The half vector of a transmission to `i` (below): that of the reflection `i` mirrors,
-    /// where the transmitted direction still sees its microfacet from behind (Mitsuba's
-    /// macro–micro compatibility); `None` elsewhere.
-    fn transmission_half_vector(o: Vec3, i: Vec3) -> Option<Vec3> {
-        let h = (o + through(i)).try_normalize()?;
-        (o.dot(h) > 0.0 && i.dot(h) < 0.0).then_some(h)
+    /// and the lanes where the transmitted direction still sees its microfacet from behind
+    /// (Mitsuba's macro–micro compatibility).
+    #[inline(always)]
+    fn transmission_half_vector(o: LaneVec3<L>, i: LaneVec3<L>) -> (LaneVec3<L>, L::Mask) {
+        let (h, normalized) = (o + through(i)).try_normalize();
+        (h, normalized & o.dot(h).gt(L::ZERO) & i.dot(h).lt(L::ZERO))
+    }
+
+    #[inline(always)]
+    pub fn eval(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> LaneVec3<L> {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        let (st, dt) = (self.spec_trans, self.diff_trans);
+        let pi = L::splat(PI);
+        // Reflection: the glossy lobe, then the diffuse one and the sheen.
+        let h = (o + i).normalize();
+        let glossy = self.reflectance(o.dot(h)) * (st * self.reflection.reflection_eval(o, i));
+        let reflected = LaneVec3::select(st.gt(L::ZERO), LaneVec3::ZERO + glossy, LaneVec3::ZERO);
+        let diffuse = self.base * (i.z / pi * burley_diffuse_lanes(o, i, h, self.roughness, self.flatness));
+        let sheen = sheen_lanes(self.base, self.sheen_tint, h.dot(i)) * (self.sheen * i.z);
+        let diffuse = (diffuse + sheen) * ((L::ONE - st) * (L::ONE - dt));
+        let reflected = LaneVec3::select(st.lt(L::ONE) & dt.lt(L::ONE), reflected + diffuse, reflected);
+        // Transmission: the glossy lobe through the sheet, then Lambert's.
+        let (h, seen) = Self::transmission_half_vector(o, i);
+        let f = fresnel_dielectric_lanes(o.dot(h), L::ONE / self.eta);
+        let glossy = self.base * (st * (L::ONE - f) * self.transmission.reflection_eval(o, through(i)));
+        let transmitted = LaneVec3::select(st.gt(L::ZERO) & seen, LaneVec3::ZERO + glossy, LaneVec3::ZERO);
+        let lambert = self.base * ((L::ONE - st) * dt * i.z.negate() / pi);
+        let transmitted = LaneVec3::select(st.lt(L::ONE) & dt.gt(L::ZERO), transmitted + lambert, transmitted);
+        let value = LaneVec3::select(
+            self.frame.reflects(wi),
+            reflected,
+            LaneVec3::select(self.frame.transmits(wi), transmitted, LaneVec3::ZERO),
+        );
+        LaneVec3::select(o.z.le(L::ZERO), LaneVec3::ZERO, value)
+    }
+
+    #[inline(always)]
+    pub fn pdf(&self, wo: LaneVec3<L>, wi: LaneVec3<L>) -> L {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        let [specular_reflection, specular_transmission, diffuse_reflection, diffuse_transmission] = self.probabilities;
+        let pi = L::splat(PI);
+        let glossy = L::select(specular_reflection.gt(L::ZERO), self.reflection.reflection_pdf(o, i), L::ZERO);
+        let reflected = specular_reflection * glossy + diffuse_reflection * i.z / pi;
+        let (_, seen) = Self::transmission_half_vector(o, i);
+        let glossy = self.transmission.reflection_pdf(o, through(i));
+        let glossy = L::select(seen & specular_transmission.gt(L::ZERO), glossy, L::ZERO);
+        let transmitted = specular_transmission * glossy + diffuse_transmission * i.z.negate() / pi;
+        let pdf =
+            L::select(self.frame.reflects(wi), reflected, L::select(self.frame.transmits(wi), transmitted, L::ZERO));
+        L::select(o.z.le(L::ZERO), L::ZERO, pdf)
+    }
+
+    /// One of the four lobes by `u_lobe` (Mitsuba's probabilities), the glossy ones by visible
+    /// normals; a microfacet sample on the wrong side is lost light, not another lobe's.
+    #[inline(always)]
+    pub fn sample(&self, wo: LaneVec3<L>, u_lobe: L, u1: L, u2: L) -> LaneBsdfSample<L> {
+        let o = self.frame.to_local(wo);
+        let [specular_reflection, specular_transmission, diffuse_reflection, _] = self.probabilities;
+        let mirrored = u_lobe.lt(specular_reflection);
+        let through_sheet = !mirrored & u_lobe.lt(specular_reflection + specular_transmission);
+        let diffused =
+            !mirrored & !through_sheet & u_lobe.lt(specular_reflection + specular_transmission + diffuse_reflection);
+        let reflected = lanes::reflect(-o, self.reflection.sample_normal(o, u1, u2));
+        let h = self.transmission.sample_normal(o, u1, u2);
+        let transmitted = through(lanes::reflect(-o, h));
+        let transmitted_lost = transmitted.z.ge(L::ZERO) | transmitted.dot(h).ge(L::ZERO) | o.dot(h).le(L::ZERO);
+        let cosine = square_to_cosine_hemisphere_lanes(u1, u2);
+        let local = LaneVec3::select(
+            mirrored,
+            reflected,
+            LaneVec3::select(through_sheet, transmitted, LaneVec3::select(diffused, cosine, through(cosine))),
+        );
+        let lost = (mirrored & reflected.z.le(L::ZERO)) | (through_sheet & transmitted_lost);
+        let wi = self.frame.to_world(local);
+        let wrong_side =
+            (local.z.gt(L::ZERO) & !self.frame.reflects(wi)) | (local.z.lt(L::ZERO) & !self.frame.transmits(wi));
+        let valid = o.z.gt(L::ZERO) & !lost & !wrong_side;
+        LaneBsdfSample::weighed(wi, self.eval(wo, wi), self.pdf(wo, wi), valid, L::ONE)
+    }
+}
+
+impl PrincipledThinBsdf {
+    /// The lobe as its one body reads it.
+    #[inline(always)]
+    fn lanes(&self) -> PrincipledThinLanes<f32> {
+        PrincipledThinLanes::gather(LaneFrame::from(&self.frame), |_| &self.point)
     }
 }
 
 impl Lobes for PrincipledThinBsdf {
     fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        if o.z <= 0.0 {
-            return Rgb::ZERO;
-        }
-        let (st, dt) = (self.spec_trans, self.diff_trans);
-        let mut value = Rgb::ZERO;
-        if self.frame.reflects(wi) {
-            let h = (o + i).normalize();
-            if st > 0.0 {
-                value += self.reflectance(o.dot(h)) * (st * self.reflection.reflection_eval(o, i));
-            }
-            if st < 1.0 && dt < 1.0 {
-                let diffuse = self.base * (i.z / PI * burley_diffuse(o, i, h, self.roughness, self.flatness));
-                let sheen = sheen(self.base, self.sheen_tint, h.dot(i)) * (self.sheen * i.z);
-                value += (diffuse + sheen) * ((1.0 - st) * (1.0 - dt));
-            }
-        } else if self.frame.transmits(wi) {
-            if st > 0.0 {
-                if let Some(h) = Self::transmission_half_vector(o, i) {
-                    let f = fresnel_dielectric(o.dot(h), 1.0 / self.eta);
-                    value += self.base * (st * (1.0 - f) * self.transmission.reflection_eval(o, through(i)));
-                }
-            }
-            if st < 1.0 && dt > 0.0 {
-                value += self.base * ((1.0 - st) * dt * -i.z / PI);
-            }
-        }
-        value
+        self.lanes().eval(wo.into(), wi.into()).into()
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        if o.z <= 0.0 {
-            return 0.0;
-        }
-        let [specular_reflection, specular_transmission, diffuse_reflection, diffuse_transmission] = self.probabilities;
-        if self.frame.reflects(wi) {
-            let glossy = if specular_reflection > 0.0 { self.reflection.reflection_pdf(o, i) } else { 0.0 };
-            return specular_reflection * glossy + diffuse_reflection * i.z / PI;
-        }
-        if self.frame.transmits(wi) {
-            let glossy = match Self::transmission_half_vector(o, i) {
-                Some(_) if specular_transmission > 0.0 => self.transmission.reflection_pdf(o, through(i)),
-                _ => 0.0,
-            };
-            return specular_transmission * glossy + diffuse_transmission * -i.z / PI;
-        }
-        0.0
+        self.lanes().pdf(wo.into(), wi.into())
     }
 
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        let o = self.frame.to_local(wo);
-        if o.z <= 0.0 {
-            return None;
-        }
-        let [specular_reflection, specular_transmission, diffuse_reflection, _] = self.probabilities;
-        let local = if u_lobe < specular_reflection {
-            let i = reflect(-o, self.reflection.sample_normal(o, u));
-            if i.z <= 0.0 {
-                return None;
-            }
-            i
-        } else if u_lobe < specular_reflection + specular_transmission {
-            let h = self.transmission.sample_normal(o, u);
-            let i = through(reflect(-o, h));
-            if i.z >= 0.0 || i.dot(h) >= 0.0 || o.dot(h) <= 0.0 {
-                return None;
-            }
-            i
-        } else if u_lobe < specular_reflection + specular_transmission + diffuse_reflection {
-            square_to_cosine_hemisphere(u)
-        } else {
-            through(square_to_cosine_hemisphere(u))
-        };
-        let wi = self.frame.to_world(local);
-        if local.z > 0.0 && !self.frame.reflects(wi) || local.z < 0.0 && !self.frame.transmits(wi) {
-            return None;
-        }
-        self.weighed(wo, wi, 1.0)
+        self.lanes().sample(wo.into(), u_lobe, u.x, u.y).scalar()
     }
 
     fn non_delta_probability(&self) -> f32 {
@@ -319,6 +395,10 @@ impl Lobes for PrincipledThinBsdf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn through(v: Vec3) -> Vec3 {
+        Vec3::new(v.x, v.y, -v.z)
+    }
     use crate::materials::testing::{at, check_sampling, check_whitted, check_whitted_local, frame_toward, furnace};
 
     /// A leaf with every lobe, a brushed sheet (anisotropic, tinted, skewed sampling rates),

@@ -35,7 +35,7 @@ use crate::lights::{area_to_solid_angle_lanes, TriangleEmitter, TriangleSampling
 use crate::materials::{
     luminance, tangent_along_lanes, Coat, CoatTables, CoatTransmittance, ConductorLanes, DielectricLanes, DiffuseLanes,
     Distribution, LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes, PrincipledLanes, PrincipledPoint,
-    RoughConductorLanes, RoughDielectricLanes, RoughPlasticLanes,
+    PrincipledThinLanes, PrincipledThinPoint, RoughConductorLanes, RoughDielectricLanes, RoughPlasticLanes,
 };
 use crate::sampling::Sampler;
 use crate::scene::{PrimitiveHit, Scene, Spawn, SHADOW_EPSILON};
@@ -77,13 +77,15 @@ enum LaneKind {
     Dielectric,
     /// Disney's principled BSDF as Mitsuba defines it (`PrincipledLanes`).
     Principled,
+    /// Its thin sheet (`PrincipledThinLanes`).
+    PrincipledThin,
     /// Anything else: the scalar code's bounce.
     Scalar,
 }
 
 impl LaneKind {
     /// The kinds of the lanes' own bounces, in the order a round takes them.
-    const IN_LANES: [LaneKind; 10] = [
+    const IN_LANES: [LaneKind; 11] = [
         LaneKind::Lambert,
         LaneKind::RoughConductor(Distribution::Ggx),
         LaneKind::RoughConductor(Distribution::Beckmann),
@@ -94,6 +96,7 @@ impl LaneKind {
         LaneKind::Conductor,
         LaneKind::Dielectric,
         LaneKind::Principled,
+        LaneKind::PrincipledThin,
     ];
 
     fn of(material: &Material) -> Self {
@@ -105,6 +108,7 @@ impl LaneKind {
             Material::Conductor(_) => LaneKind::Conductor,
             Material::Dielectric(_) => LaneKind::Dielectric,
             Material::Principled(_) => LaneKind::Principled,
+            Material::PrincipledThin(_) => LaneKind::PrincipledThin,
             // A map over a material of a lane kind: the lanes tilt its frame (one map: a map
             // inside a map keeps the inner one's shadowing).
             Material::NormalMap(_) | Material::BumpMap(_) => {
@@ -131,6 +135,7 @@ impl LaneKind {
             LaneKind::Conductor => 7,
             LaneKind::Dielectric => 8,
             LaneKind::Principled => 9,
+            LaneKind::PrincipledThin => 10,
         }
     }
 
@@ -182,6 +187,11 @@ enum LaneLobe<'s> {
     /// The parameters at the point, and ∂p/∂u (where the widths differ).
     Principled {
         point: PrincipledPoint,
+        dpdu: Vec3,
+    },
+    /// The thin sheet's parameters at the point, and ∂p/∂u (where the widths differ).
+    PrincipledThin {
+        point: PrincipledThinPoint,
         dpdu: Vec3,
     },
     /// The coat's colours and index (`Coat`), its width and transmittance table.
@@ -260,6 +270,10 @@ impl<'s> LaneMaterial<'s> {
                 // From behind without transmission the lobe is black (`PrincipledLanes::inactive`).
                 Self { lobe, reflects: true, one_sided: false, emission, two_sided }
             }
+            Material::PrincipledThin(m) => {
+                let lobe = LaneLobe::PrincipledThin { point: m.point(query), dpdu: query.dpdu };
+                Self { lobe, reflects: true, one_sided: false, emission, two_sided }
+            }
             Material::RoughPlastic(m) => {
                 let (coat, tables) = m.coat_at(query);
                 // `Microfacet::separable`'s floor on the width, as the scalar lobe has it.
@@ -315,6 +329,22 @@ impl<'s> LaneMaterial<'s> {
                     &m.flatness,
                     &m.clearcoat,
                     &m.clearcoat_gloss,
+                ];
+                let fixed = textures.into_iter().all(constant) && m.anisotropic == Texture::Constant(Rgb::ZERO);
+                fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
+            }
+            (LaneKind::PrincipledThin, Material::PrincipledThin(m)) => {
+                let textures = [
+                    &m.base_color,
+                    &m.roughness,
+                    &m.anisotropic,
+                    &m.spec_trans,
+                    &m.diff_trans,
+                    &m.eta,
+                    &m.spec_tint,
+                    &m.sheen,
+                    &m.sheen_tint,
+                    &m.flatness,
                 ];
                 let fixed = textures.into_iter().all(constant) && m.anisotropic == Texture::Constant(Rgb::ZERO);
                 fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
@@ -985,6 +1015,7 @@ enum ChunkBsdf<'s> {
     RoughPlastic(RoughPlasticLanes<f32x8, [&'s CoatTables; LANES]>),
     RoughDielectric(RoughDielectricLanes<f32x8>),
     Principled(PrincipledLanes<f32x8>),
+    PrincipledThin(PrincipledThinLanes<f32x8>),
     Conductor(ConductorLanes<f32x8>),
     Dielectric(DielectricLanes<f32x8>),
 }
@@ -1012,6 +1043,7 @@ impl<'s> ChunkBsdf<'s> {
                 return ChunkBsdf::RoughDielectric(Self::rough_dielectric(distribution, material, frame))
             }
             LaneKind::Principled => return ChunkBsdf::Principled(Self::principled(material, frame)),
+            LaneKind::PrincipledThin => return ChunkBsdf::PrincipledThin(Self::principled_thin(material, frame)),
             LaneKind::Conductor => {
                 let lobe: [_; LANES] = std::array::from_fn(|k| match material[k].lobe {
                     LaneLobe::Conductor { eta, k, specular } => (eta, k, specular),
@@ -1111,6 +1143,23 @@ impl<'s> ChunkBsdf<'s> {
         PrincipledLanes::gather(frame, |k| lobe[k].0)
     }
 
+    /// The thin principled BSDF of the lanes (`PrincipledThin::bsdf`): the frame turned to ∂p/∂u
+    /// where the widths differ.
+    #[inline(always)]
+    fn principled_thin(material: &[&LaneMaterial<'s>; LANES], frame: &LaneFrame<f32x8>) -> PrincipledThinLanes<f32x8> {
+        // Lane 0 is always a path of this kind: lanes of another read its point.
+        let LaneLobe::PrincipledThin { point: first, .. } = material[0].lobe else {
+            unreachable!("a thin principled bounce starts with a thin principled surface")
+        };
+        let lobe: [(&PrincipledThinPoint, Vec3); LANES] = std::array::from_fn(|k| match &material[k].lobe {
+            LaneLobe::PrincipledThin { point, dpdu } => (point, *dpdu),
+            _ => (&first, Vec3::ZERO),
+        });
+        let (alpha_x, alpha_y) = (per_lane(|k| lobe[k].0.reflection.0), per_lane(|k| lobe[k].0.reflection.1));
+        let frame = along_where_anisotropic(frame, alpha_x, alpha_y, || Vec3x8::from_fn(|k| lobe[k].1));
+        PrincipledThinLanes::gather(frame, |k| lobe[k].0)
+    }
+
     /// The rough plastic of the lanes (`RoughPlastic::bsdf`): the coat's transmittance toward
     /// the viewer and the probability of its reflection, lane by lane from the tables.
     #[inline(always)]
@@ -1162,6 +1211,7 @@ impl<'s> ChunkBsdf<'s> {
             ChunkBsdf::RoughPlastic(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             ChunkBsdf::RoughDielectric(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             ChunkBsdf::Principled(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
+            ChunkBsdf::PrincipledThin(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             // Delta lobes alone: no light is sampled at them.
             ChunkBsdf::Conductor(_) | ChunkBsdf::Dielectric(_) => (Vec3x8::ZERO, f32x8::ZERO),
         }
@@ -1185,6 +1235,7 @@ impl<'s> ChunkBsdf<'s> {
             ChunkBsdf::RoughPlastic(lobe) => lobe.sample(wo, u_lobe, u1, u2),
             ChunkBsdf::RoughDielectric(lobe) => lobe.sample(wo, u_lobe, u1, u2),
             ChunkBsdf::Principled(lobe) => lobe.sample(wo, u_lobe, u1, u2),
+            ChunkBsdf::PrincipledThin(lobe) => lobe.sample(wo, u_lobe, u1, u2),
             ChunkBsdf::Conductor(lobe) => lobe.sample(wo),
             ChunkBsdf::Dielectric(lobe) => lobe.sample(wo, u_lobe),
         }
