@@ -585,6 +585,58 @@ fn the_wavefront_shades_the_thin_principled_bsdf_in_lanes() {
     }
 }
 
+/// Smooth plastic shaded in the lanes (`PlasticLanes`): the coat's mirror or the base chosen
+/// lane by lane, so a bounce's lanes mix delta and non-delta samples, and lanes whose base is
+/// black (the mirror alone: no light sampled, the lobe's numbers drawn first) share bounces
+/// with lanes whose base is not; a constant wall among triangles, textured spheres, and the
+/// black backs of the one-sided coat; at depth limits too.
+#[test]
+fn the_wavefront_shades_smooth_plastic_in_lanes() {
+    use glint_core::materials::Plastic;
+    let plastic = |diffuse: Texture, specular: Rgb, nonlinear: bool| {
+        Material::Plastic(Plastic { diffuse, specular: Texture::Constant(specular), eta: 1.5, nonlinear })
+    };
+    let checker = || Texture::Checker(Box::new(Checker::new(Rgb::new(0.7, 0.2, 0.1), Rgb::ZERO, Vec2::splat(4.0))));
+    let wall =
+        room_where(|_, materials| materials[2] = plastic(Texture::Constant(Rgb::new(0.2, 0.4, 0.7)), Rgb::ONE, false));
+    let spheres = room_where(|objects, materials| {
+        let centres = [
+            Vec3::new(0.45, -0.65, 0.3),
+            Vec3::new(-0.4, -0.6, 0.5),
+            Vec3::new(0.1, 0.3, 0.6),
+            Vec3::new(-0.5, 0.4, 0.2),
+        ];
+        let coats = [
+            plastic(checker(), Rgb::ONE, true),
+            // A black base: the coat's mirror alone.
+            plastic(Texture::Constant(Rgb::ZERO), Rgb::splat(0.9), false),
+            plastic(Texture::Constant(Rgb::new(0.6, 0.6, 0.2)), Rgb::new(0.8, 0.9, 1.0), false),
+            plastic(checker(), Rgb::splat(0.5), false),
+        ];
+        for (j, material) in coats.into_iter().enumerate() {
+            materials.push(material);
+            let id = materials.len() as u32 - 1;
+            objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
+        }
+    });
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
+    for (scene, what) in [(&wall, "a plastic wall among triangles"), (&spheres, "plastic spheres")] {
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in [(9, 0), (41, 3)] {
+                let lit = assert_same(scene, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+            }
+        }
+    }
+    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0)] {
+        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
+        for seed in 0..2 {
+            assert_same(&spheres, &tracer, SamplerKind::Sobol, seed, seed as u32);
+            assert_same(&spheres, &tracer, SamplerKind::Independent, seed, seed as u32);
+        }
+    }
+}
+
 /// Rough glass shaded in the lanes (`RoughDielectricLanes`): spheres of GGX and Beckmann glass,
 /// one anisotropic and textured, seen from outside and refracting from inside, a glass wall
 /// among the room's triangles; η² carried into the roulette from the first bounce.

@@ -246,8 +246,8 @@ pub(crate) struct LaneBsdfSample<L: Lanes> {
     pub valid: L::Mask,
     /// η² picked up by refraction (`BsdfSample::eta_squared`).
     pub eta_squared: L,
-    /// A mirror or refraction (every lane's, or none's).
-    pub delta: bool,
+    /// The lanes whose sample is a mirror or a refraction (a delta lobe's).
+    pub delta: L::Mask,
 }
 
 impl<L: Lanes> LaneBsdfSample<L> {
@@ -257,7 +257,7 @@ impl<L: Lanes> LaneBsdfSample<L> {
     #[inline(always)]
     pub fn weighed(wi: LaneVec3<L>, f: LaneVec3<L>, pdf: L, valid: L::Mask, eta_squared: L) -> Self {
         let valid = valid & pdf.gt(L::ZERO) & pdf.is_finite();
-        Self { wi, weight: f.divided_by(pdf), pdf, valid, eta_squared, delta: false }
+        Self { wi, weight: f.divided_by(pdf), pdf, valid, eta_squared, delta: L::Mask::default() }
     }
 }
 

@@ -78,7 +78,7 @@ impl<L: Lanes> ConductorLanes<L> {
             pdf: L::ONE,
             valid: self.frame.outside & cos.gt(L::ZERO),
             eta_squared: L::ONE,
-            delta: true,
+            delta: !L::Mask::default(),
         }
     }
 }

@@ -100,7 +100,7 @@ impl<L: Lanes> DielectricLanes<L> {
             pdf: L::select(through, L::ONE - f, L::select(can_refract, f, L::ONE)),
             valid: !L::Mask::default(),
             eta_squared: L::select(through, L::ONE / (self.eta * self.eta), L::ONE),
-            delta: true,
+            delta: !L::Mask::default(),
         }
     }
 }

@@ -93,7 +93,7 @@ impl<L: Lanes> DiffuseLanes<'_, L> {
         let wi = self.frame.to_world(local);
         let valid = self.lit & !(local.z.le(L::ZERO) | wi.dot(self.frame.geometric).le(L::ZERO));
         let pdf = L::select(local.z.gt(L::ZERO), local.z * L::splat(std::f32::consts::FRAC_1_PI), L::ZERO);
-        LaneBsdfSample { wi, weight: self.reflectance, pdf, valid, eta_squared: L::ONE, delta: false }
+        LaneBsdfSample { wi, weight: self.reflectance, pdf, valid, eta_squared: L::ONE, delta: L::Mask::default() }
     }
 }
 

@@ -19,10 +19,11 @@
 
 use glam::{Vec2, Vec3};
 
-use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
+use super::bsdf::{BsdfSample, Frame, LaneBsdfSample, LaneFrame, Leaf, Lobes};
+use super::phong::fresnel_dielectric_lanes;
 use super::{fresnel_dielectric, PhongPoint};
-use crate::geometry::reflect;
-use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
+use crate::lanes::{self, LaneVec3, Lanes};
+use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
 use crate::textures::{Texture, TextureQuery};
 use crate::Rgb;
 
@@ -59,23 +60,29 @@ impl Coat {
     /// The probability of choosing the coat's reflection, for the coat's weight `coat` of the
     /// light from `wo` (F or 1 − its transmittance).
     pub(crate) fn specular_probability(&self, coat: f32) -> f32 {
-        let (s, d) = (coat * self.specular_weight, (1.0 - coat) * (1.0 - self.specular_weight));
-        if s + d > 0.0 {
-            s / (s + d)
-        } else {
-            0.0
-        }
+        specular_probability(coat, self.specular_weight)
     }
+}
+
+/// `Coat::specular_probability` in lanes, for the coat's weights `coat` and specular shares
+/// `specular_weight`.
+#[inline(always)]
+fn specular_probability<L: Lanes>(coat: L, specular_weight: L) -> L {
+    let (s, d) = (coat * specular_weight, (L::ONE - coat) * (L::ONE - specular_weight));
+    L::select((s + d).gt(L::ZERO), s / (s + d), L::ZERO)
 }
 
 impl Plastic {
     pub(super) fn bsdf(&self, query: &TextureQuery, wo: Vec3, frame: Frame) -> Leaf<'static> {
-        let internal = fresnel_diffuse_reflectance(1.0 / self.eta);
-        let coat =
-            Coat::new(self.diffuse.evaluate(query), self.specular.evaluate(query), self.eta, self.nonlinear, internal);
-        let fresnel_o = fresnel_dielectric(wo.dot(frame.normal).max(0.0), 1.0 / self.eta);
-        let p_diffuse = if frame.outside { 1.0 - coat.specular_probability(fresnel_o) } else { 0.0 };
+        let coat = self.coat(query);
+        let PlasticLanes { fresnel_o, p_diffuse, .. } = PlasticLanes::new(LaneFrame::from(&frame), wo.into(), |_| coat);
         Leaf::Plastic(PlasticBsdf { frame, coat, fresnel_o, p_diffuse })
+    }
+
+    /// Its coat at a hit (its textures read there).
+    pub(crate) fn coat(&self, query: &TextureQuery) -> Coat {
+        let internal = fresnel_diffuse_reflectance(1.0 / self.eta);
+        Coat::new(self.diffuse.evaluate(query), self.specular.evaluate(query), self.eta, self.nonlinear, internal)
     }
 
     /// Whitted's view, the BSDF's at the viewer's angle θ_o (cosine `cos`): the coat as a
@@ -116,6 +123,77 @@ pub fn fresnel_diffuse_reflectance(eta: f32) -> f32 {
     0.919317 - 3.4793 * inv + 6.75335 * inv2 - 7.80989 * inv3 + 4.98554 * inv2 * inv2 - 1.36881 * inv2 * inv3
 }
 
+/// Smooth plastic at a hit, in lanes: the one body of its `eval`, `pdf` and `sample`, which the
+/// scalar BSDF runs at one lane and the wavefront at eight. Its lanes mix a delta lobe (the
+/// coat's mirror) and a non-delta one (the base), chosen lane by lane.
+#[derive(Clone, Debug)]
+pub(crate) struct PlasticLanes<L: Lanes> {
+    pub frame: LaneFrame<L>,
+    /// The base's colour after its internal scattering (`Coat::diffuse`).
+    pub diffuse: LaneVec3<L>,
+    pub specular: LaneVec3<L>,
+    /// int_ior / ext_ior.
+    pub eta: L,
+    /// The coat's reflectance toward the viewer, F(cos θ_o).
+    pub fresnel_o: L,
+    /// The probability of the diffuse lobe (0 from behind).
+    pub p_diffuse: L,
+}
+
+impl<L: Lanes> PlasticLanes<L> {
+    /// The lanes' plastic seen from `wo`, from their coats (`coat(k)` for lane k).
+    #[inline(always)]
+    pub fn new(frame: LaneFrame<L>, wo: LaneVec3<L>, coat: impl Fn(usize) -> Coat) -> Self {
+        let coats: [Coat; 16] = std::array::from_fn(|k| if k < L::WIDTH { coat(k) } else { coat(0) });
+        let eta = L::from_fn(|k| coats[k].eta);
+        let fresnel_o = fresnel_dielectric_lanes(wo.dot(frame.normal).max(L::ZERO), L::ONE / eta);
+        let specular_weight = L::from_fn(|k| coats[k].specular_weight);
+        let p_diffuse = L::select(frame.outside, L::ONE - specular_probability(fresnel_o, specular_weight), L::ZERO);
+        Self {
+            diffuse: LaneVec3::gather(|k| coats[k].diffuse),
+            specular: LaneVec3::gather(|k| coats[k].specular),
+            frame,
+            eta,
+            fresnel_o,
+            p_diffuse,
+        }
+    }
+
+    #[inline(always)]
+    pub fn eval(&self, wi: LaneVec3<L>) -> LaneVec3<L> {
+        let cos_i = wi.dot(self.frame.normal);
+        let through = (L::ONE - self.fresnel_o) * (L::ONE - fresnel_dielectric_lanes(cos_i, L::ONE / self.eta));
+        let eta2 = self.eta * self.eta;
+        let value = self.diffuse * (cos_i * L::splat(std::f32::consts::FRAC_1_PI) * through / eta2);
+        LaneVec3::select(self.frame.outside & self.frame.reflects(wi), value, LaneVec3::ZERO)
+    }
+
+    #[inline(always)]
+    pub fn pdf(&self, wi: LaneVec3<L>) -> L {
+        let cos = self.frame.to_local(wi).z;
+        let cosine = L::select(cos.gt(L::ZERO), cos * L::splat(std::f32::consts::FRAC_1_PI), L::ZERO);
+        L::select(self.frame.outside & self.frame.reflects(wi), self.p_diffuse * cosine, L::ZERO)
+    }
+
+    /// The base's cosine-weighted direction where `u_lobe` < p_diffuse, else the coat's mirror.
+    #[inline(always)]
+    pub fn sample(&self, wo: LaneVec3<L>, u_lobe: L, u1: L, u2: L) -> LaneBsdfSample<L> {
+        let diffuse = u_lobe.lt(self.p_diffuse);
+        let wi = self.frame.to_world(square_to_cosine_hemisphere_lanes(u1, u2));
+        let base = LaneBsdfSample::weighed(wi, self.eval(wi), self.pdf(wi), !L::Mask::default(), L::ONE);
+        let p_specular = L::ONE - self.p_diffuse;
+        let mirror = lanes::reflect(-wo, self.frame.normal);
+        LaneBsdfSample {
+            wi: LaneVec3::select(diffuse, base.wi, mirror),
+            weight: LaneVec3::select(diffuse, base.weight, self.specular * (self.fresnel_o / p_specular)),
+            pdf: L::select(diffuse, base.pdf, p_specular),
+            valid: self.frame.outside & ((diffuse & base.valid) | !diffuse),
+            eta_squared: L::ONE,
+            delta: !diffuse,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug)]
 pub(super) struct PlasticBsdf {
     frame: Frame,
@@ -126,35 +204,32 @@ pub(super) struct PlasticBsdf {
     p_diffuse: f32,
 }
 
+impl PlasticBsdf {
+    /// The lobe as its one body reads it.
+    #[inline(always)]
+    fn lanes(&self) -> PlasticLanes<f32> {
+        PlasticLanes {
+            frame: LaneFrame::from(&self.frame),
+            diffuse: self.coat.diffuse.into(),
+            specular: self.coat.specular.into(),
+            eta: self.coat.eta,
+            fresnel_o: self.fresnel_o,
+            p_diffuse: self.p_diffuse,
+        }
+    }
+}
+
 impl Lobes for PlasticBsdf {
     fn eval(&self, _wo: Vec3, wi: Vec3) -> Rgb {
-        if !self.frame.outside || !self.frame.reflects(wi) {
-            return Rgb::ZERO;
-        }
-        let cos_i = wi.dot(self.frame.normal);
-        let through = (1.0 - self.fresnel_o) * (1.0 - fresnel_dielectric(cos_i, 1.0 / self.coat.eta));
-        let eta2 = self.coat.eta * self.coat.eta;
-        self.coat.diffuse * (cos_i * std::f32::consts::FRAC_1_PI * through / eta2)
+        self.lanes().eval(wi.into()).into()
     }
 
     fn pdf(&self, _wo: Vec3, wi: Vec3) -> f32 {
-        if !self.frame.outside || !self.frame.reflects(wi) {
-            return 0.0;
-        }
-        self.p_diffuse * cosine_hemisphere_pdf(self.frame.to_local(wi))
+        self.lanes().pdf(wi.into())
     }
 
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        if !self.frame.outside {
-            return None;
-        }
-        if u_lobe < self.p_diffuse {
-            return self.weighed(wo, self.frame.to_world(square_to_cosine_hemisphere(u)), 1.0);
-        }
-        let p_specular = 1.0 - self.p_diffuse;
-        let wi = reflect(-wo, self.frame.normal);
-        let weight = self.coat.specular * (self.fresnel_o / p_specular);
-        Some(BsdfSample { wi, weight, pdf: p_specular, delta: true, eta_squared: 1.0 })
+        self.lanes().sample(wo.into(), u_lobe, u.x, u.y).scalar()
     }
 
     fn non_delta_probability(&self) -> f32 {

@@ -34,8 +34,9 @@ use crate::lanes::{Lanes, Vec3x8, LANES};
 use crate::lights::{area_to_solid_angle_lanes, TriangleEmitter, TriangleSampling};
 use crate::materials::{
     luminance, tangent_along_lanes, Coat, CoatTables, CoatTransmittance, ConductorLanes, DielectricLanes, DiffuseLanes,
-    Distribution, LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes, PrincipledLanes, PrincipledPoint,
-    PrincipledThinLanes, PrincipledThinPoint, RoughConductorLanes, RoughDielectricLanes, RoughPlasticLanes,
+    Distribution, LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes, PlasticLanes, PrincipledLanes,
+    PrincipledPoint, PrincipledThinLanes, PrincipledThinPoint, RoughConductorLanes, RoughDielectricLanes,
+    RoughPlasticLanes,
 };
 use crate::sampling::Sampler;
 use crate::scene::{PrimitiveHit, Scene, Spawn, SHADOW_EPSILON};
@@ -79,13 +80,15 @@ enum LaneKind {
     Principled,
     /// Its thin sheet (`PrincipledThinLanes`).
     PrincipledThin,
+    /// Smooth plastic (`PlasticLanes`): a mirror and a diffuse base, chosen lane by lane.
+    Plastic,
     /// Anything else: the scalar code's bounce.
     Scalar,
 }
 
 impl LaneKind {
     /// The kinds of the lanes' own bounces, in the order a round takes them.
-    const IN_LANES: [LaneKind; 11] = [
+    const IN_LANES: [LaneKind; 12] = [
         LaneKind::Lambert,
         LaneKind::RoughConductor(Distribution::Ggx),
         LaneKind::RoughConductor(Distribution::Beckmann),
@@ -97,6 +100,7 @@ impl LaneKind {
         LaneKind::Dielectric,
         LaneKind::Principled,
         LaneKind::PrincipledThin,
+        LaneKind::Plastic,
     ];
 
     fn of(material: &Material) -> Self {
@@ -109,6 +113,7 @@ impl LaneKind {
             Material::Dielectric(_) => LaneKind::Dielectric,
             Material::Principled(_) => LaneKind::Principled,
             Material::PrincipledThin(_) => LaneKind::PrincipledThin,
+            Material::Plastic(_) => LaneKind::Plastic,
             // A map over a material of a lane kind: the lanes tilt its frame (one map: a map
             // inside a map keeps the inner one's shadowing).
             Material::NormalMap(_) | Material::BumpMap(_) => {
@@ -136,13 +141,8 @@ impl LaneKind {
             LaneKind::Dielectric => 8,
             LaneKind::Principled => 9,
             LaneKind::PrincipledThin => 10,
+            LaneKind::Plastic => 11,
         }
-    }
-
-    /// Its BSDF is delta lobes alone: the scalar code samples no light there, so draws no
-    /// numbers for one, and the bounce's draws start with the lobe's.
-    fn delta_only(self) -> bool {
-        matches!(self, LaneKind::Conductor | LaneKind::Dielectric)
     }
 }
 
@@ -193,6 +193,10 @@ enum LaneLobe<'s> {
     PrincipledThin {
         point: PrincipledThinPoint,
         dpdu: Vec3,
+    },
+    /// The coat's colours and index.
+    Plastic {
+        coat: Coat,
     },
     /// The coat's colours and index (`Coat`), its width and transmittance table.
     RoughPlastic {
@@ -274,6 +278,10 @@ impl<'s> LaneMaterial<'s> {
                 let lobe = LaneLobe::PrincipledThin { point: m.point(query), dpdu: query.dpdu };
                 Self { lobe, reflects: true, one_sided: false, emission, two_sided }
             }
+            Material::Plastic(m) => {
+                let lobe = LaneLobe::Plastic { coat: m.coat(query) };
+                Self { lobe, reflects: true, one_sided: true, emission, two_sided }
+            }
             Material::RoughPlastic(m) => {
                 let (coat, tables) = m.coat_at(query);
                 // `Microfacet::separable`'s floor on the width, as the scalar lobe has it.
@@ -309,6 +317,10 @@ impl<'s> LaneMaterial<'s> {
                     && m.alpha_v == m.alpha_u
                     && constant(&d.specular_reflectance)
                     && constant(&d.specular_transmittance);
+                fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
+            }
+            (LaneKind::Plastic, Material::Plastic(m)) => {
+                let fixed = constant(&m.diffuse) && constant(&m.specular);
                 fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
             }
             (LaneKind::RoughPlastic(_), Material::RoughPlastic(m)) => {
@@ -670,43 +682,6 @@ impl<'a> Wavefront<'a> {
             let lit = material[k].reflects && !(material[k].one_sided && behind & (1 << k) != 0);
             k < n && depth < self.tracer.max_depth && lit
         });
-        // draws[j]: draw j of each lane, at the offsets of `BounceDraws`; at delta lobes alone,
-        // where the scalar code draws no light numbers, the lobe's come first (`slots`).
-        let delta_only = kind.delta_only();
-        let slots: &[usize] = match delta_only {
-            true => &[LOBE, DIRECTION, DIRECTION + 1, ROULETTE],
-            false => &[LIGHT, LIGHT_POINT, LIGHT_POINT + 1, LOBE, DIRECTION, DIRECTION + 1, ROULETTE],
-        };
-        let roulette_comes = depth + 1 >= self.tracer.rr_depth;
-        let count = if roulette_comes { slots.len() } else { slots.len() - 1 };
-        let mut drawn = [f32x8::ZERO; DRAWS];
-        if n == LANES && goes_on.iter().any(|&on| on) {
-            // All eight at once (the numbers of paths that end are drawn too, unread).
-            let samplers = contexts.get_disjoint_mut(index).expect("eight distinct paths").map(|c| &mut c.sampler);
-            match count {
-                DRAWS => drawn = Sampler::next_f32_lanes::<DRAWS>(samplers),
-                6 => drawn[..6].copy_from_slice(&Sampler::next_f32_lanes::<6>(samplers)),
-                4 => drawn[..4].copy_from_slice(&Sampler::next_f32_lanes::<4>(samplers)),
-                _ => drawn[..3].copy_from_slice(&Sampler::next_f32_lanes::<3>(samplers)),
-            }
-        } else {
-            let mut columns = [[0f32; LANES]; DRAWS];
-            for k in (0..n).filter(|&k| goes_on[k]) {
-                let sampler = &mut contexts[index[k]].sampler;
-                for column in &mut columns[..count] {
-                    column[k] = sampler.next_f32();
-                }
-            }
-            drawn = columns.map(f32x8::from);
-        }
-        let mut draws = [f32x8::ZERO; DRAWS];
-        for (&slot, &numbers) in slots.iter().zip(&drawn) {
-            draws[slot] = numbers;
-        }
-        debug_assert!(draws[LOBE].cmp_lt(f32x8::ONE).all(), "u_lobe < p_diffuse = 1: the diffuse lobe");
-        let draw = |j: usize| draws[j];
-        let on = mask(|k| goes_on[k]);
-
         // The BSDF's frame (`Frame::new`): both normals turned to wo's side, and the geometric
         // one where the shading normal would face away from the viewer.
         // A map's normal tilts the frame, and shadows the light its tilt would let in past the
@@ -721,11 +696,60 @@ impl<'a> Wavefront<'a> {
             None => MapShadowing::NONE,
         };
 
-        // Next-event estimation: one light chosen by power (none at delta lobes alone).
+        // draws[j]: draw j of each lane, at the offsets of `BounceDraws`; where the BSDF has
+        // delta lobes alone, the scalar code draws no light numbers, and the lobe's come first.
+        let non_delta = bsdf.non_delta();
+        let slots_of = |k: usize| -> &[usize] {
+            match non_delta[k] {
+                true => &[LIGHT, LIGHT_POINT, LIGHT_POINT + 1, LOBE, DIRECTION, DIRECTION + 1, ROULETTE],
+                false => &[LOBE, DIRECTION, DIRECTION + 1, ROULETTE],
+            }
+        };
+        let roulette_comes = depth + 1 >= self.tracer.rr_depth;
+        let count_of = |slots: &[usize]| if roulette_comes { slots.len() } else { slots.len() - 1 };
+        // The lanes that go on draw alike (the paths that end draw what they like, unread).
+        let first = goes_on.iter().position(|&on| on);
+        let alike = first.filter(|&f| (0..n).all(|k| !goes_on[k] || non_delta[k] == non_delta[f]));
+        let mut draws = [f32x8::ZERO; DRAWS];
+        match alike {
+            Some(f) if n == LANES => {
+                // All eight at once (the numbers of paths that end are drawn too, unread).
+                let samplers = contexts.get_disjoint_mut(index).expect("eight distinct paths").map(|c| &mut c.sampler);
+                let mut drawn = [f32x8::ZERO; DRAWS];
+                let (slots, count) = (slots_of(f), count_of(slots_of(f)));
+                match count {
+                    DRAWS => drawn = Sampler::next_f32_lanes::<DRAWS>(samplers),
+                    6 => drawn[..6].copy_from_slice(&Sampler::next_f32_lanes::<6>(samplers)),
+                    4 => drawn[..4].copy_from_slice(&Sampler::next_f32_lanes::<4>(samplers)),
+                    _ => drawn[..3].copy_from_slice(&Sampler::next_f32_lanes::<3>(samplers)),
+                }
+                for (&slot, &numbers) in slots.iter().zip(&drawn[..count]) {
+                    draws[slot] = numbers;
+                }
+            }
+            _ => {
+                let mut columns = [[0f32; LANES]; DRAWS];
+                for k in (0..n).filter(|&k| goes_on[k]) {
+                    let sampler = &mut contexts[index[k]].sampler;
+                    let slots = slots_of(k);
+                    for &slot in &slots[..count_of(slots)] {
+                        columns[slot][k] = sampler.next_f32();
+                    }
+                }
+                draws = columns.map(f32x8::from);
+            }
+        }
+        debug_assert!(draws[LOBE].cmp_lt(f32x8::ONE).all(), "u_lobe < p_diffuse = 1: the diffuse lobe");
+        let draw = |j: usize| draws[j];
+        let on = mask(|k| goes_on[k]);
+
+        // Next-event estimation: one light chosen by power, where the BSDF has more than delta
+        // lobes.
+        let lit: [bool; LANES] = std::array::from_fn(|k| goes_on[k] && non_delta[k]);
         let light = match self.emitters {
-            _ if delta_only => None,
-            Some(emitters) => self.triangle_light_points(emitters, &goes_on, &draws, point, error, geometric),
-            None => self.light_points(&goes_on, &draws, [point, error, geometric], shading),
+            _ if !lit.contains(&true) => None,
+            Some(emitters) => self.triangle_light_points(emitters, &lit, &draws, point, error, geometric),
+            None => self.light_points(&lit, &draws, [point, error, geometric], shading),
         };
         let mut direct = Vec3x8::ZERO;
         let mut shadow_rays_traced = 0;
@@ -744,6 +768,7 @@ impl<'a> Wavefront<'a> {
         // The BSDF sample.
         let LaneBsdfSample { wi, weight, pdf, valid: scattered, eta_squared, delta } =
             bsdf.sample(&frame, wo, draw(LOBE), draw(DIRECTION), draw(DIRECTION + 1));
+        let delta = delta.move_mask();
         let weight = if mapped.is_some() { weight * shadowing.of(wi) } else { weight };
         throughput = throughput.mul_lanes(weight);
         // η² picked up by refraction, for the roulette.
@@ -772,7 +797,7 @@ impl<'a> Wavefront<'a> {
                 path.last_point = point.lane(k);
                 path.last_normal = shading.lane(k);
                 // A delta lobe's density is infinite (weight 1 for the emission found next).
-                path.last_pdf = if delta { f32::INFINITY } else { pdf.as_array_ref()[k] };
+                path.last_pdf = if delta & (1 << k) != 0 { f32::INFINITY } else { pdf.as_array_ref()[k] };
                 path.depth += 1;
                 active.push(i as u32);
             }
@@ -1016,6 +1041,7 @@ enum ChunkBsdf<'s> {
     RoughDielectric(RoughDielectricLanes<f32x8>),
     Principled(PrincipledLanes<f32x8>),
     PrincipledThin(PrincipledThinLanes<f32x8>),
+    Plastic(PlasticLanes<f32x8>),
     Conductor(ConductorLanes<f32x8>),
     Dielectric(DielectricLanes<f32x8>),
 }
@@ -1044,6 +1070,14 @@ impl<'s> ChunkBsdf<'s> {
             }
             LaneKind::Principled => return ChunkBsdf::Principled(Self::principled(material, frame)),
             LaneKind::PrincipledThin => return ChunkBsdf::PrincipledThin(Self::principled_thin(material, frame)),
+            LaneKind::Plastic => {
+                let black = Coat { diffuse: Rgb::ZERO, specular: Rgb::ZERO, eta: 1.5, specular_weight: 0.0 };
+                let coat = |k: usize| match material[k].lobe {
+                    LaneLobe::Plastic { coat } => coat,
+                    _ => black,
+                };
+                return ChunkBsdf::Plastic(PlasticLanes::new(frame.clone(), wo, coat));
+            }
             LaneKind::Conductor => {
                 let lobe: [_; LANES] = std::array::from_fn(|k| match material[k].lobe {
                     LaneLobe::Conductor { eta, k, specular } => (eta, k, specular),
@@ -1198,6 +1232,17 @@ impl<'s> ChunkBsdf<'s> {
         }
     }
 
+    /// The lanes whose BSDF has a lobe that is not a delta (`Bsdf::has_diffuse`): where the
+    /// scalar code samples a light.
+    #[inline(always)]
+    fn non_delta(&self) -> [bool; LANES] {
+        match self {
+            ChunkBsdf::Conductor(_) | ChunkBsdf::Dielectric(_) => [false; LANES],
+            ChunkBsdf::Plastic(lobe) => lobe.p_diffuse.cmp_gt(f32x8::ZERO).to_array().map(|p| p != 0.0),
+            _ => [true; LANES],
+        }
+    }
+
     /// f(wo, wi)·cos θ_i and the density of sampling `wi` (`Bsdf::eval`, `Bsdf::pdf`).
     #[inline(always)]
     fn eval_and_pdf(&self, frame: &LaneFrame<f32x8>, wo: Vec3x8, wi: Vec3x8) -> (Vec3x8, f32x8) {
@@ -1212,6 +1257,7 @@ impl<'s> ChunkBsdf<'s> {
             ChunkBsdf::RoughDielectric(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             ChunkBsdf::Principled(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             ChunkBsdf::PrincipledThin(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
+            ChunkBsdf::Plastic(lobe) => (lobe.eval(wi), lobe.pdf(wi)),
             // Delta lobes alone: no light is sampled at them.
             ChunkBsdf::Conductor(_) | ChunkBsdf::Dielectric(_) => (Vec3x8::ZERO, f32x8::ZERO),
         }
@@ -1236,6 +1282,7 @@ impl<'s> ChunkBsdf<'s> {
             ChunkBsdf::RoughDielectric(lobe) => lobe.sample(wo, u_lobe, u1, u2),
             ChunkBsdf::Principled(lobe) => lobe.sample(wo, u_lobe, u1, u2),
             ChunkBsdf::PrincipledThin(lobe) => lobe.sample(wo, u_lobe, u1, u2),
+            ChunkBsdf::Plastic(lobe) => lobe.sample(wo, u_lobe, u1, u2),
             ChunkBsdf::Conductor(lobe) => lobe.sample(wo),
             ChunkBsdf::Dielectric(lobe) => lobe.sample(wo, u_lobe),
         }
