@@ -637,6 +637,67 @@ fn the_wavefront_shades_smooth_plastic_in_lanes() {
     }
 }
 
+/// Thin glass and diffuse transmission shaded in the lanes (`ThinDielectricLanes`,
+/// `DiffuseTransmissionLanes`): panes that reflect or pass light straight on (delta lobes alone:
+/// no light sampled) and sheets that scatter it to both sides, constant and textured, seen from
+/// both sides, one black (the path ends there); at depth limits too.
+#[test]
+fn the_wavefront_shades_thin_glass_and_diffuse_transmission_in_lanes() {
+    use glint_core::materials::{Dielectric, DiffuseTransmission, ThinDielectric};
+    let checker = |a: Rgb, b: Rgb| Texture::Checker(Box::new(Checker::new(a, b, Vec2::splat(4.0))));
+    let pane = |eta: f32, transmittance: Texture| {
+        Material::ThinDielectric(ThinDielectric {
+            sheet: Dielectric {
+                eta,
+                specular_reflectance: Texture::Constant(Rgb::ONE),
+                specular_transmittance: transmittance,
+            },
+        })
+    };
+    let sheet = |reflectance: Texture, transmittance: Texture| {
+        Material::DiffuseTransmission(DiffuseTransmission { reflectance, transmittance })
+    };
+    let walls = room_where(|_, materials| {
+        materials[2] = pane(1.5, Texture::Constant(Rgb::new(0.9, 0.8, 0.7)));
+        materials[3] = sheet(Texture::Constant(Rgb::splat(0.4)), Texture::Constant(Rgb::new(0.3, 0.5, 0.2)));
+    });
+    let spheres = room_where(|objects, materials| {
+        let centres = [
+            Vec3::new(0.45, -0.65, 0.3),
+            Vec3::new(-0.4, -0.6, 0.5),
+            Vec3::new(0.1, 0.3, 0.6),
+            Vec3::new(-0.5, 0.4, 0.2),
+        ];
+        let members = [
+            pane(1.33, checker(Rgb::ONE, Rgb::new(0.2, 0.6, 0.9))),
+            sheet(checker(Rgb::new(0.7, 0.2, 0.1), Rgb::ZERO), checker(Rgb::ZERO, Rgb::splat(0.6))),
+            sheet(Texture::Constant(Rgb::ZERO), Texture::Constant(Rgb::ZERO)),
+            pane(2.0, Texture::Constant(Rgb::ONE)),
+        ];
+        for (j, member) in members.into_iter().enumerate() {
+            materials.push(member);
+            let id = materials.len() as u32 - 1;
+            objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
+        }
+    });
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
+    for (scene, what) in [(&walls, "a pane and a sheet among triangles"), (&spheres, "panes and sheets")] {
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in [(10, 0), (43, 2)] {
+                let lit = assert_same(scene, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+            }
+        }
+    }
+    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0)] {
+        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
+        for seed in 0..2 {
+            assert_same(&spheres, &tracer, SamplerKind::Sobol, seed, seed as u32);
+            assert_same(&walls, &tracer, SamplerKind::Independent, seed, seed as u32);
+        }
+    }
+}
+
 /// Rough glass shaded in the lanes (`RoughDielectricLanes`): spheres of GGX and Beckmann glass,
 /// one anisotropic and textured, seen from outside and refracting from inside, a glass wall
 /// among the room's triangles; η² carried into the roulette from the first bounce.

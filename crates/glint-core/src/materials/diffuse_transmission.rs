@@ -16,9 +16,10 @@
 
 use glam::{Vec2, Vec3};
 
-use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
+use super::bsdf::{BsdfSample, Frame, LaneBsdfSample, LaneFrame, Leaf, Lobes};
 use super::PhongPoint;
-use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
+use crate::lanes::{LaneVec3, Lanes};
+use crate::sampling::warp::square_to_cosine_hemisphere_lanes;
 use crate::textures::{luminance, Texture, TextureQuery};
 use crate::Rgb;
 
@@ -68,58 +69,91 @@ pub(super) struct DiffuseTransmissionBsdf {
     lit: bool,
 }
 
+impl DiffuseTransmissionBsdf {
+    /// The lobe as its one body reads it.
+    #[inline(always)]
+    fn lanes(&self) -> DiffuseTransmissionLanes<f32> {
+        DiffuseTransmissionLanes {
+            frame: LaneFrame::from(&self.frame),
+            reflectance: self.reflectance.into(),
+            transmittance: self.transmittance.into(),
+            p_reflect: self.p_reflect,
+            lit: self.lit,
+        }
+    }
+}
+
+/// Diffuse reflection and transmission at a hit, in lanes: the one body of its `eval`, `pdf`
+/// and `sample`, which the scalar BSDF runs at one lane and the wavefront at eight.
+#[derive(Clone, Debug)]
+pub(crate) struct DiffuseTransmissionLanes<L: Lanes> {
+    pub frame: LaneFrame<L>,
+    pub reflectance: LaneVec3<L>,
+    pub transmittance: LaneVec3<L>,
+    /// The probability of sampling the reflected side.
+    pub p_reflect: L,
+    /// The lanes with an albedo that is not black.
+    pub lit: L::Mask,
+}
+
+/// The cosine-weighted hemisphere's density at a direction of cosine `cos` (0 below).
+#[inline(always)]
+fn cosine_density<L: Lanes>(cos: L) -> L {
+    L::select(cos.gt(L::ZERO), cos * L::splat(std::f32::consts::FRAC_1_PI), L::ZERO)
+}
+
+impl<L: Lanes> DiffuseTransmissionLanes<L> {
+    #[inline(always)]
+    pub fn eval(&self, wi: LaneVec3<L>) -> LaneVec3<L> {
+        let cos = wi.dot(self.frame.normal).abs() * L::splat(std::f32::consts::FRAC_1_PI);
+        let through = LaneVec3::select(self.frame.transmits(wi), self.transmittance * cos, LaneVec3::ZERO);
+        LaneVec3::select(self.frame.reflects(wi), self.reflectance * cos, through)
+    }
+
+    #[inline(always)]
+    pub fn pdf(&self, wi: LaneVec3<L>) -> L {
+        let cos = self.frame.to_local(wi).z;
+        let through =
+            L::select(self.frame.transmits(wi), (L::ONE - self.p_reflect) * cosine_density(cos.negate()), L::ZERO);
+        L::select(self.frame.reflects(wi), self.p_reflect * cosine_density(cos), through)
+    }
+
+    /// A side by `u_lobe` (in proportion to the albedos' luminance), then a cosine-weighted
+    /// direction on it.
+    #[inline(always)]
+    pub fn sample(&self, u_lobe: L, u1: L, u2: L) -> LaneBsdfSample<L> {
+        let local = square_to_cosine_hemisphere_lanes(u1, u2);
+        let reflected = u_lobe.lt(self.p_reflect);
+        let wi = LaneVec3::select(reflected, self.frame.to_world(local), self.frame.to_world(-local));
+        let p = L::select(reflected, self.p_reflect, L::ONE - self.p_reflect);
+        let weight = LaneVec3::select(
+            reflected,
+            self.reflectance.divided_by(self.p_reflect),
+            self.transmittance.divided_by(L::ONE - self.p_reflect),
+        );
+        let on_its_side = (reflected & self.frame.reflects(wi)) | (!reflected & self.frame.transmits(wi));
+        LaneBsdfSample {
+            wi,
+            weight,
+            pdf: p * cosine_density(local.z),
+            valid: self.lit & local.z.gt(L::ZERO) & on_its_side,
+            eta_squared: L::ONE,
+            delta: L::Mask::default(),
+        }
+    }
+}
+
 impl Lobes for DiffuseTransmissionBsdf {
     fn eval(&self, _wo: Vec3, wi: Vec3) -> Rgb {
-        let cos = wi.dot(self.frame.normal).abs() * std::f32::consts::FRAC_1_PI;
-        if self.frame.reflects(wi) {
-            self.reflectance * cos
-        } else if self.frame.transmits(wi) {
-            self.transmittance * cos
-        } else {
-            Rgb::ZERO
-        }
+        self.lanes().eval(wi.into()).into()
     }
 
     fn pdf(&self, _wo: Vec3, wi: Vec3) -> f32 {
-        let local = self.frame.to_local(wi);
-        if self.frame.reflects(wi) {
-            self.p_reflect * cosine_hemisphere_pdf(local)
-        } else if self.frame.transmits(wi) {
-            (1.0 - self.p_reflect) * cosine_hemisphere_pdf(-local)
-        } else {
-            0.0
-        }
+        self.lanes().pdf(wi.into())
     }
 
     fn sample(&self, _wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        if !self.lit {
-            return None;
-        }
-        let local = square_to_cosine_hemisphere(u);
-        if local.z <= 0.0 {
-            return None;
-        }
-        let pdf = cosine_hemisphere_pdf(local);
-        if u_lobe < self.p_reflect {
-            let wi = self.frame.to_world(local);
-            self.frame.reflects(wi).then(|| BsdfSample {
-                wi,
-                weight: self.reflectance / self.p_reflect,
-                pdf: self.p_reflect * pdf,
-                delta: false,
-                eta_squared: 1.0,
-            })
-        } else {
-            let wi = self.frame.to_world(-local);
-            let p = 1.0 - self.p_reflect;
-            self.frame.transmits(wi).then(|| BsdfSample {
-                wi,
-                weight: self.transmittance / p,
-                pdf: p * pdf,
-                delta: false,
-                eta_squared: 1.0,
-            })
-        }
+        self.lanes().sample(u_lobe, u.x, u.y).scalar()
     }
 
     fn non_delta_probability(&self) -> f32 {

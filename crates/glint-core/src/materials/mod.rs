@@ -43,6 +43,7 @@ pub(crate) use dielectric::DielectricLanes;
 pub use diffuse::Diffuse;
 pub(crate) use diffuse::DiffuseLanes;
 pub use diffuse_transmission::DiffuseTransmission;
+pub(crate) use diffuse_transmission::DiffuseTransmissionLanes;
 pub use fresnel_plastic::FresnelPlastic;
 pub use mask::Mask;
 pub(crate) use microfacet::MicrofacetLanes;
@@ -62,6 +63,7 @@ pub(crate) use rough_dielectric::RoughDielectricLanes;
 pub use rough_plastic::RoughPlastic;
 pub(crate) use rough_plastic::{CoatTables, CoatTransmittance, RoughPlasticLanes};
 pub use thin_dielectric::ThinDielectric;
+pub(crate) use thin_dielectric::ThinDielectricLanes;
 pub use two_sided::TwoSided;
 
 use glam::Vec3;

@@ -11,9 +11,10 @@
 
 use glam::{Vec2, Vec3};
 
-use super::bsdf::{BsdfSample, Frame, Leaf, Lobes};
-use super::{fresnel_dielectric, Dielectric, PhongPoint};
-use crate::geometry::reflect;
+use super::bsdf::{BsdfSample, Frame, LaneBsdfSample, LaneFrame, Leaf, Lobes};
+use super::phong::fresnel_dielectric_lanes;
+use super::{Dielectric, PhongPoint};
+use crate::lanes::{self, LaneVec3, Lanes};
 use crate::textures::TextureQuery;
 use crate::Rgb;
 
@@ -47,11 +48,42 @@ impl ThinDielectric {
 
 /// R' = 2R / (1 + R): the sheet's reflectance with its internal reflections.
 fn sheet_reflectance(cos: f32, eta: f32) -> f32 {
-    let r = fresnel_dielectric(cos, eta);
-    if r < 1.0 {
-        2.0 * r / (1.0 + r)
-    } else {
-        1.0
+    sheet_reflectance_lanes(cos, eta)
+}
+
+/// `sheet_reflectance` in lanes.
+#[inline(always)]
+fn sheet_reflectance_lanes<L: Lanes>(cos: L, eta: L) -> L {
+    let r = fresnel_dielectric_lanes(cos, eta);
+    L::select(r.lt(L::ONE), L::splat(2.0) * r / (L::ONE + r), L::ONE)
+}
+
+/// A thin sheet of glass at a hit, in lanes: the one body of its sampling, which the scalar
+/// BSDF runs at one lane and the wavefront at eight. Delta lobes alone.
+#[derive(Clone, Debug)]
+pub(crate) struct ThinDielectricLanes<L: Lanes> {
+    pub frame: LaneFrame<L>,
+    /// n_ext / n_int.
+    pub eta: L,
+    pub reflectance: LaneVec3<L>,
+    pub transmittance: LaneVec3<L>,
+}
+
+impl<L: Lanes> ThinDielectricLanes<L> {
+    /// The mirror with probability R', else straight on.
+    #[inline(always)]
+    pub fn sample(&self, wo: LaneVec3<L>, u_lobe: L) -> LaneBsdfSample<L> {
+        let r = sheet_reflectance_lanes(wo.dot(self.frame.normal).max(L::ZERO), self.eta);
+        let reflected = u_lobe.lt(r);
+        let all = !L::Mask::default();
+        LaneBsdfSample {
+            wi: LaneVec3::select(reflected, lanes::reflect(-wo, self.frame.normal), -wo),
+            weight: LaneVec3::select(reflected, self.reflectance, self.transmittance),
+            pdf: L::select(reflected, r, L::ONE - r),
+            valid: all,
+            eta_squared: L::ONE,
+            delta: all,
+        }
     }
 }
 
@@ -66,12 +98,13 @@ pub(super) struct ThinDielectricBsdf {
 
 impl Lobes for ThinDielectricBsdf {
     fn sample(&self, wo: Vec3, u_lobe: f32, _u: Vec2) -> Option<BsdfSample> {
-        let r = sheet_reflectance(wo.dot(self.frame.normal).max(0.0), self.eta);
-        if u_lobe < r {
-            let wi = reflect(-wo, self.frame.normal);
-            return Some(BsdfSample { wi, weight: self.reflectance, pdf: r, delta: true, eta_squared: 1.0 });
-        }
-        Some(BsdfSample { wi: -wo, weight: self.transmittance, pdf: 1.0 - r, delta: true, eta_squared: 1.0 })
+        let lanes = ThinDielectricLanes {
+            frame: LaneFrame::from(&self.frame),
+            eta: self.eta,
+            reflectance: self.reflectance.into(),
+            transmittance: self.transmittance.into(),
+        };
+        lanes.sample(wo.into(), u_lobe).scalar()
     }
 
     fn null_transmission(&self, wo: Vec3) -> Rgb {

@@ -34,9 +34,9 @@ use crate::lanes::{Lanes, Vec3x8, LANES};
 use crate::lights::{area_to_solid_angle_lanes, TriangleEmitter, TriangleSampling};
 use crate::materials::{
     luminance, tangent_along_lanes, Coat, CoatTables, CoatTransmittance, ConductorLanes, DielectricLanes, DiffuseLanes,
-    Distribution, LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes, PlasticLanes, PrincipledLanes,
-    PrincipledPoint, PrincipledThinLanes, PrincipledThinPoint, RoughConductorLanes, RoughDielectricLanes,
-    RoughPlasticLanes,
+    DiffuseTransmissionLanes, Distribution, LaneBsdfSample, LaneFrame, MapShadowing, Material, MicrofacetLanes,
+    PlasticLanes, PrincipledLanes, PrincipledPoint, PrincipledThinLanes, PrincipledThinPoint, RoughConductorLanes,
+    RoughDielectricLanes, RoughPlasticLanes, ThinDielectricLanes,
 };
 use crate::sampling::Sampler;
 use crate::scene::{PrimitiveHit, Scene, Spawn, SHADOW_EPSILON};
@@ -82,13 +82,17 @@ enum LaneKind {
     PrincipledThin,
     /// Smooth plastic (`PlasticLanes`): a mirror and a diffuse base, chosen lane by lane.
     Plastic,
+    /// A thin sheet of glass (`ThinDielectricLanes`).
+    ThinDielectric,
+    /// Lambert's lobe on both sides (`DiffuseTransmissionLanes`).
+    DiffuseTransmission,
     /// Anything else: the scalar code's bounce.
     Scalar,
 }
 
 impl LaneKind {
     /// The kinds of the lanes' own bounces, in the order a round takes them.
-    const IN_LANES: [LaneKind; 12] = [
+    const IN_LANES: [LaneKind; 14] = [
         LaneKind::Lambert,
         LaneKind::RoughConductor(Distribution::Ggx),
         LaneKind::RoughConductor(Distribution::Beckmann),
@@ -101,6 +105,8 @@ impl LaneKind {
         LaneKind::Principled,
         LaneKind::PrincipledThin,
         LaneKind::Plastic,
+        LaneKind::ThinDielectric,
+        LaneKind::DiffuseTransmission,
     ];
 
     fn of(material: &Material) -> Self {
@@ -114,6 +120,8 @@ impl LaneKind {
             Material::Principled(_) => LaneKind::Principled,
             Material::PrincipledThin(_) => LaneKind::PrincipledThin,
             Material::Plastic(_) => LaneKind::Plastic,
+            Material::ThinDielectric(_) => LaneKind::ThinDielectric,
+            Material::DiffuseTransmission(_) => LaneKind::DiffuseTransmission,
             // A map over a material of a lane kind: the lanes tilt its frame (one map: a map
             // inside a map keeps the inner one's shadowing).
             Material::NormalMap(_) | Material::BumpMap(_) => {
@@ -142,6 +150,8 @@ impl LaneKind {
             LaneKind::Principled => 9,
             LaneKind::PrincipledThin => 10,
             LaneKind::Plastic => 11,
+            LaneKind::ThinDielectric => 12,
+            LaneKind::DiffuseTransmission => 13,
         }
     }
 }
@@ -193,6 +203,17 @@ enum LaneLobe<'s> {
     PrincipledThin {
         point: PrincipledThinPoint,
         dpdu: Vec3,
+    },
+    /// n_ext / n_int, the reflectance and the transmittance.
+    ThinDielectric {
+        eta: f32,
+        reflectance: Rgb,
+        transmittance: Rgb,
+    },
+    /// The two sides' albedos.
+    DiffuseTransmission {
+        reflectance: Rgb,
+        transmittance: Rgb,
     },
     /// The coat's colours and index.
     Plastic {
@@ -278,6 +299,21 @@ impl<'s> LaneMaterial<'s> {
                 let lobe = LaneLobe::PrincipledThin { point: m.point(query), dpdu: query.dpdu };
                 Self { lobe, reflects: true, one_sided: false, emission, two_sided }
             }
+            Material::ThinDielectric(m) => {
+                let d = &m.sheet;
+                let (reflectance, transmittance) =
+                    (d.specular_reflectance.evaluate(query), d.specular_transmittance.evaluate(query));
+                let lobe = LaneLobe::ThinDielectric { eta: 1.0 / d.eta, reflectance, transmittance };
+                Self { lobe, reflects: true, one_sided: false, emission, two_sided }
+            }
+            Material::DiffuseTransmission(m) => {
+                let (reflectance, transmittance) = (m.reflectance.evaluate(query), m.transmittance.evaluate(query));
+                // Black on both sides: no lobe, the path ends (`DiffuseTransmissionLanes::lit`).
+                let albedo = |c: Rgb| crate::textures::luminance(c).max(0.0);
+                let reflects = albedo(reflectance) + albedo(transmittance) > 0.0;
+                let lobe = LaneLobe::DiffuseTransmission { reflectance, transmittance };
+                Self { lobe, reflects, one_sided: false, emission, two_sided }
+            }
             Material::Plastic(m) => {
                 let lobe = LaneLobe::Plastic { coat: m.coat(query) };
                 Self { lobe, reflects: true, one_sided: true, emission, two_sided }
@@ -317,6 +353,14 @@ impl<'s> LaneMaterial<'s> {
                     && m.alpha_v == m.alpha_u
                     && constant(&d.specular_reflectance)
                     && constant(&d.specular_transmittance);
+                fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
+            }
+            (LaneKind::ThinDielectric, Material::ThinDielectric(m)) => {
+                let fixed = constant(&m.sheet.specular_reflectance) && constant(&m.sheet.specular_transmittance);
+                fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
+            }
+            (LaneKind::DiffuseTransmission, Material::DiffuseTransmission(m)) => {
+                let fixed = constant(&m.reflectance) && constant(&m.transmittance);
                 fixed.then(|| Self::at(material, &TextureQuery::default(), (Vec3::ZERO, Vec3::ZERO)))
             }
             (LaneKind::Plastic, Material::Plastic(m)) => {
@@ -1042,6 +1086,8 @@ enum ChunkBsdf<'s> {
     Principled(PrincipledLanes<f32x8>),
     PrincipledThin(PrincipledThinLanes<f32x8>),
     Plastic(PlasticLanes<f32x8>),
+    ThinDielectric(ThinDielectricLanes<f32x8>),
+    DiffuseTransmission(DiffuseTransmissionLanes<f32x8>),
     Conductor(ConductorLanes<f32x8>),
     Dielectric(DielectricLanes<f32x8>),
 }
@@ -1070,6 +1116,35 @@ impl<'s> ChunkBsdf<'s> {
             }
             LaneKind::Principled => return ChunkBsdf::Principled(Self::principled(material, frame)),
             LaneKind::PrincipledThin => return ChunkBsdf::PrincipledThin(Self::principled_thin(material, frame)),
+            LaneKind::ThinDielectric => {
+                let lobe: [_; LANES] = std::array::from_fn(|k| match material[k].lobe {
+                    LaneLobe::ThinDielectric { eta, reflectance, transmittance } => (eta, reflectance, transmittance),
+                    _ => (1.0, Rgb::ZERO, Rgb::ZERO),
+                });
+                return ChunkBsdf::ThinDielectric(ThinDielectricLanes {
+                    frame: frame.clone(),
+                    eta: per_lane(|k| lobe[k].0),
+                    reflectance: Vec3x8::from_fn(|k| lobe[k].1),
+                    transmittance: Vec3x8::from_fn(|k| lobe[k].2),
+                });
+            }
+            LaneKind::DiffuseTransmission => {
+                let lobe: [_; LANES] = std::array::from_fn(|k| match material[k].lobe {
+                    LaneLobe::DiffuseTransmission { reflectance, transmittance } => (reflectance, transmittance),
+                    _ => (Rgb::ZERO, Rgb::ZERO),
+                });
+                // `DiffuseTransmission::bsdf`: the sides chosen by their albedos' luminance.
+                let albedo = |c: Rgb| crate::textures::luminance(c).max(0.0);
+                let (r, t) = (per_lane(|k| albedo(lobe[k].0)), per_lane(|k| albedo(lobe[k].1)));
+                let lit = (r + t).cmp_gt(f32x8::ZERO);
+                return ChunkBsdf::DiffuseTransmission(DiffuseTransmissionLanes {
+                    frame: frame.clone(),
+                    reflectance: Vec3x8::from_fn(|k| lobe[k].0),
+                    transmittance: Vec3x8::from_fn(|k| lobe[k].1),
+                    p_reflect: lit.blend(r / (r + t), f32x8::ZERO),
+                    lit,
+                });
+            }
             LaneKind::Plastic => {
                 let black = Coat { diffuse: Rgb::ZERO, specular: Rgb::ZERO, eta: 1.5, specular_weight: 0.0 };
                 let coat = |k: usize| match material[k].lobe {
@@ -1237,7 +1312,7 @@ impl<'s> ChunkBsdf<'s> {
     #[inline(always)]
     fn non_delta(&self) -> [bool; LANES] {
         match self {
-            ChunkBsdf::Conductor(_) | ChunkBsdf::Dielectric(_) => [false; LANES],
+            ChunkBsdf::Conductor(_) | ChunkBsdf::Dielectric(_) | ChunkBsdf::ThinDielectric(_) => [false; LANES],
             ChunkBsdf::Plastic(lobe) => lobe.p_diffuse.cmp_gt(f32x8::ZERO).to_array().map(|p| p != 0.0),
             _ => [true; LANES],
         }
@@ -1258,8 +1333,11 @@ impl<'s> ChunkBsdf<'s> {
             ChunkBsdf::Principled(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             ChunkBsdf::PrincipledThin(lobe) => (lobe.eval(wo, wi), lobe.pdf(wo, wi)),
             ChunkBsdf::Plastic(lobe) => (lobe.eval(wi), lobe.pdf(wi)),
+            ChunkBsdf::DiffuseTransmission(lobe) => (lobe.eval(wi), lobe.pdf(wi)),
             // Delta lobes alone: no light is sampled at them.
-            ChunkBsdf::Conductor(_) | ChunkBsdf::Dielectric(_) => (Vec3x8::ZERO, f32x8::ZERO),
+            ChunkBsdf::Conductor(_) | ChunkBsdf::Dielectric(_) | ChunkBsdf::ThinDielectric(_) => {
+                (Vec3x8::ZERO, f32x8::ZERO)
+            }
         }
     }
 
@@ -1283,6 +1361,8 @@ impl<'s> ChunkBsdf<'s> {
             ChunkBsdf::Principled(lobe) => lobe.sample(wo, u_lobe, u1, u2),
             ChunkBsdf::PrincipledThin(lobe) => lobe.sample(wo, u_lobe, u1, u2),
             ChunkBsdf::Plastic(lobe) => lobe.sample(wo, u_lobe, u1, u2),
+            ChunkBsdf::ThinDielectric(lobe) => lobe.sample(wo, u_lobe),
+            ChunkBsdf::DiffuseTransmission(lobe) => lobe.sample(u_lobe, u1, u2),
             ChunkBsdf::Conductor(lobe) => lobe.sample(wo),
             ChunkBsdf::Dielectric(lobe) => lobe.sample(wo, u_lobe),
         }
