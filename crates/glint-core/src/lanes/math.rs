@@ -107,7 +107,8 @@ pub(crate) fn acos<L: Lanes>(x: L) -> L {
 /// to [0, tan π/8] by arctan t = π/2 − arctan 1/t above tan 3π/8 and π/4 + arctan (t − 1)/(t + 1)
 /// above tan π/8, a degree-9 odd polynomial there, and π added or taken off where x < 0. The
 /// signed zeros as IEEE's atan2 has them: ±0 along +x (and at the origin with x = +0), ±π along
-/// −x (and at the origin with x = −0).
+/// −x (and at the origin with x = −0). NaN where both are infinite (IEEE's ±π/4, ±3π/4): the
+/// directions it serves are finite.
 #[inline(always)]
 pub(crate) fn atan2<L: Lanes>(y: L, x: L) -> L {
     let c = L::splat;

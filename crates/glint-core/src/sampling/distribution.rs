@@ -64,6 +64,7 @@ impl Distribution1D {
         let cdfs: [&[f32]; MOST] = std::array::from_fn(|k| if k < L::WIDTH { of(k).cdf.as_slice() } else { &[] });
         let us: [f32; MOST] = std::array::from_fn(|k| if k < L::WIDTH { u.lane(k) } else { 0.0 });
         let n = of(0).function.len().max(1);
+        debug_assert!(cdfs[..L::WIDTH].iter().all(|c| c.len() == cdfs[0].len()), "the lanes' tables differ in length");
         // The number of entries ≤ u (`partition_point`), by halving a range that starts at the
         // whole table: entries before `base` are ≤ u, those from `base + size` on are not.
         // The indices stay integers: a float index's conversion before every load lengthened

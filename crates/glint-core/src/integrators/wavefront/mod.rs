@@ -291,9 +291,12 @@ impl<'s> LaneMaterial<'s> {
                 Self { lobe, reflects: true, one_sided: false, emission, two_sided }
             }
             Material::Principled(m) => {
-                let lobe = LaneLobe::Principled { point: m.point(query), dpdu: query.dpdu };
-                // From behind without transmission the lobe is black (`PrincipledLanes::inactive`).
-                Self { lobe, reflects: true, one_sided: false, emission, two_sided }
+                let point = m.point(query);
+                // Black from behind where it does not transmit (`PrincipledLanes::inactive`):
+                // the path ends there, as the scalar code's, which draws no light numbers there.
+                let one_sided = (1.0 - point.metallic) * point.spec_trans <= 0.0;
+                let lobe = LaneLobe::Principled { point, dpdu: query.dpdu };
+                Self { lobe, reflects: true, one_sided, emission, two_sided }
             }
             Material::PrincipledThin(m) => {
                 let lobe = LaneLobe::PrincipledThin { point: m.point(query), dpdu: query.dpdu };
