@@ -134,6 +134,29 @@ fn assert_same(scene: &Scene, tracer: &WavefrontPathTracer, sampler: SamplerKind
     expected.iter().filter(|r| r.max_element() > 0.0).count()
 }
 
+/// A lane kind's scenes against the scalar path tracer: each `scenes` entry with both samplers
+/// and both (seed, index) pairs of `seeds`, more than half its pixels lit, then each `limited`
+/// (scene, sampler) at the depth limits and Russian roulette from the first bounce.
+fn assert_same_in_lanes(scenes: &[(&Scene, &str)], seeds: [(u64, u32); 2], limited: &[(&Scene, SamplerKind)]) {
+    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
+    for &(scene, what) in scenes {
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            for (seed, index) in seeds {
+                let lit = assert_same(scene, &tracer, sampler, seed, index);
+                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
+            }
+        }
+    }
+    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0)] {
+        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
+        for seed in 0..2 {
+            for &(scene, sampler) in limited {
+                assert_same(scene, &tracer, sampler, seed, seed as u32);
+            }
+        }
+    }
+}
+
 #[test]
 fn the_wavefront_renders_a_room_bit_for_bit_as_the_path_tracer() {
     let scene = room();
@@ -421,21 +444,11 @@ fn the_wavefront_shades_rough_plastics_in_lanes() {
             objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
         }
     });
-    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
-    for (scene, what) in [(&wall, "a plastic wall among triangles"), (&spheres, "plastic spheres")] {
-        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
-            for (seed, index) in [(6, 0), (29, 4)] {
-                let lit = assert_same(scene, &tracer, sampler, seed, index);
-                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
-            }
-        }
-    }
-    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0)] {
-        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
-        for seed in 0..2 {
-            assert_same(&spheres, &tracer, SamplerKind::Sobol, seed, seed as u32);
-        }
-    }
+    assert_same_in_lanes(
+        &[(&wall, "a plastic wall among triangles"), (&spheres, "plastic spheres")],
+        [(6, 0), (29, 4)],
+        &[(&spheres, SamplerKind::Sobol)],
+    );
 }
 
 /// Disney's principled BSDF shaded in the lanes (`PrincipledLanes`): a constant coated plastic
@@ -498,21 +511,11 @@ fn the_wavefront_shades_the_principled_bsdf_in_lanes() {
             objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
         }
     });
-    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
-    for (scene, what) in [(&wall, "a principled wall among triangles"), (&spheres, "principled spheres")] {
-        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
-            for (seed, index) in [(7, 0), (31, 5)] {
-                let lit = assert_same(scene, &tracer, sampler, seed, index);
-                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
-            }
-        }
-    }
-    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0)] {
-        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
-        for seed in 0..2 {
-            assert_same(&spheres, &tracer, SamplerKind::Sobol, seed, seed as u32);
-        }
-    }
+    assert_same_in_lanes(
+        &[(&wall, "a principled wall among triangles"), (&spheres, "principled spheres")],
+        [(7, 0), (31, 5)],
+        &[(&spheres, SamplerKind::Sobol)],
+    );
 }
 
 /// The thin principled sheet shaded in the lanes (`PrincipledThinLanes`): a constant leaf-like
@@ -568,21 +571,11 @@ fn the_wavefront_shades_the_thin_principled_bsdf_in_lanes() {
             objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
         }
     });
-    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
-    for (scene, what) in [(&wall, "a thin wall among triangles"), (&spheres, "thin spheres")] {
-        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
-            for (seed, index) in [(8, 0), (37, 6)] {
-                let lit = assert_same(scene, &tracer, sampler, seed, index);
-                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
-            }
-        }
-    }
-    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0)] {
-        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
-        for seed in 0..2 {
-            assert_same(&spheres, &tracer, SamplerKind::Sobol, seed, seed as u32);
-        }
-    }
+    assert_same_in_lanes(
+        &[(&wall, "a thin wall among triangles"), (&spheres, "thin spheres")],
+        [(8, 0), (37, 6)],
+        &[(&spheres, SamplerKind::Sobol)],
+    );
 }
 
 /// Smooth plastic shaded in the lanes (`PlasticLanes`): the coat's mirror or the base chosen
@@ -619,22 +612,11 @@ fn the_wavefront_shades_smooth_plastic_in_lanes() {
             objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
         }
     });
-    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
-    for (scene, what) in [(&wall, "a plastic wall among triangles"), (&spheres, "plastic spheres")] {
-        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
-            for (seed, index) in [(9, 0), (41, 3)] {
-                let lit = assert_same(scene, &tracer, sampler, seed, index);
-                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
-            }
-        }
-    }
-    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0)] {
-        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
-        for seed in 0..2 {
-            assert_same(&spheres, &tracer, SamplerKind::Sobol, seed, seed as u32);
-            assert_same(&spheres, &tracer, SamplerKind::Independent, seed, seed as u32);
-        }
-    }
+    assert_same_in_lanes(
+        &[(&wall, "a plastic wall among triangles"), (&spheres, "plastic spheres")],
+        [(9, 0), (41, 3)],
+        &[(&spheres, SamplerKind::Sobol), (&spheres, SamplerKind::Independent)],
+    );
 }
 
 /// Thin glass and diffuse transmission shaded in the lanes (`ThinDielectricLanes`,
@@ -680,22 +662,11 @@ fn the_wavefront_shades_thin_glass_and_diffuse_transmission_in_lanes() {
             objects.push(object_with(Shape::Sphere(Sphere::new(centres[j], 0.25)), id));
         }
     });
-    let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth: u32::MAX, rr_depth: 5 } };
-    for (scene, what) in [(&walls, "a pane and a sheet among triangles"), (&spheres, "panes and sheets")] {
-        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
-            for (seed, index) in [(10, 0), (43, 2)] {
-                let lit = assert_same(scene, &tracer, sampler, seed, index);
-                assert!(lit > (SIZE * SIZE / 2) as usize, "{what}: {lit} pixels lit");
-            }
-        }
-    }
-    for (max_depth, rr_depth) in [(1, 5), (2, 1), (u32::MAX, 0)] {
-        let tracer = WavefrontPathTracer { tracer: PathTracer { max_depth, rr_depth } };
-        for seed in 0..2 {
-            assert_same(&spheres, &tracer, SamplerKind::Sobol, seed, seed as u32);
-            assert_same(&walls, &tracer, SamplerKind::Independent, seed, seed as u32);
-        }
-    }
+    assert_same_in_lanes(
+        &[(&walls, "a pane and a sheet among triangles"), (&spheres, "panes and sheets")],
+        [(10, 0), (43, 2)],
+        &[(&spheres, SamplerKind::Sobol), (&walls, SamplerKind::Independent)],
+    );
 }
 
 /// Rough glass shaded in the lanes (`RoughDielectricLanes`): spheres of GGX and Beckmann glass,

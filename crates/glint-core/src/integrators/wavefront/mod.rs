@@ -1238,38 +1238,48 @@ impl<'s> ChunkBsdf<'s> {
         }
     }
 
-    /// The principled BSDF of the lanes (`Principled::bsdf`): the frame turned to ∂p/∂u where
-    /// the widths differ.
+    /// The principled BSDF of the lanes (`Principled::bsdf`).
     #[inline(always)]
     fn principled(material: &[&LaneMaterial<'s>; LANES], frame: &LaneFrame<f32x8>) -> PrincipledLanes<f32x8> {
-        // Lane 0 is always a path of this kind: lanes of another read its point.
-        let LaneLobe::Principled { point: first, .. } = material[0].lobe else {
-            unreachable!("a principled bounce starts with a principled surface")
-        };
-        let lobe: [(&PrincipledPoint, Vec3); LANES] = std::array::from_fn(|k| match &material[k].lobe {
-            LaneLobe::Principled { point, dpdu } => (point, *dpdu),
-            _ => (&first, Vec3::ZERO),
-        });
-        let (alpha_x, alpha_y) = (per_lane(|k| lobe[k].0.alpha_x), per_lane(|k| lobe[k].0.alpha_y));
-        let frame = along_where_anisotropic(frame, alpha_x, alpha_y, || Vec3x8::from_fn(|k| lobe[k].1));
-        PrincipledLanes::gather(frame, |k| lobe[k].0)
+        fn point<'m>(lobe: &'m LaneLobe) -> Option<(&'m PrincipledPoint, Vec3)> {
+            match lobe {
+                LaneLobe::Principled { point, dpdu } => Some((point, *dpdu)),
+                _ => None,
+            }
+        }
+        let (points, frame) = Self::points_in_frame(material, frame, point, |p| (p.alpha_x, p.alpha_y));
+        PrincipledLanes::gather(frame, |k| points[k])
     }
 
-    /// The thin principled BSDF of the lanes (`PrincipledThin::bsdf`): the frame turned to ∂p/∂u
-    /// where the widths differ.
+    /// The thin principled BSDF of the lanes (`PrincipledThin::bsdf`).
     #[inline(always)]
     fn principled_thin(material: &[&LaneMaterial<'s>; LANES], frame: &LaneFrame<f32x8>) -> PrincipledThinLanes<f32x8> {
-        // Lane 0 is always a path of this kind: lanes of another read its point.
-        let LaneLobe::PrincipledThin { point: first, .. } = material[0].lobe else {
-            unreachable!("a thin principled bounce starts with a thin principled surface")
-        };
-        let lobe: [(&PrincipledThinPoint, Vec3); LANES] = std::array::from_fn(|k| match &material[k].lobe {
-            LaneLobe::PrincipledThin { point, dpdu } => (point, *dpdu),
-            _ => (&first, Vec3::ZERO),
-        });
-        let (alpha_x, alpha_y) = (per_lane(|k| lobe[k].0.reflection.0), per_lane(|k| lobe[k].0.reflection.1));
+        fn point<'m>(lobe: &'m LaneLobe) -> Option<(&'m PrincipledThinPoint, Vec3)> {
+            match lobe {
+                LaneLobe::PrincipledThin { point, dpdu } => Some((point, *dpdu)),
+                _ => None,
+            }
+        }
+        let (points, frame) = Self::points_in_frame(material, frame, point, |p| p.reflection);
+        PrincipledThinLanes::gather(frame, |k| points[k])
+    }
+
+    /// Each lane's parameters at its point (`point` of its lobe; lanes of another kind read lane
+    /// 0's, which is always of this kind), and the frame turned to ∂p/∂u where the point's
+    /// widths (`widths`) differ.
+    #[inline(always)]
+    fn points_in_frame<'m, P>(
+        material: &[&'m LaneMaterial<'s>; LANES],
+        frame: &LaneFrame<f32x8>,
+        point: impl Fn(&'m LaneLobe<'s>) -> Option<(&'m P, Vec3)>,
+        widths: impl Fn(&P) -> (f32, f32),
+    ) -> ([&'m P; LANES], LaneFrame<f32x8>) {
+        let (first, _) = point(&material[0].lobe).expect("a bounce starts with a surface of its kind");
+        let lobe: [(&P, Vec3); LANES] =
+            std::array::from_fn(|k| point(&material[k].lobe).unwrap_or((first, Vec3::ZERO)));
+        let (alpha_x, alpha_y) = (per_lane(|k| widths(lobe[k].0).0), per_lane(|k| widths(lobe[k].0).1));
         let frame = along_where_anisotropic(frame, alpha_x, alpha_y, || Vec3x8::from_fn(|k| lobe[k].1));
-        PrincipledThinLanes::gather(frame, |k| lobe[k].0)
+        (lobe.map(|l| l.0), frame)
     }
 
     /// The rough plastic of the lanes (`RoughPlastic::bsdf`): the coat's transmittance toward
